@@ -1,0 +1,517 @@
+// Reads models/<name>.yaml into a Model. Every problem is a ModelError carrying the YAML location
+// of the offending node; see docs/model_format.md for the format.
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "model/mechanism_graph.hpp"
+#include "model/model.hpp"
+
+namespace mechgen {
+
+namespace {
+
+using GiNaC::ex;
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  Model read(const YAML::Node& root);
+
+ private:
+  SourceLoc loc(const YAML::Node& node) const {
+    const YAML::Mark mark = node.Mark();
+    if (mark.is_null()) return {file_, 0, 0};
+    return {file_, mark.line + 1, mark.column + 1};
+  }
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& message) const {
+    throw ModelError(loc(node), message);
+  }
+
+  void expect_map(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsMap()) fail(node, what + " must be a mapping");
+  }
+  void expect_keys(const YAML::Node& node, const std::string& what,
+                   const std::set<std::string>& allowed) const;
+  YAML::Node required(const YAML::Node& parent, const std::string& key,
+                      const std::string& what) const;
+  std::string scalar(const YAML::Node& node, const std::string& what) const;
+  std::string identifier(const YAML::Node& node, const std::string& what) const;
+  Expr expression(const YAML::Node& node, const std::string& what, bool time_allowed) const;
+  Vec2Expr vector2(const YAML::Node& node, const std::string& what, bool time_allowed) const;
+  int body_ref(const YAML::Node& node, const std::string& what) const;
+
+  void read_parameters(const YAML::Node& node);
+  void read_body(const YAML::Node& node);
+  void read_mass(const YAML::Node& node, Body& body);
+  void read_joint(const YAML::Node& node);
+  void read_driver(const YAML::Node& node);
+  void read_force(const YAML::Node& node);
+  void check_values();
+
+  std::string file_;
+  Model model_;
+  GiNaC::symtab symbols_;
+  std::set<std::string> names_;  // bodies, joints, drivers, forces share one namespace of columns
+};
+
+void Reader::expect_keys(const YAML::Node& node, const std::string& what,
+                         const std::set<std::string>& allowed) const {
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(item.first, "unknown key '" + key + "' in " + what + " (expected one of: " + list + ")");
+    }
+  }
+}
+
+YAML::Node Reader::required(const YAML::Node& parent, const std::string& key,
+                            const std::string& what) const {
+  YAML::Node node = parent[key];
+  if (!node || node.IsNull()) fail(parent, what + " needs '" + key + "'");
+  return node;
+}
+
+std::string Reader::scalar(const YAML::Node& node, const std::string& what) const {
+  if (!node.IsScalar()) fail(node, what + " must be a single value");
+  return node.Scalar();
+}
+
+std::string Reader::identifier(const YAML::Node& node, const std::string& what) const {
+  const std::string s = scalar(node, what);
+  if (!is_identifier(s))
+    fail(node, what + " '" + s + "' is not an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+  return s;
+}
+
+Expr Reader::expression(const YAML::Node& node, const std::string& what,
+                        bool time_allowed) const {
+  const std::string text = scalar(node, what);
+  if (text.empty()) fail(node, what + " is empty");
+  Expr result{ex(0), text, loc(node)};
+  try {
+    GiNaC::parser parse(symbols_, true);  // strict: unknown names are errors
+    result.ex = parse(text);
+  } catch (const std::exception& error) {
+    std::string message = error.what();
+    const std::string unknown = "unknown symbol";
+    if (message.find("find_or_insert_symbol") != std::string::npos ||
+        message.find(unknown) != std::string::npos || message.find("symbol") != std::string::npos)
+      fail(node, what + " '" + text + "': undefined name (" + message + ")");
+    fail(node, what + " '" + text + "': syntax error (" + message + ")");
+  }
+  if (!time_allowed && result.ex.has(model_.t))
+    fail(node, what + " '" + text + "' may not depend on time t");
+  return result;
+}
+
+Vec2Expr Reader::vector2(const YAML::Node& node, const std::string& what,
+                         bool time_allowed) const {
+  if (!node.IsSequence() || node.size() != 2)
+    fail(node, what + " must be a pair [x, y] (got " +
+                   (node.IsSequence() ? std::to_string(node.size()) + " values" : "no list") +
+                   ")");
+  return {expression(node[0], what + " x", time_allowed),
+          expression(node[1], what + " y", time_allowed)};
+}
+
+int Reader::body_ref(const YAML::Node& node, const std::string& what) const {
+  const std::string name = scalar(node, what);
+  const int index = model_.body_index(name);
+  if (index < 0) fail(node, what + ": unknown body '" + name + "'");
+  return index;
+}
+
+void Reader::read_parameters(const YAML::Node& node) {
+  if (!node) return;
+  expect_map(node, "parameters");
+  for (const auto& item : node) {
+    Parameter p;
+    p.name = identifier(item.first, "parameter name");
+    p.loc = loc(item.first);
+    if (p.name == "t" || p.name == "pi")
+      fail(item.first, "parameter name '" + p.name + "' is reserved");
+    if (model_.parameter_index(p.name) >= 0)
+      fail(item.first, "duplicate parameter '" + p.name + "'");
+    YAML::Node value = item.second;
+    if (value.IsMap()) {
+      expect_keys(value, "parameter '" + p.name + "'", {"value", "unit", "doc"});
+      if (value["unit"]) p.unit = scalar(value["unit"], "unit");
+      if (value["doc"]) p.doc = scalar(value["doc"], "doc");
+      value = required(value, "value", "parameter '" + p.name + "'");
+    }
+    const std::string text = scalar(value, "parameter '" + p.name + "'");
+    size_t used = 0;
+    try {
+      p.value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(p.value))
+      fail(value, "parameter '" + p.name + "' must be a number, got '" + text + "'");
+    p.symbol = GiNaC::symbol(p.name);
+    symbols_[p.name] = p.symbol;
+    model_.parameters.push_back(p);
+  }
+}
+
+void Reader::read_mass(const YAML::Node& node, Body& body) {
+  const std::string what = "mass of body '" + body.name + "'";
+  expect_map(node, what);
+  MassProperties& m = body.mass;
+  if (node["bar"]) {
+    expect_keys(node, what, {"bar", "width", "thickness", "density"});
+    const YAML::Node bar = node["bar"];
+    if (!bar.IsSequence() || bar.size() != 2)
+      fail(bar, what + ": bar must name two of the body's points [from, to]");
+    m.source = MassProperties::Source::bar;
+    m.bar_from = scalar(bar[0], "bar end");
+    m.bar_to = scalar(bar[1], "bar end");
+    const BodyPoint* from = body.find_point(m.bar_from);
+    const BodyPoint* to = body.find_point(m.bar_to);
+    if (!from) fail(bar[0], what + ": body has no point '" + m.bar_from + "'");
+    if (!to) fail(bar[1], what + ": body has no point '" + m.bar_to + "'");
+    m.width = expression(required(node, "width", what), what + " width", false);
+    m.thickness = expression(required(node, "thickness", what), what + " thickness", false);
+    m.density = expression(required(node, "density", what), what + " density", false);
+    const ex dx = to->local.x.ex - from->local.x.ex, dy = to->local.y.ex - from->local.y.ex;
+    const ex length = GiNaC::sqrt(dx * dx + dy * dy);
+    const ex mass = m.density.ex * m.width.ex * m.thickness.ex * length;
+    const SourceLoc at = loc(bar);
+    m.mass = {mass, "density*width*thickness*length", at};
+    m.inertia = {mass * (dx * dx + dy * dy + m.width.ex * m.width.ex) / 12, "bar inertia", at};
+    m.com = {{(from->local.x.ex + to->local.x.ex) / 2, "bar middle x", at},
+             {(from->local.y.ex + to->local.y.ex) / 2, "bar middle y", at}};
+  } else {
+    expect_keys(node, what, {"mass", "com", "inertia"});
+    m.source = MassProperties::Source::explicit_values;
+    m.mass = expression(required(node, "mass", what), what, false);
+    m.com = vector2(required(node, "com", what), what + " com", false);
+    m.inertia = expression(required(node, "inertia", what), what + " inertia", false);
+  }
+}
+
+void Reader::read_body(const YAML::Node& node) {
+  expect_map(node, "a body");
+  expect_keys(node, "body", {"name", "ground", "points", "mass", "assembly"});
+  Body body;
+  body.name = identifier(required(node, "name", "a body"), "body name");
+  body.loc = loc(node["name"]);
+  if (model_.body_index(body.name) >= 0) fail(node["name"], "duplicate body '" + body.name + "'");
+  if (node["ground"]) {
+    try {
+      body.ground = node["ground"].as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(node["ground"], "ground must be true or false");
+    }
+  }
+  const YAML::Node points = required(node, "points", "body '" + body.name + "'");
+  expect_map(points, "points of body '" + body.name + "'");
+  for (const auto& item : points) {
+    BodyPoint p;
+    p.name = identifier(item.first, "point name");
+    if (body.find_point(p.name)) fail(item.first, "duplicate point '" + p.name + "'");
+    p.local = vector2(item.second, "point '" + p.name + "'", false);
+    body.points.push_back(p);
+  }
+  if (node["mass"]) {
+    read_mass(node["mass"], body);
+  } else if (!body.ground) {
+    fail(node["name"], "body '" + body.name + "' has no mass (give mass, com, inertia or a bar)");
+  }
+  if (node["assembly"]) {
+    if (body.ground) fail(node["assembly"], "the ground body takes no assembly hint");
+    body.assembly_angle = expression(node["assembly"], "assembly angle", false);
+  }
+  model_.bodies.push_back(body);
+}
+
+void Reader::read_joint(const YAML::Node& node) {
+  expect_map(node, "a joint");
+  expect_keys(node, "joint", {"name", "type", "first", "second", "point", "line", "angle"});
+  Joint j;
+  j.name = identifier(required(node, "name", "a joint"), "joint name");
+  j.loc = loc(node["name"]);
+  if (!names_.insert(j.name).second) fail(node["name"], "duplicate name '" + j.name + "'");
+  const YAML::Node type = required(node, "type", "joint '" + j.name + "'");
+  const std::string type_name = scalar(type, "joint type");
+  if (type_name == "revolute") {
+    j.type = JointType::revolute;
+  } else if (type_name == "prismatic") {
+    j.type = JointType::prismatic;
+  } else if (type_name == "pin_in_slot") {
+    j.type = JointType::pin_in_slot;
+  } else {
+    fail(type, "unknown joint type '" + type_name + "' (revolute, prismatic or pin_in_slot)");
+  }
+  j.first = body_ref(required(node, "first", "joint '" + j.name + "'"), "joint first body");
+  j.second = body_ref(required(node, "second", "joint '" + j.name + "'"), "joint second body");
+  if (j.first == j.second) fail(node["second"], "joint '" + j.name + "' joins a body to itself");
+  const YAML::Node point = required(node, "point", "joint '" + j.name + "'");
+  j.point = scalar(point, "joint point");
+  const Body& second = model_.bodies[static_cast<size_t>(j.second)];
+  const Body& first = model_.bodies[static_cast<size_t>(j.first)];
+  if (!second.find_point(j.point))
+    fail(point, "body '" + second.name + "' has no point '" + j.point + "'");
+  if (j.type == JointType::revolute) {
+    if (!first.find_point(j.point))
+      fail(point, "body '" + first.name + "' has no point '" + j.point + "'");
+    if (node["line"]) fail(node["line"], "a revolute joint takes no line");
+    if (node["angle"]) fail(node["angle"], "a revolute joint takes no angle");
+  } else {
+    const YAML::Node line = required(node, "line", "joint '" + j.name + "'");
+    expect_map(line, "line");
+    expect_keys(line, "line", {"through", "direction"});
+    j.line.through = vector2(required(line, "through", "line"), "line through", false);
+    j.line.direction = vector2(required(line, "direction", "line"), "line direction", false);
+    if (j.type == JointType::prismatic) {
+      j.angle = node["angle"] ? expression(node["angle"], "prismatic angle", false)
+                              : Expr{ex(0), "0", loc(node)};
+    } else if (node["angle"]) {
+      fail(node["angle"], "a pin_in_slot joint takes no angle");
+    }
+  }
+  model_.joints.push_back(j);
+}
+
+void Reader::read_driver(const YAML::Node& node) {
+  expect_map(node, "a driver");
+  expect_keys(node, "driver", {"name", "joint", "kind", "value"});
+  Driver d;
+  d.name = identifier(required(node, "name", "a driver"), "driver name");
+  d.loc = loc(node["name"]);
+  if (!names_.insert(d.name).second) fail(node["name"], "duplicate name '" + d.name + "'");
+  const YAML::Node joint = required(node, "joint", "driver '" + d.name + "'");
+  const std::string joint_name = scalar(joint, "driver joint");
+  for (size_t i = 0; i < model_.joints.size(); ++i)
+    if (model_.joints[i].name == joint_name) d.joint = static_cast<int>(i);
+  if (d.joint < 0) fail(joint, "driver '" + d.name + "': unknown joint '" + joint_name + "'");
+  for (const Driver& other : model_.drivers)
+    if (other.joint == d.joint)
+      fail(joint, "joint '" + joint_name + "' is already driven by '" + other.name + "'");
+  const YAML::Node kind = required(node, "kind", "driver '" + d.name + "'");
+  const std::string kind_name = scalar(kind, "driver kind");
+  const JointType type = model_.joints[static_cast<size_t>(d.joint)].type;
+  if (kind_name == "angle") {
+    d.kind = DriverKind::angle;
+    if (type != JointType::revolute) fail(kind, "an angle driver needs a revolute joint");
+  } else if (kind_name == "length") {
+    d.kind = DriverKind::length;
+    if (type == JointType::revolute)
+      fail(kind, "a length driver needs a prismatic or pin_in_slot joint");
+  } else {
+    fail(kind, "unknown driver kind '" + kind_name + "' (angle or length)");
+  }
+  d.value = expression(required(node, "value", "driver '" + d.name + "'"), "driver value", true);
+  d.value_d = d.value.ex.diff(model_.t);
+  d.value_dd = d.value_d.diff(model_.t);
+  model_.drivers.push_back(d);
+}
+
+void Reader::read_force(const YAML::Node& node) {
+  expect_map(node, "a force element");
+  ForceElement f;
+  f.name = identifier(required(node, "name", "a force element"), "force name");
+  f.loc = loc(node["name"]);
+  if (!names_.insert(f.name).second) fail(node["name"], "duplicate name '" + f.name + "'");
+  const std::string what = "force '" + f.name + "'";
+  const YAML::Node type = required(node, "type", what);
+  const std::string type_name = scalar(type, "force type");
+  auto point_ref = [&](const YAML::Node& n, int body) {
+    const std::string p = scalar(n, "point");
+    if (!model_.bodies[static_cast<size_t>(body)].find_point(p))
+      fail(n, "body '" + model_.bodies[static_cast<size_t>(body)].name + "' has no point '" + p +
+                  "'");
+    return p;
+  };
+  if (type_name == "spring_damper") {
+    expect_keys(node, what,
+                {"name", "type", "first", "first_point", "second", "second_point", "stiffness",
+                 "damping", "free_length"});
+    f.type = ForceType::spring_damper;
+    f.body_a = body_ref(required(node, "first", what), what);
+    f.body_b = body_ref(required(node, "second", what), what);
+    if (f.body_a == f.body_b) fail(node["second"], what + " joins a body to itself");
+    f.point_a = point_ref(required(node, "first_point", what), f.body_a);
+    f.point_b = point_ref(required(node, "second_point", what), f.body_b);
+    f.stiffness = expression(required(node, "stiffness", what), what + " stiffness", false);
+    f.damping = node["damping"] ? expression(node["damping"], what + " damping", false)
+                                : Expr{ex(0), "0", loc(node)};
+    f.free_length = expression(required(node, "free_length", what), what + " free length", false);
+  } else if (type_name == "force") {
+    expect_keys(node, what, {"name", "type", "body", "point", "value"});
+    f.type = ForceType::force;
+    f.body_a = body_ref(required(node, "body", what), what);
+    f.point_a = point_ref(required(node, "point", what), f.body_a);
+    f.force = vector2(required(node, "value", what), what, true);
+  } else if (type_name == "torque") {
+    expect_keys(node, what, {"name", "type", "body", "value"});
+    f.type = ForceType::torque;
+    f.body_a = body_ref(required(node, "body", what), what);
+    f.torque = expression(required(node, "value", what), what, true);
+  } else {
+    fail(type, "unknown force type '" + type_name + "' (spring_damper, force or torque)");
+  }
+  model_.forces.push_back(f);
+}
+
+// Numbers that must make physical sense at the default parameters.
+void Reader::check_values() {
+  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
+  for (const Body& b : model_.bodies) {
+    for (const BodyPoint& p : b.points) {
+      model_.evaluate(p.local.x, subs);
+      model_.evaluate(p.local.y, subs);
+    }
+    if (b.ground) continue;
+    const MassProperties& m = b.mass;
+    if (m.source == MassProperties::Source::bar) {
+      for (const Expr* e : {&m.width, &m.thickness, &m.density})
+        if (model_.evaluate(*e, subs) <= 0)
+          throw ModelError(e->loc, "body '" + b.name + "': bar " + e->text + " must be positive");
+    }
+    if (model_.evaluate(m.mass, subs) <= 0)
+      throw ModelError(m.mass.loc, "body '" + b.name + "' has a non-positive mass");
+    if (model_.evaluate(m.inertia, subs) <= 0)
+      throw ModelError(m.inertia.loc, "body '" + b.name + "' has a non-positive inertia");
+    model_.evaluate(m.com.x, subs);
+    model_.evaluate(m.com.y, subs);
+    if (b.assembly_angle) model_.evaluate(*b.assembly_angle, subs);
+  }
+  for (const Joint& j : model_.joints) {
+    if (j.type == JointType::revolute) continue;
+    const double dx = model_.evaluate(j.line.direction.x, subs);
+    const double dy = model_.evaluate(j.line.direction.y, subs);
+    if (dx * dx + dy * dy <= 0)
+      throw ModelError(j.line.direction.x.loc, "joint '" + j.name + "': zero line direction");
+    model_.evaluate(j.line.through.x, subs);
+    model_.evaluate(j.line.through.y, subs);
+    if (j.type == JointType::prismatic) model_.evaluate(j.angle, subs);
+  }
+  GiNaC::exmap at_t0 = subs;
+  at_t0[model_.t] = model_.evaluate(model_.step.t0, subs);
+  for (const Driver& d : model_.drivers) model_.evaluate(d.value, at_t0);
+  for (const ForceElement& f : model_.forces) {
+    if (f.type == ForceType::spring_damper) {
+      if (model_.evaluate(f.stiffness, subs) < 0)
+        throw ModelError(f.stiffness.loc, "force '" + f.name + "': negative stiffness");
+      if (model_.evaluate(f.damping, subs) < 0)
+        throw ModelError(f.damping.loc, "force '" + f.name + "': negative damping");
+      if (model_.evaluate(f.free_length, subs) < 0)
+        throw ModelError(f.free_length.loc, "force '" + f.name + "': negative free length");
+    } else if (f.type == ForceType::force) {
+      model_.evaluate(f.force.x, at_t0);
+      model_.evaluate(f.force.y, at_t0);
+    } else {
+      model_.evaluate(f.torque, at_t0);
+    }
+  }
+  const double t0 = model_.evaluate(model_.step.t0, subs);
+  const double t1 = model_.evaluate(model_.step.t1, subs);
+  if (!(t1 > t0)) throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+}
+
+Model Reader::read(const YAML::Node& root) {
+  if (!root.IsMap()) fail(root, "a model description must be a YAML mapping");
+  expect_keys(root, "model",
+              {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
+               "drivers", "forces", "step", "assembly_tolerance"});
+  model_.file = file_;
+  model_.name = identifier(required(root, "name", "the model"), "model name");
+  if (root["description"]) model_.description = scalar(root["description"], "description");
+  if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
+    fail(root["dimension"], "only planar models are supported (spatial chains come later)");
+  symbols_["t"] = model_.t;
+  symbols_["pi"] = GiNaC::Pi;
+  read_parameters(root["parameters"]);
+  model_.gravity = root["gravity"] ? vector2(root["gravity"], "gravity", false)
+                                   : Vec2Expr{{ex(0), "0", loc(root)}, {ex(-9.81), "-9.81", loc(root)}};
+
+  const YAML::Node bodies = required(root, "bodies", "the model");
+  if (!bodies.IsSequence()) fail(bodies, "bodies must be a list");
+  for (const auto& b : bodies) read_body(b);
+  for (const Body& b : model_.bodies) names_.insert(b.name);
+  for (size_t i = 0; i < model_.bodies.size(); ++i) {
+    if (!model_.bodies[i].ground) continue;
+    if (model_.ground >= 0)
+      throw ModelError(model_.bodies[i].loc, "more than one ground body ('" +
+                                                 model_.bodies[static_cast<size_t>(model_.ground)].name +
+                                                 "' and '" + model_.bodies[i].name + "')");
+    model_.ground = static_cast<int>(i);
+  }
+  if (model_.ground < 0) fail(bodies, "no ground body (mark one body 'ground: true')");
+
+  if (const YAML::Node joints = root["joints"]) {
+    if (!joints.IsSequence()) fail(joints, "joints must be a list");
+    for (const auto& j : joints) read_joint(j);
+  }
+  if (const YAML::Node drivers = root["drivers"]) {
+    if (!drivers.IsSequence()) fail(drivers, "drivers must be a list");
+    for (const auto& d : drivers) read_driver(d);
+  }
+  if (const YAML::Node forces = root["forces"]) {
+    if (!forces.IsSequence()) fail(forces, "forces must be a list");
+    for (const auto& f : forces) read_force(f);
+  }
+  const YAML::Node step = required(root, "step", "the model");
+  expect_map(step, "step");
+  expect_keys(step, "step", {"t0", "t1", "samples"});
+  model_.step.t0 = expression(required(step, "t0", "step"), "step t0", false);
+  model_.step.t1 = expression(required(step, "t1", "step"), "step t1", false);
+  if (step["samples"]) {
+    int samples = 0;
+    try {
+      samples = step["samples"].as<int>();
+    } catch (const YAML::Exception&) {
+      fail(step["samples"], "step samples must be an integer");
+    }
+    if (samples < 2) fail(step["samples"], "step samples must be at least 2");
+    model_.step.samples = samples;
+  }
+  if (root["assembly_tolerance"]) {
+    const Expr tol = expression(root["assembly_tolerance"], "assembly_tolerance", false);
+    model_.assembly_tolerance = model_.evaluate(tol, model_.substitutions(model_.default_parameters()));
+    if (!(model_.assembly_tolerance > 0))
+      fail(root["assembly_tolerance"], "assembly_tolerance must be positive");
+  }
+  check_values();
+  check_structure(model_);
+  return model_;
+}
+
+}  // namespace
+
+Model read_model_text(const std::string& text, const std::string& file_label) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& error) {
+    throw ModelError({file_label, error.mark.line + 1, error.mark.column + 1},
+                     "invalid YAML: " + error.msg);
+  }
+  return Reader(file_label).read(root);
+}
+
+Model read_model(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError({path, 0, 0}, "cannot open model file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return read_model_text(text.str(), path);
+}
+
+}  // namespace mechgen

@@ -108,10 +108,10 @@ Expr Reader::expression(const YAML::Node& node, const std::string& what,
     result.ex = parse(text);
   } catch (const std::exception& error) {
     std::string message = error.what();
-    const std::string unknown = "unknown symbol";
-    if (message.find("find_or_insert_symbol") != std::string::npos ||
-        message.find(unknown) != std::string::npos || message.find("symbol") != std::string::npos)
-      fail(node, what + " '" + text + "': undefined name (" + message + ")");
+    message = message.substr(0, message.find('\n'));  // drop GiNaC's source position trailer
+    const auto quote = message.find('"');
+    if (message.find("not found") != std::string::npos && quote != std::string::npos)
+      fail(node, what + " '" + text + "': undefined name " + message.substr(quote));
     fail(node, what + " '" + text + "': syntax error (" + message + ")");
   }
   if (!time_allowed && result.ex.has(model_.t))

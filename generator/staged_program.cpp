@@ -1,0 +1,93 @@
+#include "staged_program.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mechgen::gen {
+
+using GiNaC::ex;
+
+void StagedProgram::declare(const GiNaC::symbol& s, const ex& derivative) {
+  declared_[s] = derivative;
+}
+
+GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value) {
+  GiNaC::symbol s(name);
+  info_[s] = Info{name, value, false, ex(0), false};
+  statements_.push_back({Statement::Kind::define, s, value, "", -1});
+  evaluate(s, value);
+  return s;
+}
+
+GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value,
+                                    const ex& derivative) {
+  GiNaC::symbol s = define(name, value);
+  Info& info = info_.at(s);
+  info.explicit_derivative = true;
+  info.derivative = derivative;
+  return s;
+}
+
+void StagedProgram::check_positive(const GiNaC::symbol& value, const std::string& failure,
+                                   int group) {
+  statements_.push_back({Statement::Kind::check_positive, value, ex(0), failure, group});
+}
+
+void StagedProgram::evaluate(const GiNaC::symbol& s, const ex& value) {
+  for (GiNaC::exmap& sample : samples_) {
+    const ex v = value.subs(sample).evalf();
+    double number = std::numeric_limits<double>::quiet_NaN();
+    if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
+      number = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+    sample[s] = number;
+  }
+}
+
+double StagedProgram::value(const ex& e, size_t sample) const {
+  const ex v = e.subs(samples_.at(sample)).evalf();
+  if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
+    return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
+  if (auto d = declared_.find(s); d != declared_.end()) return d->second;
+  auto it = info_.find(s);
+  if (it == info_.end())
+    throw std::logic_error("time derivative of an undeclared symbol '" + s.get_name() + "'");
+  if (it->second.explicit_derivative || it->second.staged) return it->second.derivative;
+  // Stage d/dt of the definition as a new named quantity, <name>_d (or <base>_dd).
+  const std::string name = it->second.name;
+  const std::string derived_name =
+      name.size() > 2 && name.compare(name.size() - 2, 2, "_d") == 0 ? name + "d" : name + "_d";
+  const ex value = derivative(it->second.value);
+  ex staged;
+  if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) {
+    staged = value;  // nothing to name
+  } else {
+    staged = define(derived_name, value);
+  }
+  Info& info = info_.at(s);  // define() may have rebalanced the map: look up again
+  info.staged = true;
+  info.derivative = staged;
+  return staged;
+}
+
+ex StagedProgram::derivative(const ex& e) {
+  GiNaC::exset symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) symbols.insert(*it);
+  ex result = 0;
+  for (const ex& sym : symbols) {
+    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(sym);
+    const ex partial = e.diff(s);
+    if (partial.is_zero()) continue;
+    const ex ds = derivative_of_symbol(s);
+    if (ds.is_zero()) continue;
+    result += partial * ds;
+  }
+  return result;
+}
+
+}  // namespace mechgen::gen

@@ -1,0 +1,69 @@
+// A straight-line program of named intermediate quantities, each defined by a small GiNaC
+// expression of earlier ones. Time derivatives are staged too: the derivative of a quantity is a
+// new named quantity defined from the derivatives of the symbols its expression uses (forward
+// chain rule), so nothing is ever substituted into one large expression (no expression swell).
+// Every definition is also evaluated at a few numeric sample configurations, which lets the
+// generator pick branches and check pivots while it derives.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mechgen::gen {
+
+struct Statement {
+  enum class Kind { define, check_positive };
+  Kind kind = Kind::define;
+  GiNaC::symbol symbol;  // define: the quantity; check_positive: the quantity that must be > 0
+  GiNaC::ex value;       // define: its expression
+  std::string failure;   // check_positive: the status returned otherwise ("unreachable", ...)
+  int group = -1;        // check_positive: the solve group that fails
+};
+
+class StagedProgram {
+ public:
+  // samples: numeric values of every parameter and input symbol, one map per configuration.
+  explicit StagedProgram(std::vector<GiNaC::exmap> samples) : samples_(std::move(samples)) {}
+
+  // A quantity given to the program (a parameter, a driver input): its time derivative is
+  // `derivative` (0 for parameters, the next input for a driver coordinate).
+  void declare(const GiNaC::symbol& s, const GiNaC::ex& derivative);
+
+  // A new named quantity. Its time derivative is staged lazily as `<name>_d`, `<name>_dd`, unless
+  // an explicit derivative expression is given (e.g. d/dt cos(th) = -sin(th) * th_d).
+  GiNaC::symbol define(const std::string& name, const GiNaC::ex& value);
+  GiNaC::symbol define(const std::string& name, const GiNaC::ex& value,
+                       const GiNaC::ex& derivative);
+  // The generated code returns `failure` for `group` unless `value` is > 0 here (checked before any
+  // later statement, e.g. a square root of it, runs).
+  void check_positive(const GiNaC::symbol& value, const std::string& failure, int group);
+
+  // Total time derivative of an expression of declared and defined symbols.
+  GiNaC::ex derivative(const GiNaC::ex& e);
+
+  double value(const GiNaC::ex& e, size_t sample) const;
+  size_t sample_count() const { return samples_.size(); }
+  const std::vector<Statement>& statements() const { return statements_; }
+  bool is_defined(const GiNaC::symbol& s) const { return info_.count(s) > 0; }
+
+ private:
+  struct Info {
+    std::string name;
+    GiNaC::ex value;
+    bool explicit_derivative = false;
+    GiNaC::ex derivative;  // valid when explicit_derivative, or once the derivative is staged
+    bool staged = false;
+  };
+  GiNaC::ex derivative_of_symbol(const GiNaC::symbol& s);
+  void evaluate(const GiNaC::symbol& s, const GiNaC::ex& value);
+
+  std::vector<GiNaC::exmap> samples_;
+  std::map<GiNaC::ex, Info, GiNaC::ex_is_less> info_;
+  std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> declared_;
+  std::vector<Statement> statements_;
+};
+
+}  // namespace mechgen::gen

@@ -1,0 +1,47 @@
+// The order in which a mechanism's bodies can be located in closed form: a sequence of small
+// groups (a driven joint, a dyad, a body on a circle and a line), found from the joint graph
+// alone. The symbolic generator follows it; `mechgen check` prints it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace mechgen {
+
+enum class GroupKind {
+  driven_revolute,   // one body: revolute joint to a located body, its angle driven
+  driven_prismatic,  // one body: prismatic joint on a located body's line, its length driven
+  rrr,               // two bodies: revolute - revolute - revolute (circle-circle)
+  rrp,               // two bodies: revolute - revolute - prismatic on a located line (circle-line)
+  r_slot,            // one body: revolute to a located point, its pin in a located slot (circle-line)
+  r_slot_line,       // one body: revolute to a located point, its slot around a located pin
+};
+
+const char* to_string(GroupKind kind);
+bool has_branch(GroupKind kind);
+
+struct SolveGroup {
+  GroupKind kind;
+  std::vector<int> bodies;  // located by this group, in the order the kind describes
+  std::vector<int> joints;  // constraints this group satisfies, in the order the kind describes
+  int driver = -1;          // driver used, for driven kinds
+  std::string name;         // "g<index>_<bodies>", an identifier for generated code
+};
+
+struct SolvePlan {
+  int reference = -1;  // the body whose frame the shape is solved in
+  std::vector<SolveGroup> groups;
+  std::vector<int> unsolved;  // bodies no closed-form group reaches (empty when complete)
+  bool complete() const { return unsolved.empty(); }
+};
+
+// Tries the ground first, then the bodies that carry a driver's first side, then the others; the
+// first reference from which every body is reached wins. When none does, returns the plan from
+// the ground with `unsolved` listing what remains.
+SolvePlan make_solve_plan(const Model& model);
+
+std::string describe(const Model& model, const SolveGroup& group);
+
+}  // namespace mechgen

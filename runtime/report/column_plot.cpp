@@ -1,0 +1,54 @@
+#include "report/column_plot.hpp"
+
+#include <utility>
+
+namespace mechgen::report {
+
+std::string column_unit(const std::string& column) {
+  if (column == "t") return "[s]";
+  const auto dot = column.rfind('.');
+  if (dot == std::string::npos) return "";
+  const std::string field = column.substr(dot + 1);
+  static const std::pair<const char*, const char*> kUnits[] = {
+      {"x", "[m]"},       {"y", "[m]"},     {"th", "[rad]"},  {"vx", "[m/s]"},
+      {"vy", "[m/s]"},    {"w", "[rad/s]"}, {"ax", "[m/s²]"}, {"ay", "[m/s²]"},
+      {"al", "[rad/s²]"}, {"fx", "[N]"},    {"fy", "[N]"},    {"m", "[N m]"},
+  };
+  for (const auto& [name, unit] : kUnits) {
+    if (field == name) return unit;
+  }
+  return "";
+}
+
+namespace {
+
+std::string with_unit(const std::string& text, const std::string& unit) {
+  return unit.empty() ? text : text + " " + unit;
+}
+
+}  // namespace
+
+PlotSpec column_plot(const CsvTable& table, const ColumnPlotOptions& options) {
+  PlotSpec spec;
+  const int xc = table.require_column(options.x);
+  const std::vector<double> x = table.values(xc);
+  std::string names, common_unit;
+  bool same_unit = true;
+  for (std::size_t i = 0; i < options.y.size(); ++i) {
+    const std::string& name = options.y[i];
+    spec.series.push_back({name, x, table.values(table.require_column(name))});
+    names += (i ? ", " : "") + name;
+    const std::string unit = column_unit(name);
+    if (i == 0) common_unit = unit;
+    same_unit = same_unit && unit == common_unit;
+  }
+  spec.x_label = !options.x_label.empty() ? options.x_label
+                 : options.x == "t"       ? "time t [s]"
+                                          : with_unit(options.x, column_unit(options.x));
+  spec.y_label =
+      !options.y_label.empty() ? options.y_label : with_unit(names, same_unit ? common_unit : "");
+  spec.title = !options.title.empty() ? options.title : names + " over " + options.x;
+  return spec;
+}
+
+}  // namespace mechgen::report

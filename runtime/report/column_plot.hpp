@@ -1,0 +1,27 @@
+// A plot of CSV columns against one column: what `mechgen plot` draws.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "report/csv_table.hpp"
+#include "report/svg_plot.hpp"
+
+namespace mechgen::report {
+
+// "[unit]" read off a sweep column's name (DESIGN.md's CSV contract): "t" -> "[s]",
+// "<b>.vx" -> "[m/s]", "<j>.fx" -> "[N]", ... Empty when the name alone does not tell: a driver's
+// q, qd, qdd and effort are an angle (rad, N m) or a length (m, N) depending on its kind.
+std::string column_unit(const std::string& column);
+
+struct ColumnPlotOptions {
+  std::string x;               // column for the horizontal axis
+  std::vector<std::string> y;  // one series per column
+  // Empty: derived. Axis labels name the columns and their units when known ("time t [s]").
+  std::string title, x_label, y_label;
+};
+
+// Throws CsvError naming a missing column and the columns that exist.
+PlotSpec column_plot(const CsvTable& table, const ColumnPlotOptions& options);
+
+}  // namespace mechgen::report

@@ -23,10 +23,19 @@ GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value) {
 GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value,
                                     const ex& derivative) {
   GiNaC::symbol s = define(name, value);
+  set_derivative(s, derivative);
+  return s;
+}
+
+void StagedProgram::set_derivative(const GiNaC::symbol& s, const ex& derivative) {
   Info& info = info_.at(s);
   info.explicit_derivative = true;
   info.derivative = derivative;
-  return s;
+}
+
+void StagedProgram::check_nonzero(const GiNaC::symbol& value, const std::string& failure,
+                                  int group) {
+  statements_.push_back({Statement::Kind::check_nonzero, value, ex(0), failure, group});
 }
 
 void StagedProgram::check_positive(const GiNaC::symbol& value, const std::string& failure,

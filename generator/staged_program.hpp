@@ -15,12 +15,12 @@
 namespace mechgen::gen {
 
 struct Statement {
-  enum class Kind { define, check_positive };
+  enum class Kind { define, check_positive, check_nonzero };
   Kind kind = Kind::define;
-  GiNaC::symbol symbol;  // define: the quantity; check_positive: the quantity that must be > 0
+  GiNaC::symbol symbol;  // define: the quantity; checks: the quantity checked
   GiNaC::ex value;       // define: its expression
-  std::string failure;   // check_positive: the status returned otherwise ("unreachable", ...)
-  int group = -1;        // check_positive: the solve group that fails
+  std::string failure;   // checks: the status returned otherwise ("unreachable", ...)
+  int group = -1;        // checks: the solve group that fails
 };
 
 class StagedProgram {
@@ -37,9 +37,13 @@ class StagedProgram {
   GiNaC::symbol define(const std::string& name, const GiNaC::ex& value);
   GiNaC::symbol define(const std::string& name, const GiNaC::ex& value,
                        const GiNaC::ex& derivative);
-  // The generated code returns `failure` for `group` unless `value` is > 0 here (checked before any
-  // later statement, e.g. a square root of it, runs).
+  // Replaces the derivative of a defined quantity, for rules the chain rule cannot see through a
+  // name (d/dt sqrt(x) = x_d / (2 sqrt(x)) written with the name of sqrt(x)).
+  void set_derivative(const GiNaC::symbol& s, const GiNaC::ex& derivative);
+  // The generated code returns `failure` for `group` unless `value` is > 0 (check_positive) or
+  // nonzero (check_nonzero) here, before any later statement (e.g. a square root of it) runs.
   void check_positive(const GiNaC::symbol& value, const std::string& failure, int group);
+  void check_nonzero(const GiNaC::symbol& value, const std::string& failure, int group);
 
   // Total time derivative of an expression of declared and defined symbols.
   GiNaC::ex derivative(const GiNaC::ex& e);

@@ -1,0 +1,53 @@
+#include "generate.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include "model/model.hpp"
+#include "model/solve_plan.hpp"
+#include "numeric/reference_solver.hpp"
+
+namespace mechgen::gen {
+
+std::string display_path(const std::string& path) {
+  const std::string generic = std::filesystem::path(path).lexically_normal().generic_string();
+  const auto at = generic.rfind("models/");
+  return at == std::string::npos ? std::filesystem::path(generic).filename().string()
+                                 : generic.substr(at);
+}
+
+GenerateResult generate(const GenerateOptions& options) {
+  const Model model = read_model(options.model_path);
+  const SolvePlan plan = make_solve_plan(model);
+
+  // The assembled configuration at t0 picks each group's branch.
+  const std::vector<double> defaults = model.default_parameters();
+  numeric::ReferenceSolver solver(model, defaults);
+  solver.assemble(model.evaluate(model.step.t0, model.substitutions(defaults)));
+  std::vector<BodyPose> pose;
+  for (const auto& p : solver.poses()) pose.push_back({p.x, p.y, p.th});
+
+  const auto inputs = make_driver_inputs(model);
+  StagedProgram program(make_samples(model, inputs, 5));
+  const Derivation derivation = derive(model, plan, pose, inputs, program);
+
+  EmitOptions emit;
+  emit.templates_dir = options.templates_dir;
+  emit.source = display_path(options.model_path);
+  emit.command = "build/mechgen generate " + emit.source + (options.bake ? " --bake" : "");
+  emit.bake = options.bake;
+  const std::vector<EmittedFile> files = emit_kernel(model, plan, derivation, program, emit);
+
+  GenerateResult result{model.name, {}, derivation.notes};
+  std::filesystem::create_directories(options.output_dir);
+  for (const EmittedFile& file : files) {
+    const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();
+    std::ofstream out(path, std::ios::binary);
+    out << file.text;
+    if (!out) throw std::runtime_error("cannot write " + path);
+    result.written.push_back(path);
+  }
+  return result;
+}
+
+}  // namespace mechgen::gen

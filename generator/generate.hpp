@@ -1,0 +1,32 @@
+// One call from a model file to its kernel files: read, plan, assemble (for branches), derive,
+// emit. Shared by `mechgen generate` and the build's mechgen_generate tool.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "kernel_emitter.hpp"
+
+namespace mechgen::gen {
+
+struct GenerateOptions {
+  std::string model_path;
+  std::string output_dir;     // default: generated/<model name> under the source tree
+  std::string templates_dir;  // default: templates/ of the source tree
+  bool bake = false;
+};
+
+struct GenerateResult {
+  std::string model;
+  std::vector<std::string> written;  // paths
+  std::vector<std::string> notes;    // branch choices
+};
+
+// Throws ModelError for description problems and std::runtime_error for derivation problems.
+GenerateResult generate(const GenerateOptions& options);
+
+// The part of a path from its "models/" component on, so banners do not depend on where the
+// tree is checked out.
+std::string display_path(const std::string& path);
+
+}  // namespace mechgen::gen

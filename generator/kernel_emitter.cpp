@@ -1,0 +1,263 @@
+#include "kernel_emitter.hpp"
+
+#include <charconv>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "code_block.hpp"
+#include "model/columns.hpp"
+#include "template_renderer.hpp"
+
+namespace mechgen::gen {
+
+using GiNaC::ex;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read template " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string literal(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return "T(" + text + ")";
+}
+
+std::string quoted_list(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "\"" : ", \"") + item + "\"";
+  return text;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += (text.empty() ? "" : "\n") + line;
+  return text;
+}
+
+class Emitter {
+ public:
+  Emitter(const Model& model, const Derivation& derivation, const StagedProgram& program,
+          const EmitOptions& options)
+      : model_(model), d_(derivation), program_(program), options_(options) {
+    const std::vector<double> defaults = model.default_parameters();
+    for (size_t i = 0; i < model.parameters.size(); ++i) {
+      const Parameter& par = model.parameters[i];
+      rename_[par.symbol] = options.bake ? ex(defaults[i]) : ex(GiNaC::symbol("p." + par.name));
+    }
+    rename_[model.t] = GiNaC::symbol("in.t");
+    for (const Statement& st : program.statements())
+      if (st.kind == Statement::Kind::define) definition_[st.symbol] = st.value;
+  }
+
+  // Straight-line code for `outputs` (target, value): only the statements they need, in program
+  // order, with the checks on the way; `fail` maps a status and group to the statement run when a
+  // check fails.
+  CodeBlock block(const std::vector<Output>& outputs,
+                  std::string (*fail)(const std::string& status, int group)) const {
+    std::set<ex, GiNaC::ex_is_less> needed;
+    std::vector<ex> pending;
+    for (const Output& o : outputs) pending.push_back(o.value);
+    while (!pending.empty()) {
+      const ex e = pending.back();
+      pending.pop_back();
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+        if (!GiNaC::is_a<GiNaC::symbol>(*it) || needed.count(*it)) continue;
+        needed.insert(*it);
+        if (auto def = definition_.find(*it); def != definition_.end())
+          pending.push_back(def->second);
+      }
+    }
+    CodeBlock code;
+    for (const Statement& st : program_.statements()) {
+      if (!needed.count(st.symbol)) continue;
+      switch (st.kind) {
+        case Statement::Kind::define:
+          code.define(st.symbol.get_name(), st.value.subs(rename_));
+          break;
+        case Statement::Kind::check_positive:
+          code.guard(st.symbol, ">", fail(st.failure, st.group));
+          break;
+        case Statement::Kind::check_nonzero:
+          code.guard(st.symbol, "!=", fail(st.failure, st.group));
+          break;
+      }
+    }
+    for (const Output& o : outputs) code.assign(o.target, o.value.subs(rename_));
+    const std::vector<std::string> unused = code.unused_definitions();
+    if (!unused.empty()) throw std::logic_error("generated code would define unused " + unused[0]);
+    return code;
+  }
+
+  static std::string using_lines(const CodeBlock& code) {
+    std::string text;
+    for (const std::string& f : code.math_functions())
+      text += std::string(text.empty() ? "" : "\n") + "  using std::" + f + ";";
+    return text;
+  }
+
+  std::map<std::string, std::string> values(const SolvePlan& plan) const {
+    std::map<std::string, std::string> v;
+    const std::vector<double> defaults = model_.default_parameters();
+    v["model"] = model_.name;
+    v["source"] = options_.source;
+    v["command"] = options_.command;
+    v["description"] = model_.description.empty() ? "(no description)" : model_.description;
+    v["ground"] = model_.bodies[static_cast<size_t>(model_.ground)].name;
+    v["reference"] = model_.bodies[static_cast<size_t>(plan.reference)].name;
+    std::vector<std::string> plan_lines;
+    for (size_t g = 0; g < plan.groups.size(); ++g) {
+      std::string line = "//   " + describe(model_, plan.groups[g]);
+      for (const std::string& note : d_.notes)
+        if (note.rfind(plan.groups[g].name + ":", 0) == 0)
+          line += ";" + note.substr(plan.groups[g].name.size() + 1);
+      plan_lines.push_back(line);
+    }
+    v["plan"] = joined(plan_lines);
+
+    std::vector<std::string> params, set_params, names;
+    for (size_t i = 0; i < model_.parameters.size(); ++i) {
+      const Parameter& par = model_.parameters[i];
+      std::string comment = par.unit.empty() ? "" : par.unit;
+      if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
+      params.push_back("  T " + par.name + " = " + literal(defaults[i]) + ";" +
+                       (comment.empty() ? "" : "  // " + comment));
+      set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
+      names.push_back(par.name);
+    }
+    v["param_fields"] = joined(params);
+    v["set_parameters_body"] = joined(set_params);
+    v["parameter_count"] = std::to_string(model_.parameters.size());
+    v["parameter_names"] = quoted_list(names);
+
+    std::vector<std::string> inputs, bodies, points, joints, drivers;
+    for (const Driver& dr : model_.drivers)
+      inputs.push_back("  T " + dr.name + " = T(0), " + dr.name + "_d = T(0), " + dr.name +
+                       "_dd = T(0);  // " + (dr.kind == DriverKind::angle ? "rad" : "m"));
+    for (const Body& b : model_.bodies)
+      if (!b.ground) bodies.push_back("    BodyState<T> " + b.name + ";");
+    for (const auto& [point, locator] : model_.named_points())
+      points.push_back("    PointState<T> " + point + ";");
+    for (const Joint& j : model_.joints)
+      joints.push_back(std::string(j.type == JointType::prismatic ? "    JointForceMoment<T> "
+                                                                  : "    JointForce<T> ") +
+                       j.name + ";  // " + to_string(j.type));
+    for (const Driver& dr : model_.drivers)
+      drivers.push_back("    DriverState<T> " + dr.name + ";");
+    v["input_fields"] = joined(inputs);
+    v["body_fields"] = joined(bodies);
+    v["point_fields"] = joined(points);
+    v["joint_fields"] = joined(joints);
+    v["driver_fields"] = joined(drivers);
+    v["group_count"] = std::to_string(d_.group_names.size());
+    v["group_names"] = quoted_list(d_.group_names);
+
+    auto state_fail = [](const std::string& status, int group) {
+      return "{ s.failed_group = " + std::to_string(group) + "; return Status::" + status + "; }";
+    };
+    auto plain_fail = [](const std::string& status, int) {
+      return "return Status::" + status + ";";
+    };
+    const CodeBlock kin = block(d_.kinematics, state_fail);
+    std::vector<Output> all = d_.kinematics;
+    all.insert(all.end(), d_.dynamics.begin(), d_.dynamics.end());
+    const CodeBlock full = block(all, state_fail);
+    const size_t n = d_.ne_unknowns.size();
+    std::vector<Output> ne;
+    for (size_t r = 0; r < n; ++r) {
+      for (size_t c = 0; c < n; ++c) {
+        const ex& a = d_.ne_matrix[r * n + c];
+        if (!a.is_zero()) ne.push_back({"A[" + std::to_string(r * n + c) + "]", a});
+      }
+      ne.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
+    }
+    const CodeBlock system = block(ne, plain_fail);
+    v["kinematics_using"] = using_lines(kin);
+    v["kinematics_ops"] = std::to_string(kin.op_count());
+    v["kinematics_body"] = kin.render("  ");
+    v["evaluate_using"] = using_lines(full);
+    v["evaluate_ops"] = std::to_string(full.op_count());
+    v["evaluate_body"] = full.render("  ");
+    v["ne_using"] = using_lines(system);
+    v["ne_ops"] = std::to_string(system.op_count());
+    v["ne_body"] = system.render("  ");
+    v["ne_size"] = std::to_string(n);
+    v["ne_unknowns"] = quoted_list(d_.ne_unknowns);
+
+    // The model's driver motion: q(t) and its exact derivatives.
+    CodeBlock motion;
+    GiNaC::exmap rename = rename_;
+    rename[model_.t] = GiNaC::symbol("t");
+    for (const Driver& dr : model_.drivers) {
+      motion.assign("in." + dr.name, dr.value.ex.subs(rename));
+      motion.assign("in." + dr.name + "_d", dr.value_d.subs(rename));
+      motion.assign("in." + dr.name + "_dd", dr.value_dd.subs(rename));
+    }
+    v["drivers_using"] = using_lines(motion);
+    v["drivers_body"] = motion.render("  ");
+
+    const std::vector<std::string> columns = column_names(model_);
+    std::vector<std::string> to_columns;
+    for (size_t i = 0; i < columns.size(); ++i) {
+      const std::string& c = columns[i];
+      std::string source;
+      const auto dot = c.find('.');
+      if (c == "t") {
+        source = "in.t";
+      } else {
+        const std::string owner = c.substr(0, dot), field = c.substr(dot + 1);
+        std::string group = "points";
+        if (model_.body_index(owner) >= 0) group = "bodies";
+        for (const Joint& j : model_.joints)
+          if (j.name == owner) group = "joints";
+        for (const Driver& dr : model_.drivers)
+          if (dr.name == owner) group = "drivers";
+        source = "s." + group + "." + owner + "." + field;
+      }
+      to_columns.push_back("  row[" + std::to_string(i) + "] = " + source + ";");
+    }
+    v["column_count"] = std::to_string(columns.size());
+    v["column_names"] = quoted_list(columns);
+    v["to_columns_body"] = joined(to_columns);
+    return v;
+  }
+
+ private:
+  const Model& model_;
+  const Derivation& d_;
+  const StagedProgram& program_;
+  const EmitOptions& options_;
+  GiNaC::exmap rename_;
+  std::map<ex, ex, GiNaC::ex_is_less> definition_;
+};
+
+}  // namespace
+
+std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
+                                     const Derivation& derivation, const StagedProgram& program,
+                                     const EmitOptions& options) {
+  Emitter emitter(model, derivation, program, options);
+  std::map<std::string, std::string> values = emitter.values(plan);
+  std::vector<EmittedFile> files;
+  const std::string kernel = options.templates_dir + "/kernel.hpp.in";
+  files.push_back(
+      {model.name + ".hpp", render_template(read_file(kernel), values, "kernel.hpp.in")});
+  std::map<std::string, std::string> entry_values{
+      {"model", values["model"]}, {"source", values["source"]}, {"command", values["command"]}};
+  const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
+  files.push_back({model.name + "_entry.cpp",
+                   render_template(read_file(entry), entry_values, "kernel_entry.cpp.in")});
+  return files;
+}
+
+}  // namespace mechgen::gen

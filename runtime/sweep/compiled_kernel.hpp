@@ -1,0 +1,30 @@
+// The runtime's view of a generated kernel: names and a flat evaluation of one CSV row, in double
+// or float. Each generated/<model>/<model>_entry.cpp defines one; the build lists them all.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mechgen {
+
+struct CompiledKernel {
+  // Evaluates the row at time t (the model's driver motion) for parameters in model order;
+  // returns 0 (ok), 1 (unreachable) or 2 (singular) and the failing group.
+  using RowFunction = int (*)(const double* parameters, double t, double* row, int* failed_group);
+
+  const char* model;
+  int parameter_count;
+  const char* const* parameter_names;
+  int column_count;
+  const char* const* column_names;
+  int group_count;
+  const char* const* group_names;
+  RowFunction evaluate_double;
+  RowFunction evaluate_float;
+};
+
+// The kernel compiled into this binary for `model`, or nullptr.
+const CompiledKernel* find_compiled_kernel(const std::string& model);
+std::vector<std::string> compiled_kernel_models();
+
+}  // namespace mechgen

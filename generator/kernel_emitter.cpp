@@ -155,6 +155,11 @@ class Emitter {
     for (const Driver& dr : model_.drivers)
       drivers.push_back("    DriverState<T> " + dr.name + ";");
     v["input_fields"] = joined(inputs);
+    std::string checks;
+    for (const Driver& dr : model_.drivers)
+      for (const char* suffix : {"", "_d", "_dd"})
+        checks += " && isfinite(in." + dr.name + suffix + ")";
+    v["input_checks"] = checks;
     v["body_fields"] = joined(bodies);
     v["point_fields"] = joined(points);
     v["joint_fields"] = joined(joints);

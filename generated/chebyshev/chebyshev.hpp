@@ -89,6 +89,13 @@ inline constexpr int group_count = 2;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker" };
 
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
+}
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
@@ -97,6 +104,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using std::cos;
   using std::sin;
   using std::sqrt;
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 378
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
@@ -243,6 +251,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using std::cos;
   using std::sin;
   using std::sqrt;
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 497
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
@@ -430,6 +439,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   using std::sin;
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 365
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);

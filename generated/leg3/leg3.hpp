@@ -101,6 +101,13 @@ inline constexpr int group_count = 3;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot" };
 
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.q1) && isfinite(in.q1_d) && isfinite(in.q1_dd) && isfinite(in.q2) && isfinite(in.q2_d) && isfinite(in.q2_dd) && isfinite(in.q3) && isfinite(in.q3_d) && isfinite(in.q3_dd);
+}
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
@@ -108,6 +115,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using std::atan2;
   using std::cos;
   using std::sin;
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 267
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);
@@ -231,6 +239,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using std::atan2;
   using std::cos;
   using std::sin;
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 327
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);
@@ -381,6 +390,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   using std::cos;
   using std::sin;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 230
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);

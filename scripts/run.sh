@@ -15,7 +15,7 @@ steps=(
   build    # Release build in build/
   sweep    # one step of the biped: every named quantity over time -> out/pasibot_step.csv
   plot     # crank (motor) torque over the step -> out/pasibot_torque.svg
-  summary  # extremes of the step -> out/pasibot_summary.txt, and on screen
+  summary  # motor and gait figures of the step -> out/pasibot_summary.txt, and on screen
 )
 
 step_deps() { bash scripts/deps.sh; }
@@ -45,11 +45,12 @@ step_sweep() {
 }
 
 step_plot() {
-  "$mechgen" plot "$out/pasibot_step.csv" --x t --y theta8.effort --out "$out/pasibot_torque.svg"
+  "$mechgen" plot "$out/pasibot_step.csv" --x t --y theta8.effort --out "$out/pasibot_torque.svg" \
+    --title "PASIBOT: crank (motor) torque over one step" --ylabel "torque theta8.effort [N m]"
 }
 
 step_summary() {
-  "$mechgen" summary "$out/pasibot_step.csv" | tee "$out/pasibot_summary.txt"
+  "$mechgen" summary "$out/pasibot_step.csv" --model "$model" | tee "$out/pasibot_summary.txt"
 }
 
 mkdir -p "$out"

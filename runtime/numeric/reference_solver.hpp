@@ -20,14 +20,15 @@
 // are evaluated per sample.
 #pragma once
 
-#include <Eigen/Dense>
 #include <ginac/ginac.h>
+#include <Eigen/Dense>
 
 #include <string>
 #include <vector>
 
 #include "model/columns.hpp"
 #include "model/model.hpp"
+#include "numeric/time_expression.hpp"
 
 namespace mechgen::numeric {
 
@@ -48,7 +49,9 @@ struct Options {
   // A body angle that moves by more than this between successive samples AND farther than this
   // from its second-order Taylor prediction is a branch jump (rad per sample).
   double branch_jump_angle = 0.2;
-  // Relative pivot threshold of the rank decisions (full-pivoting LU of the scaled matrices).
+  // Rank decisions on the scaled (unit-free) matrices: a square system is regular when its
+  // reciprocal condition estimate exceeds this; the numerical rank of a singular or rectangular
+  // one counts the full-pivoting LU pivots above this fraction of the largest.
   double rank_tolerance = 1e-10;
   // When a step diverges or jumps, it is retried with 2, 4, ... up to this many sub-steps.
   int max_substeps = 64;
@@ -122,8 +125,7 @@ class ReferenceSolver {
    private:
     bool constant_ = true;
     double value_ = 0;
-    GiNaC::ex ex_;
-    GiNaC::symbol t_;
+    TimeExpression ex_;
     SourceLoc loc_;
     std::string what_;
   };
@@ -140,9 +142,9 @@ class ReferenceSolver {
     Eigen::Vector2d p1 = Eigen::Vector2d::Zero(), p2 = Eigen::Vector2d::Zero();
     // Unit line direction and normal, first body frame.
     Eigen::Vector2d u1 = Eigen::Vector2d::Zero(), n1 = Eigen::Vector2d::Zero();
-    double angle = 0;        // prismatic
-    int row = 0;             // first constraint row
-    int unknown = 0;         // first Newton-Euler unknown
+    double angle = 0;  // prismatic
+    int row = 0;       // first constraint row
+    int unknown = 0;   // first Newton-Euler unknown
   };
   struct DriverData {
     DriverKind kind = DriverKind::angle;
@@ -170,20 +172,27 @@ class ReferenceSolver {
     int iterations = 0;
     double residual = 0;
   };
+  // The scaled constraint Jacobian at a configuration, factorised: partial pivoting when square
+  // and well-conditioned (reciprocal condition estimate above Options::rank_tolerance), else full
+  // pivoting for the numerical rank.
   struct Factor {
-    Eigen::MatrixXd jac;  // scaled constraint Jacobian
+    Eigen::MatrixXd jac;
+    Eigen::PartialPivLU<Eigen::MatrixXd> partial;
     Eigen::FullPivLU<Eigen::MatrixXd> lu;
+    bool full = false;
     int rank = 0;
-    int det_sign = 0;
+    int det_sign = 0;  // sign of det(Phi_q) when square and regular, else 0
   };
 
   Kinematic body_state(int body, const Eigen::VectorXd& q, const Eigen::VectorXd* qd = nullptr,
                        const Eigen::VectorXd* qdd = nullptr) const;
+  std::vector<Kinematic> states(const Eigen::VectorXd& q, const Eigen::VectorXd* qd = nullptr,
+                                const Eigen::VectorXd* qdd = nullptr) const;
   void residual(const Eigen::VectorXd& q, double t, Eigen::VectorXd& phi) const;  // scaled
-  void jacobian(const Eigen::VectorXd& q, Eigen::MatrixXd& jac) const;             // scaled
+  void jacobian(const Eigen::VectorXd& q, Eigen::MatrixXd& jac) const;            // scaled
   void gamma(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double t,
-             Eigen::VectorXd& g) const;                                            // scaled
-  void velocity_rhs(double t, Eigen::VectorXd& nu) const;                           // scaled
+             Eigen::VectorXd& g) const;                    // scaled
+  void velocity_rhs(double t, Eigen::VectorXd& nu) const;  // scaled
   Newton newton(Eigen::VectorXd& q, double t, int max_iterations, bool line_search) const;
   Factor factor(const Eigen::VectorXd& q) const;
   // Solves the scaled Jacobian system for a coordinate increment (least squares when over-
@@ -193,8 +202,15 @@ class ReferenceSolver {
   bool rates(const Factor& f, const Eigen::VectorXd& q, double t, Eigen::VectorXd& qd,
              Eigen::VectorXd& qdd) const;
   enum class Step { ok, diverged, branch_jump };
+  // Chord iterations with `f`, a factorised Jacobian of a nearby configuration; false when they do
+  // not converge fast (the caller then runs a full Newton-Raphson).
+  bool chord(Eigen::VectorXd& q, double t, const Factor& f) const;
+  // One continuation step: prediction from (q0, qd0, qdd0) at t_from, correction at t_to (chord
+  // iterations with `previous` when given, else or on failure Newton), branch checks; `f` is the
+  // factorised Jacobian at the result.
   Step step_to(double t_from, double t_to, const Eigen::VectorXd& q0, const Eigen::VectorXd& qd0,
-               const Eigen::VectorXd& qdd0, int det_sign0, Eigen::VectorXd& q, Factor& f) const;
+               const Eigen::VectorXd& qdd0, int det_sign0, const Factor* previous,
+               Eigen::VectorXd& q, Factor& f) const;
   bool dynamics(double t);
   void update_poses();
   void fill_row(double t, Status status, std::vector<double>& row) const;
@@ -225,6 +241,7 @@ class ReferenceSolver {
   int det_sign_ = 0;
   int rank_ = 0;
   Eigen::VectorXd q_, qd_, qdd_;
+  Factor factor_;  // of the Jacobian at q_
   std::vector<Pose> poses_;
   Eigen::MatrixXd ne_a_;
   Eigen::VectorXd ne_b_, ne_x_;

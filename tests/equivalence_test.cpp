@@ -58,7 +58,8 @@ bool compare(const Model& model, const std::vector<double>& parameters, int samp
     }
     EXPECT_EQ(status, numeric::Status::ok) << model.name << " numeric at t=" << t;
     int failed = -1;
-    const int kernel_status = kernel->evaluate_double(parameters.data(), t, kernel_row.data(), &failed);
+    const int kernel_status =
+        kernel->evaluate_double(parameters.data(), t, kernel_row.data(), &failed);
     EXPECT_EQ(kernel_status, 0) << model.name << " kernel at t=" << t << " group " << failed;
     if (status != numeric::Status::ok || kernel_status != 0) return true;
     reference.push_back(row);
@@ -110,7 +111,8 @@ TEST_P(Equivalence, EachParameterChanged) {
       Comparison c;
       if (!compare(model, p, 21, c)) continue;
       ++compared;
-      EXPECT_LE(c.worst, kTolerance) << model.parameters[i].name << " x" << factor << ": " << c.where;
+      EXPECT_LE(c.worst, kTolerance)
+          << model.parameters[i].name << " x" << factor << ": " << c.where;
     }
   }
   EXPECT_GE(compared, static_cast<int>(model.parameters.size()));

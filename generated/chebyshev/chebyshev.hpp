@@ -120,10 +120,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
+  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
@@ -267,10 +267,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
+  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
@@ -455,10 +455,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
+  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_d = -P_x_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;

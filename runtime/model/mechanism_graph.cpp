@@ -49,19 +49,19 @@ void check_structure(const Model& model) {
     for (size_t b = 0; b < n; ++b)
       if (model.bodies[b].find_point(point) &&
           pinned.find(b) != pinned.find(static_cast<size_t>(locator)))
-        throw ModelError(model.bodies[b].loc,
-                         "point '" + point + "' is on bodies '" +
-                             model.bodies[static_cast<size_t>(locator)].name + "' and '" +
-                             model.bodies[b].name + "' but no revolute joint pins them there");
+        throw ModelError(model.bodies[b].loc, "point '" + point + "' is on bodies '" +
+                                                  model.bodies[static_cast<size_t>(locator)].name +
+                                                  "' and '" + model.bodies[b].name +
+                                                  "' but no revolute joint pins them there");
   }
 
   const StructureReport r = analyze_structure(model);
   if (r.mobility != r.drivers)
-    throw ModelError(model_loc(model),
-                     "mobility is " + std::to_string(r.mobility) + " (3 x " +
-                         std::to_string(r.moving_bodies) + " moving bodies - " +
-                         std::to_string(r.constraints) + " joint constraints) but " +
-                         std::to_string(r.drivers) + " driver(s) are given");
+    throw ModelError(model_loc(model), "mobility is " + std::to_string(r.mobility) + " (3 x " +
+                                           std::to_string(r.moving_bodies) + " moving bodies - " +
+                                           std::to_string(r.constraints) +
+                                           " joint constraints) but " + std::to_string(r.drivers) +
+                                           " driver(s) are given");
 }
 
 }  // namespace mechgen

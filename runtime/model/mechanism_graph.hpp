@@ -14,9 +14,9 @@ struct StructureReport {
   int constraints = 0;  // scalar joint constraints
   int mobility = 0;     // Gruebler: 3 (bodies - 1) - constraints
   int drivers = 0;
-  int loops = 0;        // independent loops: joints - bodies + 1 (connected graph)
-  int ne_unknowns = 0;  // joint reactions + driver efforts
-  int ne_equations = 0; // 3 per moving body
+  int loops = 0;         // independent loops: joints - bodies + 1 (connected graph)
+  int ne_unknowns = 0;   // joint reactions + driver efforts
+  int ne_equations = 0;  // 3 per moving body
 };
 
 StructureReport analyze_structure(const Model& model);

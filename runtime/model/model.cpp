@@ -71,8 +71,7 @@ double Model::evaluate(const Expr& e, const GiNaC::exmap& subs) const {
   if (!GiNaC::is_a<GiNaC::numeric>(value))
     throw ModelError(e.loc, "'" + e.text + "' does not evaluate to a number");
   const GiNaC::numeric& number = GiNaC::ex_to<GiNaC::numeric>(value);
-  if (!number.is_real())
-    throw ModelError(e.loc, "'" + e.text + "' evaluates to a complex number");
+  if (!number.is_real()) throw ModelError(e.loc, "'" + e.text + "' evaluates to a complex number");
   const double result = number.to_double();
   if (!std::isfinite(result)) throw ModelError(e.loc, "'" + e.text + "' is not finite");
   return result;
@@ -88,8 +87,8 @@ void apply_overrides(const Model& model, const std::vector<std::string>& overrid
     const std::string name = item.substr(0, eq);
     const int index = model.parameter_index(name);
     if (index < 0)
-      throw ModelError(command_line, "--set: model '" + model.name + "' has no parameter '" +
-                                         name + "'");
+      throw ModelError(command_line,
+                       "--set: model '" + model.name + "' has no parameter '" + name + "'");
     const std::string text = item.substr(eq + 1);
     size_t used = 0;
     double value = 0;
@@ -116,6 +115,8 @@ const char* to_string(JointType type) {
   return "?";
 }
 
-const char* to_string(DriverKind kind) { return kind == DriverKind::angle ? "angle" : "length"; }
+const char* to_string(DriverKind kind) {
+  return kind == DriverKind::angle ? "angle" : "length";
+}
 
 }  // namespace mechgen

@@ -40,8 +40,8 @@ struct Vec2Expr {
 
 struct Parameter {
   std::string name;
-  double value = 0;   // default, SI units
-  std::string unit;   // informative only ("m", "kg", "rad/s", ...)
+  double value = 0;  // default, SI units
+  std::string unit;  // informative only ("m", "kg", "rad/s", ...)
   std::string doc;
   GiNaC::symbol symbol;
   SourceLoc loc;
@@ -69,7 +69,8 @@ struct Body {
   bool ground = false;
   std::vector<BodyPoint> points;
   MassProperties mass;
-  std::optional<Expr> assembly_angle;  // approximate body angle at t0 (ground frame), picks the branch
+  std::optional<Expr>
+      assembly_angle;  // approximate body angle at t0 (ground frame), picks the branch
   SourceLoc loc;
 
   const BodyPoint* find_point(const std::string& point) const;
@@ -104,8 +105,8 @@ struct Driver {
   std::string name;
   int joint = -1;
   DriverKind kind = DriverKind::angle;
-  Expr value;                         // of t and parameters
-  GiNaC::ex value_d, value_dd;        // exact time derivatives of value
+  Expr value;                   // of t and parameters
+  GiNaC::ex value_d, value_dd;  // exact time derivatives of value
   SourceLoc loc;
 };
 
@@ -114,11 +115,11 @@ enum class ForceType { spring_damper, force, torque };
 struct ForceElement {
   std::string name;
   ForceType type = ForceType::force;
-  int body_a = -1, body_b = -1;        // body_b only for spring_damper
-  std::string point_a, point_b;        // point_a: application point (force), spring end on a
+  int body_a = -1, body_b = -1;          // body_b only for spring_damper
+  std::string point_a, point_b;          // point_a: application point (force), spring end on a
   Expr stiffness, damping, free_length;  // spring_damper: N/m, N s/m, m
-  Vec2Expr force;                      // force: ground-frame components, of t and parameters
-  Expr torque;                         // torque: N m, counter-clockwise, of t and parameters
+  Vec2Expr force;                        // force: ground-frame components, of t and parameters
+  Expr torque;                           // torque: N m, counter-clockwise, of t and parameters
   SourceLoc loc;
 };
 
@@ -142,8 +143,8 @@ struct Model {
   GiNaC::symbol t{"t"};
   int ground = -1;
 
-  int body_index(const std::string& name) const;        // -1 when absent
-  int parameter_index(const std::string& name) const;   // -1 when absent
+  int body_index(const std::string& name) const;       // -1 when absent
+  int parameter_index(const std::string& name) const;  // -1 when absent
   int moving_body_count() const { return static_cast<int>(bodies.size()) - 1; }
   // Distinct point names in order of first appearance, with the body that locates each.
   std::vector<std::pair<std::string, int>> named_points() const;

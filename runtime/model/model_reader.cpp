@@ -2,6 +2,7 @@
 // of the offending node; see docs/model_format.md for the format.
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -64,13 +65,20 @@ class Reader {
   std::string file_;
   Model model_;
   GiNaC::symtab symbols_;
-  std::set<std::string> names_;  // bodies, joints, drivers, forces share one namespace of columns
+  // Bodies, joints, drivers and forces share one namespace (column names): name -> what it names.
+  std::map<std::string, std::string> names_;
+  void claim_name(const YAML::Node& node, const std::string& name, const std::string& kind) {
+    const auto [at, inserted] = names_.emplace(name, kind);
+    if (!inserted)
+      fail(node, "duplicate name '" + name + "' (already the name of a " + at->second + ")");
+  }
 };
 
 void Reader::expect_keys(const YAML::Node& node, const std::string& what,
                          const std::set<std::string>& allowed) const {
   for (const auto& item : node) {
-    const std::string key = item.first.as<std::string>();
+    if (!item.first.IsScalar()) fail(item.first, "a key in " + what + " must be a plain name");
+    const std::string key = item.first.Scalar();
     if (!allowed.count(key)) {
       std::string list;
       for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
@@ -98,20 +106,34 @@ std::string Reader::identifier(const YAML::Node& node, const std::string& what) 
   return s;
 }
 
-Expr Reader::expression(const YAML::Node& node, const std::string& what,
-                        bool time_allowed) const {
+Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
   Expr result{ex(0), text, loc(node)};
+  // GiNaC evaluates while it parses: besides syntax errors it reports poles (1/0, log(0)).
+  auto first_line = [](const std::string& message) {
+    std::string line = message.substr(0, message.find('\n'));  // drop GiNaC's source trailer
+    const std::string position = "parse error at line 0, column 0: ";
+    const auto at = line.find(position);
+    return at == std::string::npos ? line : line.substr(at + position.size());
+  };
   try {
     GiNaC::parser parse(symbols_, true);  // strict: unknown names are errors
     result.ex = parse(text);
+  } catch (const GiNaC::pole_error& error) {
+    fail(node, what + " '" + text + "' cannot be evaluated (" + first_line(error.what()) + ")");
   } catch (const std::exception& error) {
-    std::string message = error.what();
-    message = message.substr(0, message.find('\n'));  // drop GiNaC's source position trailer
-    const auto quote = message.find('"');
-    if (message.find("not found") != std::string::npos && quote != std::string::npos)
-      fail(node, what + " '" + text + "': undefined name " + message.substr(quote));
+    const std::string message = first_line(error.what());
+    const auto open = message.find('"'), close = message.rfind('"');
+    if (message.find("not found") != std::string::npos && open != std::string::npos &&
+        close > open) {
+      std::string known;
+      for (const Parameter& p : model_.parameters) known += (known.empty() ? "" : ", ") + p.name;
+      fail(node, what + " '" + text + "': undefined name '" +
+                     message.substr(open + 1, close - open - 1) + "' (" +
+                     (known.empty() ? "the model has no parameters" : "parameters: " + known) +
+                     ")");
+    }
     fail(node, what + " '" + text + "': syntax error (" + message + ")");
   }
   if (!time_allowed && result.ex.has(model_.t))
@@ -119,11 +141,12 @@ Expr Reader::expression(const YAML::Node& node, const std::string& what,
   return result;
 }
 
-Vec2Expr Reader::vector2(const YAML::Node& node, const std::string& what,
-                         bool time_allowed) const {
+Vec2Expr Reader::vector2(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   if (!node.IsSequence() || node.size() != 2)
     fail(node, what + " must be a pair [x, y] (got " +
-                   (node.IsSequence() ? std::to_string(node.size()) + " values" : "no list") +
+                   (!node.IsSequence() ? std::string("no list")
+                    : node.size() == 1 ? std::string("1 value")
+                                       : std::to_string(node.size()) + " values") +
                    ")");
   return {expression(node[0], what + " x", time_allowed),
           expression(node[1], what + " y", time_allowed)};
@@ -246,7 +269,7 @@ void Reader::read_joint(const YAML::Node& node) {
   Joint j;
   j.name = identifier(required(node, "name", "a joint"), "joint name");
   j.loc = loc(node["name"]);
-  if (!names_.insert(j.name).second) fail(node["name"], "duplicate name '" + j.name + "'");
+  claim_name(node["name"], j.name, "joint");
   const YAML::Node type = required(node, "type", "joint '" + j.name + "'");
   const std::string type_name = scalar(type, "joint type");
   if (type_name == "revolute") {
@@ -294,7 +317,7 @@ void Reader::read_driver(const YAML::Node& node) {
   Driver d;
   d.name = identifier(required(node, "name", "a driver"), "driver name");
   d.loc = loc(node["name"]);
-  if (!names_.insert(d.name).second) fail(node["name"], "duplicate name '" + d.name + "'");
+  claim_name(node["name"], d.name, "driver");
   const YAML::Node joint = required(node, "joint", "driver '" + d.name + "'");
   const std::string joint_name = scalar(joint, "driver joint");
   for (size_t i = 0; i < model_.joints.size(); ++i)
@@ -308,11 +331,15 @@ void Reader::read_driver(const YAML::Node& node) {
   const JointType type = model_.joints[static_cast<size_t>(d.joint)].type;
   if (kind_name == "angle") {
     d.kind = DriverKind::angle;
-    if (type != JointType::revolute) fail(kind, "an angle driver needs a revolute joint");
+    if (type != JointType::revolute)
+      fail(kind, "driver '" + d.name + "': an angle driver needs a revolute joint, '" + joint_name +
+                     "' is " + to_string(type));
   } else if (kind_name == "length") {
     d.kind = DriverKind::length;
     if (type == JointType::revolute)
-      fail(kind, "a length driver needs a prismatic or pin_in_slot joint");
+      fail(kind, "driver '" + d.name +
+                     "': a length driver needs a prismatic or pin_in_slot joint, '" + joint_name +
+                     "' is revolute");
   } else {
     fail(kind, "unknown driver kind '" + kind_name + "' (angle or length)");
   }
@@ -327,15 +354,15 @@ void Reader::read_force(const YAML::Node& node) {
   ForceElement f;
   f.name = identifier(required(node, "name", "a force element"), "force name");
   f.loc = loc(node["name"]);
-  if (!names_.insert(f.name).second) fail(node["name"], "duplicate name '" + f.name + "'");
+  claim_name(node["name"], f.name, "force");
   const std::string what = "force '" + f.name + "'";
   const YAML::Node type = required(node, "type", what);
   const std::string type_name = scalar(type, "force type");
   auto point_ref = [&](const YAML::Node& n, int body) {
     const std::string p = scalar(n, "point");
     if (!model_.bodies[static_cast<size_t>(body)].find_point(p))
-      fail(n, "body '" + model_.bodies[static_cast<size_t>(body)].name + "' has no point '" + p +
-                  "'");
+      fail(n,
+           "body '" + model_.bodies[static_cast<size_t>(body)].name + "' has no point '" + p + "'");
     return p;
   };
   if (type_name == "spring_damper") {
@@ -380,9 +407,12 @@ void Reader::check_values() {
     if (b.ground) continue;
     const MassProperties& m = b.mass;
     if (m.source == MassProperties::Source::bar) {
-      for (const Expr* e : {&m.width, &m.thickness, &m.density})
+      const std::pair<const char*, const Expr*> sizes[] = {
+          {"width", &m.width}, {"thickness", &m.thickness}, {"density", &m.density}};
+      for (const auto& [field, e] : sizes)
         if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(e->loc, "body '" + b.name + "': bar " + e->text + " must be positive");
+          throw ModelError(e->loc, "body '" + b.name + "': bar " + field + " '" + e->text +
+                                       "' must be positive");
     }
     if (model_.evaluate(m.mass, subs) <= 0)
       throw ModelError(m.mass.loc, "body '" + b.name + "' has a non-positive mass");
@@ -426,6 +456,8 @@ void Reader::check_values() {
 }
 
 Model Reader::read(const YAML::Node& root) {
+  if (!root.IsDefined() || root.IsNull())
+    fail(root, "the model description is empty (expected a YAML mapping)");
   if (!root.IsMap()) fail(root, "a model description must be a YAML mapping");
   expect_keys(root, "model",
               {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
@@ -438,19 +470,21 @@ Model Reader::read(const YAML::Node& root) {
   symbols_["t"] = model_.t;
   symbols_["pi"] = GiNaC::Pi;
   read_parameters(root["parameters"]);
-  model_.gravity = root["gravity"] ? vector2(root["gravity"], "gravity", false)
-                                   : Vec2Expr{{ex(0), "0", loc(root)}, {ex(-9.81), "-9.81", loc(root)}};
+  model_.gravity = root["gravity"]
+                       ? vector2(root["gravity"], "gravity", false)
+                       : Vec2Expr{{ex(0), "0", loc(root)}, {ex(-9.81), "-9.81", loc(root)}};
 
   const YAML::Node bodies = required(root, "bodies", "the model");
   if (!bodies.IsSequence()) fail(bodies, "bodies must be a list");
   for (const auto& b : bodies) read_body(b);
-  for (const Body& b : model_.bodies) names_.insert(b.name);
+  for (const Body& b : model_.bodies) names_.emplace(b.name, "body");
   for (size_t i = 0; i < model_.bodies.size(); ++i) {
     if (!model_.bodies[i].ground) continue;
     if (model_.ground >= 0)
-      throw ModelError(model_.bodies[i].loc, "more than one ground body ('" +
-                                                 model_.bodies[static_cast<size_t>(model_.ground)].name +
-                                                 "' and '" + model_.bodies[i].name + "')");
+      throw ModelError(model_.bodies[i].loc,
+                       "more than one ground body ('" +
+                           model_.bodies[static_cast<size_t>(model_.ground)].name + "' and '" +
+                           model_.bodies[i].name + "')");
     model_.ground = static_cast<int>(i);
   }
   if (model_.ground < 0) fail(bodies, "no ground body (mark one body 'ground: true')");
@@ -484,7 +518,8 @@ Model Reader::read(const YAML::Node& root) {
   }
   if (root["assembly_tolerance"]) {
     const Expr tol = expression(root["assembly_tolerance"], "assembly_tolerance", false);
-    model_.assembly_tolerance = model_.evaluate(tol, model_.substitutions(model_.default_parameters()));
+    model_.assembly_tolerance =
+        model_.evaluate(tol, model_.substitutions(model_.default_parameters()));
     if (!(model_.assembly_tolerance > 0))
       fail(root["assembly_tolerance"], "assembly_tolerance must be positive");
   }
@@ -507,6 +542,10 @@ Model read_model_text(const std::string& text, const std::string& file_label) {
 }
 
 Model read_model(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) throw ModelError({path, 0, 0}, "no such model file");
+  if (std::filesystem::is_directory(path, error))
+    throw ModelError({path, 0, 0}, "is a directory, not a model file");
   std::ifstream in(path);
   if (!in) throw ModelError({path, 0, 0}, "cannot open model file");
   std::stringstream text;

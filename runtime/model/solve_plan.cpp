@@ -119,7 +119,8 @@ class Planner {
         if (middle.empty()) continue;
         const std::vector<int> pins2 = links_to_known(b2, JointType::revolute);
         if (!pins2.empty() && b1 < b2)
-          return add(plan, GroupKind::rrr, {b1, b2}, {pins1.front(), middle.front(), pins2.front()}),
+          return add(plan, GroupKind::rrr, {b1, b2},
+                     {pins1.front(), middle.front(), pins2.front()}),
                  true;
         for (int j : links_to_known(b2, JointType::prismatic))
           if (model_.joints[static_cast<size_t>(j)].second == b2 && driver_of(j) < 0)
@@ -160,7 +161,8 @@ std::string describe(const Model& model, const SolveGroup& group) {
   for (int b : group.bodies) text += " " + model.bodies[static_cast<size_t>(b)].name;
   text += ", joints";
   for (int j : group.joints) text += " " + model.joints[static_cast<size_t>(j)].name;
-  if (group.driver >= 0) text += ", driver " + model.drivers[static_cast<size_t>(group.driver)].name;
+  if (group.driver >= 0)
+    text += ", driver " + model.drivers[static_cast<size_t>(group.driver)].name;
   return text;
 }
 

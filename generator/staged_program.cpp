@@ -1,5 +1,6 @@
 #include "staged_program.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -84,12 +85,21 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
 }
 
 ex StagedProgram::derivative(const ex& e) {
-  GiNaC::exset symbols;
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it)) symbols.insert(*it);
+  // Visit the symbols by name, not in GiNaC's order (hash based, different in every process): the
+  // derivatives staged on the way are named and emitted in this order.
+  std::vector<GiNaC::symbol> symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
+    bool seen = false;
+    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
+    if (!seen) symbols.push_back(s);
+  }
+  std::stable_sort(
+      symbols.begin(), symbols.end(),
+      [](const GiNaC::symbol& a, const GiNaC::symbol& b) { return a.get_name() < b.get_name(); });
   ex result = 0;
-  for (const ex& sym : symbols) {
-    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(sym);
+  for (const GiNaC::symbol& s : symbols) {
     const ex partial = e.diff(s);
     if (partial.is_zero()) continue;
     const ex ds = derivative_of_symbol(s);

@@ -120,10 +120,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
-  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
+  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
@@ -165,9 +165,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
   const T P_x_dd = -c_crank_rel*_tmp7*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp7*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
-  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
   const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
@@ -267,10 +267,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
-  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
+  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
@@ -312,9 +312,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
   const T P_x_dd = -c_crank_rel*_tmp7*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp7*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
-  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
   const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
@@ -455,10 +455,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
-  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
+  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
   const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
@@ -482,9 +482,9 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T com_coupler_x = T(2.5)*c_coupler*p.l + x_coupler;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
   const T P_x_dd = -c_crank_rel*_tmp3*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp3*p.l*s_crank_rel;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
-  const T g2_coupler_rocker_d_x_dd = -P_x_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
   const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;

@@ -145,10 +145,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
   const T com_rod_x_d = P_x_d + T(0.5)*c_rod_d*p.L;
   const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+  const T P_x_dd = -c_crank_rel*_tmp0*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp0*p.r*s_crank_rel;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T P_x_dd = -c_crank_rel*_tmp0*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
   const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;
@@ -241,10 +241,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
   const T com_rod_x_d = P_x_d + T(0.5)*c_rod_d*p.L;
   const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp1*p.r*s_crank_rel;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
   const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;
@@ -372,10 +372,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp1*p.r*s_crank_rel;
   const T com_rod_x = P_x + T(0.5)*c_rod*p.L;
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp1*p.r*s_crank_rel;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
   const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;

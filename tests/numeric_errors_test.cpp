@@ -248,3 +248,56 @@ step: {t0: 0, t1: 1, samples: 11}
 
 }  // namespace
 }  // namespace mechgen::numeric
+
+namespace mechgen::numeric {
+namespace {
+
+// A parallelogram four-bar (crank = rocker, coupler = ground) is a change-point mechanism: at crank
+// angle 0 all links are collinear, the Jacobian is singular and the parallelogram and
+// anti-parallelogram branches cross. A step across it flips the sign of det(Phi_q): reported as a
+// branch jump (the previous configuration is kept), never silently continued.
+TEST(ReferenceSolverErrors, CrossingAChangePointIsABranchJump) {
+  const char* yaml = R"(name: change_point
+bodies:
+  - name: ground
+    ground: true
+    points: {O1: [0, 0], O2: [0.3, 0]}
+  - name: crank
+    points: {O1: [0, 0], A: [0.1, 0]}
+    mass: {mass: 0.2, com: [0.05, 0], inertia: 2e-4}
+    assembly: -0.3
+  - name: coupler
+    points: {A: [0, 0], B: [0.3, 0]}
+    mass: {mass: 0.5, com: [0.15, 0], inertia: 4e-3}
+    assembly: 0
+  - name: rocker
+    points: {O2: [0, 0], B: [0.1, 0]}
+    mass: {mass: 0.2, com: [0.05, 0], inertia: 2e-4}
+    assembly: -0.3
+joints:
+  - {name: jO1, type: revolute, first: ground, second: crank, point: O1}
+  - {name: jA, type: revolute, first: crank, second: coupler, point: A}
+  - {name: jB, type: revolute, first: coupler, second: rocker, point: B}
+  - {name: jO2, type: revolute, first: ground, second: rocker, point: O2}
+drivers:
+  - {name: theta, joint: jO1, kind: angle, value: -0.3 + t}
+step: {t0: 0, t1: 0.6, samples: 13}
+)";
+  const Model model = read_model_text(yaml, "change_point.yaml");
+  ReferenceSolver solver(model, model.default_parameters());
+  solver.assemble(0);
+  const Columns col(model);
+  std::vector<double> row;
+  for (double t : {0.1, 0.2, 0.25}) {
+    ASSERT_EQ(solver.solve(t, row), Status::ok) << t;
+    EXPECT_NEAR(row[col("coupler.th")], 0, 1e-12);  // parallelogram: the coupler translates
+    EXPECT_NEAR(row[col("rocker.th")], -0.3 + t, 1e-12);
+  }
+  EXPECT_EQ(solver.solve(0.35, row), Status::branch_jump);
+  EXPECT_EQ(row[0], 0.35);
+  EXPECT_TRUE(std::isnan(row[col("rocker.th")]));
+  EXPECT_NEAR(solver.poses()[model.body_index("crank")].th, -0.05, 1e-12);  // kept
+}
+
+}  // namespace
+}  // namespace mechgen::numeric

@@ -920,6 +920,9 @@ Status ReferenceSolver::solve(double t, std::vector<double>& row) {
   Factor f;
   Step step = step_to(t_, t, q_, qd_, qdd_, det_sign_, &factor_, q, f);
   // Continuation: retry with 2, 4, ... sub-steps, each predicted from the previous one's rates.
+  // A failure is a branch jump when some attempt converged at t itself, but on another branch;
+  // else (no configuration found at t) it diverged.
+  bool jumped = step == Step::branch_jump;
   for (int pieces = 2; step != Step::ok && pieces <= options_.max_substeps; pieces *= 2) {
     VectorXd qa = q_, qda = qd_, qdda = qdd_;
     int sign = det_sign_;
@@ -930,6 +933,7 @@ Status ReferenceSolver::solve(double t, std::vector<double>& row) {
       VectorXd qn;
       step = step_to(ta, tk, qa, qda, qdda, sign, &previous, qn, f);
       if (step == Step::ok && k < pieces && !rates(f, qn, tk, qda, qdda)) step = Step::diverged;
+      if (step == Step::branch_jump && k == pieces) jumped = true;
       if (step != Step::ok) break;
       qa = qn;
       ta = tk;
@@ -939,7 +943,7 @@ Status ReferenceSolver::solve(double t, std::vector<double>& row) {
     if (step == Step::ok) q = qa;
   }
   if (step != Step::ok) {
-    const Status status = step == Step::diverged ? Status::diverged : Status::branch_jump;
+    const Status status = jumped ? Status::branch_jump : Status::diverged;
     fill_row(t, status, row);
     return status;
   }

@@ -34,16 +34,20 @@ namespace mechgen::numeric {
 
 enum class Status {
   ok,
-  diverged,             // Newton-Raphson did not converge (even with continuation sub-steps)
-  branch_jump,          // the converged configuration is on another branch than the previous one
+  diverged,             // no configuration found at t (Newton-Raphson, then continuation, failed)
+  branch_jump,          // a configuration was found at t but on another branch: a body angle
+                        // jumped, or det(Phi_q) changed sign (the path crossed a singularity)
   singular_kinematics,  // constraint Jacobian rank-deficient: velocities are not determined
   singular_dynamics,    // Newton-Euler system singular or non-square: statically indeterminate
 };
 const char* to_string(Status status);
 
 struct Options {
-  // Newton-Raphson converges when max |Phi| <= tolerance * L (angle equations scaled by L), L the
-  // model's characteristic length (largest coordinate of any point, line or centre of mass).
+  // Newton-Raphson converges when its last step and the residual max |Phi| are both within
+  // tolerance * L (or the residual within 1e-3 of that), angle equations and angle steps scaled by
+  // L, the model's characteristic length (largest coordinate of any point, line or centre of
+  // mass). Since the error after such a step is of the order of its square, positions come out at
+  // round-off level, not at the tolerance.
   double tolerance = 1e-12;
   int max_iterations = 50;  // per Newton solve (assembly: 4 times this, with line search)
   // A body angle that moves by more than this between successive samples AND farther than this

@@ -16,20 +16,37 @@ std::string display_path(const std::string& path) {
                                  : generic.substr(at);
 }
 
-GenerateResult generate(const GenerateOptions& options) {
-  const Model model = read_model(options.model_path);
-  const SolvePlan plan = make_solve_plan(model);
-
-  // The assembled configuration at t0 picks each group's branch.
+namespace {
+// The assembled configuration at t0 (default parameters): it picks each group's branch.
+std::vector<BodyPose> assembled_pose(const Model& model) {
   const std::vector<double> defaults = model.default_parameters();
   numeric::ReferenceSolver solver(model, defaults);
   solver.assemble(model.evaluate(model.step.t0, model.substitutions(defaults)));
   std::vector<BodyPose> pose;
   for (const auto& p : solver.poses()) pose.push_back({p.x, p.y, p.th});
+  return pose;
+}
 
+// The staged program's sample configurations, shared by generate() and branch_notes().
+StagedProgram make_program(const Model& model,
+                           const std::vector<Derivation::DriverInputs>& inputs) {
+  return StagedProgram(make_samples(model, inputs, 5));
+}
+}  // namespace
+
+std::vector<std::string> branch_notes(const Model& model) {
+  const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
-  StagedProgram program(make_samples(model, inputs, 5));
-  const Derivation derivation = derive(model, plan, pose, inputs, program);
+  StagedProgram program = make_program(model, inputs);
+  return derive(model, plan, assembled_pose(model), inputs, program).notes;
+}
+
+GenerateResult generate(const GenerateOptions& options) {
+  const Model model = read_model(options.model_path);
+  const SolvePlan plan = make_solve_plan(model);
+  const auto inputs = make_driver_inputs(model);
+  StagedProgram program = make_program(model, inputs);
+  const Derivation derivation = derive(model, plan, assembled_pose(model), inputs, program);
 
   EmitOptions emit;
   emit.templates_dir = options.templates_dir;

@@ -25,6 +25,10 @@ struct GenerateResult {
 // Throws ModelError for description problems and std::runtime_error for derivation problems.
 GenerateResult generate(const GenerateOptions& options);
 
+// The branch generate() picks for each group ("g2_l7_l9: branch -1"), derived the same way but
+// without emitting or writing anything: what `mechgen check` prints. Same exceptions.
+std::vector<std::string> branch_notes(const Model& model);
+
 // The part of a path from its "models/" component on, so banners do not depend on where the
 // tree is checked out.
 std::string display_path(const std::string& path);

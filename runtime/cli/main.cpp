@@ -1,0 +1,725 @@
+// mechgen: the command line of ../../../shared/DESIGN.md. One function per sub-command, one small
+// argument parser shared by all; every error is one line on stderr and exit code 1.
+#include <yaml-cpp/exceptions.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli/model_info.hpp"
+#include "generate.hpp"
+#include "model/columns.hpp"
+#include "model/mechanism_graph.hpp"
+#include "model/model.hpp"
+#include "model/solve_plan.hpp"
+#include "numeric/reference_solver.hpp"
+#include "report/column_plot.hpp"
+#include "report/csv_table.hpp"
+#include "report/svg_plot.hpp"
+#include "sweep/compiled_kernel.hpp"
+#include "sweep/summary.hpp"
+#include "sweep/sweep.hpp"
+
+#ifndef MECHGEN_SOURCE_DIR
+#error "MECHGEN_SOURCE_DIR must name the source tree (set by runtime/cli/CMakeLists.txt)"
+#endif
+
+namespace mechgen::cli {
+
+namespace {
+
+// ---- errors -------------------------------------------------------------------------------------
+
+// A wrong command line: printed as "mechgen COMMAND: error: MESSAGE (see mechgen COMMAND --help)".
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The file a command is working on, for errors that carry no location of their own.
+std::string g_current_file;
+
+// ---- the argument parser ------------------------------------------------------------------------
+
+struct OptionSpec {
+  std::string name;   // "--out"
+  std::string alias;  // "-o", or empty
+  bool takes_value = false;
+  bool repeatable = false;
+};
+
+class Args {
+ public:
+  // Parses the words after the command name. "--name VALUE" and "--name=VALUE" both work; "--"
+  // ends the options; "-h" and "--help" ask for help. Throws UsageError for an unknown option, a
+  // missing value, or an option given twice that may be given once.
+  Args(const std::vector<std::string>& words, std::vector<OptionSpec> specs)
+      : specs_(std::move(specs)) {
+    bool options_done = false;
+    for (size_t i = 0; i < words.size(); ++i) {
+      const std::string& word = words[i];
+      if (options_done || word.size() < 2 || word[0] != '-') {
+        positional_.push_back(word);
+        continue;
+      }
+      if (word == "--") {
+        options_done = true;
+        continue;
+      }
+      if (word == "--help" || word == "-h") {
+        help_ = true;
+        continue;
+      }
+      std::string name = word, value;
+      bool inline_value = false;
+      if (const auto eq = word.find('='); word.rfind("--", 0) == 0 && eq != std::string::npos) {
+        name = word.substr(0, eq);
+        value = word.substr(eq + 1);
+        inline_value = true;
+      }
+      const OptionSpec* spec = find(name);
+      if (!spec) throw UsageError("unknown option '" + name + "'");
+      if (spec->takes_value && !inline_value) {
+        if (i + 1 >= words.size()) throw UsageError("option " + spec->name + " needs a value");
+        value = words[++i];
+      } else if (!spec->takes_value && inline_value) {
+        throw UsageError("option " + spec->name + " takes no value");
+      }
+      std::vector<std::string>& slot = values_[spec->name];
+      if (!slot.empty() && !spec->repeatable)
+        throw UsageError("option " + spec->name + " given more than once");
+      slot.push_back(value);
+    }
+  }
+
+  bool help() const { return help_; }
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const {
+    const auto it = values_.find(name);
+    return it == values_.end() ? fallback : it->second.back();
+  }
+  std::vector<std::string> all(const std::string& name) const {
+    const auto it = values_.find(name);
+    return it == values_.end() ? std::vector<std::string>{} : it->second;
+  }
+  // The one positional argument a command takes (its MODEL.yaml or CSV file).
+  std::string single_positional(const std::string& what) const {
+    if (positional_.empty()) throw UsageError("missing " + what);
+    if (positional_.size() > 1) throw UsageError("unexpected argument '" + positional_[1] + "'");
+    return positional_.front();
+  }
+  // An option's value as a number (plain decimal or scientific notation).
+  double number(const std::string& name, double fallback) const {
+    if (!has(name)) return fallback;
+    const std::string text = get(name);
+    size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(value))
+      throw UsageError(name + ": '" + text + "' is not a number");
+    return value;
+  }
+  int integer(const std::string& name, int fallback) const {
+    const double value = number(name, fallback);
+    if (value != std::floor(value) || std::abs(value) > 1e9)
+      throw UsageError(name + ": '" + get(name) + "' is not an integer");
+    return static_cast<int>(value);
+  }
+
+ private:
+  const OptionSpec* find(const std::string& name) const {
+    for (const OptionSpec& spec : specs_)
+      if (spec.name == name || (!spec.alias.empty() && spec.alias == name)) return &spec;
+    return nullptr;
+  }
+
+  std::vector<OptionSpec> specs_;
+  std::map<std::string, std::vector<std::string>> values_;
+  std::vector<std::string> positional_;
+  bool help_ = false;
+};
+
+// ---- small helpers ------------------------------------------------------------------------------
+
+// Left-aligned text columns, each as wide as its widest cell.
+std::string table(const std::vector<std::vector<std::string>>& rows, const std::string& indent) {
+  std::vector<size_t> width;
+  for (const auto& row : rows)
+    for (size_t i = 0; i < row.size(); ++i) {
+      if (width.size() <= i) width.push_back(0);
+      width[i] = std::max(width[i], row[i].size());
+    }
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line = indent;
+    for (size_t i = 0; i < row.size(); ++i)
+      line += row[i] + (i + 1 < row.size() ? std::string(width[i] - row[i].size() + 2, ' ') : "");
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    out += line + "\n";
+  }
+  return out;
+}
+
+std::string fixed(double value, int digits = 6) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
+}
+
+double wrap_angle(double a) {
+  return std::remainder(a, 2 * std::numbers::pi);
+}
+
+Model load_model(const std::string& path) {
+  g_current_file = path;
+  return read_model(path);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// ---- mechgen check ------------------------------------------------------------------------------
+
+const char* const kCheckHelp =
+    R"(usage: mechgen check MODEL.yaml
+
+Validates a mechanism description and prints what mechgen understood of it: parameters, bodies
+(mass and inertia at the default parameters), joints, drivers and loads; the structure (mobility
+by Gruebler's count against the drivers, independent loops, Newton-Euler unknowns and equations);
+the assembly at t0 by the numeric solver (this catches redundant constraints and assembly hints
+that do not assemble); and the solve plan the generator follows: the reference body frame, each
+closed-form group in order with the branch the generator picks.
+
+Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
+)";
+
+int run_check(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  const Model model = load_model(path);
+  const std::vector<double> defaults = model.default_parameters();
+  const GiNaC::exmap subs = model.substitutions(defaults);
+  std::string out;
+
+  out += path + ": model '" + model.name + "'" +
+         (model.description.empty() ? "" : ": " + model.description) + "\n";
+
+  std::vector<std::vector<std::string>> rows{{"name", "default", "unit", "doc"}};
+  for (const Parameter& p : model.parameters)
+    rows.push_back({p.name, number_text(p.value), p.unit, p.doc});
+  out += "\nparameters (" + std::to_string(model.parameters.size()) + ")\n" + table(rows, "  ");
+
+  rows = {{"name", "mass [kg]", "inertia [kg m^2]", "assembly hint [rad]"}};
+  for (const Body& body : model.bodies) {
+    if (body.ground) {
+      rows.push_back({body.name, "ground", "", ""});
+      continue;
+    }
+    const auto [mass, inertia] = mass_properties(model, body, subs);
+    rows.push_back({body.name, fixed(mass), fixed(inertia),
+                    body.assembly_angle ? body.assembly_angle->text : "(none: 0)"});
+  }
+  out += "\nbodies (" + std::to_string(model.bodies.size()) + ": 1 ground, " +
+         std::to_string(model.moving_body_count()) + " moving)\n" + table(rows, "  ");
+
+  rows = {{"name", "type", "first", "second", "point"}};
+  for (const Joint& j : model.joints)
+    rows.push_back({j.name, to_string(j.type), model.bodies[static_cast<size_t>(j.first)].name,
+                    model.bodies[static_cast<size_t>(j.second)].name, j.point});
+  out += "\njoints (" + std::to_string(model.joints.size()) + ")\n" + table(rows, "  ");
+
+  rows = {{"name", "kind", "joint", "value"}};
+  for (const Driver& d : model.drivers)
+    rows.push_back(
+        {d.name, to_string(d.kind), model.joints[static_cast<size_t>(d.joint)].name, d.value.text});
+  out += "\ndrivers (" + std::to_string(model.drivers.size()) + ")\n" + table(rows, "  ");
+
+  if (!model.forces.empty()) {
+    rows = {{"name", "type", "on"}};
+    for (const ForceElement& f : model.forces) {
+      const char* type = f.type == ForceType::spring_damper ? "spring_damper"
+                         : f.type == ForceType::force       ? "force"
+                                                            : "torque";
+      std::string on = model.bodies[static_cast<size_t>(f.body_a)].name;
+      if (!f.point_a.empty()) on += " at " + f.point_a;
+      if (f.type == ForceType::spring_damper)
+        on += " - " + model.bodies[static_cast<size_t>(f.body_b)].name + " at " + f.point_b;
+      rows.push_back({f.name, type, on});
+    }
+    out += "\nloads (" + std::to_string(model.forces.size()) + ")\n" + table(rows, "  ");
+  }
+
+  const StructureReport s = analyze_structure(model);
+  out += "\nstructure\n";
+  out +=
+      table({{"mobility (Gruebler)", "3 x " + std::to_string(s.moving_bodies) +
+                                         " moving bodies - " + std::to_string(s.constraints) +
+                                         " joint constraints = " + std::to_string(s.mobility) +
+                                         " = drivers (" + std::to_string(s.drivers) + "): ok"},
+             {"independent loops", std::to_string(s.loops) + " (" +
+                                       std::to_string(model.joints.size()) + " joints - " +
+                                       std::to_string(s.moving_bodies) + " moving bodies)"},
+             {"Newton-Euler",
+              std::to_string(s.ne_unknowns) + " unknowns (" + std::to_string(s.constraints) +
+                  " reaction components + " + std::to_string(s.drivers) + " driver effort(s)), " +
+                  std::to_string(s.ne_equations) + " equations (3 per moving " + "body)"}},
+            "  ");
+  std::cout << out << std::flush;
+  out.clear();
+
+  // The numeric solver assembles at t0: redundant constraints and hints that do not assemble
+  // throw ModelError here, at the offending line.
+  const double t0 = model.evaluate(model.step.t0, subs);
+  numeric::ReferenceSolver solver(model, defaults);
+  solver.assemble(t0);
+  double worst = 0;
+  std::string worst_body = "-";
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    if (model.bodies[b].ground || !model.bodies[b].assembly_angle) continue;
+    const double hint = model.evaluate(*model.bodies[b].assembly_angle, subs);
+    const double off = std::abs(wrap_angle(solver.poses()[b].th - hint));
+    if (off >= worst) worst = off, worst_body = model.bodies[b].name;
+  }
+  out += "\nassembly at t0 = " + number_text(t0) + " s (numeric solver, default parameters)\n";
+  out +=
+      table({{"constraints", std::to_string(solver.constraint_count()) + " equations of rank " +
+                                 std::to_string(solver.constraint_rank()) + ", " +
+                                 std::to_string(solver.coordinate_count()) + " coordinates"},
+             {"farthest from its hint", worst_body + ": " + fixed(worst, 3) + " rad (tolerance " +
+                                            number_text(model.assembly_tolerance) + ")"}},
+            "  ");
+
+  const SolvePlan plan = make_solve_plan(model);
+  const std::string reference = model.bodies[static_cast<size_t>(plan.reference)].name;
+  out += "\nsolve plan\n  reference body frame: " + reference;
+  out += plan.reference == model.ground
+             ? " (the ground)\n"
+             : " (shape solved in its frame, then placed on the ground body " +
+                   model.bodies[static_cast<size_t>(model.ground)].name + ")\n";
+  std::vector<std::string> notes;
+  std::string derivation_problem;
+  if (plan.complete()) {
+    try {
+      notes = gen::branch_notes(model);
+    } catch (const ModelError&) {
+      throw;
+    } catch (const std::exception& error) {
+      derivation_problem = error.what();
+    }
+  }
+  for (size_t g = 0; g < plan.groups.size(); ++g) {
+    std::string line = "  " + std::to_string(g + 1) + ". " + describe(model, plan.groups[g]);
+    const std::string prefix = plan.groups[g].name + ":";
+    for (const std::string& note : notes)
+      if (note.rfind(prefix, 0) == 0) line += ";" + note.substr(prefix.size());
+    out += line + "\n";
+  }
+  if (plan.complete()) {
+    out += "  closed form: yes, every body located in " + std::to_string(plan.groups.size()) +
+           " groups\n";
+  } else {
+    std::string unsolved;
+    for (int b : plan.unsolved) unsolved += " " + model.bodies[static_cast<size_t>(b)].name;
+    out += "  closed form: no; no closed-form group reaches" + unsolved +
+           " (sweep with --solver numeric)\n";
+  }
+  std::cout << out;
+  if (!derivation_problem.empty()) {
+    std::cout << "  branches: not derived\n" << std::flush;
+    std::cerr << path << ": warning: the generator cannot derive this model: " << derivation_problem
+              << "\n";
+  }
+  std::cout << "\nok: " << path << "\n";
+  return 0;
+}
+
+// ---- mechgen info -------------------------------------------------------------------------------
+
+const char* const kInfoHelp =
+    R"(usage: mechgen info MODEL.yaml [--json]
+
+Model metadata. With --json, exactly the JSON of DESIGN.md on stdout: name, gravity, parameters
+with their default values, bodies (mass and inertia about the centre of mass at the defaults,
+ground flag), named points, joints (name, type, first, second, point) and drivers (name, joint,
+kind). Numbers are written with as many digits as it takes to read back the same double.
+Without --json, a short text summary.
+)";
+
+int run_info(const Args& args) {
+  const Model model = load_model(args.single_positional("MODEL.yaml"));
+  if (!args.has("--json")) {
+    const StructureReport s = analyze_structure(model);
+    std::cout << model.name << (model.description.empty() ? "" : ": " + model.description) << "\n"
+              << table({{"parameters", std::to_string(model.parameters.size())},
+                        {"bodies", std::to_string(model.bodies.size()) + " (1 ground)"},
+                        {"points", std::to_string(model.named_points().size())},
+                        {"joints", std::to_string(model.joints.size())},
+                        {"drivers", std::to_string(model.drivers.size())},
+                        {"loads", std::to_string(model.forces.size())},
+                        {"loops", std::to_string(s.loops)},
+                        {"sweep columns", std::to_string(column_names(model).size())}},
+                       "  ");
+    return 0;
+  }
+
+  std::cout << model_info_json(model);
+  return 0;
+}
+
+// ---- mechgen generate ---------------------------------------------------------------------------
+
+const char* const kGenerateHelp =
+    R"(usage: mechgen generate MODEL.yaml [-o DIR] [--bake] [--templates DIR]
+
+Derives the model's kinematics and dynamics symbolically and writes its kernels.
+  -o, --output DIR   where to write (default: generated/<name>/ of the source tree)
+  --bake             bake the default parameter values into the kernel as constants
+  --templates DIR    the templates to emit through (default: templates/ of the source tree)
+Parameters stay run-time values unless --bake is given: only a change of topology (bodies,
+joints, drivers) needs regeneration. A kernel is compiled into mechgen when its model is listed in
+MECHGEN_KERNEL_MODELS (generated/CMakeLists.txt).
+)";
+
+int run_generate(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  const Model model = load_model(path);
+  const std::filesystem::path source = MECHGEN_SOURCE_DIR;
+  gen::GenerateOptions options;
+  options.model_path = path;
+  options.output_dir = args.get("--output", (source / "generated" / model.name).string());
+  options.templates_dir = args.get("--templates", (source / "templates").string());
+  options.bake = args.has("--bake");
+  const auto start = std::chrono::steady_clock::now();
+  const gen::GenerateResult result = gen::generate(options);
+  std::cout << "generated '" << result.model << "' in " << fixed(seconds_since(start), 3) << " s\n";
+  for (const std::string& note : result.notes) std::cout << "  " << note << "\n";
+  for (const std::string& file : result.written) std::cout << "  wrote " << file << "\n";
+  if (!find_compiled_kernel(model.name))
+    std::cout << "note: '" << model.name
+              << "' is not compiled into this mechgen; add it to MECHGEN_KERNEL_MODELS in "
+                 "generated/CMakeLists.txt and rebuild to sweep it with --solver generated\n";
+  return 0;
+}
+
+// ---- mechgen sweep ------------------------------------------------------------------------------
+
+const char* const kSweepHelp =
+    R"(usage: mechgen sweep MODEL.yaml [--solver generated|numeric] [--set NAME=VALUE]...
+                     [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
+
+One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
+the model's step, evaluated with the --set values), one CSV row per sample (DESIGN.md's columns,
+17 significant digits).
+  --solver generated  the compiled kernel (default); numeric: the reference solver
+  --set NAME=VALUE    overrides a model parameter (repeatable); no regeneration needed
+  --threads N         threads for the generated solver (default: all, for 20000 samples or more)
+  --out FILE.csv      where to write the table (required unless --summary is given)
+  --summary           print each column's minimum and maximum
+A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
+)";
+
+int run_sweep_command(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  if (!args.has("--out") && !args.has("--summary"))
+    throw UsageError("missing --out FILE.csv (or --summary)");
+  const Model model = load_model(path);
+  std::vector<double> parameters = model.default_parameters();
+  apply_overrides(model, args.all("--set"), parameters);
+  SweepOptions options = default_sweep(model, parameters);
+  options.solver = args.get("--solver", "generated");
+  if (options.solver != "generated" && options.solver != "numeric")
+    throw UsageError("--solver: expected generated or numeric, got '" + options.solver + "'");
+  options.samples = args.integer("--samples", options.samples);
+  if (options.samples < 1) throw UsageError("--samples must be at least 1");
+  options.t0 = args.number("--t0", options.t0);
+  options.t1 = args.number("--t1", options.t1);
+  options.threads = args.integer("--threads", 0);
+  if (options.threads < 0) throw UsageError("--threads must be at least 0");
+
+  const auto start = std::chrono::steady_clock::now();
+  const SweepResult result = run_sweep(model, options);
+  const double elapsed = seconds_since(start);
+  std::string line = "sweep " + model.name + ": " + options.solver + " solver, " +
+                     std::to_string(options.samples) + " samples, t = " + number_text(options.t0) +
+                     " .. " + number_text(options.t1) + " s, " +
+                     std::to_string(result.columns.size()) + " columns, " +
+                     fixed(elapsed * 1e3, 3) + " ms";
+  if (args.has("--out")) {
+    const std::string out = args.get("--out");
+    g_current_file = out;
+    write_csv(out, result);
+    line += " -> " + out;
+  }
+  std::cout << line << "\n";
+
+  if (args.has("--summary")) {
+    std::vector<std::vector<std::string>> rows{{"column", "min", "max", "unit"}};
+    for (size_t c = 0; c < result.columns.size(); ++c) {
+      double lo = result.rows.front()[c], hi = lo;
+      for (const auto& row : result.rows) lo = std::min(lo, row[c]), hi = std::max(hi, row[c]);
+      rows.push_back(
+          {result.columns[c], fixed(lo, 8), fixed(hi, 8), report::column_unit(result.columns[c])});
+    }
+    std::cout << table(rows, "  ");
+  }
+  return 0;
+}
+
+// ---- mechgen plot -------------------------------------------------------------------------------
+
+const char* const kPlotHelp =
+    R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
+                   [--title TEXT] [--xlabel TEXT] [--ylabel TEXT]
+
+Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
+list several columns separated by commas. Axis labels and units are derived from the column names
+unless given.
+)";
+
+int run_plot(const Args& args) {
+  const std::string path = args.single_positional("FILE.csv");
+  if (!args.has("--x")) throw UsageError("missing --x COLUMN");
+  if (!args.has("--y")) throw UsageError("missing --y COLUMN");
+  if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
+  report::ColumnPlotOptions options;
+  options.x = args.get("--x");
+  for (const std::string& list : args.all("--y")) {
+    size_t begin = 0;
+    while (begin <= list.size()) {
+      const size_t comma = std::min(list.find(',', begin), list.size());
+      const std::string name = list.substr(begin, comma - begin);
+      if (name.empty()) throw UsageError("--y: empty column name in '" + list + "'");
+      options.y.push_back(name);
+      begin = comma + 1;
+    }
+  }
+  options.title = args.get("--title");
+  options.x_label = args.get("--xlabel");
+  options.y_label = args.get("--ylabel");
+  g_current_file = path;
+  const report::CsvTable table = report::read_csv(path);
+  const std::string svg = report::render_svg(report::column_plot(table, options));
+  const std::string out = args.get("--out");
+  g_current_file = out;
+  std::ofstream file(out, std::ios::binary);
+  file << svg;
+  file.close();
+  if (!file) throw std::runtime_error("cannot write '" + out + "'");
+  std::cout << "plot: " << options.y.size() << " series, " << table.rows.size() << " samples -> "
+            << out << "\n";
+  return 0;
+}
+
+// ---- mechgen summary ----------------------------------------------------------------------------
+
+const char* const kSummaryHelp =
+    R"(usage: mechgen summary FILE.csv [--body NAME] [--model MODEL.yaml]
+
+The figures of a sweep that size a motor and describe a gait:
+  every driver <d> (columns <d>.effort, <d>.qd): peak effort (largest magnitude, signed, and when),
+  RMS effort, mean power (effort x qd averaged over time), peak power, work over the run;
+  one body (--body, default l13 when present, else the first body): travel of its centre of mass
+  in x (end minus start) and height variation in y (max minus min, also relative to the mean);
+  the largest joint force magnitude |(fx, fy)| and its joint.
+Averages are over time (trapezoidal rule in t). The driver kinds (hence the effort units: N m for
+an angle, N for a length) come from --model, else from the model of models/ whose sweep columns
+are exactly the table's.
+)";
+
+// The model of the source tree whose sweep columns are exactly `header`, if exactly one is.
+std::optional<Model> model_with_columns(const std::vector<std::string>& header) {
+  std::optional<Model> found;
+  std::error_code error;
+  const std::filesystem::path models = std::filesystem::path(MECHGEN_SOURCE_DIR) / "models";
+  for (const auto& entry : std::filesystem::directory_iterator(models, error)) {
+    if (entry.path().extension() != ".yaml") continue;
+    try {
+      Model candidate = read_model(entry.path().string());
+      if (column_names(candidate) != header) continue;
+      if (found) return std::nullopt;  // ambiguous
+      found = std::move(candidate);
+    } catch (const std::exception&) {
+      // A description that does not read is simply not a match.
+    }
+  }
+  return found;
+}
+
+int run_summary(const Args& args) {
+  const std::string path = args.single_positional("FILE.csv");
+  SummaryOptions options;
+  options.body = args.get("--body");
+  std::optional<Model> model;
+  if (args.has("--model")) {
+    model = load_model(args.get("--model"));
+    options.model = &*model;
+  }
+  g_current_file = path;
+  const report::CsvTable table = report::read_csv(path);
+  if (!model) {
+    model = model_with_columns(table.header);
+    options.model = model ? &*model : nullptr;
+  }
+  std::cout << format_summary(summarize(table, options));
+  if (!args.has("--model") && model)
+    std::cout << "(driver kinds from models/" << model->name
+              << ".yaml, whose sweep columns are this table's)\n";
+  return 0;
+}
+
+// ---- dispatch -----------------------------------------------------------------------------------
+
+struct Command {
+  const char* name;
+  const char* summary;
+  const char* help;
+  std::vector<OptionSpec> options;
+  int (*run)(const Args&);
+};
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> list{
+      {"check",
+       "validate a model; print its structure, assembly and solve plan",
+       kCheckHelp,
+       {},
+       &run_check},
+      {"info",
+       "model metadata (--json: DESIGN.md's JSON)",
+       kInfoHelp,
+       {{"--json", "", false}},
+       &run_info},
+      {"generate",
+       "write a model's kernels (default generated/<name>/)",
+       kGenerateHelp,
+       {{"--output", "-o", true}, {"--bake", "", false}, {"--templates", "", true}},
+       &run_generate},
+      {"sweep",
+       "one run over time -> CSV",
+       kSweepHelp,
+       {{"--solver", "", true},
+        {"--set", "", true, true},
+        {"--samples", "", true},
+        {"--t0", "", true},
+        {"--t1", "", true},
+        {"--threads", "", true},
+        {"--out", "-o", true},
+        {"--summary", "", false}},
+       &run_sweep_command},
+      {"plot",
+       "SVG line plot of CSV columns",
+       kPlotHelp,
+       {{"--x", "", true},
+        {"--y", "", true, true},
+        {"--out", "-o", true},
+        {"--title", "", true},
+        {"--xlabel", "", true},
+        {"--ylabel", "", true}},
+       &run_plot},
+      {"summary",
+       "motor torque, power and gait figures of a sweep CSV",
+       kSummaryHelp,
+       {{"--body", "", true}, {"--model", "", true}},
+       &run_summary},
+  };
+  return list;
+}
+
+std::string main_help() {
+  std::string text =
+      "usage: mechgen COMMAND [ARGS...]    (mechgen COMMAND --help for each)\n\n"
+      "Planar mechanisms from a YAML description to kinematics and dynamics kernels.\n\n"
+      "commands:\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const Command& c : commands()) rows.push_back({c.name, c.summary});
+  text += table(rows, "  ");
+  std::string models;
+  for (const std::string& m : compiled_kernel_models()) models += " " + m;
+  text += "\ncompiled kernels:" + (models.empty() ? std::string(" none") : models) + "\n";
+  return text;
+}
+
+// Prints an error that carries no source location as "FILE: error: MESSAGE".
+void print_error(const std::string& message) {
+  std::cerr << (g_current_file.empty() ? "mechgen" : g_current_file) << ": error: " << message
+            << "\n";
+}
+
+int dispatch(int argc, char** argv) {
+  std::vector<std::string> words(argv + 1, argv + argc);
+  if (words.empty()) {
+    std::cerr << main_help();
+    return 1;
+  }
+  const std::string name = words.front();
+  if (name == "--help" || name == "-h" || name == "help") {
+    if (words.size() > 1)
+      for (const Command& c : commands())
+        if (words[1] == c.name) {
+          std::cout << c.help;
+          return 0;
+        }
+    std::cout << main_help();
+    return 0;
+  }
+  for (const Command& c : commands()) {
+    if (name != c.name) continue;
+    try {
+      const Args args({words.begin() + 1, words.end()}, c.options);
+      if (args.help()) {
+        std::cout << c.help;
+        return 0;
+      }
+      return c.run(args);
+    } catch (const UsageError& error) {
+      std::cerr << "mechgen " << c.name << ": error: " << error.what() << " (see mechgen " << c.name
+                << " --help)\n";
+      return 1;
+    }
+  }
+  std::cerr << "mechgen: error: unknown command '" << name << "' (see mechgen --help)\n";
+  return 1;
+}
+
+}  // namespace
+}  // namespace mechgen::cli
+
+int main(int argc, char** argv) {
+  using mechgen::cli::print_error;
+  try {
+    return mechgen::cli::dispatch(argc, argv);
+  } catch (const mechgen::ModelError& error) {
+    std::cerr << error.what() << "\n";  // already "FILE:LINE:COL: error: MESSAGE"
+  } catch (const mechgen::report::CsvError& error) {
+    // "FILE:LINE: MESSAGE" or "FILE: MESSAGE" -> "FILE:LINE: error: MESSAGE"
+    const std::string what = error.what();
+    const auto split = what.find(": ");
+    if (split == std::string::npos)
+      print_error(what);
+    else
+      std::cerr << what.substr(0, split) << ": error: " << what.substr(split + 2) << "\n";
+  } catch (const YAML::Exception& error) {
+    std::cerr << mechgen::cli::g_current_file << ":" << error.mark.line + 1 << ":"
+              << error.mark.column + 1 << ": error: " << error.msg << "\n";
+  } catch (const std::exception& error) {  // GiNaC and the standard library throw these
+    print_error(error.what());
+  } catch (...) {
+    print_error("unexpected internal error");
+  }
+  return 1;
+}

@@ -1,0 +1,240 @@
+#include "sweep/sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include "model/columns.hpp"
+#include "numeric/reference_solver.hpp"
+#include "sweep/compiled_kernel.hpp"
+
+namespace mechgen {
+
+namespace {
+
+SourceLoc model_loc(const Model& model) {
+  return {model.file, 0, 0};
+}
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text.empty() ? "none" : text;
+}
+
+// The compiled kernel of the model, checked against the description it is used with.
+const CompiledKernel& kernel_for(const Model& model) {
+  const CompiledKernel* kernel = find_compiled_kernel(model.name);
+  if (!kernel)
+    throw ModelError(model_loc(model),
+                     "no generated kernel for model '" + model.name +
+                         "' is compiled into this mechgen (kernel not compiled in; compiled in: " +
+                         joined(compiled_kernel_models()) +
+                         "); run `build/mechgen generate models/" + model.name + ".yaml`, add " +
+                         model.name +
+                         " to MECHGEN_KERNEL_MODELS in generated/CMakeLists.txt and rebuild, or "
+                         "use --solver numeric");
+  const std::string stale =
+      "the compiled kernel of '" + model.name + "' does not match this description (";
+  const std::string advice = "); rebuild mechgen to regenerate it, or use --solver numeric";
+  if (kernel->parameter_count != static_cast<int>(model.parameters.size()))
+    throw ModelError(model_loc(model), stale + std::to_string(kernel->parameter_count) +
+                                           " parameters, the description has " +
+                                           std::to_string(model.parameters.size()) + advice);
+  for (size_t i = 0; i < model.parameters.size(); ++i)
+    if (model.parameters[i].name != kernel->parameter_names[i])
+      throw ModelError(model_loc(model), stale + "parameter " + std::to_string(i + 1) + " is '" +
+                                             kernel->parameter_names[i] + "', not '" +
+                                             model.parameters[i].name + "'" + advice);
+  const std::vector<std::string> columns = column_names(model);
+  if (kernel->column_count != static_cast<int>(columns.size()))
+    throw ModelError(model_loc(model), stale + std::to_string(kernel->column_count) +
+                                           " columns, the description gives " +
+                                           std::to_string(columns.size()) + advice);
+  for (size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] != kernel->column_names[i])
+      throw ModelError(model_loc(model), stale + "column " + std::to_string(i + 1) + " is '" +
+                                             kernel->column_names[i] + "', not '" + columns[i] +
+                                             "'" + advice);
+  return *kernel;
+}
+
+const char* kernel_status(int status) {
+  switch (status) {
+    case 1:
+      return "unreachable";
+    case 2:
+      return "singular";
+    default:
+      return "unknown status";
+  }
+}
+
+// What went wrong at one sample of a kernel sweep.
+struct KernelFailure {
+  size_t sample = 0;
+  int status = 0;
+  int group = -1;
+};
+
+// Evaluates samples [begin, end); stops at the first failure and returns it (status 0: none).
+KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<double>& parameters,
+                             const std::vector<double>& times, size_t begin, size_t end,
+                             std::vector<std::vector<double>>& rows) {
+  for (size_t i = begin; i < end; ++i) {
+    rows[i].assign(static_cast<size_t>(kernel.column_count), 0.0);  // first touch by this thread
+    int group = -1;
+    const int status = kernel.evaluate_double(parameters.data(), times[i], rows[i].data(), &group);
+    if (status != 0) return {i, status, group};
+  }
+  return {};
+}
+
+[[noreturn]] void report_kernel_failure(const Model& model, const CompiledKernel& kernel, double t,
+                                        const KernelFailure& failure) {
+  std::string message =
+      "generated kernel: t = " + format_number(t) + ": " + kernel_status(failure.status);
+  if (failure.group >= 0 && failure.group < kernel.group_count)
+    message += " in group " + std::string(kernel.group_names[failure.group]);
+  message += failure.status == 1 ? " (the mechanism cannot assemble there with these parameters)"
+                                 : " (the configuration is singular there)";
+  throw ModelError(model_loc(model), message);
+}
+
+void sweep_generated(const Model& model, const SweepOptions& options,
+                     const std::vector<double>& times, SweepResult& result) {
+  const CompiledKernel& kernel = kernel_for(model);
+  const size_t n = times.size();
+  int threads = options.threads;
+  if (threads <= 0)
+    threads = static_cast<int>(n) >= SweepOptions::parallel_threshold
+                  ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()))
+                  : 1;
+  threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), n));
+
+  std::vector<KernelFailure> failures(static_cast<size_t>(threads));
+  if (threads <= 1) {
+    failures[0] = evaluate_range(kernel, options.parameters, times, 0, n, result.rows);
+  } else {
+    // Contiguous chunks, one per thread; each thread writes only its own rows.
+    std::vector<std::thread> pool;
+    const size_t chunk = (n + static_cast<size_t>(threads) - 1) / static_cast<size_t>(threads);
+    for (size_t k = 0; k < static_cast<size_t>(threads); ++k) {
+      const size_t begin = std::min(n, k * chunk), end = std::min(n, begin + chunk);
+      pool.emplace_back([&, k, begin, end] {
+        failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, result.rows);
+      });
+    }
+    for (std::thread& thread : pool) thread.join();
+  }
+  // The earliest failing sample, as a sequential sweep would report it.
+  for (const KernelFailure& failure : failures)
+    if (failure.status != 0) report_kernel_failure(model, kernel, times[failure.sample], failure);
+}
+
+// What a numeric status means for the user, after its name.
+const char* numeric_status_hint(numeric::Status status) {
+  switch (status) {
+    case numeric::Status::diverged:
+      return " (Newton-Raphson found no configuration: the mechanism may not reach it with these "
+             "parameters)";
+    case numeric::Status::branch_jump:
+      return " (the configuration jumped to another assembly branch: a dead point?)";
+    case numeric::Status::singular_kinematics:
+      return " (constraint Jacobian singular: velocities undetermined, a dead point)";
+    case numeric::Status::singular_dynamics:
+      return " (Newton-Euler system singular: the loads are statically indeterminate)";
+    case numeric::Status::ok:
+      break;
+  }
+  return "";
+}
+
+void sweep_numeric(const Model& model, const SweepOptions& options,
+                   const std::vector<double>& times, SweepResult& result) {
+  numeric::ReferenceSolver solver(model, options.parameters);
+  solver.assemble(times.front());
+  for (size_t i = 0; i < times.size(); ++i) {
+    result.rows[i].assign(result.columns.size(), 0.0);
+    const numeric::Status status = solver.solve(times[i], result.rows[i]);
+    if (status != numeric::Status::ok)
+      throw ModelError(model_loc(model), "numeric solver: t = " + format_number(times[i]) + ": " +
+                                             numeric::to_string(status) +
+                                             numeric_status_hint(status));
+  }
+}
+
+}  // namespace
+
+SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters) {
+  SweepOptions options;
+  options.parameters = parameters.empty() ? model.default_parameters() : parameters;
+  const GiNaC::exmap subs = model.substitutions(options.parameters);
+  options.t0 = model.evaluate(model.step.t0, subs);
+  options.t1 = model.evaluate(model.step.t1, subs);
+  options.samples = model.step.samples;
+  return options;
+}
+
+std::vector<double> sample_times(double t0, double t1, int samples) {
+  std::vector<double> times;
+  for (int i = 0; i < samples; ++i)
+    times.push_back(i == samples - 1 && samples > 1
+                        ? t1
+                        : t0 + (t1 - t0) * static_cast<double>(i) / std::max(1, samples - 1));
+  return times;
+}
+
+SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
+  SweepOptions options = options_in;
+  if (options.parameters.empty()) options.parameters = model.default_parameters();
+  const SourceLoc where = model_loc(model);
+  if (options.parameters.size() != model.parameters.size())
+    throw ModelError(where, "sweep: " + std::to_string(options.parameters.size()) +
+                                " parameter values given, model '" + model.name + "' has " +
+                                std::to_string(model.parameters.size()));
+  if (options.samples < 1)
+    throw ModelError(where,
+                     "sweep: samples must be at least 1, got " + std::to_string(options.samples));
+  if (!std::isfinite(options.t0) || !std::isfinite(options.t1))
+    throw ModelError(where, "sweep: t0 and t1 must be finite");
+  if (options.solver != "generated" && options.solver != "numeric")
+    throw ModelError(
+        where, "sweep: unknown solver '" + options.solver + "' (expected generated or numeric)");
+
+  SweepResult result;
+  result.columns = column_names(model);
+  const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  result.rows.resize(times.size());  // each row is sized by the thread that fills it
+  if (options.solver == "generated")
+    sweep_generated(model, options, times, result);
+  else
+    sweep_numeric(model, options, times, result);
+  return result;
+}
+
+void write_csv(const std::string& path, const SweepResult& result) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
+                                                       &std::fclose);
+  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  std::FILE* out = file.get();
+  for (size_t i = 0; i < result.columns.size(); ++i)
+    std::fprintf(out, "%s%s", i ? "," : "", result.columns[i].c_str());
+  std::fputc('\n', out);
+  for (const std::vector<double>& row : result.rows) {
+    for (size_t i = 0; i < row.size(); ++i) std::fprintf(out, "%s%.17g", i ? "," : "", row[i]);
+    std::fputc('\n', out);
+  }
+  if (std::ferror(out) || std::fclose(file.release()) != 0)
+    throw std::runtime_error("cannot write '" + path + "'");
+}
+
+}  // namespace mechgen

@@ -1,0 +1,45 @@
+// One run of a model over time: every named quantity of ../../../shared/DESIGN.md's CSV contract
+// at uniformly spaced samples, from the compiled kernel (default) or the numeric reference solver.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace mechgen {
+
+struct SweepOptions {
+  std::string solver = "generated";  // "generated" (compiled kernel) or "numeric"
+  std::vector<double> parameters;    // Model::parameters order; empty: the defaults
+  double t0 = 0, t1 = 0;             // inclusive
+  int samples = 2;                   // >= 1; one sample evaluates t0 only
+  // Threads for the generated solver: 0 picks one per hardware thread when samples is large
+  // (>= parallel_threshold), else 1. The numeric solver is sequential (each sample continues
+  // from the previous configuration).
+  int threads = 0;
+  static constexpr int parallel_threshold = 20000;
+};
+
+struct SweepResult {
+  std::vector<std::string> columns;       // column_names(model)
+  std::vector<std::vector<double>> rows;  // one per sample, each as long as columns
+};
+
+// The sweep options a model describes: its step with the given (or default) parameters.
+SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters = {});
+
+// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, a
+// kernel that is not compiled in or does not match the description) and for a sample the solver
+// cannot evaluate: the message names t, the status and, for a kernel, the failing group. Never
+// returns a NaN row.
+SweepResult run_sweep(const Model& model, const SweepOptions& options);
+
+// The sample times: t0 + (t1 - t0) * i / (samples - 1), the last exactly t1.
+std::vector<double> sample_times(double t0, double t1, int samples);
+
+// Header and rows, comma separated, every number with 17 significant digits ("%.17g"), so
+// reading the file back gives the same doubles. Throws std::runtime_error when it cannot write.
+void write_csv(const std::string& path, const SweepResult& result);
+
+}  // namespace mechgen

@@ -155,7 +155,11 @@ Vec2Expr Reader::vector2(const YAML::Node& node, const std::string& what, bool t
 int Reader::body_ref(const YAML::Node& node, const std::string& what) const {
   const std::string name = scalar(node, what);
   const int index = model_.body_index(name);
-  if (index < 0) fail(node, what + ": unknown body '" + name + "'");
+  if (index < 0) {
+    std::string known;
+    for (const Body& b : model_.bodies) known += (known.empty() ? "" : ", ") + b.name;
+    fail(node, what + ": unknown body '" + name + "' (bodies: " + known + ")");
+  }
   return index;
 }
 
@@ -247,7 +251,8 @@ void Reader::read_body(const YAML::Node& node) {
   for (const auto& item : points) {
     BodyPoint p;
     p.name = identifier(item.first, "point name");
-    if (body.find_point(p.name)) fail(item.first, "duplicate point '" + p.name + "'");
+    if (body.find_point(p.name))
+      fail(item.first, "body '" + body.name + "': duplicate point '" + p.name + "'");
     p.local = vector2(item.second, "point '" + p.name + "'", false);
     body.points.push_back(p);
   }
@@ -281,22 +286,23 @@ void Reader::read_joint(const YAML::Node& node) {
   } else {
     fail(type, "unknown joint type '" + type_name + "' (revolute, prismatic or pin_in_slot)");
   }
-  j.first = body_ref(required(node, "first", "joint '" + j.name + "'"), "joint first body");
-  j.second = body_ref(required(node, "second", "joint '" + j.name + "'"), "joint second body");
-  if (j.first == j.second) fail(node["second"], "joint '" + j.name + "' joins a body to itself");
-  const YAML::Node point = required(node, "point", "joint '" + j.name + "'");
+  const std::string what = "joint '" + j.name + "'";
+  j.first = body_ref(required(node, "first", what), what + " first body");
+  j.second = body_ref(required(node, "second", what), what + " second body");
+  if (j.first == j.second) fail(node["second"], what + " joins a body to itself");
+  const YAML::Node point = required(node, "point", what);
   j.point = scalar(point, "joint point");
   const Body& second = model_.bodies[static_cast<size_t>(j.second)];
   const Body& first = model_.bodies[static_cast<size_t>(j.first)];
   if (!second.find_point(j.point))
-    fail(point, "body '" + second.name + "' has no point '" + j.point + "'");
+    fail(point, what + ": body '" + second.name + "' has no point '" + j.point + "'");
   if (j.type == JointType::revolute) {
     if (!first.find_point(j.point))
-      fail(point, "body '" + first.name + "' has no point '" + j.point + "'");
-    if (node["line"]) fail(node["line"], "a revolute joint takes no line");
-    if (node["angle"]) fail(node["angle"], "a revolute joint takes no angle");
+      fail(point, what + ": body '" + first.name + "' has no point '" + j.point + "'");
+    if (node["line"]) fail(node["line"], what + ": a revolute joint takes no line");
+    if (node["angle"]) fail(node["angle"], what + ": a revolute joint takes no angle");
   } else {
-    const YAML::Node line = required(node, "line", "joint '" + j.name + "'");
+    const YAML::Node line = required(node, "line", what);
     expect_map(line, "line");
     expect_keys(line, "line", {"through", "direction"});
     j.line.through = vector2(required(line, "through", "line"), "line through", false);
@@ -305,7 +311,7 @@ void Reader::read_joint(const YAML::Node& node) {
       j.angle = node["angle"] ? expression(node["angle"], "prismatic angle", false)
                               : Expr{ex(0), "0", loc(node)};
     } else if (node["angle"]) {
-      fail(node["angle"], "a pin_in_slot joint takes no angle");
+      fail(node["angle"], what + ": a pin_in_slot joint takes no angle");
     }
   }
   model_.joints.push_back(j);
@@ -452,7 +458,11 @@ void Reader::check_values() {
   }
   const double t0 = model_.evaluate(model_.step.t0, subs);
   const double t1 = model_.evaluate(model_.step.t1, subs);
-  if (!(t1 > t0)) throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  if (!(t1 > t0)) {
+    std::ostringstream message;
+    message << "step: t1 (" << t1 << ") must be greater than t0 (" << t0 << ")";
+    throw ModelError(model_.step.t1.loc, message.str());
+  }
 }
 
 Model Reader::read(const YAML::Node& root) {

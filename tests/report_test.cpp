@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -35,11 +34,13 @@ std::string path_of(const std::string& svg, int k) {
   return svg.substr(d, svg.find('"', d) - d);
 }
 
+// The points of a path "Mx,y Lx,y ...".
 std::vector<std::pair<double, double>> path_points(const std::string& d) {
   std::vector<std::pair<double, double>> pts;
-  const std::regex re("[ML](-?[0-9.]+),(-?[0-9.]+)");
-  for (std::sregex_iterator it(d.begin(), d.end(), re), end; it != end; ++it) {
-    pts.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]));
+  for (std::size_t i = d.find_first_of("ML"); i != std::string::npos;
+       i = d.find_first_of("ML", i + 1)) {
+    const std::size_t comma = d.find(',', i);
+    pts.emplace_back(std::stod(d.substr(i + 1, comma - i - 1)), std::stod(d.substr(comma + 1)));
   }
   return pts;
 }

@@ -272,8 +272,6 @@ class Deriver {
         if (dyad) locate(b2, q_name, q);
         break;
       }
-      case GroupKind::r_slot_line:
-        throw std::runtime_error(gn + ": a slot carried by the moving body is not derived yet");
     }
   }
 

@@ -16,8 +16,6 @@ const char* to_string(GroupKind kind) {
       return "RRP dyad (circle-line)";
     case GroupKind::r_slot:
       return "pin in slot (circle-line)";
-    case GroupKind::r_slot_line:
-      return "slot on pin (circle-tangent)";
   }
   return "?";
 }
@@ -104,9 +102,10 @@ class Planner {
       const std::vector<int> pins = links_to_known(b, JointType::revolute);
       const std::vector<int> slots = links_to_known(b, JointType::pin_in_slot);
       if (pins.empty() || slots.empty() || driver_of(slots.front()) >= 0) continue;
-      const Joint& slot = model_.joints[static_cast<size_t>(slots.front())];
-      const GroupKind kind = slot.second == b ? GroupKind::r_slot : GroupKind::r_slot_line;
-      return add(plan, kind, {b}, {pins.front(), slots.front()}), true;
+      // Only a pin of b in a located slot has a closed form here; a slot carried by b around a
+      // located pin is left unsolved (reported by `check`).
+      if (model_.joints[static_cast<size_t>(slots.front())].second != b) continue;
+      return add(plan, GroupKind::r_slot, {b}, {pins.front(), slots.front()}), true;
     }
     // Two bodies pinned together, each tied to a located body.
     for (int b1 = 0; b1 < n; ++b1) {

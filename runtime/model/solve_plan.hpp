@@ -15,8 +15,7 @@ enum class GroupKind {
   driven_prismatic,  // one body: prismatic joint on a located body's line, its length driven
   rrr,               // two bodies: revolute - revolute - revolute (circle-circle)
   rrp,               // two bodies: revolute - revolute - prismatic on a located line (circle-line)
-  r_slot,       // one body: revolute to a located point, its pin in a located slot (circle-line)
-  r_slot_line,  // one body: revolute to a located point, its slot around a located pin
+  r_slot,  // one body: revolute to a located point, its pin in a located slot (circle-line)
 };
 
 const char* to_string(GroupKind kind);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "generate.hpp"
 #include "model/columns.hpp"
@@ -38,161 +39,6 @@
 namespace mechgen::cli {
 
 namespace {
-
-// ---- errors -------------------------------------------------------------------------------------
-
-// A wrong command line: printed as "mechgen COMMAND: error: MESSAGE (see mechgen COMMAND --help)".
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-// The file a command is working on, for errors that carry no location of their own.
-std::string g_current_file;
-
-// ---- the argument parser ------------------------------------------------------------------------
-
-struct OptionSpec {
-  std::string name;   // "--out"
-  std::string alias;  // "-o", or empty
-  bool takes_value = false;
-  bool repeatable = false;
-};
-
-class Args {
- public:
-  // Parses the words after the command name. "--name VALUE" and "--name=VALUE" both work; "--"
-  // ends the options; "-h" and "--help" ask for help. Throws UsageError for an unknown option, a
-  // missing value, or an option given twice that may be given once.
-  Args(const std::vector<std::string>& words, std::vector<OptionSpec> specs)
-      : specs_(std::move(specs)) {
-    bool options_done = false;
-    for (size_t i = 0; i < words.size(); ++i) {
-      const std::string& word = words[i];
-      if (options_done || word.size() < 2 || word[0] != '-') {
-        positional_.push_back(word);
-        continue;
-      }
-      if (word == "--") {
-        options_done = true;
-        continue;
-      }
-      if (word == "--help" || word == "-h") {
-        help_ = true;
-        continue;
-      }
-      std::string name = word, value;
-      bool inline_value = false;
-      if (const auto eq = word.find('='); word.rfind("--", 0) == 0 && eq != std::string::npos) {
-        name = word.substr(0, eq);
-        value = word.substr(eq + 1);
-        inline_value = true;
-      }
-      const OptionSpec* spec = find(name);
-      if (!spec) throw UsageError("unknown option '" + name + "'");
-      if (spec->takes_value && !inline_value) {
-        if (i + 1 >= words.size()) throw UsageError("option " + spec->name + " needs a value");
-        value = words[++i];
-      } else if (!spec->takes_value && inline_value) {
-        throw UsageError("option " + spec->name + " takes no value");
-      }
-      std::vector<std::string>& slot = values_[spec->name];
-      if (!slot.empty() && !spec->repeatable)
-        throw UsageError("option " + spec->name + " given more than once");
-      slot.push_back(value);
-    }
-  }
-
-  bool help() const { return help_; }
-  bool has(const std::string& name) const { return values_.count(name) > 0; }
-  std::string get(const std::string& name, const std::string& fallback = "") const {
-    const auto it = values_.find(name);
-    return it == values_.end() ? fallback : it->second.back();
-  }
-  std::vector<std::string> all(const std::string& name) const {
-    const auto it = values_.find(name);
-    return it == values_.end() ? std::vector<std::string>{} : it->second;
-  }
-  // The one positional argument a command takes (its MODEL.yaml or CSV file).
-  std::string single_positional(const std::string& what) const {
-    if (positional_.empty()) throw UsageError("missing " + what);
-    if (positional_.size() > 1) throw UsageError("unexpected argument '" + positional_[1] + "'");
-    return positional_.front();
-  }
-  // An option's value as a number (plain decimal or scientific notation).
-  double number(const std::string& name, double fallback) const {
-    if (!has(name)) return fallback;
-    const std::string text = get(name);
-    size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(value))
-      throw UsageError(name + ": '" + text + "' is not a number");
-    return value;
-  }
-  int integer(const std::string& name, int fallback) const {
-    const double value = number(name, fallback);
-    if (value != std::floor(value) || std::abs(value) > 1e9)
-      throw UsageError(name + ": '" + get(name) + "' is not an integer");
-    return static_cast<int>(value);
-  }
-
- private:
-  const OptionSpec* find(const std::string& name) const {
-    for (const OptionSpec& spec : specs_)
-      if (spec.name == name || (!spec.alias.empty() && spec.alias == name)) return &spec;
-    return nullptr;
-  }
-
-  std::vector<OptionSpec> specs_;
-  std::map<std::string, std::vector<std::string>> values_;
-  std::vector<std::string> positional_;
-  bool help_ = false;
-};
-
-// ---- small helpers ------------------------------------------------------------------------------
-
-// Left-aligned text columns, each as wide as its widest cell.
-std::string table(const std::vector<std::vector<std::string>>& rows, const std::string& indent) {
-  std::vector<size_t> width;
-  for (const auto& row : rows)
-    for (size_t i = 0; i < row.size(); ++i) {
-      if (width.size() <= i) width.push_back(0);
-      width[i] = std::max(width[i], row[i].size());
-    }
-  std::string out;
-  for (const auto& row : rows) {
-    std::string line = indent;
-    for (size_t i = 0; i < row.size(); ++i)
-      line += row[i] + (i + 1 < row.size() ? std::string(width[i] - row[i].size() + 2, ' ') : "");
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    out += line + "\n";
-  }
-  return out;
-}
-
-std::string fixed(double value, int digits = 6) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.*g", digits, value);
-  return text;
-}
-
-double wrap_angle(double a) {
-  return std::remainder(a, 2 * std::numbers::pi);
-}
-
-Model load_model(const std::string& path) {
-  g_current_file = path;
-  return read_model(path);
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // ---- mechgen check ------------------------------------------------------------------------------
 
@@ -583,14 +429,6 @@ int run_summary(const Args& args) {
 }
 
 // ---- dispatch -----------------------------------------------------------------------------------
-
-struct Command {
-  const char* name;
-  const char* summary;
-  const char* help;
-  std::vector<OptionSpec> options;
-  int (*run)(const Args&);
-};
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list{

@@ -1,0 +1,52 @@
+// The shared helpers of command.hpp.
+#include "cli/command.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <numbers>
+
+#include "model/model.hpp"
+
+namespace mechgen::cli {
+
+std::string g_current_file;
+
+// Left-aligned text columns, each as wide as its widest cell.
+std::string table(const std::vector<std::vector<std::string>>& rows, const std::string& indent) {
+  std::vector<size_t> width;
+  for (const auto& row : rows)
+    for (size_t i = 0; i < row.size(); ++i) {
+      if (width.size() <= i) width.push_back(0);
+      width[i] = std::max(width[i], row[i].size());
+    }
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line = indent;
+    for (size_t i = 0; i < row.size(); ++i)
+      line += row[i] + (i + 1 < row.size() ? std::string(width[i] - row[i].size() + 2, ' ') : "");
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    out += line + "\n";
+  }
+  return out;
+}
+
+std::string fixed(double value, int digits) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
+}
+
+double wrap_angle(double a) {
+  return std::remainder(a, 2 * std::numbers::pi);
+}
+
+Model load_model(const std::string& path) {
+  g_current_file = path;
+  return read_model(path);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace mechgen::cli

@@ -16,6 +16,9 @@ steps=(
   sweep    # one step of the biped: every named quantity over time -> out/pasibot_step.csv
   plot     # crank (motor) torque over the step -> out/pasibot_torque.svg
   summary  # motor and gait figures of the step -> out/pasibot_summary.txt, and on screen
+  fig10    # seed Fig. 10: torque over a step for w8 = 1..5 rad/s -> out/pasibot_fig10_speed.*
+  fig11    # seed Fig. 11: torque for hip loads 0..15 kg -> out/pasibot_fig11_load.*
+  motor    # the seed's motor-gearbox selection -> out/pasibot_motor.txt
 )
 
 step_deps() { bash scripts/deps.sh; }
@@ -51,6 +54,34 @@ step_plot() {
 
 step_summary() {
   "$mechgen" summary "$out/pasibot_step.csv" --model "$model" | tee "$out/pasibot_summary.txt"
+}
+
+# A PNG next to an SVG when rsvg-convert is installed (optional: the SVG is the figure).
+svg_to_png() {
+  if command -v rsvg-convert >/dev/null; then
+    rsvg-convert -o "${1%.svg}.png" "$1" && echo "png: ${1%.svg}.png"
+  else
+    echo "run.sh: rsvg-convert not found; no PNG next to $1"
+  fi
+}
+
+step_fig10() {
+  "$mechgen" grid "$model" --grid w8=1,2,3,4,5 --out "$out/pasibot_fig10_speed.csv" \
+    --plot "$out/pasibot_fig10_speed.svg" --ylabel "crank (motor) torque theta8.effort [N m]" \
+    --title "PASIBOT: motor torque over one step for several crank speeds (seed Fig. 10)"
+  svg_to_png "$out/pasibot_fig10_speed.svg"
+}
+
+step_fig11() {
+  "$mechgen" grid "$model" --grid m_load=0,5,10,15 --out "$out/pasibot_fig11_load.csv" \
+    --plot "$out/pasibot_fig11_load.svg" --ylabel "crank (motor) torque theta8.effort [N m]" \
+    --title "PASIBOT: motor torque over one step for several hip loads (seed Fig. 11)"
+  svg_to_png "$out/pasibot_fig11_load.svg"
+}
+
+step_motor() {
+  "$mechgen" size-motor "$model" --catalogue models/motor_catalogue.csv --safety 1.5 |
+    tee "$out/pasibot_motor.txt"
 }
 
 mkdir -p "$out"

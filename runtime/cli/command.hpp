@@ -152,4 +152,9 @@ struct Command {
   int (*run)(const Args&);
 };
 
+// ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------
+
+Command grid_command();        // cmd_grid.cpp
+Command size_motor_command();  // cmd_size_motor.cpp
+
 }  // namespace mechgen::cli

@@ -474,6 +474,8 @@ const std::vector<Command>& commands() {
        kSummaryHelp,
        {{"--body", "", true}, {"--model", "", true}},
        &run_summary},
+      grid_command(),
+      size_motor_command(),
   };
   return list;
 }

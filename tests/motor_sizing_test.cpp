@@ -127,7 +127,9 @@ TEST(MotorSizing, NothingSufficesIsAClearError) {
   try {
     size_motor(catalogue, 1.0, [](double m) { return MotorRequirement{1 + 10 * m, 0.1, 1.0}; });
     FAIL() << "expected an error";
-  } catch (const std::runtime_error& error) {
+  } catch (const MotorSizingError& error) {
+    EXPECT_EQ(error.partial.iterations.size(), 4u);  // none, small, medium, large
+    EXPECT_EQ(error.partial.chosen, -1);
     EXPECT_EQ(std::string(error.what()).rfind("no larger motor in the catalogue covers", 0), 0u)
         << error.what();
   }

@@ -187,15 +187,17 @@ SizingResult size_motor(const std::vector<Motor>& catalogue, double safety,
         ++rank;
       if (rank == order.size()) {
         result.iterations.push_back(step);
-        throw std::runtime_error(
+        throw MotorSizingError(
             std::string("no ") + (tried < 0 ? "" : "larger ") + "motor in the catalogue covers " +
-            describe(step.need, safety) +
-            (tried < 0 ? "" : " with " + number(step.added_mass) + " kg of motor on the hip") +
-            "; the largest gives peak " +
-            number(catalogue[static_cast<size_t>(order.back())].output_peak_torque()) +
-            " N m, rated " +
-            number(catalogue[static_cast<size_t>(order.back())].output_rated_torque()) + " N m, " +
-            number(catalogue[static_cast<size_t>(order.back())].output_speed()) + " rad/s");
+                describe(step.need, safety) +
+                (tried < 0 ? "" : " with " + number(step.added_mass) + " kg of motor on the hip") +
+                "; the largest gives peak " +
+                number(catalogue[static_cast<size_t>(order.back())].output_peak_torque()) +
+                " N m, rated " +
+                number(catalogue[static_cast<size_t>(order.back())].output_rated_torque()) +
+                " N m, " + number(catalogue[static_cast<size_t>(order.back())].output_speed()) +
+                " rad/s",
+            result);
       }
       step.proposed = order[rank++];
     }
@@ -221,17 +223,18 @@ std::string format_sizing(const std::vector<Motor>& catalogue, double safety,
     rows.push_back({std::to_string(i), name(it.tried), number(it.added_mass),
                     number(it.need.peak_torque), number(it.need.rms_torque),
                     number(it.need.peak_speed), it.tried < 0 ? "-" : (it.holds ? "yes" : "no"),
-                    it.holds ? "(chosen)" : name(it.proposed)});
+                    it.holds ? "(chosen)" : (it.proposed < 0 ? "(none fits)" : name(it.proposed))});
   }
   std::vector<size_t> width(rows.front().size(), 0);
   for (const auto& row : rows)
     for (size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
-  std::string out = "motor sizing (crank requirement x safety factor " + number(safety) +
+  std::string out = "motor sizing: the crank's requirement at each iteration (times the safety " +
+                    std::string("factor ") + number(safety) +
                     " against the catalogue's output side)\n";
   for (const auto& row : rows) {
     std::string line = " ";
     for (size_t c = 0; c < row.size(); ++c)
-      line += " " + row[c] + std::string(width[c] - row[c].size(), ' ');
+      line += "  " + row[c] + std::string(width[c] - row[c].size(), ' ');
     while (line.back() == ' ') line.pop_back();
     out += line + "\n";
   }

@@ -6,6 +6,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sweep/sweep.hpp"
@@ -62,12 +63,20 @@ struct SizingResult {
   int chosen = -1;  // catalogue index
 };
 
+// No motor (or no larger one) covers the requirement; `partial` holds the iterations so far.
+class MotorSizingError : public std::runtime_error {
+ public:
+  MotorSizingError(const std::string& message, SizingResult partial_result)
+      : std::runtime_error(message), partial(std::move(partial_result)) {}
+  SizingResult partial;
+};
+
 // "Smallest" orders the catalogue by output rated torque, then output peak torque, then mass.
 // Iteration 0 computes the requirement without a motor and proposes the smallest motor covering
 // it; each later iteration adds the proposed motor's mass, recomputes, and stops when that motor
 // still covers the requirement, else proposes the smallest larger one that covers the new
 // requirement. `requirement_with_mass(m)` recomputes the requirement with m kg added to the hip.
-// Throws std::runtime_error naming the requirement when no (larger) motor covers it.
+// Throws MotorSizingError naming the requirement when no (larger) motor covers it.
 SizingResult size_motor(const std::vector<Motor>& catalogue, double safety,
                         const std::function<MotorRequirement(double)>& requirement_with_mass);
 

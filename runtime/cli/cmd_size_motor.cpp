@@ -75,8 +75,13 @@ int run_size_motor(const Args& args) {
   std::cout << "size-motor " << model.name << ": driver " << driver << ", motor mass added to "
             << mass_parameter << " (" << fixed(base_mass) << " kg without it), catalogue "
             << catalogue_path << " (" << catalogue.size() << " motors)\n";
-  const SizingResult result = size_motor(catalogue, safety, requirement_with_mass);
-  std::cout << format_sizing(catalogue, safety, result);
+  try {
+    std::cout << format_sizing(catalogue, safety,
+                               size_motor(catalogue, safety, requirement_with_mass));
+  } catch (const MotorSizingError& error) {
+    std::cout << format_sizing(catalogue, safety, error.partial) << std::flush;
+    throw;  // the one-line error on stderr, exit 1
+  }
   return 0;
 }
 

@@ -66,6 +66,27 @@ TEST(Grid, EachRunEqualsTheSweepWithSet) {
   }
 }
 
+// The figures do not depend on the generator: the numeric reference solver (Newton-Raphson on the
+// constraint equations, the Newton-Euler system solved as a matrix) gives the same torques.
+TEST(Grid, NumericSolverGivesTheSameTorques) {
+  const Model model = read_model(model_path("pasibot"));
+  GridOptions options;
+  options.parameter = "w8";
+  options.values = {1, 5};
+  options.samples = 61;
+  const GridResult generated = run_grid(model, options);
+  options.solver = "numeric";
+  const GridResult numeric = run_grid(model, options);
+  for (size_t k = 0; k < 2; ++k) {
+    const std::vector<double> a = column(generated.runs[k].result, "theta8.effort"),
+                              b = column(numeric.runs[k].result, "theta8.effort");
+    ASSERT_EQ(a.size(), b.size());
+    double worst = 0;
+    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+    EXPECT_LT(worst / peak_magnitude(a), 1e-9) << "w8 = " << options.values[k];
+  }
+}
+
 TEST(Grid, SpecParsingAndErrors) {
   const auto spec = parse_grid_spec("m_load=0,5,1e1,15");
   EXPECT_EQ(spec.first, "m_load");

@@ -72,9 +72,14 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
 
   // Runs are independent (each its own solver or a pure kernel call): a pool of threads takes
   // them in turn; the first failure, in grid order, is rethrown with the value it belongs to.
+  // The numeric solver copies and substitutes the model's GiNaC expressions, whose reference
+  // counts are not atomic: its runs share the Model, so they go one at a time.
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  const size_t threads = std::min<size_t>(
-      grid.runs.size(), options.threads > 0 ? static_cast<size_t>(options.threads) : hardware);
+  const size_t threads =
+      options.solver != "generated"
+          ? 1
+          : std::min<size_t>(grid.runs.size(),
+                             options.threads > 0 ? static_cast<size_t>(options.threads) : hardware);
   std::vector<std::exception_ptr> errors(grid.runs.size());
   std::mutex next_lock;
   size_t next = 0;

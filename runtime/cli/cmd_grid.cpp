@@ -25,7 +25,8 @@ const char* const kGridHelp =
 
 One sweep of the model's step per value of parameter NAME, each exactly what
 `mechgen sweep MODEL.yaml --set NAME=VALUE` computes (the step's t0 and t1 are evaluated with the
-value: at w8 = 5 rad/s a PASIBOT step lasts pi/5 s). The runs go in parallel.
+value: at w8 = 5 rad/s a PASIBOT step lasts pi/5 s). With the generated kernel the runs go in
+parallel; the numeric solver runs them one after the other.
   --grid NAME=V1,...  the parameter and its values
   --out FILE.csv      one long table: column NAME (the value), t_norm = (t - t0)/(t1 - t0) (the
                       seed's t/T), then the sweep's columns; the runs one after the other

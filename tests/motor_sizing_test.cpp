@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "analysis/motor_sizing.hpp"
+#include "model/model.hpp"
 #include "report/csv_table.hpp"
 
 namespace mechgen {
@@ -133,6 +134,35 @@ TEST(MotorSizing, NothingSufficesIsAClearError) {
     EXPECT_EQ(std::string(error.what()).rfind("no larger motor in the catalogue covers", 0), 0u)
         << error.what();
   }
+}
+
+// The real model. At the defaults the crank turns at exactly w8 = 2 rad/s, and (seed Fig. 11,
+// out/pasibot_fig11_load.csv) the peak torque is 0.9948 N m with nothing on the hip and
+// 1.1502 N m with 15 kg. Two fictitious 15 kg motors straddle that rise: "A" (output peak
+// 0.105 x 10 x 1 = 1.05 N m) covers the bare robot but not itself on the hip; "B" (1.2 N m)
+// covers both. The iteration must go none -> A -> B, B holding with its own mass.
+TEST(MotorSizing, PasibotStepsUpWhenTheMotorsMassRaisesThePeak) {
+  const Model model = read_model(std::string(MECHGEN_SOURCE_DIR) + "/models/pasibot.yaml");
+  const std::vector<double> defaults = model.default_parameters();
+  auto need = [&](double added) {
+    return step_requirement(model, defaults, "m_load", added, "theta8");
+  };
+  const MotorRequirement bare = need(0), loaded = need(15);
+  EXPECT_DOUBLE_EQ(bare.peak_speed, 2.0);
+  EXPECT_NEAR(bare.peak_torque, 0.9948, 1e-4);
+  EXPECT_NEAR(loaded.peak_torque, 1.1502, 1e-4);
+  const std::vector<Motor> catalogue = parse_catalogue(
+      std::string(kHeader) + "B,0.11,0.12,1000,15,10,1\n" + "A,0.10,0.105,1000,15,10,1\n",
+      "heavy.csv");
+  const SizingResult result = size_motor(catalogue, 1.0, need);
+  ASSERT_EQ(result.iterations.size(), 3u);
+  EXPECT_EQ(result.iterations[0].proposed, index_of(catalogue, "A"));
+  EXPECT_FALSE(result.iterations[1].holds);
+  EXPECT_DOUBLE_EQ(result.iterations[1].need.peak_torque, loaded.peak_torque);
+  EXPECT_EQ(result.iterations[1].proposed, index_of(catalogue, "B"));
+  EXPECT_TRUE(result.iterations[2].holds);
+  EXPECT_EQ(result.chosen, index_of(catalogue, "B"));
+  EXPECT_THROW(step_requirement(model, defaults, "m_motor", 1, "theta8"), ModelError);
 }
 
 }  // namespace

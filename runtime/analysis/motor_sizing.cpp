@@ -136,6 +136,23 @@ MotorRequirement requirement_of(const SweepResult& sweep, const std::string& dri
   return need;
 }
 
+MotorRequirement step_requirement(const Model& model, std::vector<double> parameters,
+                                  const std::string& mass_parameter, double added_mass,
+                                  const std::string& driver, const std::string& solver,
+                                  int samples) {
+  size_t index = model.parameters.size();
+  for (size_t i = 0; i < model.parameters.size(); ++i)
+    if (model.parameters[i].name == mass_parameter) index = i;
+  if (index == model.parameters.size())
+    throw ModelError({model.file, 0, 0},
+                     "no parameter '" + mass_parameter + "' for the motor's mass");
+  parameters[index] += added_mass;
+  SweepOptions options = default_sweep(model, parameters);
+  options.solver = solver;
+  if (samples > 0) options.samples = samples;
+  return requirement_of(run_sweep(model, options), driver);
+}
+
 bool covers(const Motor& motor, const MotorRequirement& need, double safety) {
   return motor.output_peak_torque() >= safety * need.peak_torque &&
          motor.output_rated_torque() >= safety * need.rms_torque &&

@@ -47,6 +47,14 @@ struct MotorRequirement {
 // when one is missing.
 MotorRequirement requirement_of(const SweepResult& sweep, const std::string& driver);
 
+// The requirement of the model's step with `added_mass` kg added to parameter `mass_parameter`
+// (on top of its value in `parameters`): one sweep (solver "generated" or "numeric"; samples 0:
+// the step's). Throws ModelError for an unknown parameter or a failing sweep.
+MotorRequirement step_requirement(const Model& model, std::vector<double> parameters,
+                                  const std::string& mass_parameter, double added_mass,
+                                  const std::string& driver,
+                                  const std::string& solver = "generated", int samples = 0);
+
 // Peak vs peak, RMS vs rated, speed vs no-load speed, each requirement multiplied by `safety`.
 bool covers(const Motor& motor, const MotorRequirement& need, double safety);
 

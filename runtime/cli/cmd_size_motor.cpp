@@ -62,13 +62,9 @@ int run_size_motor(const Args& args) {
 
   const double base_mass = parameters[mass_index];
   auto requirement_with_mass = [&](double added) {
-    std::vector<double> p = parameters;
-    p[mass_index] = base_mass + added;
-    SweepOptions options = default_sweep(model, p);
-    options.solver = solver;
-    if (samples > 0) options.samples = samples;
-    g_current_file = path;
-    const MotorRequirement need = requirement_of(run_sweep(model, options), driver);
+    g_current_file = path;  // a failing sweep is the model's error
+    const MotorRequirement need =
+        step_requirement(model, parameters, mass_parameter, added, driver, solver, samples);
     g_current_file = catalogue_path;
     return need;
   };

@@ -11,6 +11,8 @@
 #include "analysis/grid_sweep.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
+#include "model/columns.hpp"
+#include "report/column_plot.hpp"
 #include "report/svg_plot.hpp"
 #include "sweep/summary.hpp"
 
@@ -37,6 +39,13 @@ parallel; the numeric solver runs them one after the other.
   --set, --solver, --samples: as for mechgen sweep; --threads N: runs at once (default: all cores)
 Prints, per value, the step's duration and the peak and RMS of the plotted column.
 )";
+
+// "[unit]" of a sweep column; a driver's effort is a torque or a force depending on its kind.
+std::string unit_of(const Model& model, const std::string& column) {
+  for (const Driver& d : model.drivers)
+    if (column == d.name + ".effort") return d.kind == DriverKind::angle ? "[N m]" : "[N]";
+  return report::column_unit(column);
+}
 
 int run_grid_command(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
@@ -68,6 +77,9 @@ int run_grid_command(const Args& args) {
     throw UsageError("the model has no driver: name the plotted column with --y");
   plot.column =
       args.get("--y", model.drivers.empty() ? "" : model.drivers.front().name + ".effort");
+  const std::vector<std::string> columns = column_names(model);
+  if (std::find(columns.begin(), columns.end(), plot.column) == columns.end())
+    throw UsageError("--y: no column '" + plot.column + "' in the sweep of " + model.name);
 
   const auto start = std::chrono::steady_clock::now();
   const GridResult grid = run_grid(model, options);
@@ -84,15 +96,15 @@ int run_grid_command(const Args& args) {
       {options.parameter + (grid.unit.empty() ? "" : " [" + grid.unit + "]"), "step [s]",
        "peak " + plot.column, "RMS " + plot.column}};
   for (const GridRun& run : grid.runs) {
-    const auto& columns = run.result.columns;
-    const auto y = std::find(columns.begin(), columns.end(), plot.column);
-    const auto t = std::find(columns.begin(), columns.end(), "t");
-    if (y == columns.end() || t == columns.end())
-      throw UsageError("--y: no column '" + plot.column + "' in the sweep");
+    const auto& run_columns = run.result.columns;
+    const auto y = std::find(run_columns.begin(), run_columns.end(), plot.column);
+    const auto t = std::find(run_columns.begin(), run_columns.end(), "t");
+    if (y == run_columns.end() || t == run_columns.end())  // checked above; a kernel/model mismatch
+      throw std::runtime_error("no column '" + plot.column + "' or 't' in the sweep");
     std::vector<double> ts, ys;
     for (const auto& row : run.result.rows) {
-      ts.push_back(row[static_cast<size_t>(t - columns.begin())]);
-      ys.push_back(row[static_cast<size_t>(y - columns.begin())]);
+      ts.push_back(row[static_cast<size_t>(t - run_columns.begin())]);
+      ys.push_back(row[static_cast<size_t>(y - run_columns.begin())]);
     }
     double peak = 0;
     for (double v : ys)
@@ -104,7 +116,7 @@ int run_grid_command(const Args& args) {
 
   if (args.has("--plot")) {
     plot.title = args.get("--title");
-    plot.y_label = args.get("--ylabel");
+    plot.y_label = args.get("--ylabel", plot.column + " " + unit_of(model, plot.column));
     const std::string svg_path = args.get("--plot");
     g_current_file = svg_path;
     std::ofstream file(svg_path, std::ios::binary);

@@ -152,4 +152,9 @@ struct Command {
   int (*run)(const Args&);
 };
 
+// ---- sub-commands in their own files ------------------------------------------------------------
+
+Command walk_command();  // cmd_walk.cpp
+Command draw_command();  // cmd_draw.cpp
+
 }  // namespace mechgen::cli

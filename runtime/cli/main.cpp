@@ -474,6 +474,8 @@ const std::vector<Command>& commands() {
        kSummaryHelp,
        {{"--body", "", true}, {"--model", "", true}},
        &run_summary},
+      walk_command(),
+      draw_command(),
   };
   return list;
 }

@@ -174,16 +174,30 @@ std::string draw_mechanism(const Model& model, const MechanismFrames& all,
   for (const BodyPoint& p : ground.points)
     for (size_t i = 0; i < names.size(); ++i)
       if (names[i].first == p.name) floor_y = std::min(floor_y, first[i].y);
-  if (std::isfinite(floor_y)) {
-    const double y = view.py(floor_y), x0 = 4.0, x1 = view.width - 4.0;
-    svg += "<g id=\"ground\" stroke=\"#555\" stroke-width=\"1\">\n<line x1=\"" + num(x0) +
-           "\" y1=\"" + num(y) + "\" x2=\"" + num(x1) + "\" y2=\"" + num(y) +
-           "\" stroke-width=\"2\"/>\n";
-    for (double x = x0 + 10; x < x1; x += 12)
-      svg += "<line x1=\"" + num(x) + "\" y1=\"" + num(y) + "\" x2=\"" + num(x - 8) + "\" y2=\"" +
-             num(y + 8) + "\"/>\n";
-    svg += "</g>\n";
+  // A floor when nothing goes below the ground body (a foot standing on it: a walker); else the
+  // ground body is a frame with the mechanism around it, hatched under each of its points only.
+  bool on_floor = std::isfinite(floor_y);
+  const double tolerance = 1.0 / view.scale;  // a pixel: PASIBOT's flying foot grazes 0.03 mm
+  for (const std::vector<PointXY>& at : frames.points)
+    for (const PointXY& p : at) on_floor = on_floor && !(p.y < floor_y - tolerance);
+  auto hatch = [&](double x0, double x1, double y) {
+    std::string text = "<line x1=\"" + num(x0) + "\" y1=\"" + num(y) + "\" x2=\"" + num(x1) +
+                       "\" y2=\"" + num(y) + "\" stroke-width=\"2\"/>\n";
+    for (double x = x0 + 10; x < x1 + 1; x += 12)
+      text += "<line x1=\"" + num(x) + "\" y1=\"" + num(y) + "\" x2=\"" + num(x - 8) + "\" y2=\"" +
+              num(y + 8) + "\"/>\n";
+    return text;
+  };
+  svg += "<g id=\"ground\" stroke=\"#555\" stroke-width=\"1\">\n";
+  if (on_floor) {
+    svg += hatch(4.0, view.width - 4.0, view.py(floor_y));
+  } else {
+    for (const BodyPoint& p : ground.points)
+      for (size_t i = 0; i < names.size(); ++i)
+        if (names[i].first == p.name)
+          svg += hatch(view.px(first[i].x) - 14, view.px(first[i].x) + 14, view.py(first[i].y) + 4);
   }
+  svg += "</g>\n";
 
   // Bodies: the hip-like plates first (underneath), then the bars.
   std::vector<BodyShape> shapes = body_shapes(model, first);
@@ -192,13 +206,17 @@ std::string draw_mechanism(const Model& model, const MechanismFrames& all,
   for (const BodyShape& shape : shapes) {
     const Body& body = model.bodies[static_cast<size_t>(shape.body)];
     const bool mirrored = ends_with(body.name, options.mirror_suffix);
-    const std::string colour = body.ground ? "#333" : mirrored ? "#1f77b4" : "#d95f02";
+    // Feet (the ground body and its mirror, the other foot of a walker) are drawn thick, in
+    // their leg's colour: while walking, either may be the one on the floor.
+    const bool foot = body.ground || (!options.mirror_suffix.empty() &&
+                                      body.name == ground.name + options.mirror_suffix);
+    const std::string colour = mirrored ? "#1f77b4" : "#d95f02";
     std::vector<std::string> values;
     for (const std::vector<PointXY>& at : frames.points)
       values.push_back(point_list(view, at, shape.points));
     svg += std::string("<") + (shape.polygon ? "polygon" : "polyline") + " id=\"body-" + body.name +
            "\" class=\"body\" points=\"" + values.front() + "\" stroke=\"" + colour +
-           "\" stroke-width=\"" + (body.ground ? "5" : "3") +
+           "\" stroke-width=\"" + (foot ? "5" : "3") +
            "\" stroke-linejoin=\"round\" stroke-linecap=\"round\" fill=\"" +
            (shape.polygon ? "#ccc\" fill-opacity=\"0.6" : "none") + "\">" +
            animate("points", values, duration) + "</" + (shape.polygon ? "polygon" : "polyline") +

@@ -9,6 +9,7 @@
 
 #include "analysis/walking.hpp"
 #include "model/columns.hpp"
+#include "sweep/compiled_kernel.hpp"
 #include "sweep/sweep.hpp"
 
 namespace {
@@ -303,6 +304,36 @@ TEST(Walking, BadRequestsAreClearErrors) {
   } catch (const mechgen::ModelError& error) {
     EXPECT_NE(std::string(error.what()).find("has no mirror 'l1_mirror'"), std::string::npos)
         << error.what();
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// The driven entry point of every compiled kernel, fed the model's own motion, gives the model's
+// own row: the (q, qd, qdd) array maps onto the right Inputs fields.
+TEST(CompiledKernels, DrivenEntryFedTheOwnMotionGivesTheOwnRow) {
+  for (const std::string& name : mechgen::compiled_kernel_models()) {
+    SCOPED_TRACE(name);
+    const mechgen::CompiledKernel& kernel = *mechgen::find_compiled_kernel(name);
+    const Model model = mechgen::read_model(MECHGEN_SOURCE_DIR "/models/" + name + ".yaml");
+    const std::vector<double> parameters = model.default_parameters();
+    const mechgen::ColumnLayout layout = mechgen::column_layout(model);
+    ASSERT_EQ(kernel.driver_count, static_cast<int>(model.drivers.size()));
+    std::vector<double> own(static_cast<size_t>(kernel.column_count)), driven = own;
+    for (double t : {0.1, 0.4, 0.9}) {
+      int group = -1;
+      ASSERT_EQ(kernel.evaluate_double(parameters.data(), t, own.data(), &group), 0);
+      std::vector<double> drivers;
+      for (int d : layout.driver)
+        for (int k = 0; k < 3; ++k) drivers.push_back(own[static_cast<size_t>(d + k)]);
+      ASSERT_EQ(kernel.evaluate_driven_double(parameters.data(), t, drivers.data(), driven.data(),
+                                              &group),
+                0);
+      for (size_t c = 0; c < own.size(); ++c)
+        EXPECT_EQ(driven[c], own[c]) << kernel.column_names[c];
+    }
   }
 }
 

@@ -257,8 +257,23 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
   const std::string kernel = options.templates_dir + "/kernel.hpp.in";
   files.push_back(
       {model.name + ".hpp", render_template(read_file(kernel), values, "kernel.hpp.in")});
+  // Driven evaluation (a motion other than the model's own, e.g. a start from rest): the driver
+  // inputs are read from a flat array, (q, qd, qdd) per driver in model order.
+  std::string driven_inputs;
+  for (size_t i = 0; i < model.drivers.size(); ++i)
+    for (size_t k = 0; k < 3; ++k)
+      driven_inputs += std::string(driven_inputs.empty() ? "" : "\n") + "in." +
+                       model.drivers[i].name +
+                       (k == 0   ? ""
+                        : k == 1 ? "_d"
+                                 : "_dd") +
+                       " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
   std::map<std::string, std::string> entry_values{
-      {"model", values["model"]}, {"source", values["source"]}, {"command", values["command"]}};
+      {"model", values["model"]},
+      {"source", values["source"]},
+      {"command", values["command"]},
+      {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven_inputs}};
   const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
   files.push_back({model.name + "_entry.cpp",
                    render_template(read_file(entry), entry_values, "kernel_entry.cpp.in")});

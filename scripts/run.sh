@@ -19,6 +19,8 @@ steps=(
   fig10    # seed Fig. 10: torque over a step for w8 = 1..5 rad/s -> out/pasibot_fig10_speed.*
   fig11    # seed Fig. 11: torque for hip loads 0..15 kg -> out/pasibot_fig11_load.*
   motor    # the seed's motor-gearbox selection -> out/pasibot_motor.txt
+  walk     # 6 steps from rest (1.5 s motor ramp), world frame -> out/pasibot_walk.csv, *_torque.svg, *_hip.svg
+  draw     # drawings: still out/pasibot.svg, animated step out/pasibot_step.svg, walk out/pasibot_walk.svg
 )
 
 step_deps() { bash scripts/deps.sh; }
@@ -82,6 +84,24 @@ step_fig11() {
 step_motor() {
   "$mechgen" size-motor "$model" --catalogue models/motor_catalogue.csv --safety 1.5 |
     tee "$out/pasibot_motor.txt"
+}
+
+step_walk() {
+  "$mechgen" walk "$model" --steps 6 --ramp 1.5 --out "$out/pasibot_walk.csv" | tee "$out/pasibot_walk.txt"
+  "$mechgen" plot "$out/pasibot_walk.csv" --x t --y theta8.effort --out "$out/pasibot_walk_torque.svg" \
+    --title "PASIBOT walking from rest: motor torque over 6 steps (1.5 s speed ramp)" \
+    --ylabel "torque theta8.effort [N m]"
+  "$mechgen" plot "$out/pasibot_walk.csv" --x l13.x --y l13.y --out "$out/pasibot_walk_hip.svg" \
+    --title "PASIBOT walking: hip centre of mass in the world frame" \
+    --xlabel "l13.x [m]" --ylabel "l13.y [m]"
+}
+
+step_draw() {
+  "$mechgen" draw "$model" --at 0.5 --labels --out "$out/pasibot.svg" \
+    --title "PASIBOT at t = 0.5 s (support foot l1 on the floor; flying leg blue)"
+  "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT: one step"
+  "$mechgen" draw "$model" --animate --steps 4 --ramp 1.5 --out "$out/pasibot_walk.svg" \
+    --title "PASIBOT: 4 steps from rest, world frame"
 }
 
 mkdir -p "$out"

@@ -26,11 +26,41 @@ static int evaluate_row(const double* parameters, double t, double* row, int* fa
   return 0;
 }
 
+// The same row for a driver motion given as (q, qd, qdd) per driver (`drivers`), at time t.
+template <class T>
+static int evaluate_driven_row(const double* parameters, double t, const double* drivers,
+                               double* row, int* failed_group) {
+  Params<T> p;
+  T values[parameter_count > 0 ? parameter_count : 1];
+  for (int i = 0; i < parameter_count; ++i) values[i] = static_cast<T>(parameters[i]);
+  set_parameters(p, values);
+  Inputs<T> in;
+  in.t = static_cast<T>(t);
+  in.q1 = static_cast<T>(drivers[0]);
+  in.q1_d = static_cast<T>(drivers[1]);
+  in.q1_dd = static_cast<T>(drivers[2]);
+  in.q2 = static_cast<T>(drivers[3]);
+  in.q2_d = static_cast<T>(drivers[4]);
+  in.q2_dd = static_cast<T>(drivers[5]);
+  in.q3 = static_cast<T>(drivers[6]);
+  in.q3_d = static_cast<T>(drivers[7]);
+  in.q3_dd = static_cast<T>(drivers[8]);
+  State<T> s;
+  const Status status = evaluate(p, in, s);
+  *failed_group = s.failed_group;
+  if (status != Status::ok) return static_cast<int>(status);
+  T out[column_count];
+  to_columns(in, s, out);
+  for (int i = 0; i < column_count; ++i) row[i] = static_cast<double>(out[i]);
+  return 0;
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"leg3",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
-                                     &evaluate_row<float>};
+                                     &evaluate_row<float>, 3,
+                                     &evaluate_driven_row<double>};
   return kernel;
 }
 

@@ -156,5 +156,7 @@ struct Command {
 
 Command grid_command();        // cmd_grid.cpp
 Command size_motor_command();  // cmd_size_motor.cpp
+Command walk_command();        // cmd_walk.cpp
+Command draw_command();        // cmd_draw.cpp
 
 }  // namespace mechgen::cli

@@ -476,6 +476,8 @@ const std::vector<Command>& commands() {
        &run_summary},
       grid_command(),
       size_motor_command(),
+      walk_command(),
+      draw_command(),
   };
   return list;
 }

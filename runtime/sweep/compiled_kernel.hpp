@@ -21,6 +21,12 @@ struct CompiledKernel {
   const char* const* group_names;
   RowFunction evaluate_double;
   RowFunction evaluate_float;
+  // The row for a driver motion other than the model's own: `drivers` holds (q, qd, qdd) per
+  // driver, in model order (driver_count of them); same return values.
+  using DrivenRowFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                    double* row, int* failed_group);
+  int driver_count;
+  DrivenRowFunction evaluate_driven_double;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr.

@@ -152,4 +152,9 @@ struct Command {
   int (*run)(const Args&);
 };
 
+// ---- sub-commands in their own files ----------------------------------------------------------
+
+Command loads_command();  // cmd_loads.cpp
+Command zmp_command();    // cmd_zmp.cpp
+
 }  // namespace mechgen::cli

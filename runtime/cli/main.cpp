@@ -474,6 +474,8 @@ const std::vector<Command>& commands() {
        kSummaryHelp,
        {{"--body", "", true}, {"--model", "", true}},
        &run_summary},
+      loads_command(),
+      zmp_command(),
   };
   return list;
 }

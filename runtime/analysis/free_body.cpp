@@ -103,16 +103,17 @@ std::vector<FreeBody> FreeBodies::at(const std::vector<double>& row) const {
     bodies[static_cast<size_t>(j.first)].forces.push_back({j.name, p, -force});
     if (j.type == JointType::prismatic) {
       const double m = named(j.name + ".m");
-      bodies[static_cast<size_t>(j.second)].couples.push_back({j.name, m});
-      bodies[static_cast<size_t>(j.first)].couples.push_back({j.name, -m});
+      bodies[static_cast<size_t>(j.second)].couples.push_back({j.name, m, p});
+      bodies[static_cast<size_t>(j.first)].couples.push_back({j.name, -m, p});
     }
   }
   for (const Driver& d : model_.drivers) {
     const Joint& j = model_.joints[static_cast<size_t>(d.joint)];
     const double effort = named(d.name + ".effort");
     if (d.kind == DriverKind::angle) {
-      bodies[static_cast<size_t>(j.second)].couples.push_back({d.name, effort});
-      bodies[static_cast<size_t>(j.first)].couples.push_back({d.name, -effort});
+      const Eigen::Vector2d p = point(j.point, row);
+      bodies[static_cast<size_t>(j.second)].couples.push_back({d.name, effort, p});
+      bodies[static_cast<size_t>(j.first)].couples.push_back({d.name, -effort, p});
     } else {
       // Along the line's unit direction, which is fixed in the first body.
       Eigen::Vector2d along{model_.evaluate(j.line.direction.x, subs_),
@@ -157,7 +158,7 @@ std::vector<FreeBody> FreeBodies::at(const std::vector<double>& row) const {
           break;
         case ForceType::torque:
           bodies[static_cast<size_t>(e.body_a)].couples.push_back(
-              {e.name, model_.evaluate(e.torque, subs)});
+              {e.name, model_.evaluate(e.torque, subs), std::nullopt});
           break;
       }
     }

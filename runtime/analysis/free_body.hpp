@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct PointLoad {
 struct Couple {
   std::string source;
   double moment = 0;  // N m, counter-clockwise
+  // Where it acts, for the distribution along a bar: a driver's torque and a prismatic joint's
+  // moment at the joint point; a torque element has no point (it acts at the centre of mass).
+  std::optional<Eigen::Vector2d> at;
 };
 
 struct FreeBody {

@@ -131,8 +131,8 @@ BeamLoads beam_loads(const FreeBody& body, const BarAxis& axis, const Eigen::Vec
   };
   for (const PointLoad& l : body.forces) add_force(l.at, l.force);
   for (const Couple& c : body.couples) {
-    // A pure couple acts on the body as a whole; it is placed at the centre of mass's projection.
-    loads.push_back({(body.com - a).dot(e), 0, 0, c.moment});
+    // A couple without a point of application acts at the centre of mass's projection.
+    loads.push_back({((c.at ? *c.at : body.com) - a).dot(e), 0, 0, c.moment});
   }
   LineLoad axial, transverse;
   const Eigen::Vector2d weight_and_inertia = body.mass * (gravity - body.acc);

@@ -7,7 +7,8 @@
 //    runs from the first axis point; e the unit axis, n = e turned +90 degrees.
 //  - Loads. Every load of the body's free body (analysis/free_body.hpp) is projected onto the
 //    axis at s = (p - a).e; a point off the axis (ternary links with a bend) adds the couple of its
-//    force about its projection, as a rigid arm would.
+//    force about its projection, as a rigid arm would. A driver's torque and a prismatic joint's
+//    moment act at the joint point; a torque element at the centre of mass.
 //  - Weight and inertia. For a bar mass (centre of mass at the middle of the axis) they are
 //    distributed along [0, L]: uniform m (g - a_G) / L, plus the linear loads of the rotation, the
 //    centripetal m w^2 (s - L/2) / L along e and -12 I al (s - L/2) / L^3 along n (whose moment

@@ -235,6 +235,7 @@ TEST(GroundReaction, StaticArmOnAWeightedFootHasItsZmpUnderTheCentreOfMass) {
     EXPECT_NEAR(s.toe_margin, 0.3 - x_zmp, 1e-9);
   }
   EXPECT_NEAR(report.min_margin, std::min(x_zmp + 0.1, 0.3 - x_zmp), 1e-9);
+  EXPECT_EQ(report.inside, 3);
   EXPECT_THROW(zmp_over(model, model.default_parameters(), result.columns, result.rows, "Q", ""),
                ModelError);
 }

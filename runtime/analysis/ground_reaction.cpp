@@ -125,6 +125,10 @@ ZmpReport zmp_over(const Model& model, const std::vector<double>& parameters,
     if (s.toe_margin < report.min_margin)
       report.min_margin = s.toe_margin, report.min_margin_t = s.t, report.min_margin_end = "toe";
     report.min_normal = std::min(report.min_normal, s.normal);
+    if (s.heel_margin >= 0 && s.toe_margin >= 0) {
+      if (report.inside++ == 0) report.inside_t0 = s.t;
+      report.inside_t1 = s.t;
+    }
     report.samples.push_back(s);
   }
   return report;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,10 @@ struct ZmpReport {
   std::vector<ZmpSample> samples;
   double min_margin = 0;  // smallest of all heel and toe margins
   double min_margin_t = 0;
-  std::string min_margin_end;       // heel or toe
-  double min_normal = 0;            // smallest normal force
+  std::string min_margin_end;               // heel or toe
+  double min_normal = 0;                    // smallest normal force
+  int inside = 0;                           // samples with the ZMP on the sole (0 <= zmp <= length)
+  double inside_t0 = NAN, inside_t1 = NAN;  // the first and last of them (NaN when none)
   double largest_disagreement = 0;  // max |reaction - momentum| (force N, moment / length N)
 };
 

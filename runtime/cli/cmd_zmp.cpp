@@ -48,6 +48,11 @@ int run_zmp(const Args& args) {
     zmp_min = std::min(zmp_min, s.zmp), zmp_max = std::max(zmp_max, s.zmp);
   std::cout << "  ZMP from the heel: " << fixed(zmp_min, 4) << " .. " << fixed(zmp_max, 4)
             << " m\n";
+  std::cout << "  on the sole: " << report.inside << " of " << report.samples.size() << " samples";
+  if (report.inside > 0)
+    std::cout << ", t = " << fixed(report.inside_t0, 4) << " .. " << fixed(report.inside_t1, 4)
+              << " s";
+  std::cout << "\n";
   std::cout << "  smallest normal force: " << fixed(report.min_normal, 4) << " N"
             << (report.min_normal > 0 ? "" : "  (the foot lifts: the ZMP means nothing there)")
             << "\n";

@@ -16,6 +16,8 @@ steps=(
   sweep    # one step of the biped: every named quantity over time -> out/pasibot_step.csv
   plot     # crank (motor) torque over the step -> out/pasibot_torque.svg
   summary  # motor and gait figures of the step -> out/pasibot_summary.txt, and on screen
+  loads    # N, V, M and stress of every bar, critical link -> out/pasibot_link_loads{,_t}.csv, .svg
+  zmp      # floor reaction on the support foot, ZMP and its margin -> out/pasibot_zmp.csv, .svg
 )
 
 step_deps() { bash scripts/deps.sh; }
@@ -51,6 +53,22 @@ step_plot() {
 
 step_summary() {
   "$mechgen" summary "$out/pasibot_step.csv" --model "$model" | tee "$out/pasibot_summary.txt"
+}
+
+step_loads() {
+  "$mechgen" loads "$model" --csv "$out/pasibot_step.csv" --out "$out/pasibot_link_loads.csv" \
+    --over-time "$out/pasibot_link_loads_t.csv" | tee "$out/pasibot_link_loads.txt"
+  "$mechgen" plot "$out/pasibot_link_loads_t.csv" --x t --y l7.sigma,l2.sigma,l3.sigma,l8.sigma \
+    --out "$out/pasibot_link_stress.svg" --title "PASIBOT: largest stress along the most loaded bars" \
+    --ylabel "sigma = |N|/A + |M|c/I [Pa]"
+}
+
+step_zmp() {
+  "$mechgen" zmp "$model" --csv "$out/pasibot_step.csv" --out "$out/pasibot_zmp.csv" |
+    tee "$out/pasibot_zmp.txt"
+  "$mechgen" plot "$out/pasibot_zmp.csv" --x t --y zmp,heel,toe --out "$out/pasibot_zmp.svg" \
+    --title "PASIBOT: ZMP on the support foot (heel E at 0, toe F at 0.126 m)" \
+    --ylabel "distance from the heel along the sole [m]"
 }
 
 mkdir -p "$out"

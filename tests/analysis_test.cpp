@@ -202,7 +202,8 @@ TEST(GroundReaction, PasibotReactionEqualsTheMomentumRateOfAllBodies) {
   const Model model = read_model(model_path("pasibot"));
   expect_reactions_agree(model, sweep(model, "generated"));
   // The default sole is the foot l1's two points: heel E, toe F.
-  EXPECT_EQ(sole_points(model, "", ""), std::make_pair(std::string("E"), std::string("F")));
+  EXPECT_EQ(sole_points(model, model.default_parameters(), "", ""),
+            std::make_pair(std::string("E"), std::string("F")));
 }
 
 TEST(GroundReaction, SliderCrankWithSpringGasForceAndFrictionTorqueAgrees) {

@@ -24,7 +24,8 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 FreeBodies::FreeBodies(const Model& model, const std::vector<double>& parameters,
                        const std::vector<std::string>& columns)
-    : model_(model), subs_(model.substitutions(parameters)), columns_(columns) {
+    : model_(model), subs_(model.substitutions(parameters)) {
+  for (size_t i = 0; i < columns.size(); ++i) index_.emplace(columns[i], static_cast<int>(i));
   gravity_ = {model.evaluate(model.gravity.x, subs_), model.evaluate(model.gravity.y, subs_)};
   time_ = column("t");
   const size_t n = model.bodies.size();
@@ -56,11 +57,22 @@ FreeBodies::FreeBodies(const Model& model, const std::vector<double>& parameters
     column(name + ".x");
     column(name + ".y");
   }
+  const auto compiled = [&](const Expr& e) {
+    return numeric::TimeExpression(e.ex.subs(subs_), model.t);
+  };
+  for (const ForceElement& f : model.forces) {
+    AppliedLoad a;
+    if (f.type == ForceType::spring_damper)
+      a.k = compiled(f.stiffness), a.c = compiled(f.damping),
+      a.free_length = compiled(f.free_length);
+    if (f.type == ForceType::force) a.fx = compiled(f.force.x), a.fy = compiled(f.force.y);
+    if (f.type == ForceType::torque) a.torque = compiled(f.torque);
+    applied_.push_back(std::move(a));
+  }
 }
 
 int FreeBodies::column(const std::string& name) const {
-  for (size_t i = 0; i < columns_.size(); ++i)
-    if (columns_[i] == name) return static_cast<int>(i);
+  if (const auto it = index_.find(name); it != index_.end()) return it->second;
   throw std::invalid_argument("no column '" + name + "' (is this a sweep of model '" + model_.name +
                               "'?)");
 }
@@ -125,8 +137,7 @@ std::vector<FreeBody> FreeBodies::at(const std::vector<double>& row) const {
     }
   }
   if (!model_.forces.empty()) {
-    GiNaC::exmap subs = subs_;
-    subs[model_.t] = value(time_);
+    const double t = value(time_);
     // A point's velocity from its body's centre of mass: v_G + w x (P - G); the ground is still.
     const auto velocity = [&](int b, const Eigen::Vector2d& p) -> Eigen::Vector2d {
       if (model_.bodies[static_cast<size_t>(b)].ground) return Eigen::Vector2d::Zero();
@@ -134,7 +145,9 @@ std::vector<FreeBody> FreeBodies::at(const std::vector<double>& row) const {
       const FreeBody& f = bodies[static_cast<size_t>(b)];
       return Eigen::Vector2d{value(c.vx), value(c.vy)} + f.w * perp(p - f.com);
     };
-    for (const ForceElement& e : model_.forces) {
+    for (size_t i = 0; i < model_.forces.size(); ++i) {
+      const ForceElement& e = model_.forces[i];
+      const AppliedLoad& load = applied_[i];
       switch (e.type) {
         case ForceType::spring_damper: {
           const Eigen::Vector2d pa = point(e.point_a, row), pb = point(e.point_b, row);
@@ -143,22 +156,18 @@ std::vector<FreeBody> FreeBodies::at(const std::vector<double>& row) const {
           const Eigen::Vector2d u =
               length > 0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d::Zero();
           const double rate = u.dot(velocity(e.body_b, pb) - velocity(e.body_a, pa));
-          const double tension =
-              model_.evaluate(e.stiffness, subs) * (length - model_.evaluate(e.free_length, subs)) +
-              model_.evaluate(e.damping, subs) * rate;
+          const double tension = load.k(t) * (length - load.free_length(t)) + load.c(t) * rate;
           bodies[static_cast<size_t>(e.body_b)].forces.push_back({e.name, pb, -tension * u});
           bodies[static_cast<size_t>(e.body_a)].forces.push_back({e.name, pa, tension * u});
           break;
         }
         case ForceType::force:
           bodies[static_cast<size_t>(e.body_a)].forces.push_back(
-              {e.name,
-               point(e.point_a, row),
-               {model_.evaluate(e.force.x, subs), model_.evaluate(e.force.y, subs)}});
+              {e.name, point(e.point_a, row), {load.fx(t), load.fy(t)}});
           break;
         case ForceType::torque:
           bodies[static_cast<size_t>(e.body_a)].couples.push_back(
-              {e.name, model_.evaluate(e.torque, subs), std::nullopt});
+              {e.name, load.torque(t), std::nullopt});
           break;
       }
     }

@@ -14,9 +14,11 @@
 
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "model/model.hpp"
+#include "numeric/time_expression.hpp"
 
 namespace mechgen::analysis {
 
@@ -73,9 +75,15 @@ class FreeBodies {
   };
   int column(const std::string& name) const;
 
+  // An applied load's time-dependent values, compiled once (parameters substituted).
+  struct AppliedLoad {
+    numeric::TimeExpression k, c, free_length, fx, fy, torque;
+  };
+
   const Model& model_;
   GiNaC::exmap subs_;
-  std::vector<std::string> columns_;
+  std::unordered_map<std::string, int> index_;  // column name -> position
+  std::vector<AppliedLoad> applied_;            // per Model::forces entry
   Eigen::Vector2d gravity_;
   int time_ = -1;
   std::vector<BodyColumns> body_cols_;

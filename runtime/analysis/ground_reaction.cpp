@@ -58,10 +58,11 @@ double centre_of_pressure(const Reaction& r, const Eigen::Vector2d& heel,
   return (r.moment - cross(heel, r.force)) / across;
 }
 
-std::pair<std::string, std::string> sole_points(const Model& model, const std::string& heel,
-                                                const std::string& toe) {
+std::pair<std::string, std::string> sole_points(const Model& model,
+                                                const std::vector<double>& parameters,
+                                                const std::string& heel, const std::string& toe) {
   const Body& ground = model.bodies[static_cast<size_t>(model.ground)];
-  const GiNaC::exmap subs = model.substitutions(model.default_parameters());
+  const GiNaC::exmap subs = model.substitutions(parameters);
   const auto where = [&](const BodyPoint& p) -> Eigen::Vector2d {
     return {model.evaluate(p.local.x, subs), model.evaluate(p.local.y, subs)};
   };
@@ -92,7 +93,7 @@ ZmpReport zmp_over(const Model& model, const std::vector<double>& parameters,
                    const std::vector<std::vector<double>>& rows, const std::string& heel,
                    const std::string& toe) {
   ZmpReport report;
-  std::tie(report.heel, report.toe) = sole_points(model, heel, toe);
+  std::tie(report.heel, report.toe) = sole_points(model, parameters, heel, toe);
   if (report.heel == report.toe)
     throw ModelError(model.bodies[static_cast<size_t>(model.ground)].loc,
                      "the heel and the toe are the same point '" + report.heel + "'");

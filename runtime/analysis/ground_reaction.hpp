@@ -42,8 +42,9 @@ double centre_of_pressure(const Reaction& r, const Eigen::Vector2d& heel,
 // The heel and toe: the named points, or by default the two points of the ground body farthest
 // apart, the one with the smaller x (ground frame) as the heel. Throws ModelError for a name the
 // ground body does not carry, or a ground body with fewer than two points.
-std::pair<std::string, std::string> sole_points(const Model& model, const std::string& heel,
-                                                const std::string& toe);
+std::pair<std::string, std::string> sole_points(const Model& model,
+                                                const std::vector<double>& parameters,
+                                                const std::string& heel, const std::string& toe);
 
 struct ZmpSample {
   double t = 0;

@@ -60,8 +60,12 @@ void cut(const std::vector<AxisLoad>& loads, const LineLoad& axial, const LineLo
 
 std::optional<BarAxis> bar_axis(const Model& model, int body, const GiNaC::exmap& subs) {
   const Body& b = model.bodies[static_cast<size_t>(body)];
-  if (b.mass.source == MassProperties::Source::bar)
+  if (b.mass.source == MassProperties::Source::bar) {
+    const BodyPoint *from = b.find_point(b.mass.bar_from), *to = b.find_point(b.mass.bar_to);
+    if ((local_point(model, *to, subs) - local_point(model, *from, subs)).norm() == 0)
+      return std::nullopt;
     return BarAxis{body, b.mass.bar_from, b.mass.bar_to, true};
+  }
   double farthest = 0;
   std::optional<BarAxis> axis;
   for (size_t i = 0; i < b.points.size(); ++i)
@@ -182,7 +186,7 @@ LinkLoadReport link_loads(const Model& model, const std::vector<double>& paramet
     if (body.ground) continue;
     const std::optional<BarAxis> axis = bar_axis(model, static_cast<int>(b), subs);
     if (!axis) {
-      report.skipped.push_back(body.name + ": fewer than two points, no bar axis");
+      report.skipped.push_back(body.name + ": no two distinct points, no bar axis");
       continue;
     }
     const std::optional<SectionProperties> section =

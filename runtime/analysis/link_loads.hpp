@@ -49,7 +49,7 @@ struct BarAxis {
   bool distributed = false;  // weight and inertia as line loads (bar mass) or lumped
 };
 
-// The axis rule above; nullopt for a body with fewer than two distinct points.
+// The axis rule above; nullopt for a body without two distinct points (or a zero-length bar).
 std::optional<BarAxis> bar_axis(const Model& model, int body, const GiNaC::exmap& subs);
 
 // The section of a body: its `section:`, else its bar mass's width x thickness; nullopt when it

@@ -141,28 +141,40 @@ TEST(LinkLoads, SimplySupportedBarWithAMidpointLoadMatchesTheBeamFormulas) {
   EXPECT_NEAR(bar.safety, 276e6 / bar.sigma.value, 1e-9 * bar.safety);
 }
 
-// Every moving body of PASIBOT over a step: joint forces, the motor torque, weight and
-// d'Alembert inertia add up to zero force and zero moment; each bar's N, V, M vanish past its
-// last load.
+// Joint forces, driver efforts, applied loads, weight and d'Alembert inertia of every moving body
+// add up to zero force and zero moment about its centre of mass at every sample. Forces are
+// compared with the largest joint force, moments with it at the model's largest point distance.
+// Returns that largest joint force.
+double expect_every_body_in_equilibrium(const Model& model, const SweepResult& result) {
+  const FreeBodies free_bodies(model, model.default_parameters(), result.columns);
+  double scale = 0, arm = 0;
+  for (const std::vector<double>& row : result.rows) {
+    for (const FreeBody& b : free_bodies.at(row))
+      for (const PointLoad& l : b.forces) scale = std::max(scale, l.force.norm());
+    for (const auto& [name, body] : model.named_points())
+      arm = std::max(arm, free_bodies.point(name, row).norm());
+  }
+  EXPECT_GT(scale, 0);
+  EXPECT_GT(arm, 0);
+  for (const std::vector<double>& row : result.rows)
+    for (const FreeBody& b : free_bodies.at(row)) {
+      const std::string& name = model.bodies[static_cast<size_t>(b.body)].name;
+      if (model.bodies[static_cast<size_t>(b.body)].ground) continue;
+      const Resultant r = resultant(b, free_bodies.gravity());
+      EXPECT_LT(r.force.norm(), 1e-9 * scale) << model.name << " " << name;
+      EXPECT_LT(std::abs(r.moment), 1e-9 * scale * arm) << model.name << " " << name;
+    }
+  return scale;
+}
+
+// Every moving body of PASIBOT over a step is in dynamic equilibrium, and each bar's N, V, M
+// vanish past its last load.
 TEST(LinkLoads, EveryPasibotBodyIsInDynamicEquilibrium) {
   const Model model = read_model(model_path("pasibot"));
   const SweepResult result = sweep(model, "generated");
   const std::vector<double> parameters = model.default_parameters();
-  const FreeBodies free_bodies(model, parameters, result.columns);
-  double scale = 0;  // the largest joint force
-  for (const std::vector<double>& row : result.rows)
-    for (const FreeBody& b : free_bodies.at(row))
-      for (const PointLoad& l : b.forces) scale = std::max(scale, l.force.norm());
+  const double scale = expect_every_body_in_equilibrium(model, result);
   ASSERT_GT(scale, 100.0);
-  const double arm = 0.84;  // hip height: moments are compared at this lever
-  for (const std::vector<double>& row : result.rows)
-    for (const FreeBody& b : free_bodies.at(row)) {
-      if (model.bodies[static_cast<size_t>(b.body)].ground) continue;
-      const Resultant r = resultant(b, free_bodies.gravity());
-      EXPECT_LT(r.force.norm(), 1e-9 * scale) << model.bodies[static_cast<size_t>(b.body)].name;
-      EXPECT_LT(std::abs(r.moment), 1e-9 * scale * arm)
-          << model.bodies[static_cast<size_t>(b.body)].name;
-    }
   const LinkLoadReport report = link_loads(model, parameters, result.columns, result.rows);
   EXPECT_EQ(report.links.size(), 22u);  // every moving body but the hip plate
   ASSERT_EQ(report.skipped.size(), 1u);
@@ -173,6 +185,62 @@ TEST(LinkLoads, EveryPasibotBodyIsInDynamicEquilibrium) {
     EXPECT_NEAR(l.section.yield, 276e6, 1);
     EXPECT_GE(l.safety, report.links[static_cast<size_t>(report.critical)].safety);
   }
+}
+
+// Every kind of load the free bodies read: a prismatic joint's moment, a spring-damper, an applied
+// force and torque, an angle driver.
+TEST(LinkLoads, SliderCrankBodiesWithEveryKindOfLoadAreInEquilibrium) {
+  const Model model = read_model(model_path("slider_crank"));
+  const SweepResult result = sweep(model, "numeric", 61);
+  expect_every_body_in_equilibrium(model, result);
+  const LinkLoadReport report =
+      link_loads(model, model.default_parameters(), result.columns, result.rows);
+  EXPECT_FALSE(report.links.empty());
+  EXPECT_LT(report.largest_end_residual, 1e-9 * expect_every_body_in_equilibrium(model, result));
+}
+
+// A carriage on a rail (prismatic joint) pushed back and forth by a length driver, its centre of
+// mass off the joint point: the rail's moment and the driver's force are not zero. An explicit
+// mass with a section: a beam with lumped weight and inertia.
+const char* const kCarriage = R"(
+name: carriage
+parameters: {w: 2}
+bodies:
+  - name: floor
+    ground: true
+    points: {H: [-0.5, 0], O: [0, 0], T: [0.5, 0]}
+  - name: carriage
+    points: {Q: [0, 0], Z: [0.2, 0]}
+    mass: {mass: 1.5, com: [0.1, 0.05], inertia: 0.01}
+    section: {width: 0.02, thickness: 0.01}
+joints:
+  - {name: rail, type: prismatic, first: floor, second: carriage, point: Q,
+     line: {through: [0, 0], direction: [1, 0]}, angle: 0}
+drivers:
+  - {name: push, joint: rail, kind: length, value: 0.1*sin(w*t)}
+step: {t0: 0, t1: 3, samples: 31}
+)";
+
+TEST(LinkLoads, CarriageOnARailWithALengthDriverIsInEquilibrium) {
+  const Model model = read_model_text(kCarriage, "carriage.yaml");
+  const SweepResult result = sweep(model, "numeric");
+  const double scale = expect_every_body_in_equilibrium(model, result);
+  double largest_moment = 0, largest_push = 0;
+  const auto column = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(result.columns.begin(), result.columns.end(), name) -
+                               result.columns.begin());
+  };
+  for (const std::vector<double>& row : result.rows) {
+    largest_moment = std::max(largest_moment, std::abs(row[column("rail.m")]));
+    largest_push = std::max(largest_push, std::abs(row[column("push.effort")]));
+  }
+  EXPECT_GT(largest_moment, 1.0);  // m g 0.1 = 1.47 N m at rest, more with inertia
+  EXPECT_GT(largest_push, 0.5);    // m 0.1 w^2 = 0.6 N at the turns
+  const LinkLoadReport report =
+      link_loads(model, model.default_parameters(), result.columns, result.rows);
+  ASSERT_EQ(report.links.size(), 1u);
+  EXPECT_FALSE(report.links.front().axis.distributed);
+  EXPECT_LT(report.largest_end_residual, 1e-9 * scale);
 }
 
 // ---- ground reaction and ZMP --------------------------------------------------------------------
@@ -211,6 +279,11 @@ TEST(GroundReaction, SliderCrankWithSpringGasForceAndFrictionTorqueAgrees) {
   // gas force and the friction torque (external), and a prismatic joint's moment.
   const Model model = read_model(model_path("slider_crank"));
   expect_reactions_agree(model, sweep(model, "numeric", 61));
+}
+
+TEST(GroundReaction, CarriageOnARailAgrees) {
+  const Model model = read_model_text(kCarriage, "carriage.yaml");
+  expect_reactions_agree(model, sweep(model, "numeric"));
 }
 
 TEST(GroundReaction, ChebyshevLinkageAgrees) {

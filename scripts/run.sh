@@ -61,6 +61,15 @@ step_loads() {
   "$mechgen" plot "$out/pasibot_link_loads_t.csv" --x t --y l7.sigma,l2.sigma,l3.sigma,l8.sigma \
     --out "$out/pasibot_link_stress.svg" --title "PASIBOT: largest stress along the most loaded bars" \
     --ylabel "sigma = |N|/A + |M|c/I [Pa]"
+  # The bending moment along the critical link at its most stressed sample.
+  local critical
+  critical=$(sed -n 's/^critical link: \([A-Za-z0-9_]*\),.*/\1/p' "$out/pasibot_link_loads.txt")
+  "$mechgen" loads "$model" --csv "$out/pasibot_step.csv" --diagram "$critical" \
+    --diagram-out "$out/pasibot_critical_link.csv" | tail -n 1
+  "$mechgen" plot "$out/pasibot_critical_link.csv" --x s --y M \
+    --out "$out/pasibot_critical_link_moment.svg" \
+    --title "PASIBOT: bending moment along the critical link $critical at its peak stress" \
+    --xlabel "s along the bar from its first axis point [m]" --ylabel "M [N m]"
 }
 
 step_zmp() {

@@ -129,6 +129,16 @@ TEST(LinkLoads, SimplySupportedBarWithAMidpointLoadMatchesTheBeamFormulas) {
   EXPECT_NEAR(mid->m, load * length / 4 + w * length * length / 8, 1e-9);
   EXPECT_NEAR(mid->v_before - mid->v, load, 1e-9);
 
+  // The same diagram through link_diagram(), by name; the floor is no bar.
+  const BeamLoads by_name = link_diagram(model, model.default_parameters(), result.columns,
+                                         result.rows.front(), "bar", 40);
+  ASSERT_EQ(by_name.stations.size(), beam.stations.size());
+  for (size_t i = 0; i < beam.stations.size(); ++i)
+    EXPECT_EQ(by_name.stations[i].m, beam.stations[i].m);
+  EXPECT_THROW(
+      link_diagram(model, model.default_parameters(), result.columns, result.rows.front(), "floor"),
+      std::invalid_argument);
+
   // The report: stresses of the 20 x 5 mm section (bending about the 5 mm side).
   const LinkLoadReport report = link_loads(model, model.default_parameters(), result.columns,
                                            result.rows, LinkLoadOptions{276e6, 64});

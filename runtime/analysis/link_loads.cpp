@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace mechgen::analysis {
 
@@ -172,6 +173,21 @@ BeamLoads beam_loads(const FreeBody& body, const BarAxis& axis, const Eigen::Vec
   }
   cut(loads, axial, transverse, length, out.s_max, true, out.end_n, out.end_v, out.end_m);
   return out;
+}
+
+BeamLoads link_diagram(const Model& model, const std::vector<double>& parameters,
+                       const std::vector<std::string>& columns, const std::vector<double>& row,
+                       const std::string& link, int intervals) {
+  const int body = model.body_index(link);
+  if (body < 0 || model.bodies[static_cast<size_t>(body)].ground)
+    throw std::invalid_argument("'" + link + "' is not a moving body of model '" + model.name +
+                                "'");
+  const std::optional<BarAxis> axis = bar_axis(model, body, model.substitutions(parameters));
+  if (!axis) throw std::invalid_argument("'" + link + "' has no two distinct points: no bar axis");
+  const FreeBodies free_bodies(model, parameters, columns);
+  return beam_loads(free_bodies.at(row)[static_cast<size_t>(body)], *axis,
+                    free_bodies.point(axis->from, row), free_bodies.point(axis->to, row),
+                    free_bodies.gravity(), intervals);
 }
 
 LinkLoadReport link_loads(const Model& model, const std::vector<double>& parameters,

@@ -110,6 +110,12 @@ struct LinkLoadOptions {
   int intervals = 64;
 };
 
+// N, V, M along one bar at one row of a sweep table (the diagrams of a beam). Throws
+// std::invalid_argument when `link` is not a moving body with an axis.
+BeamLoads link_diagram(const Model& model, const std::vector<double>& parameters,
+                       const std::vector<std::string>& columns, const std::vector<double>& row,
+                       const std::string& link, int intervals = 64);
+
 // Over every row of a sweep table of `model` (columns as DESIGN.md's CSV).
 LinkLoadReport link_loads(const Model& model, const std::vector<double>& parameters,
                           const std::vector<std::string>& columns,

@@ -1,5 +1,6 @@
 // mechgen loads: axial force, shear force, bending moment and stress of every bar over a sweep,
 // the critical link and its safety factor (runtime/analysis/link_loads.hpp).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -18,6 +19,7 @@ const std::string kLoadsHelp =
     std::string(
         R"(usage: mechgen loads MODEL.yaml [--csv FILE.csv | --solver S --samples N --t0 T0 --t1 T1]
                     [--set NAME=VALUE]... [--yield PA] [--out FILE.csv] [--over-time FILE.csv]
+                    [--diagram LINK --diagram-out FILE.csv [--at T]]
 
 For every bar (moving body with a cross-section: `section:` in the model, else its bar mass's
 width x thickness), the axial force N, shear force V and bending moment M along it from the joint
@@ -30,6 +32,9 @@ and the critical link (lowest safety factor). Rules: docs/link_loads.md.
     kSweepSourceHelp + R"(  --yield PA          yield strength for every bar without its own (Pa)
   --out FILE.csv      per-link maxima, one row per link
   --over-time FILE.csv  t and, per link, the largest |N|, |V|, |M| and sigma along it per sample
+  --diagram LINK --diagram-out FILE.csv   N, V, M along one bar (columns s, N, V, M; a load
+                      point appears twice, just before and just past it), at the sample of its
+                      largest stress or at --at T (the nearest sample)
 The equilibrium check (what is left past the last load of each bar, zero for a body in dynamic
 equilibrium) is printed too.
 )";
@@ -65,6 +70,18 @@ void write_over_time(const std::string& path, const analysis::LinkLoadReport& re
     for (const analysis::LinkResult& l : report.links)
       row.insert(row.end(), {l.n_t[i], l.v_t[i], l.m_t[i], l.sigma_t[i]});
     table.rows.push_back(std::move(row));
+  }
+  g_current_file = path;
+  report::write_csv(table, path);
+}
+
+void write_diagram(const std::string& path, const analysis::BeamLoads& beam) {
+  report::CsvTable table;
+  table.header = {"s", "N", "V", "M"};
+  for (const analysis::BeamStation& st : beam.stations) {
+    if (st.n_before != st.n || st.v_before != st.v)
+      table.rows.push_back({st.s, st.n_before, st.v_before, st.m});
+    table.rows.push_back({st.s, st.n, st.v, st.m});
   }
   g_current_file = path;
   report::write_csv(table, path);
@@ -112,6 +129,25 @@ int run_loads(const Args& args) {
     write_maxima(args.get("--out"), report);
     std::cout << "wrote " << args.get("--out") << "\n";
   }
+  if (args.has("--diagram") != args.has("--diagram-out"))
+    throw UsageError("--diagram LINK and --diagram-out FILE.csv go together");
+  if (args.has("--at") && !args.has("--diagram")) throw UsageError("--at applies to --diagram");
+  if (args.has("--diagram")) {
+    const std::string link = args.get("--diagram");
+    const auto result = std::find_if(report.links.begin(), report.links.end(),
+                                     [&](const analysis::LinkResult& l) { return l.name == link; });
+    if (result == report.links.end())
+      throw UsageError("--diagram: '" + link + "' is not a bar of the report");
+    const double at = args.number("--at", result->sigma.t);
+    size_t nearest = 0;
+    for (size_t i = 0; i < report.t.size(); ++i)
+      if (std::abs(report.t[i] - at) < std::abs(report.t[nearest] - at)) nearest = i;
+    write_diagram(args.get("--diagram-out"),
+                  analysis::link_diagram(model, sweep.parameters, sweep.columns,
+                                         sweep.rows[nearest], link, options.intervals));
+    std::cout << "wrote " << args.get("--diagram-out") << " (" << link
+              << " at t = " << fixed(report.t[nearest], 4) << " s)\n";
+  }
   if (args.has("--over-time")) {
     write_over_time(args.get("--over-time"), report);
     std::cout << "wrote " << args.get("--over-time") << "\n";
@@ -124,8 +160,12 @@ int run_loads(const Args& args) {
 Command loads_command() {
   static const std::string help = kLoadsHelp;
   std::vector<OptionSpec> options = sweep_source_options();
-  options.insert(options.end(),
-                 {{"--yield", "", true}, {"--out", "-o", true}, {"--over-time", "", true}});
+  options.insert(options.end(), {{"--yield", "", true},
+                                 {"--out", "-o", true},
+                                 {"--over-time", "", true},
+                                 {"--diagram", "", true},
+                                 {"--diagram-out", "", true},
+                                 {"--at", "", true}});
   return {"loads", "axial, shear, bending and stress of every bar; critical link", help.c_str(),
           options, &run_loads};
 }

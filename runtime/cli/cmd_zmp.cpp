@@ -61,7 +61,9 @@ int run_zmp(const Args& args) {
   std::cout << "ZMP margin: " << fixed(report.min_margin, 4) << " m to the "
             << report.min_margin_end << " at t = " << fixed(report.min_margin_t, 4) << " s ("
             << fixed(100 * report.min_margin / report.sole_length, 3) << " % of the sole; "
-            << (report.min_margin > 0 ? "inside: it does not tip" : "OUTSIDE: it tips") << ")\n";
+            << (report.min_margin >= 0 ? "always on the sole: it does not tip"
+                                       : "off the sole at times: on this foot alone it tips")
+            << ")\n";
   if (args.has("--out")) {
     report::CsvTable table;
     table.header = {"t",   "reaction.fx", "reaction.fy", "reaction.m",  "reaction.normal",

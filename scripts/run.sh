@@ -16,6 +16,8 @@ steps=(
   sweep    # one step of the biped: every named quantity over time -> out/pasibot_step.csv
   plot     # crank (motor) torque over the step -> out/pasibot_torque.svg
   summary  # motor and gait figures of the step -> out/pasibot_summary.txt, and on screen
+  loads    # N, V, M and stress of every bar, critical link -> out/pasibot_link_loads{,_t}.csv, .svg
+  zmp      # floor reaction on the support foot, ZMP and its margin -> out/pasibot_zmp.csv, .svg
   fig10    # seed Fig. 10: torque over a step for w8 = 1..5 rad/s -> out/pasibot_fig10_speed.*
   fig11    # seed Fig. 11: torque for hip loads 0..15 kg -> out/pasibot_fig11_load.*
   motor    # the seed's motor-gearbox selection -> out/pasibot_motor.txt
@@ -102,6 +104,31 @@ step_draw() {
   "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT: one step"
   "$mechgen" draw "$model" --animate --steps 4 --ramp 1.5 --out "$out/pasibot_walk.svg" \
     --title "PASIBOT: 4 steps from rest, world frame"
+}
+
+step_loads() {
+  "$mechgen" loads "$model" --csv "$out/pasibot_step.csv" --out "$out/pasibot_link_loads.csv" \
+    --over-time "$out/pasibot_link_loads_t.csv" | tee "$out/pasibot_link_loads.txt"
+  "$mechgen" plot "$out/pasibot_link_loads_t.csv" --x t --y l7.sigma,l2.sigma,l3.sigma,l8.sigma \
+    --out "$out/pasibot_link_stress.svg" --title "PASIBOT: largest stress along the most loaded bars" \
+    --ylabel "sigma = |N|/A + |M|c/I [Pa]"
+  # The bending moment along the critical link at its most stressed sample.
+  local critical
+  critical=$(sed -n 's/^critical link: \([A-Za-z0-9_]*\),.*/\1/p' "$out/pasibot_link_loads.txt")
+  "$mechgen" loads "$model" --csv "$out/pasibot_step.csv" --diagram "$critical" \
+    --diagram-out "$out/pasibot_critical_link.csv" | tail -n 1
+  "$mechgen" plot "$out/pasibot_critical_link.csv" --x s --y M \
+    --out "$out/pasibot_critical_link_moment.svg" \
+    --title "PASIBOT: bending moment along the critical link $critical at its peak stress" \
+    --xlabel "s along the bar from its first axis point [m]" --ylabel "M [N m]"
+}
+
+step_zmp() {
+  "$mechgen" zmp "$model" --csv "$out/pasibot_step.csv" --out "$out/pasibot_zmp.csv" |
+    tee "$out/pasibot_zmp.txt"
+  "$mechgen" plot "$out/pasibot_zmp.csv" --x t --y zmp,heel,toe --out "$out/pasibot_zmp.svg" \
+    --title "PASIBOT: ZMP on the support foot (heel E at 0, toe F at 0.126 m)" \
+    --ylabel "distance from the heel along the sole [m]"
 }
 
 mkdir -p "$out"

@@ -158,5 +158,7 @@ Command grid_command();        // cmd_grid.cpp
 Command size_motor_command();  // cmd_size_motor.cpp
 Command walk_command();        // cmd_walk.cpp
 Command draw_command();        // cmd_draw.cpp
+Command loads_command();       // cmd_loads.cpp
+Command zmp_command();         // cmd_zmp.cpp
 
 }  // namespace mechgen::cli

@@ -474,6 +474,8 @@ const std::vector<Command>& commands() {
        kSummaryHelp,
        {{"--body", "", true}, {"--model", "", true}},
        &run_summary},
+      loads_command(),
+      zmp_command(),
       grid_command(),
       size_motor_command(),
       walk_command(),

@@ -64,11 +64,23 @@ struct MassProperties {
   Expr width, thickness, density;
 };
 
+// A bar's cross-section, for the stresses of runtime/analysis/link_loads (not used by the solvers).
+// Bending is in the mechanism's plane, about the axis normal to it.
+struct Section {
+  enum class Shape { rectangle, general };
+  Shape shape = Shape::rectangle;
+  Expr width, thickness;      // rectangle: width in the plane (the bending depth), thickness normal
+  Expr area, inertia, fibre;  // general: A (m^2), I about the normal axis (m^4), extreme fibre (m)
+  std::optional<Expr> yield_strength;  // Pa; overrides the model's material
+  SourceLoc loc;
+};
+
 struct Body {
   std::string name;
   bool ground = false;
   std::vector<BodyPoint> points;
   MassProperties mass;
+  std::optional<Section> section;  // given explicitly (else a bar mass's width x thickness serves)
   std::optional<Expr>
       assembly_angle;  // approximate body angle at t0 (ground frame), picks the branch
   SourceLoc loc;
@@ -139,7 +151,8 @@ struct Model {
   std::vector<Driver> drivers;
   std::vector<ForceElement> forces;
   Step step;
-  double assembly_tolerance = 0.35;  // rad: how far a converged assembly may be from the hint
+  std::optional<Expr> yield_strength;  // Pa, `material: {yield_strength: ...}`; loads analysis only
+  double assembly_tolerance = 0.35;    // rad: how far a converged assembly may be from the hint
   GiNaC::symbol t{"t"};
   int ground = -1;
 

@@ -57,6 +57,7 @@ class Reader {
   void read_parameters(const YAML::Node& node);
   void read_body(const YAML::Node& node);
   void read_mass(const YAML::Node& node, Body& body);
+  void read_section(const YAML::Node& node, Body& body);
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
   void read_force(const YAML::Node& node);
@@ -232,9 +233,31 @@ void Reader::read_mass(const YAML::Node& node, Body& body) {
   }
 }
 
+void Reader::read_section(const YAML::Node& node, Body& body) {
+  const std::string what = "section of body '" + body.name + "'";
+  expect_map(node, what);
+  Section s;
+  s.loc = loc(node);
+  if (node["width"] || node["thickness"]) {
+    expect_keys(node, what + " (rectangle)", {"width", "thickness", "yield_strength"});
+    s.shape = Section::Shape::rectangle;
+    s.width = expression(required(node, "width", what), what + " width", false);
+    s.thickness = expression(required(node, "thickness", what), what + " thickness", false);
+  } else {
+    expect_keys(node, what + " (general)", {"area", "inertia", "fibre", "yield_strength"});
+    s.shape = Section::Shape::general;
+    s.area = expression(required(node, "area", what), what + " area", false);
+    s.inertia = expression(required(node, "inertia", what), what + " inertia", false);
+    s.fibre = expression(required(node, "fibre", what), what + " fibre", false);
+  }
+  if (node["yield_strength"])
+    s.yield_strength = expression(node["yield_strength"], what + " yield_strength", false);
+  body.section = s;
+}
+
 void Reader::read_body(const YAML::Node& node) {
   expect_map(node, "a body");
-  expect_keys(node, "body", {"name", "ground", "points", "mass", "assembly"});
+  expect_keys(node, "body", {"name", "ground", "points", "mass", "section", "assembly"});
   Body body;
   body.name = identifier(required(node, "name", "a body"), "body name");
   body.loc = loc(node["name"]);
@@ -260,6 +283,10 @@ void Reader::read_body(const YAML::Node& node) {
     read_mass(node["mass"], body);
   } else if (!body.ground) {
     fail(node["name"], "body '" + body.name + "' has no mass (give mass, com, inertia or a bar)");
+  }
+  if (node["section"]) {
+    if (body.ground) fail(node["section"], "the ground body takes no section (it is not loaded)");
+    read_section(node["section"], body);
   }
   if (node["assembly"]) {
     if (body.ground) fail(node["assembly"], "the ground body takes no assembly hint");
@@ -427,7 +454,24 @@ void Reader::check_values() {
     model_.evaluate(m.com.x, subs);
     model_.evaluate(m.com.y, subs);
     if (b.assembly_angle) model_.evaluate(*b.assembly_angle, subs);
+    if (b.section) {
+      const Section& s = *b.section;
+      std::vector<const Expr*> sizes;
+      if (s.shape == Section::Shape::rectangle)
+        sizes = {&s.width, &s.thickness};
+      else
+        sizes = {&s.area, &s.inertia, &s.fibre};
+      if (s.yield_strength) sizes.push_back(&*s.yield_strength);
+      for (const Expr* e : sizes)
+        if (model_.evaluate(*e, subs) <= 0)
+          throw ModelError(
+              e->loc, "body '" + b.name + "': section value '" + e->text + "' must be positive");
+    }
   }
+  if (model_.yield_strength && model_.evaluate(*model_.yield_strength, subs) <= 0)
+    throw ModelError(
+        model_.yield_strength->loc,
+        "material yield_strength '" + model_.yield_strength->text + "' must be positive");
   for (const Joint& j : model_.joints) {
     if (j.type == JointType::revolute) continue;
     const double dx = model_.evaluate(j.line.direction.x, subs);
@@ -471,7 +515,7 @@ Model Reader::read(const YAML::Node& root) {
   if (!root.IsMap()) fail(root, "a model description must be a YAML mapping");
   expect_keys(root, "model",
               {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
-               "drivers", "forces", "step", "assembly_tolerance"});
+               "drivers", "forces", "step", "assembly_tolerance", "material"});
   model_.file = file_;
   model_.name = identifier(required(root, "name", "the model"), "model name");
   if (root["description"]) model_.description = scalar(root["description"], "description");
@@ -510,6 +554,12 @@ Model Reader::read(const YAML::Node& root) {
   if (const YAML::Node forces = root["forces"]) {
     if (!forces.IsSequence()) fail(forces, "forces must be a list");
     for (const auto& f : forces) read_force(f);
+  }
+  if (const YAML::Node material = root["material"]) {
+    expect_map(material, "material");
+    expect_keys(material, "material", {"yield_strength"});
+    model_.yield_strength = expression(required(material, "yield_strength", "material"),
+                                       "material yield_strength", false);
   }
   const YAML::Node step = required(root, "step", "the model");
   expect_map(step, "step");

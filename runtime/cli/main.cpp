@@ -169,13 +169,21 @@ int run_check(const Args& args) {
     }
   }
   for (size_t g = 0; g < plan.groups.size(); ++g) {
-    std::string line = "  " + std::to_string(g + 1) + ". " + describe(model, plan.groups[g]);
+    std::string line = "  " + std::to_string(g + 1) + ". " + describe(model, plan.groups[g]) +
+                       "; frame " + reference +
+                       (is_iterative(plan.groups[g].kind) ? "" : "; closed form");
     const std::string prefix = plan.groups[g].name + ":";
     for (const std::string& note : notes)
       if (note.rfind(prefix, 0) == 0) line += ";" + note.substr(prefix.size());
     out += line + "\n";
   }
-  if (plan.complete()) {
+  const auto iterative = std::count_if(plan.groups.begin(), plan.groups.end(),
+                                       [](const SolveGroup& g) { return is_iterative(g.kind); });
+  if (plan.complete() && iterative > 0) {
+    out += "  closed form: no, " + std::to_string(iterative) +
+           " iterative group(s) solved by Newton-Raphson in the kernel; every body located in " +
+           std::to_string(plan.groups.size()) + " groups\n";
+  } else if (plan.complete()) {
     out += "  closed form: yes, every body located in " + std::to_string(plan.groups.size()) +
            " groups\n";
   } else {

@@ -99,17 +99,18 @@ Xy body_point(double x, double y, double th, Xy com, Xy local) {
 template <class T>
 double triad_residual(const mechgen::gen::assur_triad::State<T>& s) {
   const auto& b = s.bodies;
-  const Xy plate_com{0.2233, 0.1567};
-  const Xy c2_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.3, 0.12});
-  const Xy c3_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.22, 0.25});
-  const Xy c2_link = body_point(b.link2.x, b.link2.y, b.link2.th, {0.325, 0.01}, {0.3, 0.12});
-  const Xy c3_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.135, 0.275}, {0.22, 0.25});
-  const Xy b_link = body_point(b.link2.x, b.link2.y, b.link2.th, {0.325, 0.01}, {0.35, -0.1});
-  const Xy d_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.135, 0.275}, {0.05, 0.3});
+  const Xy plate_com{0.233, 0.148};
+  const Xy c2_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.108, -0.028});
+  const Xy c3_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.386, 0.326});
+  const Xy c2_link =
+      body_point(b.link2.x, b.link2.y, b.link2.th, {0.214, -0.1505}, {0.108, -0.028});
+  const Xy c3_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.412, 0.253}, {0.386, 0.326});
+  const Xy b_link = body_point(b.link2.x, b.link2.y, b.link2.th, {0.214, -0.1505}, {0.32, -0.273});
+  const Xy d_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.412, 0.253}, {0.438, 0.18});
   return std::max({std::hypot(c2_plate.x - c2_link.x, c2_plate.y - c2_link.y),
                    std::hypot(c3_plate.x - c3_link.x, c3_plate.y - c3_link.y),
-                   std::hypot(b_link.x - 0.35, b_link.y + 0.1),
-                   std::hypot(d_link.x - 0.05, d_link.y - 0.3)});
+                   std::hypot(b_link.x - 0.32, b_link.y + 0.273),
+                   std::hypot(d_link.x - 0.438, d_link.y - 0.18)});
 }
 
 TEST(IterativeTriad, LoopConstraintsHoldToRoundOff) {
@@ -150,12 +151,12 @@ TEST(IterativeTriad, FloatConvergesAndAFarStartFailsCleanly) {
   k::State<float> sf;
   ASSERT_EQ(k::kinematics(pf, inf, sf), k::Status::ok);
   EXPECT_LT(triad_residual(sf), 1e-5);
-  // A driver angle far outside the crank's reach of the triad: no configuration, no NaN out.
+  // A crank pin 0.8 m out: link1 (0.21 m) cannot reach the plate from there (its pin C1 is
+  // 0.25 m from the crank pivot): no configuration, a status and the group, no NaN out.
   k::Params<double> p;
   k::Inputs<double> in;
   k::driver_inputs(p, 0.0, in);
-  in.crank_angle = 2.5;
-  p.r = 0.2;
+  p.r = 0.8;
   k::State<double> s;
   EXPECT_NE(k::kinematics(p, in, s), k::Status::ok);
   EXPECT_STREQ(k::group_names[s.failed_group], "g2_link1_plate_link2_link3");

@@ -500,6 +500,8 @@ class Deriver {
     ex det;
     const std::vector<ex> numerators = cramer(jf, rate_rhs, det);
     det = name(gn + "_det", det);
+    if (GiNaC::is_a<GiNaC::symbol>(det) && p_.is_defined(GiNaC::ex_to<GiNaC::symbol>(det)))
+      p_.check_nonzero(GiNaC::ex_to<GiNaC::symbol>(det), "singular", gi);  // a locked triad
     for (size_t i = 0; i < k; ++i) {
       const int b = g.bodies[i];
       const std::string& bn = body(b).name;

@@ -1,6 +1,7 @@
-// The order in which a mechanism's bodies can be located in closed form: a sequence of small
-// groups (a driven joint, a dyad, a body on a circle and a line), found from the joint graph
-// alone. The symbolic generator follows it; `mechgen check` prints it.
+// The order in which a mechanism's bodies can be located: a sequence of small groups (a driven
+// joint, a dyad, a body on a circle and a line, a driven-length cylinder; as a last resort a group
+// with no closed form, solved iteratively), found from the joint graph alone. The symbolic
+// generator follows it; `mechgen check` prints it (docs/solve_groups.md).
 #pragma once
 
 #include <string>
@@ -45,8 +46,10 @@ struct SolvePlan {
 };
 
 // Tries the ground first, then the bodies that carry a driver's first side, then the others; the
-// first reference from which every body is reached wins. When none does, returns the plan from
-// the ground with `unsolved` listing what remains.
+// first reference from which every body is reached in closed form wins. When none does, plans
+// from the ground with iterative groups (Newton-Raphson) for what no closed form reaches; when
+// even that leaves bodies, returns the closed-form plan from the ground with `unsolved` listing
+// what remains.
 SolvePlan make_solve_plan(const Model& model);
 
 std::string describe(const Model& model, const SolveGroup& group);

@@ -50,7 +50,8 @@ Validates a mechanism description and prints what mechgen understood of it: para
 by Gruebler's count against the drivers, independent loops, Newton-Euler unknowns and equations);
 the assembly at t0 by the numeric solver (this catches redundant constraints and assembly hints
 that do not assemble); and the solve plan the generator follows: the reference body frame, each
-closed-form group in order with the branch the generator picks.
+group in order, closed form (with the branch the generator picks) or iterative (Newton-Raphson in
+the kernel, for groups such as an Assur triad that have no closed form).
 
 Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 )";

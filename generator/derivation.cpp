@@ -187,6 +187,35 @@ class Deriver {
     return wu;
   }
 
+  // Two bodies turning about located pins p1 (b1's point at1) and p2 (b2's point at2) meet at a
+  // common point `meet_name`: v1, v2 are the vectors from each pin to it in each body's frame.
+  void circle_circle(const std::string& gn, int gi, int b1, const std::string& at1, const Vec& v1,
+                     int b2, const std::string& at2, const Vec& v2, const std::string& meet_name) {
+    const Vec p1 = point(at1), p2 = point(at2);
+    const Vec d = name(gn + "_d", p2 - p1);
+    const ex d2 = name(gn + "_d2", dot(d, d));
+    p_.check_positive(GiNaC::ex_to<GiNaC::symbol>(d2), "singular", gi);
+    const ex e = name(gn + "_e", (d2 + dot(v1, v1) - dot(v2, v2)) / 2);
+    const ex disc = name(gn + "_disc", dot(v1, v1) * d2 - e * e);
+    p_.check_positive(GiNaC::ex_to<GiNaC::symbol>(disc), "unreachable", gi);
+    const ex root = root_of(gn + "_root", disc);
+    auto meet = [&](int sign) {
+      return p1 + (1 / d2) * Vec{e * d.x - sign * root * d.y, e * d.y + sign * root * d.x};
+    };
+    auto rot = [&](const Vec& u, const Vec& v) {
+      return std::pair<ex, ex>{dot(u, v), cross(v, u)};
+    };
+    const Vec qp = meet(1), qm = meet(-1);
+    const int sign = choose_branch({b1, b2}, {rot(qp - p1, v1), rot(qp - p2, v2)},
+                                   {rot(qm - p1, v1), rot(qm - p2, v2)}, gn);
+    const Vec q = name(ref_prefix_ + meet_name, meet(sign));
+    points_[meet_name] = q;
+    orient(b1, q - p1, v1);
+    locate(b1, at1, p1);
+    orient(b2, q - p2, v2);
+    locate(b2, at2, p2);
+  }
+
   void solve_group(const SolveGroup& g, int gi) {
     const std::string& gn = g.name;
     switch (g.kind) {
@@ -214,31 +243,84 @@ class Deriver {
       case GroupKind::rrr: {
         const int b1 = g.bodies[0], b2 = g.bodies[1];
         const Joint &j1 = joint(g.joints[0]), &j12 = joint(g.joints[1]), &j2 = joint(g.joints[2]);
-        const Vec p1 = point(j1.point), p2 = point(j2.point);
         const Vec v1 = local(b1, j12.point) - local(b1, j1.point);
         const Vec v2 = local(b2, j12.point) - local(b2, j2.point);
-        const Vec d = name(gn + "_d", p2 - p1);
-        const ex d2 = name(gn + "_d2", dot(d, d));
-        p_.check_positive(GiNaC::ex_to<GiNaC::symbol>(d2), "singular", gi);
-        const ex e = name(gn + "_e", (d2 + dot(v1, v1) - dot(v2, v2)) / 2);
-        const ex disc = name(gn + "_disc", dot(v1, v1) * d2 - e * e);
-        p_.check_positive(GiNaC::ex_to<GiNaC::symbol>(disc), "unreachable", gi);
-        const ex root = root_of(gn + "_root", disc);
-        auto meet = [&](int sign) {
-          return p1 + (1 / d2) * Vec{e * d.x - sign * root * d.y, e * d.y + sign * root * d.x};
+        circle_circle(gn, gi, b1, j1.point, v1, b2, j2.point, v2, j12.point);
+        break;
+      }
+      case GroupKind::rpr: {
+        // The cylinder's pin distance from its located pin B (on c1) to the link's pin C (on c2)
+        // is a function of the driven length: a triangle with the link's A-C.
+        const int link = g.bodies[0], c1 = g.bodies[1], c2 = g.bodies[2];
+        const Joint &hinge = joint(g.joints[0]), &base = joint(g.joints[1]);
+        const Joint &jp = joint(g.joints[2]), &tip = joint(g.joints[3]);
+        const ex q = out_.driver_inputs[static_cast<size_t>(g.driver)].q;
+        const Vec dir{jp.line.direction.x.ex, jp.line.direction.y.ex};
+        const Vec along =
+            Vec{jp.line.through.x.ex, jp.line.through.y.ex} + (q / sqrt(dot(dir, dir))) * dir;
+        Frame relative;  // the slider's frame (jp.second) in the carrier's frame (jp.first)
+        relative.c = cos(jp.angle.ex);
+        relative.s = sin(jp.angle.ex);
+        Vec pin_vector;  // from B to C, in c1's frame
+        if (c1 == jp.first) {
+          pin_vector = along + relative.rotate(local(c2, tip.point) - local(c2, jp.point)) -
+                       local(c1, base.point);
+        } else {
+          const Vec in_c2 = local(c2, tip.point) - along -
+                            relative.rotate(local(c1, base.point) - local(c1, jp.point));
+          pin_vector = {relative.c * in_c2.x + relative.s * in_c2.y,
+                        -relative.s * in_c2.x + relative.c * in_c2.y};
+        }
+        const Vec v1 = local(link, tip.point) - local(link, hinge.point);
+        const Vec v2 = name(gn + "_v", pin_vector);
+        circle_circle(gn, gi, link, hinge.point, v1, c1, base.point, v2, tip.point);
+        const ex sign = c1 == jp.first ? 1 : -1;
+        turn(frame(c2), frame(c1), sign * jp.angle.ex, 0, body(c2).name);
+        locate(c2, tip.point, point(tip.point));
+        break;
+      }
+      case GroupKind::slot_on_body: {
+        // In the body's own frame: its pin A is fixed and the located pin P lies on its line at
+        // the located distance |P - A| from A (circle-line in the body frame).
+        const int b = g.bodies[0];
+        const Joint &pin = joint(g.joints[0]), &slot = joint(g.joints[1]);
+        const Vec pa = point(pin.point), pp = point(slot.point);
+        const Vec ref_vector = name(gn + "_ap", pp - pa);
+        const Vec dir{slot.line.direction.x.ex, slot.line.direction.y.ex};
+        const Vec unit = (1 / sqrt(dot(dir, dir))) * dir;
+        const Vec origin{slot.line.through.x.ex, slot.line.through.y.ex};
+        const Vec center = local(b, pin.point);
+        ex root;
+        const ex wu = circle_line(gn, gi, center, dot(ref_vector, ref_vector), origin, unit, root);
+        auto rot = [&](int sign) {
+          const Vec v = origin + (-wu + sign * root) * unit - center;
+          return std::pair<ex, ex>{dot(ref_vector, v), cross(v, ref_vector)};
         };
-        auto rot = [&](const Vec& u, const Vec& v) {
-          return std::pair<ex, ex>{dot(u, v), cross(v, u)};
-        };
-        const Vec qp = meet(1), qm = meet(-1);
-        const int sign = choose_branch({b1, b2}, {rot(qp - p1, v1), rot(qp - p2, v2)},
-                                       {rot(qm - p1, v1), rot(qm - p2, v2)}, gn);
-        const Vec q = name(ref_prefix_ + j12.point, meet(sign));
-        points_[j12.point] = q;
-        orient(b1, q - p1, v1);
-        locate(b1, j1.point, p1);
-        orient(b2, q - p2, v2);
-        locate(b2, j2.point, p2);
+        const int sign = choose_branch({b}, {rot(1)}, {rot(-1)}, gn);
+        const ex lambda = name(gn + "_lambda", -wu + sign * root);
+        orient(b, ref_vector, origin + lambda * unit - center);
+        locate(b, pin.point, pa);
+        break;
+      }
+      case GroupKind::prp: {
+        // Both bodies keep their lines' orientations: their common pin C runs on two located
+        // lines (each shifted by C's offset from the slider point), and meets at their crossing.
+        const int b1 = g.bodies[0], b2 = g.bodies[1];
+        const Joint &s1 = joint(g.joints[0]), &mid = joint(g.joints[1]), &s2 = joint(g.joints[2]);
+        Vec o1, u1, o2, u2;
+        line(s1, o1, u1);
+        line(s2, o2, u2);
+        turn(frame(b1), frame(s1.first), s1.angle.ex, 0, body(b1).name);
+        turn(frame(b2), frame(s2.first), s2.angle.ex, 0, body(b2).name);
+        o1 = o1 + frame(b1).rotate(local(b1, mid.point) - local(b1, s1.point));
+        o2 = o2 + frame(b2).rotate(local(b2, mid.point) - local(b2, s2.point));
+        const ex crossing = name(gn + "_cross", cross(u1, u2));
+        p_.check_nonzero(GiNaC::ex_to<GiNaC::symbol>(crossing), "singular", gi);
+        const ex lambda = name(gn + "_lambda", cross(o2 - o1, u2) / crossing);
+        const Vec c = name(ref_prefix_ + mid.point, o1 + lambda * u1);
+        points_[mid.point] = c;
+        locate(b1, mid.point, c);
+        locate(b2, mid.point, c);
         break;
       }
       case GroupKind::r_slot:
@@ -272,7 +354,173 @@ class Deriver {
         if (dyad) locate(b2, q_name, q);
         break;
       }
+      case GroupKind::iterative:
+        solve_iterative(g, gi);
+        break;
     }
+  }
+
+  // No closed form: Newton-Raphson on the group's body angles in the reference frame, unrolled
+  // for a fixed number of iterations (straight-line code, nothing that can hang) from the warm
+  // start kept in the kernel's state (the assembly by default). The positions follow from the
+  // angles along a tree of revolute joints; the other joints give as many equations as angles.
+  // Velocities and accelerations by implicit differentiation: J phi_d = -dF/dt at fixed angles,
+  // solved with Cramer's rule (the groups are small), then differentiated again by the staged
+  // chain rule.
+  static constexpr int kNewtonIterations = 10;  // assumption: quadratic convergence from a start
+                                                // within ~0.5 rad needs fewer
+
+  // Cramer's rule for a small dense system: the numerators of x = J^-1 r, and det J.
+  static std::vector<ex> cramer(const std::vector<std::vector<ex>>& jac, const std::vector<ex>& r,
+                                ex& det) {
+    const size_t k = r.size();
+    GiNaC::matrix m(static_cast<unsigned>(k), static_cast<unsigned>(k));
+    for (size_t i = 0; i < k; ++i)
+      for (size_t j = 0; j < k; ++j)
+        m(static_cast<unsigned>(i), static_cast<unsigned>(j)) = jac[i][j];
+    det = m.determinant();
+    std::vector<ex> numerators;
+    for (size_t c = 0; c < k; ++c) {
+      GiNaC::matrix mc = m;
+      for (size_t i = 0; i < k; ++i) mc(static_cast<unsigned>(i), static_cast<unsigned>(c)) = r[i];
+      numerators.push_back(mc.determinant());
+    }
+    return numerators;
+  }
+
+  void solve_iterative(const SolveGroup& g, int gi) {
+    const std::string& gn = g.name;
+    const size_t k = g.bodies.size();
+    std::vector<GiNaC::symbol> psi;  // placeholders for the unknown angles
+    for (size_t i = 0; i < k; ++i) {
+      psi.emplace_back(gn + "_psi" + std::to_string(i));
+      p_.declare(psi.back(), 0);
+    }
+    // The group's bodies as functions of the placeholders, along the tree.
+    std::map<int, Frame> trial;
+    auto frame_of = [&](int b) -> const Frame& {
+      auto it = trial.find(b);
+      return it != trial.end() ? it->second : frame(b);
+    };
+    auto at = [&](int b, const std::string& pt) {
+      return trial.count(b) ? frame_of(b).place(local(b, pt)) : point(pt);
+    };
+    ex scale2 = 0;  // a squared length of the group, for the convergence test
+    for (size_t i = 0; i < k; ++i) {
+      const int b = g.bodies[i];
+      const Joint& j = joint(g.joints[i]);
+      const Vec pin = at(j.first == b ? j.second : j.first, j.point);
+      Frame f;
+      f.c = cos(psi[i]);
+      f.s = sin(psi[i]);
+      const Vec origin = pin - f.rotate(local(b, j.point));
+      f.x = origin.x;
+      f.y = origin.y;
+      trial[b] = f;
+      scale2 += dot(local(b, j.point), local(b, j.point));
+    }
+    std::vector<ex> residual;
+    for (size_t n = k; n < g.joints.size(); ++n) {
+      const Joint& j = joint(g.joints[n]);
+      const Vec p2 = at(j.second, j.point);
+      scale2 += dot(local(j.second, j.point), local(j.second, j.point));
+      if (j.type == JointType::revolute) {
+        const Vec gap = at(j.first, j.point) - p2;
+        residual.push_back(gap.x);
+        residual.push_back(gap.y);
+        continue;
+      }
+      const Frame& f1 = frame_of(j.first);
+      const Vec dir{j.line.direction.x.ex, j.line.direction.y.ex};
+      const Vec unit = f1.rotate((1 / sqrt(dot(dir, dir))) * dir);
+      residual.push_back(cross(unit, p2 - f1.place({j.line.through.x.ex, j.line.through.y.ex})));
+      if (j.type == JointType::prismatic) {
+        const Frame& f2 = frame_of(j.second);
+        const ex sin_rel = f2.s * f1.c - f2.c * f1.s, cos_rel = f2.c * f1.c + f2.s * f1.s;
+        residual.push_back(sin_rel * cos(j.angle.ex) - cos_rel * sin(j.angle.ex));
+      }
+    }
+    if (residual.size() != k)
+      throw std::runtime_error(gn + ": " + std::to_string(residual.size()) + " equations for " +
+                               std::to_string(k) + " angles");
+    std::vector<std::vector<ex>> jac(k, std::vector<ex>(k));
+    for (size_t r = 0; r < k; ++r)
+      for (size_t c = 0; c < k; ++c) jac[r][c] = residual[r].diff(psi[c]);
+
+    // Newton-Raphson, unrolled.
+    std::vector<ex> current;
+    const double ref_th = pose_[static_cast<size_t>(plan_.reference)].th;
+    for (size_t i = 0; i < k; ++i) {
+      const int b = g.bodies[i];
+      const std::string field = gn + "_" + body(b).name;
+      const double hint = wrap(pose_[static_cast<size_t>(b)].th - ref_th);
+      const GiNaC::symbol start("s.warm." + field);
+      p_.declare(start, 0, hint);
+      current.push_back(start);
+      out_.warm_start.push_back({field, hint});
+    }
+    auto at_current = [&](const ex& e) {
+      GiNaC::exmap values;
+      for (size_t i = 0; i < k; ++i) values[psi[i]] = current[i];
+      return e.subs(values);
+    };
+    for (int it = 1; it <= kNewtonIterations; ++it) {
+      const std::string tag = gn + "_n" + std::to_string(it);
+      std::vector<ex> f(k);
+      std::vector<std::vector<ex>> jn(k, std::vector<ex>(k));
+      for (size_t r = 0; r < k; ++r) {
+        f[r] = name(tag + "_F" + std::to_string(r), at_current(residual[r]));
+        for (size_t c = 0; c < k; ++c)
+          jn[r][c] =
+              name(tag + "_J" + std::to_string(r) + std::to_string(c), at_current(jac[r][c]));
+      }
+      ex det;
+      const std::vector<ex> numerators = cramer(jn, f, det);
+      det = name(tag + "_det", det);
+      if (GiNaC::is_a<GiNaC::symbol>(det) && p_.is_defined(GiNaC::ex_to<GiNaC::symbol>(det)))
+        p_.check_nonzero(GiNaC::ex_to<GiNaC::symbol>(det), "singular", gi);
+      for (size_t i = 0; i < k; ++i)
+        current[i] = name(gn + "_" + body(g.bodies[i]).name + "_n" + std::to_string(it),
+                          current[i] - numerators[i] / det);
+    }
+    // Converged: |F|^2 below (1e-5 of the group's size)^2, loose enough for float kernels.
+    ex residual2 = 0;
+    for (const ex& r : residual) residual2 += pow(at_current(r), 2);
+    const ex margin = name(gn + "_converged", 1e-10 * scale2 - residual2);
+    p_.check_positive_kept(GiNaC::ex_to<GiNaC::symbol>(margin), "unreachable", gi);
+
+    // Implicit derivatives: J phi_d = -dF/dt with the angles held.
+    std::vector<ex> rate_rhs(k);
+    std::vector<std::vector<ex>> jf(k, std::vector<ex>(k));
+    for (size_t r = 0; r < k; ++r) {
+      rate_rhs[r] = name(gn + "_Ft" + std::to_string(r), -at_current(p_.derivative(residual[r])));
+      for (size_t c = 0; c < k; ++c)
+        jf[r][c] = name(gn + "_J" + std::to_string(r) + std::to_string(c), at_current(jac[r][c]));
+    }
+    ex det;
+    const std::vector<ex> numerators = cramer(jf, rate_rhs, det);
+    det = name(gn + "_det", det);
+    if (GiNaC::is_a<GiNaC::symbol>(det) && p_.is_defined(GiNaC::ex_to<GiNaC::symbol>(det)))
+      p_.check_nonzero(GiNaC::ex_to<GiNaC::symbol>(det), "singular", gi);  // a locked triad
+    for (size_t i = 0; i < k; ++i) {
+      const int b = g.bodies[i];
+      const std::string& bn = body(b).name;
+      const ex rate = name(gn + "_" + bn + "_rate", numerators[i] / det);
+      const GiNaC::symbol angle = GiNaC::ex_to<GiNaC::symbol>(current[i]);
+      p_.set_derivative(angle, rate);
+      out_.kinematics.push_back({"s.warm." + gn + "_" + bn, angle});
+      Frame& f = frame(b);
+      f.c = name("c_" + bn, cos(angle));
+      f.s = name("s_" + bn, sin(angle));
+      p_.set_derivative(GiNaC::ex_to<GiNaC::symbol>(f.c), -f.s * rate);
+      p_.set_derivative(GiNaC::ex_to<GiNaC::symbol>(f.s), f.c * rate);
+      f.w = rate;
+      const Joint& j = joint(g.joints[i]);
+      locate(b, j.point, point(j.point));
+    }
+    out_.notes.push_back(gn + ": iterative, " + std::to_string(kNewtonIterations) +
+                         " Newton-Raphson steps on " + std::to_string(k) +
+                         " angles from the previous state (assembly by default)");
   }
 
   // ---- placement on the ground body (the seed's eq. 11 when the reference is not the ground)

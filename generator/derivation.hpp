@@ -39,6 +39,8 @@ struct Derivation {
   std::vector<GiNaC::ex> ne_rhs;
   std::vector<std::string> group_names;  // index = group number used in statements
   std::vector<std::string> notes;        // branch choices, for `check` and the banner
+  // Iterative groups' start values kept in the kernel state: field name, default (the assembly).
+  std::vector<std::pair<std::string, double>> warm_start;
 };
 
 std::vector<Derivation::DriverInputs> make_driver_inputs(const Model& model);

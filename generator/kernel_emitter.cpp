@@ -78,6 +78,19 @@ class Emitter {
           pending.push_back(def->second);
       }
     }
+    // A kept check (an iterative group's convergence test) comes along with what it reads.
+    for (const Statement& st : program_.statements()) {
+      if (!st.keep || needed.count(st.symbol)) continue;
+      const ex& def = definition_.at(st.symbol);
+      bool inputs_computed = true;
+      for (auto it = def.preorder_begin(); it != def.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::symbol>(*it) && definition_.count(*it) && !needed.count(*it))
+          inputs_computed = false;
+      if (!inputs_computed) continue;
+      needed.insert(st.symbol);
+      for (auto it = def.preorder_begin(); it != def.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::symbol>(*it)) needed.insert(*it);
+    }
     CodeBlock code;
     for (const Statement& st : program_.statements()) {
       if (!needed.count(st.symbol)) continue;
@@ -161,6 +174,18 @@ class Emitter {
         checks += " && isfinite(in." + dr.name + suffix + ")";
     v["input_checks"] = checks;
     v["body_fields"] = joined(bodies);
+    // Start values of the iterative groups: the last solution, so a state reused along a sweep
+    // warm-starts Newton-Raphson; a new state starts from the assembly.
+    std::string warm;
+    if (!d_.warm_start.empty()) {
+      warm = "  struct Warm {  // iterative groups' start angles (reference frame)\n";
+      for (const auto& [field, value] : d_.warm_start)
+        warm += "    T " + field + " = " + literal(value) + ";\n";
+      warm += "  } warm;\n";
+    }
+    v["warm_fields"] = warm;
+    v["ne_state"] =
+        warm.empty() ? "" : "  State<T> s;  // iterative groups start from the assembly\n";
     v["point_fields"] = joined(points);
     v["joint_fields"] = joined(joints);
     v["driver_fields"] = joined(drivers);

@@ -13,10 +13,15 @@ void StagedProgram::declare(const GiNaC::symbol& s, const ex& derivative) {
   declared_[s] = derivative;
 }
 
+void StagedProgram::declare(const GiNaC::symbol& s, const ex& derivative, double value) {
+  declared_[s] = derivative;
+  for (GiNaC::exmap& sample : samples_) sample[s] = value;
+}
+
 GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value) {
   GiNaC::symbol s(name);
   info_[s] = Info{name, value, false, ex(0), false};
-  statements_.push_back({Statement::Kind::define, s, value, "", -1});
+  statements_.push_back({Statement::Kind::define, s, value, "", -1, false});
   evaluate(s, value);
   return s;
 }
@@ -36,12 +41,18 @@ void StagedProgram::set_derivative(const GiNaC::symbol& s, const ex& derivative)
 
 void StagedProgram::check_nonzero(const GiNaC::symbol& value, const std::string& failure,
                                   int group) {
-  statements_.push_back({Statement::Kind::check_nonzero, value, ex(0), failure, group});
+  statements_.push_back({Statement::Kind::check_nonzero, value, ex(0), failure, group, false});
 }
 
 void StagedProgram::check_positive(const GiNaC::symbol& value, const std::string& failure,
                                    int group) {
-  statements_.push_back({Statement::Kind::check_positive, value, ex(0), failure, group});
+  statements_.push_back({Statement::Kind::check_positive, value, ex(0), failure, group, false});
+}
+
+void StagedProgram::check_positive_kept(const GiNaC::symbol& value, const std::string& failure,
+                                        int group) {
+  check_positive(value, failure, group);
+  statements_.back().keep = true;
 }
 
 void StagedProgram::evaluate(const GiNaC::symbol& s, const ex& value) {

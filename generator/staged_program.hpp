@@ -21,6 +21,9 @@ struct Statement {
   GiNaC::ex value;       // define: its expression
   std::string failure;   // checks: the status returned otherwise ("unreachable", ...)
   int group = -1;        // checks: the solve group that fails
+  // checks: emitted whenever the quantities it reads are computed, even though no output reads
+  // it (an iterative group's final residual)
+  bool keep = false;
 };
 
 class StagedProgram {
@@ -31,6 +34,9 @@ class StagedProgram {
   // A quantity given to the program (a parameter, a driver input): its time derivative is
   // `derivative` (0 for parameters, the next input for a driver coordinate).
   void declare(const GiNaC::symbol& s, const GiNaC::ex& derivative);
+  // As above, for a symbol the samples do not hold yet: `value` at every sample (e.g. the start
+  // of an iterative solve).
+  void declare(const GiNaC::symbol& s, const GiNaC::ex& derivative, double value);
 
   // A new named quantity. Its time derivative is staged lazily as `<name>_d`, `<name>_dd`, unless
   // an explicit derivative expression is given (e.g. d/dt cos(th) = -sin(th) * th_d).
@@ -44,6 +50,8 @@ class StagedProgram {
   // nonzero (check_nonzero) here, before any later statement (e.g. a square root of it) runs.
   void check_positive(const GiNaC::symbol& value, const std::string& failure, int group);
   void check_nonzero(const GiNaC::symbol& value, const std::string& failure, int group);
+  // check_positive, kept in the code whenever `value`'s own inputs are computed.
+  void check_positive_kept(const GiNaC::symbol& value, const std::string& failure, int group);
 
   // Total time derivative of an expression of declared and defined symbols.
   GiNaC::ex derivative(const GiNaC::ex& e);

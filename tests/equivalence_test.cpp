@@ -136,7 +136,8 @@ TEST_P(Equivalence, RandomPerturbations) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedModels, Equivalence,
-                         ::testing::Values("chebyshev", "slider_crank", "leg3", "pasibot"));
+                         ::testing::Values("chebyshev", "slider_crank", "leg3", "pasibot",
+                                           "cylinder_leg", "quick_return", "assur_triad"));
 
 }  // namespace
 }  // namespace mechgen

@@ -7,9 +7,12 @@
 #include <cstdlib>
 #include <new>
 
+#include "assur_triad/assur_triad.hpp"
 #include "chebyshev/chebyshev.hpp"
+#include "cylinder_leg/cylinder_leg.hpp"
 #include "leg3/leg3.hpp"
 #include "pasibot/pasibot.hpp"
+#include "quick_return/quick_return.hpp"
 #include "slider_crank/slider_crank.hpp"
 
 // Every heap allocation of this test binary is counted. AddressSanitizer replaces operator new
@@ -201,6 +204,41 @@ TEST(Kernels, EvaluateAllocatesNothing) {
             static_cast<int>(sc::evaluate(sp, si, ss)) + static_cast<int>(lg::evaluate(lp, li, ls));
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(std::isfinite(sink));
+}
+
+// The RPR, slot-on-body, PRP and iterative (Newton-Raphson, warm-started from the state) kernels.
+TEST(Kernels, NewGroupKindsAllocateNothing) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "allocations are counted in the build without AddressSanitizer";
+#endif
+  namespace cl = mechgen::gen::cylinder_leg;
+  namespace qr = mechgen::gen::quick_return;
+  namespace at = mechgen::gen::assur_triad;
+  const cl::Params<double> cp;
+  const qr::Params<double> qp;
+  const at::Params<double> ap;
+  cl::State<double> cs;
+  qr::State<double> qs;
+  at::State<double> as;
+  cl::Inputs<double> ci;
+  qr::Inputs<double> qi;
+  at::Inputs<double> ai;
+  double sink = 0;
+  int failures = 0;
+  const long before = g_allocations.load();
+  for (int i = 0; i < 10000; ++i) {
+    const double t = 1e-4 * i;
+    cl::driver_inputs(cp, t, ci);
+    qr::driver_inputs(qp, t, qi);
+    at::driver_inputs(ap, t, ai);
+    failures += static_cast<int>(cl::evaluate(cp, ci, cs)) +
+                static_cast<int>(qr::evaluate(qp, qi, qs)) +
+                static_cast<int>(at::evaluate(ap, ai, as));
+    sink += cs.points.D.x + qs.points.C.x + as.bodies.plate.th;
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(failures, 0);
   EXPECT_TRUE(std::isfinite(sink));
 }
 

@@ -50,7 +50,8 @@ Validates a mechanism description and prints what mechgen understood of it: para
 by Gruebler's count against the drivers, independent loops, Newton-Euler unknowns and equations);
 the assembly at t0 by the numeric solver (this catches redundant constraints and assembly hints
 that do not assemble); and the solve plan the generator follows: the reference body frame, each
-closed-form group in order with the branch the generator picks.
+group in order, closed form (with the branch the generator picks) or iterative (Newton-Raphson in
+the kernel, for groups such as an Assur triad that have no closed form).
 
 Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 )";
@@ -169,13 +170,21 @@ int run_check(const Args& args) {
     }
   }
   for (size_t g = 0; g < plan.groups.size(); ++g) {
-    std::string line = "  " + std::to_string(g + 1) + ". " + describe(model, plan.groups[g]);
+    std::string line = "  " + std::to_string(g + 1) + ". " + describe(model, plan.groups[g]) +
+                       "; frame " + reference +
+                       (is_iterative(plan.groups[g].kind) ? "" : "; closed form");
     const std::string prefix = plan.groups[g].name + ":";
     for (const std::string& note : notes)
       if (note.rfind(prefix, 0) == 0) line += ";" + note.substr(prefix.size());
     out += line + "\n";
   }
-  if (plan.complete()) {
+  const auto iterative = std::count_if(plan.groups.begin(), plan.groups.end(),
+                                       [](const SolveGroup& g) { return is_iterative(g.kind); });
+  if (plan.complete() && iterative > 0) {
+    out += "  closed form: no, " + std::to_string(iterative) +
+           " iterative group(s) solved by Newton-Raphson in the kernel; every body located in " +
+           std::to_string(plan.groups.size()) + " groups\n";
+  } else if (plan.complete()) {
     out += "  closed form: yes, every body located in " + std::to_string(plan.groups.size()) +
            " groups\n";
   } else {

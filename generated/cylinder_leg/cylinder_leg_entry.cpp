@@ -26,11 +26,38 @@ static int evaluate_row(const double* parameters, double t, double* row, int* fa
   return 0;
 }
 
+// The same row for a driver motion given as (q, qd, qdd) per driver (`drivers`), at time t.
+template <class T>
+static int evaluate_driven_row(const double* parameters, double t, const double* drivers,
+                               double* row, int* failed_group) {
+  Params<T> p;
+  T values[parameter_count > 0 ? parameter_count : 1];
+  for (int i = 0; i < parameter_count; ++i) values[i] = static_cast<T>(parameters[i]);
+  set_parameters(p, values);
+  Inputs<T> in;
+  in.t = static_cast<T>(t);
+  in.l1 = static_cast<T>(drivers[0]);
+  in.l1_d = static_cast<T>(drivers[1]);
+  in.l1_dd = static_cast<T>(drivers[2]);
+  in.l2 = static_cast<T>(drivers[3]);
+  in.l2_d = static_cast<T>(drivers[4]);
+  in.l2_dd = static_cast<T>(drivers[5]);
+  State<T> s;
+  const Status status = evaluate(p, in, s);
+  *failed_group = s.failed_group;
+  if (status != Status::ok) return static_cast<int>(status);
+  T out[column_count];
+  to_columns(in, s, out);
+  for (int i = 0; i < column_count; ++i) row[i] = static_cast<double>(out[i]);
+  return 0;
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"cylinder_leg",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
-                                     &evaluate_row<float>};
+                                     &evaluate_row<float>, 2,
+                                     &evaluate_driven_row<double>};
   return kernel;
 }
 

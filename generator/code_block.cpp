@@ -428,14 +428,23 @@ struct CodeBlock::Impl {
     std::vector<char> expanded;
     std::vector<std::string> bound;  // define()d name of a node, if it is a definition's root
     std::vector<std::string> temp;   // temporary's name once emitted
+    // Divisions: how many printed products divide by a node, and the name of its reciprocal
+    // `_tmpN = T(1)/d` once emitted. A division costs several multiplications (and the compiler
+    // may not turn a/d into a*(1/d) without -ffast-math), so a denominator shared by two or more
+    // products is inverted once and multiplied by; the result differs from a/d by an ulp or so.
+    std::vector<int> den_uses;
+    std::vector<std::string> reciprocal;
     Plan plan;
+    GuardPrinter guard_line;  // null: `if (!(condition)) on_fail`
 
     explicit Planner(const Impl& block)
         : b(block),
           count(block.nodes.size(), 0),
           expanded(block.nodes.size(), 0),
           bound(block.nodes.size()),
-          temp(block.nodes.size()) {}
+          temp(block.nodes.size()),
+          den_uses(block.nodes.size(), 0),
+          reciprocal(block.nodes.size()) {}
 
     const Node& at(int id) const { return b.at(id); }
     std::size_t ix(int id) const { return static_cast<std::size_t>(id); }
@@ -446,10 +455,14 @@ struct CodeBlock::Impl {
     }
     bool is_temporary(int id) const { return may_be_temporary(id) && count[ix(id)] >= 2; }
 
+    // A denominator is printed once however many products share it (in their division, or in
+    // its reciprocal), so only its first use counts.
     void visit_children(int id) {
       for (int k : at(id).kids) visit(k);
-      if (at(id).den >= 0) visit(at(id).den);
+      const int den = at(id).den;
+      if (den >= 0 && den_uses[ix(den)]++ == 0) visit(den);
     }
+    bool inverted(int den) const { return den_uses[ix(den)] >= 2; }
 
     // Counts how often each node is printed: a node is expanded (its children counted) only
     // once, since every further use prints the temporary's name. Negations are transparent.
@@ -483,7 +496,15 @@ struct CodeBlock::Impl {
 
     void emit_children(int id) {
       for (int k : at(id).kids) emit(k);
-      if (at(id).den >= 0) emit(at(id).den);
+      const int den = at(id).den;
+      if (den < 0) return;
+      emit(den);
+      if (inverted(den) && reciprocal[ix(den)].empty()) {
+        const std::string name = b.temp_prefix + std::to_string(plan.temporaries++);
+        plan.lines.push_back("const T " + name + " = T(1)/" + print(den, true) + ";");
+        if (!at(den).is_number) plan.ops += 1;  // 1/number is folded by the compiler
+        reciprocal[ix(den)] = name;
+      }
     }
 
     // Emits, in post-order, the temporaries `id` needs that are not emitted yet.
@@ -538,8 +559,12 @@ struct CodeBlock::Impl {
             if (!out.empty()) out += "*";
             out += print(f, true);
           }
-          if (n.kids.empty()) out = "T(1)";
           plan.ops += std::max(0, static_cast<int>(n.kids.size()) - 1);
+          if (n.den >= 0 && !reciprocal[ix(n.den)].empty()) {
+            if (!out.empty()) plan.ops += 1;
+            return out.empty() ? reciprocal[ix(n.den)] : out + "*" + reciprocal[ix(n.den)];
+          }
+          if (n.kids.empty()) out = "T(1)";
           if (n.den >= 0) {
             out += "/" + print(n.den, true);
             plan.ops += 1;
@@ -575,8 +600,12 @@ struct CodeBlock::Impl {
           case Statement::Type::Guard:
             emit(s.root);
             emit(s.rhs);
-            plan.lines.push_back("if (!(" + print(s.root, false) + " " + s.comparison + " " +
-                                 print(s.rhs, false) + ")) " + s.on_fail);
+            {
+              const std::string condition =
+                  print(s.root, false) + " " + s.comparison + " " + print(s.rhs, false);
+              plan.lines.push_back(guard_line ? guard_line(condition, s.on_fail)
+                                              : "if (!(" + condition + ")) " + s.on_fail);
+            }
             break;
           case Statement::Type::Assign:
             emit(s.root);
@@ -587,8 +616,9 @@ struct CodeBlock::Impl {
     }
   };
 
-  Plan make_plan() const {
+  Plan make_plan(const GuardPrinter& guard_line = nullptr) const {
     Planner p(*this);
+    p.guard_line = guard_line;
     p.run();
     return std::move(p.plan);
   }
@@ -672,8 +702,12 @@ void CodeBlock::assign(const std::string& target, const GiNaC::ex& e) {
 }
 
 std::string CodeBlock::render(const std::string& indent) const {
+  return render(indent, nullptr);
+}
+
+std::string CodeBlock::render(const std::string& indent, const GuardPrinter& guard_line) const {
   std::string out;
-  for (const std::string& line : impl_->make_plan().lines) out += indent + line + "\n";
+  for (const std::string& line : impl_->make_plan(guard_line).lines) out += indent + line + "\n";
   return out;
 }
 

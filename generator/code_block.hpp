@@ -22,6 +22,10 @@
 //     `x^(k+1/2)` as `x^k*sqrt(x)` (`x*sqrt(x)`), a negative power as a division by the
 //     positive one (`T(1)/x`, `a/(x*x)`, `T(1)/sqrt(x)`), other powers as `pow(x, ...)`;
 //   * sums `a + b - c`, products `T(2)*a*b/(c*d)`; nested products are parenthesised;
+//   * a denominator shared by two or more printed products is inverted once, where it is first
+//     needed (`const T _tmpN = T(1)/x;`), and those products multiply by it (`a*_tmpN`): a
+//     division costs several multiplications and the compiler may not do this itself without
+//     -ffast-math; the result differs from a/x by about an ulp;
 //   * a sum and its negation are one subexpression (GiNaC itself flips the sign of sums inside
 //     products, (a - b)*c or -(b - a)*c, depending on its run-dependent term order): the
 //     orientation whose first term by printed text is added is kept, the other prints as its
@@ -39,6 +43,7 @@
 // std::runtime_error naming the culprit; nothing is guessed.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -78,6 +83,11 @@ class CodeBlock {
 
   /// The statements, one per line, each prefixed with `indent` and ended by '\n'.
   std::string render(const std::string& indent) const;
+  /// The same with each guard printed by `guard_line(condition, on_fail_statement)` instead of
+  /// `if (!(condition)) on_fail_statement`, e.g. as a branch-free select for a vectorised loop.
+  using GuardPrinter = std::function<std::string(const std::string& condition,
+                                                 const std::string& on_fail_statement)>;
+  std::string render(const std::string& indent, const GuardPrinter& guard_line) const;
 
   /// Arithmetic cost of the rendered code: each binary + - * / and each function call (sqrt,
   /// sin, pow, ...) counts one; unary minus and comparisons count nothing.

@@ -464,6 +464,32 @@ struct CodeBlock::Impl {
     }
     bool inverted(int den) const { return den_uses[ix(den)] >= 2; }
 
+    // Whether a node depends on numbers and parameters (`p.` symbols) only, through define()d
+    // names too.
+    std::vector<signed char> invariant_memo;
+    std::map<std::string, int> definition_root;
+    bool invariant(int id) {
+      if (invariant_memo.empty()) {
+        invariant_memo.assign(b.nodes.size(), -1);
+        for (const Statement& s : b.statements)
+          if (s.type == Statement::Type::Define) definition_root[s.name] = s.root;
+      }
+      signed char& memo = invariant_memo[ix(id)];
+      if (memo >= 0) return memo != 0;
+      const Node& n = at(id);
+      bool result = true;
+      if (n.kind == Kind::Leaf) {
+        const auto def = definition_root.find(n.key);
+        result = n.is_number || n.key.rfind("p.", 0) == 0 ||
+                 (def != definition_root.end() && invariant(def->second));
+      } else {
+        for (int k : n.kids) result = result && invariant(k);
+        if (n.den >= 0) result = result && invariant(n.den);
+      }
+      memo = result ? 1 : 0;
+      return result;
+    }
+
     // Counts how often each node is printed: a node is expanded (its children counted) only
     // once, since every further use prints the temporary's name. Negations are transparent.
     void visit(int id) {
@@ -554,22 +580,30 @@ struct CodeBlock::Impl {
         }
         case Kind::Add:
           return sum(id, false);
-        case Kind::Mul:
-          for (int f : n.kids) {
-            if (!out.empty()) out += "*";
-            out += print(f, true);
-          }
+        case Kind::Mul: {
+          // Factors that depend on parameters only are multiplied first: C++ evaluates a*b*c as
+          // (a*b)*c and the compiler may not reorder floating-point products, so only a leading
+          // invariant sub-product such as (T(0.4)*_tmp3) is shared between statements (CSE) and
+          // hoisted out of evaluate_batch's loop.
+          std::vector<std::pair<bool, std::string>> factors;
+          for (int f : n.kids) factors.emplace_back(invariant(f), print(f, true));
           plan.ops += std::max(0, static_cast<int>(n.kids.size()) - 1);
-          if (n.den >= 0 && !reciprocal[ix(n.den)].empty()) {
-            if (!out.empty()) plan.ops += 1;
-            return out.empty() ? reciprocal[ix(n.den)] : out + "*" + reciprocal[ix(n.den)];
+          const bool inverted_den = n.den >= 0 && !reciprocal[ix(n.den)].empty();
+          if (inverted_den) {
+            factors.emplace_back(invariant(n.den), reciprocal[ix(n.den)]);
+            if (!n.kids.empty()) plan.ops += 1;
           }
+          std::stable_partition(factors.begin(), factors.end(),
+                                [](const auto& f) { return f.first; });
+          for (const auto& f : factors) out += (out.empty() ? "" : "*") + f.second;
+          if (inverted_den) return out;
           if (n.kids.empty()) out = "T(1)";
           if (n.den >= 0) {
             out += "/" + print(n.den, true);
             plan.ops += 1;
           }
           return out;
+        }
         case Kind::Func:
         case Kind::Pow:
           out = n.fname + "(";

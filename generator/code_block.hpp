@@ -34,7 +34,9 @@
 //     are called unqualified: the kernel must say `using std::sin;` etc. (see math_functions())
 //     so that argument-dependent lookup finds the overloads of other scalar types.
 // The operands of every sum and product are ordered by their printed text, never by GiNaC's
-// hash order (which changes from run to run), so equal input prints equal output in every process.
+// hash order (which changes from run to run), so equal input prints equal output in every process;
+// a product prints its numbers first, then the factors that depend on parameters (`p.` symbols)
+// only, then the rest, so that the compiler can share and hoist the leading invariant part.
 // (Only the printing is canonical: callers should still derive with canonical operations such as
 // expand(); normal() or collect() may choose differently shaped results from run to run.)
 //

@@ -71,7 +71,7 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
   const std::string name = it->second.name;
   const std::string derived_name =
       name.size() > 2 && name.compare(name.size() - 2, 2, "_d") == 0 ? name + "d" : name + "_d";
-  const ex value = derivative(it->second.value);
+  const ex value = quotient_derivative(name, it->second.value);
   ex staged;
   if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) {
     staged = value;  // nothing to name
@@ -82,6 +82,53 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
   info.staged = true;
   info.derivative = staged;
   return staged;
+}
+
+// d/dt of a definition `value` = R + N/D (D time-dependent, N/D every term over D): stages
+// q = N/D with the quotient rule q_d = (N_d - q D_d)/D, whose own derivative follows the same rule,
+// instead of differentiating N/D as a whole (which doubles the terms at each order: PASIBOT's
+// second derivatives of dyad points had some 60 operations each). Falls back to derivative()
+// unless exactly one time-dependent denominator occurs (a name must not depend on GiNaC's
+// run-dependent term order).
+ex StagedProgram::quotient_derivative(const std::string& name, const ex& value) {
+  std::vector<ex> terms;
+  if (GiNaC::is_a<GiNaC::add>(value)) {
+    for (size_t i = 0; i < value.nops(); ++i) terms.push_back(value.op(i));
+  } else {
+    terms.push_back(value);
+  }
+  ex denominator;
+  bool found = false;
+  ex numerator = 0, rest = 0;
+  for (const ex& term : terms) {
+    ex base;
+    int count = 0;
+    const size_t factors = GiNaC::is_a<GiNaC::mul>(term) ? term.nops() : 1;
+    for (size_t i = 0; i < factors; ++i) {
+      const ex f = GiNaC::is_a<GiNaC::mul>(term) ? term.op(i) : term;
+      if (GiNaC::is_a<GiNaC::power>(f) && f.op(1).is_equal(-1) &&
+          !GiNaC::is_a<GiNaC::numeric>(f.op(0)) && !derivative(f.op(0)).is_zero()) {
+        base = f.op(0);
+        ++count;
+      }
+    }
+    if (count > 1) return derivative(value);
+    if (count == 0) {
+      rest += term;
+      continue;
+    }
+    if (found && !base.is_equal(denominator)) return derivative(value);
+    denominator = base;
+    found = true;
+    numerator += term * denominator;  // GiNaC cancels D^-1 * D
+  }
+  if (!found) return derivative(value);
+  const GiNaC::symbol q = define(name + "_q", numerator * GiNaC::pow(denominator, -1));
+  const ex q_d =
+      (derivative(numerator) - q * derivative(denominator)) * GiNaC::pow(denominator, -1);
+  const std::string derived = name + "_q_d";
+  set_derivative(q, GiNaC::is_a<GiNaC::numeric>(q_d) ? q_d : ex(define(derived, q_d)));
+  return derivative(rest) + derivative_of_symbol(q);
 }
 
 ex StagedProgram::derivative(const ex& e) {

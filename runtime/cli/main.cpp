@@ -298,12 +298,15 @@ int run_sweep_command(const Args& args) {
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
 
   const auto start = std::chrono::steady_clock::now();
-  const SweepResult result = run_sweep(model, options);
+  // Summary only: the ranges are folded as the samples come, no table is kept.
+  SweepResult result;
+  const ColumnRanges ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
+                                                : sweep_ranges(model, options);
   const double elapsed = seconds_since(start);
   std::string line = "sweep " + model.name + ": " + options.solver + " solver, " +
                      std::to_string(options.samples) + " samples, t = " + number_text(options.t0) +
                      " .. " + number_text(options.t1) + " s, " +
-                     std::to_string(result.columns.size()) + " columns, " +
+                     std::to_string(ranges.columns.size()) + " columns, " +
                      fixed(elapsed * 1e3, 3) + " ms";
   if (args.has("--out")) {
     const std::string out = args.get("--out");
@@ -315,12 +318,9 @@ int run_sweep_command(const Args& args) {
 
   if (args.has("--summary")) {
     std::vector<std::vector<std::string>> rows{{"column", "min", "max", "unit"}};
-    for (size_t c = 0; c < result.columns.size(); ++c) {
-      double lo = result.rows.front()[c], hi = lo;
-      for (const auto& row : result.rows) lo = std::min(lo, row[c]), hi = std::max(hi, row[c]);
-      rows.push_back(
-          {result.columns[c], fixed(lo, 8), fixed(hi, 8), report::column_unit(result.columns[c])});
-    }
+    for (size_t c = 0; c < ranges.columns.size(); ++c)
+      rows.push_back({ranges.columns[c], fixed(ranges.min[c], 8), fixed(ranges.max[c], 8),
+                      report::column_unit(ranges.columns[c])});
     std::cout << table(rows, "  ");
   }
   return 0;

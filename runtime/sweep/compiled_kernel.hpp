@@ -19,8 +19,14 @@ struct CompiledKernel {
   const char* const* column_names;
   int group_count;
   const char* const* group_names;
+  // n samples at once, vectorised (evaluate_batch): column c of sample i to out[c * n + i];
+  // status[i] and group[i] as RowFunction returns them (a failed sample's columns are garbage).
+  using BatchFunction = void (*)(const double* parameters, const double* t, long n, double* out,
+                                 int* status, int* group);
+
   RowFunction evaluate_double;
   RowFunction evaluate_float;
+  BatchFunction evaluate_batch_double;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr.

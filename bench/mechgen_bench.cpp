@@ -2,7 +2,8 @@
 // velocity and acceleration, joint reaction and driver effort), computed several ways:
 //   <model>/generated        evaluate<double>: the generated closed form, kinematics and dynamics
 //   <model>/generated_float  the same kernel in float
-//   <model>/generated_batch  evaluate_batch<double> over blocks of 256 samples (vectorised)
+//   <model>/generated_batch  the runtime's batch entry (evaluate_batch<double>, vectorised) over
+//                            blocks of 64 samples
 //   <model>/kinematics       kinematics<double> only
 //   <model>/ne_system        ne_system<double> only: assembling the dense Newton-Euler A and b
 //   <model>/dense_lu         kinematics + ne_system<double> + Eigen PartialPivLU solve of A x = b
@@ -40,6 +41,7 @@
 #include "model/model.hpp"
 #include "numeric/reference_solver.hpp"
 #include "pasibot/pasibot.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::bench {
 namespace {
@@ -172,20 +174,22 @@ class Generated {
   std::size_t k_ = 0;
 };
 
-// evaluate_batch: blocks of kBatch consecutive samples of the step (driver inputs included), one
-// block every kBatch calls of next(), so that the time per call is the time per sample.
+// The batch entry the sweeps use (CompiledKernel::evaluate_batch_double: evaluate_batch in its
+// AVX2 or baseline clone, driver inputs included): blocks of kBatch consecutive samples of the
+// step, one block every kBatch calls of next(), so that the time per call is the time per sample.
 template <class K>
 class GeneratedBatch {
  public:
-  static constexpr long kBatch = 256;
+  static constexpr long kBatch = 64;
 
   explicit GeneratedBatch(const ModelData& m)
-      : p_(kernel_parameters<K, double>(m)),
+      : kernel_(compiled(K::name)),
+        parameters_(m.parameters),
         times_(m.times),
         t_(kBatch),
-        storage_(static_cast<std::size_t>(K::batch_storage_per_sample * kBatch)),
         out_(static_cast<std::size_t>(K::column_count * kBatch)),
-        failure_(kBatch) {}
+        status_(kBatch),
+        group_(kBatch) {}
 
   bool next() {
     if (used_ == kBatch) {
@@ -193,17 +197,24 @@ class GeneratedBatch {
         t_[static_cast<std::size_t>(i)] = times_[k_];
         if (++k_ == times_.size()) k_ = 0;
       }
-      K::evaluate_batch(p_, t_.data(), kBatch, storage_.data(), out_.data(), failure_.data());
+      kernel_.evaluate_batch_double(parameters_.data(), t_.data(), kBatch, out_.data(),
+                                    status_.data(), group_.data());
       benchmark::DoNotOptimize(out_.data());
       benchmark::ClobberMemory();
       used_ = 0;
     }
-    return failure_[static_cast<std::size_t>(used_++)] == 0;
+    return status_[static_cast<std::size_t>(used_++)] == 0;
   }
 
  private:
-  typename K::template Params<double> p_;
-  std::vector<double> times_, t_, storage_, out_, failure_;
+  static const CompiledKernel& compiled(const std::string& model) {
+    const CompiledKernel* kernel = find_compiled_kernel(model);
+    if (!kernel) fail(model + ": no compiled kernel");
+    return *kernel;
+  }
+  const CompiledKernel& kernel_;
+  std::vector<double> parameters_, times_, t_, out_;
+  std::vector<int> status_, group_;
   std::size_t k_ = 0;
   long used_ = kBatch;
 };

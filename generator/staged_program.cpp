@@ -29,9 +29,15 @@ GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value,
 }
 
 void StagedProgram::set_derivative(const GiNaC::symbol& s, const ex& derivative) {
-  Info& info = info_.at(s);
+  // A derivative that is an expression is named (<name>_d), so that the next derivative
+  // differentiates a name and its definition (with the quotient rule for d/dt sqrt(x) =
+  // x_d / (2 sqrt(x))) instead of the expression inlined wherever it occurs.
+  ex named = derivative;
+  if (!GiNaC::is_a<GiNaC::symbol>(derivative) && !GiNaC::is_a<GiNaC::numeric>(derivative))
+    named = define(info_.at(s).name + "_d", derivative);
+  Info& info = info_.at(s);  // define() may have rebalanced the map: look up again
   info.explicit_derivative = true;
-  info.derivative = derivative;
+  info.derivative = named;
 }
 
 void StagedProgram::check_nonzero(const GiNaC::symbol& value, const std::string& failure,

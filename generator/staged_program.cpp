@@ -77,7 +77,7 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
   const std::string name = it->second.name;
   const std::string derived_name =
       name.size() > 2 && name.compare(name.size() - 2, 2, "_d") == 0 ? name + "d" : name + "_d";
-  const ex value = quotient_derivative(name, it->second.value);
+  const ex value = quotient_derivative(s, name, it->second.value);
   ex staged;
   if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) {
     staged = value;  // nothing to name
@@ -96,7 +96,8 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
 // second derivatives of dyad points had some 60 operations each). Falls back to derivative()
 // unless exactly one time-dependent denominator occurs (a name must not depend on GiNaC's
 // run-dependent term order).
-ex StagedProgram::quotient_derivative(const std::string& name, const ex& value) {
+ex StagedProgram::quotient_derivative(const GiNaC::symbol& s, const std::string& name,
+                                      const ex& value) {
   std::vector<ex> terms;
   if (GiNaC::is_a<GiNaC::add>(value)) {
     for (size_t i = 0; i < value.nops(); ++i) terms.push_back(value.op(i));
@@ -129,9 +130,11 @@ ex StagedProgram::quotient_derivative(const std::string& name, const ex& value) 
     numerator += term * denominator;  // GiNaC cancels D^-1 * D
   }
   if (!found) return derivative(value);
+  const ex d_d = derivative(denominator);
+  // s = N/D itself: its derivative (N_d - s D_d)/D, named by the caller.
+  if (rest.is_zero()) return (derivative(numerator) - s * d_d) * GiNaC::pow(denominator, -1);
   const GiNaC::symbol q = define(name + "_q", numerator * GiNaC::pow(denominator, -1));
-  const ex q_d =
-      (derivative(numerator) - q * derivative(denominator)) * GiNaC::pow(denominator, -1);
+  const ex q_d = (derivative(numerator) - q * d_d) * GiNaC::pow(denominator, -1);
   const std::string derived = name + "_q_d";
   set_derivative(q, GiNaC::is_a<GiNaC::numeric>(q_d) ? q_d : ex(define(derived, q_d)));
   return derivative(rest) + derivative_of_symbol(q);

@@ -62,7 +62,8 @@ class StagedProgram {
     bool staged = false;
   };
   GiNaC::ex derivative_of_symbol(const GiNaC::symbol& s);
-  GiNaC::ex quotient_derivative(const std::string& name, const GiNaC::ex& value);
+  GiNaC::ex quotient_derivative(const GiNaC::symbol& s, const std::string& name,
+                                const GiNaC::ex& value);
   void evaluate(const GiNaC::symbol& s, const GiNaC::ex& value);
 
   std::vector<GiNaC::exmap> samples_;

@@ -154,7 +154,76 @@ ex StagedProgram::derivative(const ex& e) {
   std::stable_sort(
       symbols.begin(), symbols.end(),
       [](const GiNaC::symbol& a, const GiNaC::symbol& b) { return a.get_name() < b.get_name(); });
+  for (const GiNaC::symbol& s : symbols) derivative_of_symbol(s);
+  return merged_like_terms(structural_derivative(e));
+}
+
+// Terms equal up to the orientation of their sums ((a - b) c and -(b - a) c), which GiNaC merges
+// or not depending on its run-dependent term order, merged here: 2 t either way, so the printed
+// code is the same in every process.
+ex StagedProgram::merged_like_terms(const ex& e) {
+  if (!GiNaC::is_a<GiNaC::add>(e)) return e;
+  std::vector<ex> terms;
+  std::vector<GiNaC::numeric> counts;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const ex t = e.op(i);
+    bool merged = false;
+    for (size_t k = 0; k < terms.size() && !merged; ++k) {
+      if ((t - terms[k]).expand().is_zero()) {
+        counts[k] += 1;
+        merged = true;
+      } else if ((t + terms[k]).expand().is_zero()) {
+        counts[k] -= 1;
+        merged = true;
+      }
+    }
+    if (!merged) {
+      terms.push_back(t);
+      counts.push_back(1);
+    }
+  }
+  ex sum = 0;
+  for (size_t k = 0; k < terms.size(); ++k) sum += counts[k] * terms[k];
+  return sum;
+}
+
+// d/dt by the structure of e, every symbol's derivative already staged: a product keeps its
+// factors, (c A)' = c_d A + c A_d with the sum A and A_d intact (shared by the printer), where the
+// chain rule symbol by symbol would multiply c into every term of A_d.
+ex StagedProgram::structural_derivative(const ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return derivative_of_symbol(GiNaC::ex_to<GiNaC::symbol>(e));
+  if (GiNaC::is_a<GiNaC::add>(e)) {
+    ex sum = 0;
+    for (size_t i = 0; i < e.nops(); ++i) sum += structural_derivative(e.op(i));
+    return sum;
+  }
+  if (GiNaC::is_a<GiNaC::mul>(e)) {
+    ex sum = 0;
+    for (size_t i = 0; i < e.nops(); ++i) {
+      const ex d = structural_derivative(e.op(i));
+      if (d.is_zero()) continue;
+      ex others = 1;
+      for (size_t j = 0; j < e.nops(); ++j)
+        if (j != i) others *= e.op(j);
+      sum += others * d;
+    }
+    return sum;
+  }
+  if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+    const ex d = structural_derivative(e.op(0));
+    return d.is_zero() ? ex(0) : e.op(1) * GiNaC::pow(e.op(0), e.op(1) - 1) * d;
+  }
+  // Functions and other powers: the chain rule through each symbol, as GiNaC differentiates.
   ex result = 0;
+  std::vector<GiNaC::symbol> symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
+    bool seen = false;
+    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
+    if (!seen) symbols.push_back(s);
+  }
   for (const GiNaC::symbol& s : symbols) {
     const ex partial = e.diff(s);
     if (partial.is_zero()) continue;

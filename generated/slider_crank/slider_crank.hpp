@@ -217,7 +217,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 90
+  // Total ops: 88
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -241,7 +241,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
   const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-  const T c_rod_d = _tmp1*g2_rod_slider_lambda_d - _tmp1*P_x_d;
+  const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
   const T s_rod_d = -_tmp1*P_y_d;
   const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
   const T com_crank_x = T(0.5)*p.r*c_crank_rel;
@@ -263,7 +263,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp0;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = _tmp1*g2_rod_slider_lambda_dd - _tmp1*P_x_dd;
+  const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
   const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
   const T s_rod_dd = -_tmp1*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
@@ -319,7 +319,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 189
+  // Total ops: 187
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -344,7 +344,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
   const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-  const T c_rod_d = _tmp2*g2_rod_slider_lambda_d - _tmp2*P_x_d;
+  const T c_rod_d = -_tmp2*(P_x_d - g2_rod_slider_lambda_d);
   const T s_rod_d = -_tmp2*P_y_d;
   const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
   const T com_crank_x = T(0.5)*p.r*c_crank_rel;
@@ -366,7 +366,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = _tmp2*g2_rod_slider_lambda_dd - _tmp2*P_x_dd;
+  const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
   const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
   const T s_rod_dd = -_tmp2*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
@@ -501,7 +501,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
-    // Total ops: 189
+    // Total ops: 187
     const T c_crank_rel = cos(in.crank_angle);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -526,7 +526,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T P_x_d = p.r*c_crank_rel_d;
     const T g2_rod_slider_w_x_d = -P_x_d;
     const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-    const T c_rod_d = _tmp2*g2_rod_slider_lambda_d - _tmp2*P_x_d;
+    const T c_rod_d = -_tmp2*(P_x_d - g2_rod_slider_lambda_d);
     const T s_rod_d = -_tmp2*P_y_d;
     const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
     const T com_crank_x = T(0.5)*p.r*c_crank_rel;
@@ -548,7 +548,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
     const T g2_rod_slider_w_x_dd = -P_x_dd;
     const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-    const T c_rod_dd = _tmp2*g2_rod_slider_lambda_dd - _tmp2*P_x_dd;
+    const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
     const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
     const T s_rod_dd = -_tmp2*P_y_dd;
     const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
@@ -649,7 +649,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 134
+  // Total ops: 133
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -689,7 +689,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = _tmp2*g2_rod_slider_lambda_dd - _tmp2*P_x_dd;
+  const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
   const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
   const T s_rod_dd = -_tmp2*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;

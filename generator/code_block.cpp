@@ -114,6 +114,7 @@ std::string quote(const std::string& s) {
 
 struct CodeBlock::Impl {
   std::string temp_prefix;
+  bool invert_every_denominator = false;
   std::vector<Node> nodes;
   std::map<std::string, int> by_key;
   std::vector<Statement> statements;
@@ -462,7 +463,9 @@ struct CodeBlock::Impl {
       const int den = at(id).den;
       if (den >= 0 && den_uses[ix(den)]++ == 0) visit(den);
     }
-    bool inverted(int den) const { return den_uses[ix(den)] >= 2; }
+    bool inverted(int den) const {
+      return den_uses[ix(den)] >= 2 || (b.invert_every_denominator && !at(den).is_number);
+    }
 
     // Whether a node depends on numbers and parameters (`p.` symbols) only, through define()d
     // names too.
@@ -666,6 +669,10 @@ CodeBlock::CodeBlock(std::string temp_prefix) : impl_(std::make_unique<Impl>()) 
 }
 
 CodeBlock::~CodeBlock() = default;
+
+void CodeBlock::invert_every_denominator() {
+  impl_->invert_every_denominator = true;
+}
 CodeBlock::CodeBlock(CodeBlock&&) noexcept = default;
 CodeBlock& CodeBlock::operator=(CodeBlock&&) noexcept = default;
 

@@ -67,6 +67,11 @@ class CodeBlock {
   CodeBlock(const CodeBlock&) = delete;
   CodeBlock& operator=(const CodeBlock&) = delete;
 
+  /// Prints every non-constant denominator as a reciprocal (`T(1)/x` once, then `a*_tmpN`), not
+  /// only shared ones: the division then starts as soon as x is known instead of waiting for a,
+  /// which takes it off a long dependency chain such as a Newton-Euler elimination.
+  void invert_every_denominator();
+
   /// `const T name = <e>;` at this point of the program. `name` must be a C++ identifier not
   /// yet defined, not yet used by an earlier statement and not starting with the temp prefix.
   void define(const std::string& name, const GiNaC::ex& e);

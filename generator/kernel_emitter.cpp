@@ -79,6 +79,7 @@ class Emitter {
       }
     }
     CodeBlock code;
+    code.invert_every_denominator();
     for (const Statement& st : program_.statements()) {
       if (!needed.count(st.symbol)) continue;
       switch (st.kind) {

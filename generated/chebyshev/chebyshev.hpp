@@ -360,7 +360,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 386
+  // Total ops: 387
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -479,7 +479,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ne14 = ne11 - ne13*ne5;
   const T ne15 = ne12 - ne13*ne6;
   if (!(ne14 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T M_rocker_coupler_fy = ne15/ne14;
+  const T _tmp12 = T(1)/ne14;
+  const T M_rocker_coupler_fy = ne15*_tmp12;
   const T M_rocker_coupler_fx = -(M_rocker_coupler_fy*ne5 - ne6)*_tmp11;
   const T B_ground_rocker_fy = M_rocker_coupler_fy + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10;
   const T B_ground_rocker_fx = M_rocker_coupler_fx + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd;
@@ -588,7 +589,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
-    // Total ops: 386
+    // Total ops: 387
     const T c_crank_rel = cos(in.crank_angle);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -707,7 +708,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne14 = ne11 - ne13*ne5;
     const T ne15 = ne12 - ne13*ne6;
     failed = max(failed, (ne14 != T(0)) ? T(0) : T(8179714));
-    const T M_rocker_coupler_fy = ne15/ne14;
+    const T _tmp12 = T(1)/ne14;
+    const T M_rocker_coupler_fy = ne15*_tmp12;
     const T M_rocker_coupler_fx = -(M_rocker_coupler_fy*ne5 - ne6)*_tmp11;
     const T B_ground_rocker_fy = M_rocker_coupler_fy + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10;
     const T B_ground_rocker_fx = M_rocker_coupler_fx + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd;

@@ -1712,7 +1712,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 5580
+  // Total ops: 5581
   const T c_l8_rel = cos(in.theta8);
   const T s_l8_rel = sin(in.theta8);
   const T c_l8_rel_d = -in.theta8_d*s_l8_rel;
@@ -3495,13 +3495,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ne622 = ne618 - ne614*ne621;
   const T ne623 = ne620 - ne616*ne621;
   if (!(ne622 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T K_6_3_fy = ne623/ne622;
+  const T _tmp360 = T(1)/ne622;
+  const T K_6_3_fy = ne623*_tmp360;
   const T D_13_4_fy = -(K_6_3_fy*ne614 - ne616)*_tmp359;
   const T S_13_10_n = -(D_13_4_fy*ne600 + K_6_3_fy*ne599 - ne602)*_tmp358;
-  const T _tmp360 = S_13_10_n*c_l1;
-  const T C_7_3_fy = -D_13_4_fy - K_6_3_fy - _tmp360 - ne519;
-  const T _tmp361 = S_13_10_n*S_13_10_normal_x;
-  const T C_7_3_fx = D_13_4_fy*ne196 + K_6_3_fy*ne221 - _tmp361 - ne529;
+  const T _tmp361 = S_13_10_n*c_l1;
+  const T C_7_3_fy = -D_13_4_fy - K_6_3_fy - _tmp361 - ne519;
+  const T _tmp362 = S_13_10_n*S_13_10_normal_x;
+  const T C_7_3_fx = D_13_4_fy*ne196 + K_6_3_fy*ne221 - _tmp362 - ne529;
   const T J_3_2_fy = C_7_3_fy + K_6_3_fy + S_13_10_n*ne568 - ne569;
   const T S_10_12_fy = -(S_13_10_n*ne498 - ne563)*_tmp357;
   const T R_12_5_fx = -(S_10_12_fy*ne549 - ne551)*_tmp356;
@@ -3510,10 +3511,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T Kp_6p_3p_fy = ne417*_tmp354;
   const T Pp_8_7p_fy = ne411 - Kp_6p_3p_fy - Mp_9p_7p_fy;
   const T Mp_9p_7p_fx = -(Mp_9p_7p_fy*ne103 - ne104)*_tmp353;
-  const T _tmp362 = Kp_6p_3p_fy*ne239;
-  const T Pp_8_7p_fx = ne402 - _tmp362 - Mp_9p_7p_fx;
-  const T C_3_10_fy = S_10_12_fy + _tmp352 - _tmp360;
-  const T C_3_10_fx = S_10_12_fx + _tmp350 - _tmp361;
+  const T _tmp363 = Kp_6p_3p_fy*ne239;
+  const T Pp_8_7p_fx = ne402 - _tmp363 - Mp_9p_7p_fx;
+  const T C_3_10_fy = S_10_12_fy + _tmp352 - _tmp361;
+  const T C_3_10_fx = S_10_12_fx + _tmp350 - _tmp362;
   const T M_9_7_fy = -(C_7_3_fx*ne454 + C_7_3_fy*ne471 - ne472)*_tmp349;
   const T P_8_7_fy = C_7_3_fy + _tmp348 - M_9_7_fy;
   const T M_9_7_fx = -(M_9_7_fy*ne49 - ne50)*_tmp346;
@@ -3522,16 +3523,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T theta8_effort = P_8_7_fy*_tmp341 + Pp_8_7p_fy*_tmp342 + ne429 - A_13_8_fy*(A_x - com_l8_x) - P_8_7_fx*ne427 - Pp_8_7p_fx*ne428;
   const T A_13_8_fx = P_8_7_fx + Pp_8_7p_fx + _tmp340;
   const T Cp_7p_3p_fy = ne397 - Kp_6p_3p_fy;
-  const T Cp_7p_3p_fx = ne395 - _tmp362;
+  const T Cp_7p_3p_fx = ne395 - _tmp363;
   const T Lp_4p_2p_fy = ne387*_tmp336;
   const T Lp_4p_2p_fx = -(Lp_4p_2p_fy*ne371 - ne372)*_tmp334;
   const T Jp_3p_2p_fy = ne292 - Lp_4p_2p_fy;
   const T Jp_3p_2p_fx = ne290 - Lp_4p_2p_fx;
   const T Sp_13_10p_n = ne342*_tmp331;
-  const T _tmp363 = Sp_13_10p_n*c_l1;
-  const T Cp_3p_10p_fy = ne322 - _tmp363;
-  const T _tmp364 = Sp_13_10p_n*Sp_13_10p_normal_x;
-  const T Cp_3p_10p_fx = ne320 - _tmp364;
+  const T _tmp364 = Sp_13_10p_n*c_l1;
+  const T Cp_3p_10p_fy = ne322 - _tmp364;
+  const T _tmp365 = Sp_13_10p_n*Sp_13_10p_normal_x;
+  const T Cp_3p_10p_fx = ne320 - _tmp365;
   const T Rp_12p_5p_fx = ne312*_tmp329;
   const T Sp_10p_12p_fy = ne286 - Rp_12p_5p_fx*ne263;
   const T Sp_10p_12p_fx = Rp_12p_5p_fx + ne284;
@@ -3847,8 +3848,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.L_4_2.fy = L_4_2_fy;
   s.joints.C_3_10.fx = C_3_10_fx;
   s.joints.C_3_10.fy = C_3_10_fy;
-  s.joints.S_13_10.fx = _tmp361;
-  s.joints.S_13_10.fy = _tmp360;
+  s.joints.S_13_10.fx = _tmp362;
+  s.joints.S_13_10.fy = _tmp361;
   s.joints.S_10_12.fx = S_10_12_fx;
   s.joints.S_10_12.fy = S_10_12_fy;
   s.joints.J_3_5.fx = J_3_5_fx;
@@ -3881,8 +3882,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.Lp_4p_2p.fy = Lp_4p_2p_fy;
   s.joints.Cp_3p_10p.fx = Cp_3p_10p_fx;
   s.joints.Cp_3p_10p.fy = Cp_3p_10p_fy;
-  s.joints.Sp_13_10p.fx = _tmp364;
-  s.joints.Sp_13_10p.fy = _tmp363;
+  s.joints.Sp_13_10p.fx = _tmp365;
+  s.joints.Sp_13_10p.fy = _tmp364;
   s.joints.Sp_10p_12p.fx = Sp_10p_12p_fx;
   s.joints.Sp_10p_12p.fy = Sp_10p_12p_fy;
   s.joints.Jp_3p_5p.fx = Jp_3p_5p_fx;
@@ -3947,7 +3948,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.theta8_dd = batch_theta8_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.theta8 - in.theta8) + (in.theta8_d - in.theta8_d) + (in.theta8_dd - in.theta8_dd)) == T(0) ? T(0) : T(8196097);
-    // Total ops: 5580
+    // Total ops: 5581
     const T c_l8_rel = cos(in.theta8);
     const T s_l8_rel = sin(in.theta8);
     const T c_l8_rel_d = -in.theta8_d*s_l8_rel;
@@ -5730,13 +5731,14 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne622 = ne618 - ne614*ne621;
     const T ne623 = ne620 - ne616*ne621;
     failed = max(failed, (ne622 != T(0)) ? T(0) : T(8011778));
-    const T K_6_3_fy = ne623/ne622;
+    const T _tmp360 = T(1)/ne622;
+    const T K_6_3_fy = ne623*_tmp360;
     const T D_13_4_fy = -(K_6_3_fy*ne614 - ne616)*_tmp359;
     const T S_13_10_n = -(D_13_4_fy*ne600 + K_6_3_fy*ne599 - ne602)*_tmp358;
-    const T _tmp360 = S_13_10_n*c_l1;
-    const T C_7_3_fy = -D_13_4_fy - K_6_3_fy - _tmp360 - ne519;
-    const T _tmp361 = S_13_10_n*S_13_10_normal_x;
-    const T C_7_3_fx = D_13_4_fy*ne196 + K_6_3_fy*ne221 - _tmp361 - ne529;
+    const T _tmp361 = S_13_10_n*c_l1;
+    const T C_7_3_fy = -D_13_4_fy - K_6_3_fy - _tmp361 - ne519;
+    const T _tmp362 = S_13_10_n*S_13_10_normal_x;
+    const T C_7_3_fx = D_13_4_fy*ne196 + K_6_3_fy*ne221 - _tmp362 - ne529;
     const T J_3_2_fy = C_7_3_fy + K_6_3_fy + S_13_10_n*ne568 - ne569;
     const T S_10_12_fy = -(S_13_10_n*ne498 - ne563)*_tmp357;
     const T R_12_5_fx = -(S_10_12_fy*ne549 - ne551)*_tmp356;
@@ -5745,10 +5747,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T Kp_6p_3p_fy = ne417*_tmp354;
     const T Pp_8_7p_fy = ne411 - Kp_6p_3p_fy - Mp_9p_7p_fy;
     const T Mp_9p_7p_fx = -(Mp_9p_7p_fy*ne103 - ne104)*_tmp353;
-    const T _tmp362 = Kp_6p_3p_fy*ne239;
-    const T Pp_8_7p_fx = ne402 - _tmp362 - Mp_9p_7p_fx;
-    const T C_3_10_fy = S_10_12_fy + _tmp352 - _tmp360;
-    const T C_3_10_fx = S_10_12_fx + _tmp350 - _tmp361;
+    const T _tmp363 = Kp_6p_3p_fy*ne239;
+    const T Pp_8_7p_fx = ne402 - _tmp363 - Mp_9p_7p_fx;
+    const T C_3_10_fy = S_10_12_fy + _tmp352 - _tmp361;
+    const T C_3_10_fx = S_10_12_fx + _tmp350 - _tmp362;
     const T M_9_7_fy = -(C_7_3_fx*ne454 + C_7_3_fy*ne471 - ne472)*_tmp349;
     const T P_8_7_fy = C_7_3_fy + _tmp348 - M_9_7_fy;
     const T M_9_7_fx = -(M_9_7_fy*ne49 - ne50)*_tmp346;
@@ -5757,16 +5759,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T theta8_effort = P_8_7_fy*_tmp341 + Pp_8_7p_fy*_tmp342 + ne429 - A_13_8_fy*(A_x - com_l8_x) - P_8_7_fx*ne427 - Pp_8_7p_fx*ne428;
     const T A_13_8_fx = P_8_7_fx + Pp_8_7p_fx + _tmp340;
     const T Cp_7p_3p_fy = ne397 - Kp_6p_3p_fy;
-    const T Cp_7p_3p_fx = ne395 - _tmp362;
+    const T Cp_7p_3p_fx = ne395 - _tmp363;
     const T Lp_4p_2p_fy = ne387*_tmp336;
     const T Lp_4p_2p_fx = -(Lp_4p_2p_fy*ne371 - ne372)*_tmp334;
     const T Jp_3p_2p_fy = ne292 - Lp_4p_2p_fy;
     const T Jp_3p_2p_fx = ne290 - Lp_4p_2p_fx;
     const T Sp_13_10p_n = ne342*_tmp331;
-    const T _tmp363 = Sp_13_10p_n*c_l1;
-    const T Cp_3p_10p_fy = ne322 - _tmp363;
-    const T _tmp364 = Sp_13_10p_n*Sp_13_10p_normal_x;
-    const T Cp_3p_10p_fx = ne320 - _tmp364;
+    const T _tmp364 = Sp_13_10p_n*c_l1;
+    const T Cp_3p_10p_fy = ne322 - _tmp364;
+    const T _tmp365 = Sp_13_10p_n*Sp_13_10p_normal_x;
+    const T Cp_3p_10p_fx = ne320 - _tmp365;
     const T Rp_12p_5p_fx = ne312*_tmp329;
     const T Sp_10p_12p_fy = ne286 - Rp_12p_5p_fx*ne263;
     const T Sp_10p_12p_fx = Rp_12p_5p_fx + ne284;
@@ -6083,8 +6085,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[277 * stride + i] = L_4_2_fy;
     out[278 * stride + i] = C_3_10_fx;
     out[279 * stride + i] = C_3_10_fy;
-    out[280 * stride + i] = _tmp361;
-    out[281 * stride + i] = _tmp360;
+    out[280 * stride + i] = _tmp362;
+    out[281 * stride + i] = _tmp361;
     out[282 * stride + i] = S_10_12_fx;
     out[283 * stride + i] = S_10_12_fy;
     out[284 * stride + i] = J_3_5_fx;
@@ -6117,8 +6119,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[311 * stride + i] = Lp_4p_2p_fy;
     out[312 * stride + i] = Cp_3p_10p_fx;
     out[313 * stride + i] = Cp_3p_10p_fy;
-    out[314 * stride + i] = _tmp364;
-    out[315 * stride + i] = _tmp363;
+    out[314 * stride + i] = _tmp365;
+    out[315 * stride + i] = _tmp364;
     out[316 * stride + i] = Sp_10p_12p_fx;
     out[317 * stride + i] = Sp_10p_12p_fy;
     out[318 * stride + i] = Jp_3p_5p_fx;

@@ -319,7 +319,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 187
+  // Total ops: 188
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -393,15 +393,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _tmp11 = com_rod_y_dd + T(9.81);
   const T ne9 = ne6 - p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11*ne7;
   if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T Q_rod_slider_fy = ne9/ne8;
+  const T _tmp12 = T(1)/ne8;
+  const T Q_rod_slider_fy = ne9*_tmp12;
   const T P_crank_rod_fy = p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11 + Q_rod_slider_fy;
   const T slide_n = T(9.81)*p.m_s - Q_rod_slider_fy;
   const T Q_rod_slider_fx = _tmp5 + _tmp7 + _tmp8;
-  const T _tmp12 = p.r*p.r;
-  const T _tmp13 = sqrt(_tmp12);
-  const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp13*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
-  const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp13*com_crank_x_dd + ne2;
-  const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp12)*p.rho*_tmp13*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
+  const T _tmp13 = p.r*p.r;
+  const T _tmp14 = sqrt(_tmp13);
+  const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp14*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
+  const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp14*com_crank_x_dd + ne2;
+  const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp13)*p.rho*_tmp14*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -501,7 +502,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
-    // Total ops: 187
+    // Total ops: 188
     const T c_crank_rel = cos(in.crank_angle);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
@@ -575,15 +576,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp11 = com_rod_y_dd + T(9.81);
     const T ne9 = ne6 - p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11*ne7;
     failed = max(failed, (ne8 != T(0)) ? T(0) : T(8187906));
-    const T Q_rod_slider_fy = ne9/ne8;
+    const T _tmp12 = T(1)/ne8;
+    const T Q_rod_slider_fy = ne9*_tmp12;
     const T P_crank_rod_fy = p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11 + Q_rod_slider_fy;
     const T slide_n = T(9.81)*p.m_s - Q_rod_slider_fy;
     const T Q_rod_slider_fx = _tmp5 + _tmp7 + _tmp8;
-    const T _tmp12 = p.r*p.r;
-    const T _tmp13 = sqrt(_tmp12);
-    const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp13*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
-    const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp13*com_crank_x_dd + ne2;
-    const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp12)*p.rho*_tmp13*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
+    const T _tmp13 = p.r*p.r;
+    const T _tmp14 = sqrt(_tmp13);
+    const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp14*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
+    const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp14*com_crank_x_dd + ne2;
+    const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp13)*p.rho*_tmp14*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;

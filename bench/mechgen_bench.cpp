@@ -2,6 +2,8 @@
 // velocity and acceleration, joint reaction and driver effort), computed several ways:
 //   <model>/generated        evaluate<double>: the generated closed form, kinematics and dynamics
 //   <model>/generated_float  the same kernel in float
+//   <model>/generated_batch  the runtime's batch entry (evaluate_batch<double>, vectorised) over
+//                            blocks of 64 samples
 //   <model>/kinematics       kinematics<double> only
 //   <model>/ne_system        ne_system<double> only: assembling the dense Newton-Euler A and b
 //   <model>/dense_lu         kinematics + ne_system<double> + Eigen PartialPivLU solve of A x = b
@@ -39,49 +41,58 @@
 #include "model/model.hpp"
 #include "numeric/reference_solver.hpp"
 #include "pasibot/pasibot.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::bench {
 namespace {
 
 // One generated kernel's namespace as a type, so the variants below are templates over models.
-#define MECHGEN_BENCH_KERNEL(NS)                                                   \
-  struct NS##_kernel {                                                             \
-    static constexpr const char* name = #NS;                                       \
-    static constexpr int parameter_count = gen::NS::parameter_count;               \
-    static constexpr int column_count = gen::NS::column_count;                     \
-    static constexpr const char* const* column_names = gen::NS::column_names;      \
-    static constexpr int ne_size = gen::NS::ne_size;                               \
-    static constexpr const char* const* ne_unknowns = gen::NS::ne_unknowns;        \
-    template <class T>                                                             \
-    using Params = gen::NS::Params<T>;                                             \
-    template <class T>                                                             \
-    using Inputs = gen::NS::Inputs<T>;                                             \
-    template <class T>                                                             \
-    using State = gen::NS::State<T>;                                               \
-    template <class T>                                                             \
-    static void set_parameters(Params<T>& p, const T* values) {                    \
-      gen::NS::set_parameters(p, values);                                          \
-    }                                                                              \
-    template <class T>                                                             \
-    static void driver_inputs(const Params<T>& p, T t, Inputs<T>& in) {            \
-      gen::NS::driver_inputs(p, t, in);                                            \
-    }                                                                              \
-    template <class T>                                                             \
-    static bool evaluate(const Params<T>& p, const Inputs<T>& in, State<T>& s) {   \
-      return gen::NS::evaluate(p, in, s) == gen::NS::Status::ok;                   \
-    }                                                                              \
-    template <class T>                                                             \
-    static bool kinematics(const Params<T>& p, const Inputs<T>& in, State<T>& s) { \
-      return gen::NS::kinematics(p, in, s) == gen::NS::Status::ok;                 \
-    }                                                                              \
-    template <class T>                                                             \
-    static bool ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) {   \
-      return gen::NS::ne_system(p, in, A, b) == gen::NS::Status::ok;               \
-    }                                                                              \
-    template <class T>                                                             \
-    static void to_columns(const Inputs<T>& in, const State<T>& s, T* row) {       \
-      gen::NS::to_columns(in, s, row);                                             \
-    }                                                                              \
+#define MECHGEN_BENCH_KERNEL(NS)                                                           \
+  struct NS##_kernel {                                                                     \
+    static constexpr const char* name = #NS;                                               \
+    static constexpr int parameter_count = gen::NS::parameter_count;                       \
+    static constexpr int column_count = gen::NS::column_count;                             \
+    static constexpr const char* const* column_names = gen::NS::column_names;              \
+    static constexpr int ne_size = gen::NS::ne_size;                                       \
+    static constexpr const char* const* ne_unknowns = gen::NS::ne_unknowns;                \
+    template <class T>                                                                     \
+    using Params = gen::NS::Params<T>;                                                     \
+    template <class T>                                                                     \
+    using Inputs = gen::NS::Inputs<T>;                                                     \
+    template <class T>                                                                     \
+    using State = gen::NS::State<T>;                                                       \
+    template <class T>                                                                     \
+    static void set_parameters(Params<T>& p, const T* values) {                            \
+      gen::NS::set_parameters(p, values);                                                  \
+    }                                                                                      \
+    template <class T>                                                                     \
+    static void driver_inputs(const Params<T>& p, T t, Inputs<T>& in) {                    \
+      gen::NS::driver_inputs(p, t, in);                                                    \
+    }                                                                                      \
+    template <class T>                                                                     \
+    static bool evaluate(const Params<T>& p, const Inputs<T>& in, State<T>& s) {           \
+      return gen::NS::evaluate(p, in, s) == gen::NS::Status::ok;                           \
+    }                                                                                      \
+    template <class T>                                                                     \
+    static bool kinematics(const Params<T>& p, const Inputs<T>& in, State<T>& s) {         \
+      return gen::NS::kinematics(p, in, s) == gen::NS::Status::ok;                         \
+    }                                                                                      \
+    template <class T>                                                                     \
+    static bool ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) {           \
+      return gen::NS::ne_system(p, in, A, b) == gen::NS::Status::ok;                       \
+    }                                                                                      \
+    template <class T>                                                                     \
+    static void to_columns(const Inputs<T>& in, const State<T>& s, T* row) {               \
+      gen::NS::to_columns(in, s, row);                                                     \
+    }                                                                                      \
+    static constexpr int batch_storage_per_sample = gen::NS::batch_storage_per_sample;     \
+    template <class T>                                                                     \
+    static void evaluate_batch(const Params<T>& p, const T* t, long n, T* storage, T* out, \
+                               T* failure) {                                               \
+      gen::NS::BatchInputs<T> batch;                                                       \
+      gen::NS::batch_driver_inputs(p, t, n, storage, batch);                               \
+      gen::NS::evaluate_batch(p, batch, n, out, n, failure);                               \
+    }                                                                                      \
   };
 
 MECHGEN_BENCH_KERNEL(pasibot)
@@ -161,6 +172,51 @@ class Generated {
   typename K::template State<T> s_{};
   std::vector<T> times_;
   std::size_t k_ = 0;
+};
+
+// The batch entry the sweeps use (CompiledKernel::evaluate_batch_double: evaluate_batch in its
+// AVX2 or baseline clone, driver inputs included): blocks of kBatch consecutive samples of the
+// step, one block every kBatch calls of next(), so that the time per call is the time per sample.
+template <class K>
+class GeneratedBatch {
+ public:
+  static constexpr long kBatch = 64;
+
+  explicit GeneratedBatch(const ModelData& m)
+      : kernel_(compiled(K::name)),
+        parameters_(m.parameters),
+        times_(m.times),
+        t_(kBatch),
+        out_(static_cast<std::size_t>(K::column_count * kBatch)),
+        status_(kBatch),
+        group_(kBatch) {}
+
+  bool next() {
+    if (used_ == kBatch) {
+      for (long i = 0; i < kBatch; ++i) {
+        t_[static_cast<std::size_t>(i)] = times_[k_];
+        if (++k_ == times_.size()) k_ = 0;
+      }
+      kernel_.evaluate_batch_double(parameters_.data(), t_.data(), kBatch, out_.data(),
+                                    status_.data(), group_.data());
+      benchmark::DoNotOptimize(out_.data());
+      benchmark::ClobberMemory();
+      used_ = 0;
+    }
+    return status_[static_cast<std::size_t>(used_++)] == 0;
+  }
+
+ private:
+  static const CompiledKernel& compiled(const std::string& model) {
+    const CompiledKernel* kernel = find_compiled_kernel(model);
+    if (!kernel) fail(model + ": no compiled kernel");
+    return *kernel;
+  }
+  const CompiledKernel& kernel_;
+  std::vector<double> parameters_, times_, t_, out_;
+  std::vector<int> status_, group_;
+  std::size_t k_ = 0;
+  long used_ = kBatch;
 };
 
 enum class Solve { none, lu, inverse };
@@ -372,6 +428,7 @@ void add_entries(std::vector<Entry>& entries) {
   const std::string m = K::name;
   entries.push_back(make_entry<Generated<K, double>>(m, "generated"));
   entries.push_back(make_entry<Generated<K, float>>(m, "generated_float"));
+  entries.push_back(make_entry<GeneratedBatch<K>>(m, "generated_batch"));
   entries.push_back(make_entry<Generated<K, double, true>>(m, "kinematics"));
   entries.push_back(make_entry<Dense<K, Solve::none>>(m, "ne_system"));
   entries.push_back(make_entry<Dense<K, Solve::lu>>(m, "dense_lu"));

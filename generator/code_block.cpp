@@ -114,6 +114,7 @@ std::string quote(const std::string& s) {
 
 struct CodeBlock::Impl {
   std::string temp_prefix;
+  bool invert_every_denominator = false;
   std::vector<Node> nodes;
   std::map<std::string, int> by_key;
   std::vector<Statement> statements;
@@ -428,14 +429,23 @@ struct CodeBlock::Impl {
     std::vector<char> expanded;
     std::vector<std::string> bound;  // define()d name of a node, if it is a definition's root
     std::vector<std::string> temp;   // temporary's name once emitted
+    // Divisions: how many printed products divide by a node, and the name of its reciprocal
+    // `_tmpN = T(1)/d` once emitted. A division costs several multiplications (and the compiler
+    // may not turn a/d into a*(1/d) without -ffast-math), so a denominator shared by two or more
+    // products is inverted once and multiplied by; the result differs from a/d by an ulp or so.
+    std::vector<int> den_uses;
+    std::vector<std::string> reciprocal;
     Plan plan;
+    GuardPrinter guard_line;  // null: `if (!(condition)) on_fail`
 
     explicit Planner(const Impl& block)
         : b(block),
           count(block.nodes.size(), 0),
           expanded(block.nodes.size(), 0),
           bound(block.nodes.size()),
-          temp(block.nodes.size()) {}
+          temp(block.nodes.size()),
+          den_uses(block.nodes.size(), 0),
+          reciprocal(block.nodes.size()) {}
 
     const Node& at(int id) const { return b.at(id); }
     std::size_t ix(int id) const { return static_cast<std::size_t>(id); }
@@ -446,9 +456,41 @@ struct CodeBlock::Impl {
     }
     bool is_temporary(int id) const { return may_be_temporary(id) && count[ix(id)] >= 2; }
 
+    // A denominator is printed once however many products share it (in their division, or in
+    // its reciprocal), so only its first use counts.
     void visit_children(int id) {
       for (int k : at(id).kids) visit(k);
-      if (at(id).den >= 0) visit(at(id).den);
+      const int den = at(id).den;
+      if (den >= 0 && den_uses[ix(den)]++ == 0) visit(den);
+    }
+    bool inverted(int den) const {
+      return den_uses[ix(den)] >= 2 || (b.invert_every_denominator && !at(den).is_number);
+    }
+
+    // Whether a node depends on numbers and parameters (`p.` symbols) only, through define()d
+    // names too.
+    std::vector<signed char> invariant_memo;
+    std::map<std::string, int> definition_root;
+    bool invariant(int id) {
+      if (invariant_memo.empty()) {
+        invariant_memo.assign(b.nodes.size(), -1);
+        for (const Statement& s : b.statements)
+          if (s.type == Statement::Type::Define) definition_root[s.name] = s.root;
+      }
+      signed char& memo = invariant_memo[ix(id)];
+      if (memo >= 0) return memo != 0;
+      const Node& n = at(id);
+      bool result = true;
+      if (n.kind == Kind::Leaf) {
+        const auto def = definition_root.find(n.key);
+        result = n.is_number || n.key.rfind("p.", 0) == 0 ||
+                 (def != definition_root.end() && invariant(def->second));
+      } else {
+        for (int k : n.kids) result = result && invariant(k);
+        if (n.den >= 0) result = result && invariant(n.den);
+      }
+      memo = result ? 1 : 0;
+      return result;
     }
 
     // Counts how often each node is printed: a node is expanded (its children counted) only
@@ -483,7 +525,15 @@ struct CodeBlock::Impl {
 
     void emit_children(int id) {
       for (int k : at(id).kids) emit(k);
-      if (at(id).den >= 0) emit(at(id).den);
+      const int den = at(id).den;
+      if (den < 0) return;
+      emit(den);
+      if (inverted(den) && reciprocal[ix(den)].empty()) {
+        const std::string name = b.temp_prefix + std::to_string(plan.temporaries++);
+        plan.lines.push_back("const T " + name + " = T(1)/" + print(den, true) + ";");
+        if (!at(den).is_number) plan.ops += 1;  // 1/number is folded by the compiler
+        reciprocal[ix(den)] = name;
+      }
     }
 
     // Emits, in post-order, the temporaries `id` needs that are not emitted yet.
@@ -533,18 +583,30 @@ struct CodeBlock::Impl {
         }
         case Kind::Add:
           return sum(id, false);
-        case Kind::Mul:
-          for (int f : n.kids) {
-            if (!out.empty()) out += "*";
-            out += print(f, true);
-          }
-          if (n.kids.empty()) out = "T(1)";
+        case Kind::Mul: {
+          // Factors that depend on parameters only are multiplied first: C++ evaluates a*b*c as
+          // (a*b)*c and the compiler may not reorder floating-point products, so only a leading
+          // invariant sub-product such as (T(0.4)*_tmp3) is shared between statements (CSE) and
+          // hoisted out of evaluate_batch's loop.
+          std::vector<std::pair<bool, std::string>> factors;
+          for (int f : n.kids) factors.emplace_back(invariant(f), print(f, true));
           plan.ops += std::max(0, static_cast<int>(n.kids.size()) - 1);
+          const bool inverted_den = n.den >= 0 && !reciprocal[ix(n.den)].empty();
+          if (inverted_den) {
+            factors.emplace_back(invariant(n.den), reciprocal[ix(n.den)]);
+            if (!n.kids.empty()) plan.ops += 1;
+          }
+          std::stable_partition(factors.begin(), factors.end(),
+                                [](const auto& f) { return f.first; });
+          for (const auto& f : factors) out += (out.empty() ? "" : "*") + f.second;
+          if (inverted_den) return out;
+          if (n.kids.empty()) out = "T(1)";
           if (n.den >= 0) {
             out += "/" + print(n.den, true);
             plan.ops += 1;
           }
           return out;
+        }
         case Kind::Func:
         case Kind::Pow:
           out = n.fname + "(";
@@ -575,8 +637,12 @@ struct CodeBlock::Impl {
           case Statement::Type::Guard:
             emit(s.root);
             emit(s.rhs);
-            plan.lines.push_back("if (!(" + print(s.root, false) + " " + s.comparison + " " +
-                                 print(s.rhs, false) + ")) " + s.on_fail);
+            {
+              const std::string condition =
+                  print(s.root, false) + " " + s.comparison + " " + print(s.rhs, false);
+              plan.lines.push_back(guard_line ? guard_line(condition, s.on_fail)
+                                              : "if (!(" + condition + ")) " + s.on_fail);
+            }
             break;
           case Statement::Type::Assign:
             emit(s.root);
@@ -587,8 +653,9 @@ struct CodeBlock::Impl {
     }
   };
 
-  Plan make_plan() const {
+  Plan make_plan(const GuardPrinter& guard_line = nullptr) const {
     Planner p(*this);
+    p.guard_line = guard_line;
     p.run();
     return std::move(p.plan);
   }
@@ -602,6 +669,10 @@ CodeBlock::CodeBlock(std::string temp_prefix) : impl_(std::make_unique<Impl>()) 
 }
 
 CodeBlock::~CodeBlock() = default;
+
+void CodeBlock::invert_every_denominator() {
+  impl_->invert_every_denominator = true;
+}
 CodeBlock::CodeBlock(CodeBlock&&) noexcept = default;
 CodeBlock& CodeBlock::operator=(CodeBlock&&) noexcept = default;
 
@@ -672,8 +743,12 @@ void CodeBlock::assign(const std::string& target, const GiNaC::ex& e) {
 }
 
 std::string CodeBlock::render(const std::string& indent) const {
+  return render(indent, nullptr);
+}
+
+std::string CodeBlock::render(const std::string& indent, const GuardPrinter& guard_line) const {
   std::string out;
-  for (const std::string& line : impl_->make_plan().lines) out += indent + line + "\n";
+  for (const std::string& line : impl_->make_plan(guard_line).lines) out += indent + line + "\n";
   return out;
 }
 

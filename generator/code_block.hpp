@@ -22,6 +22,10 @@
 //     `x^(k+1/2)` as `x^k*sqrt(x)` (`x*sqrt(x)`), a negative power as a division by the
 //     positive one (`T(1)/x`, `a/(x*x)`, `T(1)/sqrt(x)`), other powers as `pow(x, ...)`;
 //   * sums `a + b - c`, products `T(2)*a*b/(c*d)`; nested products are parenthesised;
+//   * a denominator shared by two or more printed products is inverted once, where it is first
+//     needed (`const T _tmpN = T(1)/x;`), and those products multiply by it (`a*_tmpN`): a
+//     division costs several multiplications and the compiler may not do this itself without
+//     -ffast-math; the result differs from a/x by about an ulp;
 //   * a sum and its negation are one subexpression (GiNaC itself flips the sign of sums inside
 //     products, (a - b)*c or -(b - a)*c, depending on its run-dependent term order): the
 //     orientation whose first term by printed text is added is kept, the other prints as its
@@ -30,7 +34,9 @@
 //     are called unqualified: the kernel must say `using std::sin;` etc. (see math_functions())
 //     so that argument-dependent lookup finds the overloads of other scalar types.
 // The operands of every sum and product are ordered by their printed text, never by GiNaC's
-// hash order (which changes from run to run), so equal input prints equal output in every process.
+// hash order (which changes from run to run), so equal input prints equal output in every process;
+// a product prints its numbers first, then the factors that depend on parameters (`p.` symbols)
+// only, then the rest, so that the compiler can share and hoist the leading invariant part.
 // (Only the printing is canonical: callers should still derive with canonical operations such as
 // expand(); normal() or collect() may choose differently shaped results from run to run.)
 //
@@ -39,6 +45,7 @@
 // std::runtime_error naming the culprit; nothing is guessed.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -60,6 +67,11 @@ class CodeBlock {
   CodeBlock(const CodeBlock&) = delete;
   CodeBlock& operator=(const CodeBlock&) = delete;
 
+  /// Prints every non-constant denominator as a reciprocal (`T(1)/x` once, then `a*_tmpN`), not
+  /// only shared ones: the division then starts as soon as x is known instead of waiting for a,
+  /// which takes it off a long dependency chain such as a Newton-Euler elimination.
+  void invert_every_denominator();
+
   /// `const T name = <e>;` at this point of the program. `name` must be a C++ identifier not
   /// yet defined, not yet used by an earlier statement and not starting with the temp prefix.
   void define(const std::string& name, const GiNaC::ex& e);
@@ -78,6 +90,11 @@ class CodeBlock {
 
   /// The statements, one per line, each prefixed with `indent` and ended by '\n'.
   std::string render(const std::string& indent) const;
+  /// The same with each guard printed by `guard_line(condition, on_fail_statement)` instead of
+  /// `if (!(condition)) on_fail_statement`, e.g. as a branch-free select for a vectorised loop.
+  using GuardPrinter = std::function<std::string(const std::string& condition,
+                                                 const std::string& on_fail_statement)>;
+  std::string render(const std::string& indent, const GuardPrinter& guard_line) const;
 
   /// Arithmetic cost of the rendered code: each binary + - * / and each function call (sqrt,
   /// sin, pow, ...) counts one; unary minus and comparisons count nothing.

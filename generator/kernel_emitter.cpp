@@ -92,6 +92,7 @@ class Emitter {
         if (GiNaC::is_a<GiNaC::symbol>(*it)) needed.insert(*it);
     }
     CodeBlock code;
+    code.invert_every_denominator();
     for (const Statement& st : program_.statements()) {
       if (!needed.count(st.symbol)) continue;
       switch (st.kind) {
@@ -112,10 +113,17 @@ class Emitter {
     return code;
   }
 
+  // sin, cos and atan2 come from the kernel's own branch-free detail:: versions, in the scalar
+  // entries as in evaluate_batch: the two then agree to the last bit, and atan2 costs a fraction
+  // of the C library's (about 140 instructions a call there, 23 calls a PASIBOT sample).
+  static bool has_kernel_version(const std::string& f) {
+    return f == "sin" || f == "cos" || f == "atan2";
+  }
   static std::string using_lines(const CodeBlock& code) {
     std::string text;
     for (const std::string& f : code.math_functions())
-      text += std::string(text.empty() ? "" : "\n") + "  using std::" + f + ";";
+      text += std::string(text.empty() ? "" : "\n") + "  using " +
+              (has_kernel_version(f) ? "detail::" : "std::") + f + ";";
     return text;
   }
 
@@ -186,6 +194,9 @@ class Emitter {
     v["warm_fields"] = warm;
     v["ne_state"] =
         warm.empty() ? "" : "  State<T> s;  // iterative groups start from the assembly\n";
+    // Samples of a batch are independent: each starts its iterative groups from the assembly.
+    v["batch_state"] =
+        warm.empty() ? "" : "    State<T> s;  // iterative groups start from the assembly\n";
     v["point_fields"] = joined(points);
     v["joint_fields"] = joined(joints);
     v["driver_fields"] = joined(drivers);
@@ -237,7 +248,7 @@ class Emitter {
     v["drivers_body"] = motion.render("  ");
 
     const std::vector<std::string> columns = column_names(model_);
-    std::vector<std::string> to_columns;
+    std::vector<std::string> to_columns, sources;
     for (size_t i = 0; i < columns.size(); ++i) {
       const std::string& c = columns[i];
       std::string source;
@@ -255,11 +266,88 @@ class Emitter {
         source = "s." + group + "." + owner + "." + field;
       }
       to_columns.push_back("  row[" + std::to_string(i) + "] = " + source + ";");
+      sources.push_back(source);
     }
     v["column_count"] = std::to_string(columns.size());
+    batch_values(columns, sources, all, v);
     v["column_names"] = quoted_list(columns);
     v["to_columns_body"] = joined(to_columns);
     return v;
+  }
+
+  // Result encoding of evaluate_batch's checks (see batch_values); the template decodes with
+  // batch_code_range.
+  static constexpr int kFirstCheckRank = 2000;  // weights below 2^24: exact in float too
+  static constexpr int kCodeRange = 4096;
+
+  // evaluate_batch: the evaluate() block with every output written to its column and every check
+  // folded into the sample's result code instead of returning.
+  void batch_values(const std::vector<std::string>& columns,
+                    const std::vector<std::string>& sources, const std::vector<Output>& all,
+                    std::map<std::string, std::string>& v) const {
+    std::map<std::string, size_t> column_of;
+    for (size_t c = 0; c < sources.size(); ++c) column_of[sources[c]] = c;
+    auto target = [&](const std::string& source) {
+      const auto it = column_of.find(source);
+      if (it == column_of.end()) throw std::logic_error("output " + source + " is not a column");
+      return "out[" + std::to_string(it->second) + " * stride + i]";
+    };
+    std::vector<Output> outputs{{target("in.t"), model_.t}};
+    for (const Output& o : all)  // the warm start kept for a next call has no column
+      if (o.target.rfind("s.warm.", 0) != 0) outputs.push_back({target(o.target), o.value});
+    if (outputs.size() != columns.size())
+      throw std::logic_error("evaluate_batch would leave columns unwritten");
+    auto code = [](const std::string& status, int group) {
+      return std::to_string((status == "unreachable" ? 1 : 2) + 4 * (group + 1));
+    };
+    const CodeBlock batch = block(outputs, code);
+    // Functions without a detail:: version (acos, ...) stay library calls: the batch is then
+    // correct but not vectorised.
+    const std::string using_text = using_lines(batch);
+    std::vector<std::string> fields, inputs, locals;
+    std::string checks;
+    for (const Driver& dr : model_.drivers)
+      for (const char* suffix : {"", "_d", "_dd"}) {
+        const std::string name = dr.name + suffix;
+        fields.push_back("  const T* " + name + " = nullptr;");
+        inputs.push_back("    in." + name + " = batch_" + name + "[i];");
+        locals.push_back("  const T* const batch_" + name + " = inputs." + name + ";");
+        checks += " + (in." + name + " - in." + name + ")";
+      }
+    std::vector<std::string> pointers, stores;
+    int slot = 0;
+    for (const Driver& dr : model_.drivers)
+      for (const char* suffix : {"", "_d", "_dd"}) {
+        const std::string name = dr.name + suffix;
+        pointers.push_back("  batch." + name + " = storage + " + std::to_string(slot) + " * n;");
+        stores.push_back("    storage[" + std::to_string(slot) + " * n + i] = in." + name + ";");
+        ++slot;
+      }
+    v["batch_storage_per_sample"] = std::to_string(slot);
+    v["batch_pointers"] = joined(pointers);
+    v["batch_stores"] = joined(stores);
+    v["batch_input_fields"] = joined(fields);
+    v["batch_code_range"] = std::to_string(kCodeRange);
+    v["batch_input_weight"] =
+        std::to_string(static_cast<long>(kFirstCheckRank + 1) * kCodeRange + 1);
+    v["batch_inputs"] = joined(inputs);
+    v["batch_pointers_local"] = joined(locals);
+    v["batch_input_checks"] = checks;
+    v["batch_using"] = using_text;
+    v["batch_ops"] = std::to_string(batch.op_count());
+    // The first failing check wins: check k (in program order) contributes
+    // (kFirstCheckRank - k) * kCodeRange + code when it fails, and a running maximum keeps the
+    // earliest; no branch, and no boolean logic that GCC 12 cannot vectorise.
+    int rank = kFirstCheckRank;
+    std::string body =
+        batch.render("    ", [&rank](const std::string& condition, const std::string& c) {
+          const long weight = static_cast<long>(rank--) * kCodeRange + std::stol(c);
+          return "failed = max(failed, (" + condition + ") ? T(0) : T(" + std::to_string(weight) +
+                 "));";
+        });
+    if (rank <= 0) throw std::logic_error("evaluate_batch: too many checks");
+    if (!body.empty() && body.back() == '\n') body.pop_back();
+    v["batch_body"] = body;
   }
 
  private:

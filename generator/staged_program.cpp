@@ -34,9 +34,15 @@ GiNaC::symbol StagedProgram::define(const std::string& name, const ex& value,
 }
 
 void StagedProgram::set_derivative(const GiNaC::symbol& s, const ex& derivative) {
-  Info& info = info_.at(s);
+  // A derivative that is an expression is named (<name>_d), so that the next derivative
+  // differentiates a name and its definition (with the quotient rule for d/dt sqrt(x) =
+  // x_d / (2 sqrt(x))) instead of the expression inlined wherever it occurs.
+  ex named = derivative;
+  if (!GiNaC::is_a<GiNaC::symbol>(derivative) && !GiNaC::is_a<GiNaC::numeric>(derivative))
+    named = define(info_.at(s).name + "_d", derivative);
+  Info& info = info_.at(s);  // define() may have rebalanced the map: look up again
   info.explicit_derivative = true;
-  info.derivative = derivative;
+  info.derivative = named;
 }
 
 void StagedProgram::check_nonzero(const GiNaC::symbol& value, const std::string& failure,
@@ -82,7 +88,7 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
   const std::string name = it->second.name;
   const std::string derived_name =
       name.size() > 2 && name.compare(name.size() - 2, 2, "_d") == 0 ? name + "d" : name + "_d";
-  const ex value = derivative(it->second.value);
+  const ex value = quotient_derivative(s, name, it->second.value);
   ex staged;
   if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) {
     staged = value;  // nothing to name
@@ -93,6 +99,56 @@ ex StagedProgram::derivative_of_symbol(const GiNaC::symbol& s) {
   info.staged = true;
   info.derivative = staged;
   return staged;
+}
+
+// d/dt of a definition `value` = R + N/D (D time-dependent, N/D every term over D): stages
+// q = N/D with the quotient rule q_d = (N_d - q D_d)/D, whose own derivative follows the same rule,
+// instead of differentiating N/D as a whole (which doubles the terms at each order: PASIBOT's
+// second derivatives of dyad points had some 60 operations each). Falls back to derivative()
+// unless exactly one time-dependent denominator occurs (a name must not depend on GiNaC's
+// run-dependent term order).
+ex StagedProgram::quotient_derivative(const GiNaC::symbol& s, const std::string& name,
+                                      const ex& value) {
+  std::vector<ex> terms;
+  if (GiNaC::is_a<GiNaC::add>(value)) {
+    for (size_t i = 0; i < value.nops(); ++i) terms.push_back(value.op(i));
+  } else {
+    terms.push_back(value);
+  }
+  ex denominator;
+  bool found = false;
+  ex numerator = 0, rest = 0;
+  for (const ex& term : terms) {
+    ex base;
+    int count = 0;
+    const size_t factors = GiNaC::is_a<GiNaC::mul>(term) ? term.nops() : 1;
+    for (size_t i = 0; i < factors; ++i) {
+      const ex f = GiNaC::is_a<GiNaC::mul>(term) ? term.op(i) : term;
+      if (GiNaC::is_a<GiNaC::power>(f) && f.op(1).is_equal(-1) &&
+          !GiNaC::is_a<GiNaC::numeric>(f.op(0)) && !derivative(f.op(0)).is_zero()) {
+        base = f.op(0);
+        ++count;
+      }
+    }
+    if (count > 1) return derivative(value);
+    if (count == 0) {
+      rest += term;
+      continue;
+    }
+    if (found && !base.is_equal(denominator)) return derivative(value);
+    denominator = base;
+    found = true;
+    numerator += term * denominator;  // GiNaC cancels D^-1 * D
+  }
+  if (!found) return derivative(value);
+  const ex d_d = derivative(denominator);
+  // s = N/D itself: its derivative (N_d - s D_d)/D, named by the caller.
+  if (rest.is_zero()) return (derivative(numerator) - s * d_d) * GiNaC::pow(denominator, -1);
+  const GiNaC::symbol q = define(name + "_q", numerator * GiNaC::pow(denominator, -1));
+  const ex q_d = (derivative(numerator) - q * d_d) * GiNaC::pow(denominator, -1);
+  const std::string derived = name + "_q_d";
+  set_derivative(q, GiNaC::is_a<GiNaC::numeric>(q_d) ? q_d : ex(define(derived, q_d)));
+  return derivative(rest) + derivative_of_symbol(q);
 }
 
 ex StagedProgram::derivative(const ex& e) {
@@ -109,7 +165,76 @@ ex StagedProgram::derivative(const ex& e) {
   std::stable_sort(
       symbols.begin(), symbols.end(),
       [](const GiNaC::symbol& a, const GiNaC::symbol& b) { return a.get_name() < b.get_name(); });
+  for (const GiNaC::symbol& s : symbols) derivative_of_symbol(s);
+  return merged_like_terms(structural_derivative(e));
+}
+
+// Terms equal up to the orientation of their sums ((a - b) c and -(b - a) c), which GiNaC merges
+// or not depending on its run-dependent term order, merged here: 2 t either way, so the printed
+// code is the same in every process.
+ex StagedProgram::merged_like_terms(const ex& e) {
+  if (!GiNaC::is_a<GiNaC::add>(e)) return e;
+  std::vector<ex> terms;
+  std::vector<GiNaC::numeric> counts;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const ex t = e.op(i);
+    bool merged = false;
+    for (size_t k = 0; k < terms.size() && !merged; ++k) {
+      if ((t - terms[k]).expand().is_zero()) {
+        counts[k] += 1;
+        merged = true;
+      } else if ((t + terms[k]).expand().is_zero()) {
+        counts[k] -= 1;
+        merged = true;
+      }
+    }
+    if (!merged) {
+      terms.push_back(t);
+      counts.push_back(1);
+    }
+  }
+  ex sum = 0;
+  for (size_t k = 0; k < terms.size(); ++k) sum += counts[k] * terms[k];
+  return sum;
+}
+
+// d/dt by the structure of e, every symbol's derivative already staged: a product keeps its
+// factors, (c A)' = c_d A + c A_d with the sum A and A_d intact (shared by the printer), where the
+// chain rule symbol by symbol would multiply c into every term of A_d.
+ex StagedProgram::structural_derivative(const ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return 0;
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return derivative_of_symbol(GiNaC::ex_to<GiNaC::symbol>(e));
+  if (GiNaC::is_a<GiNaC::add>(e)) {
+    ex sum = 0;
+    for (size_t i = 0; i < e.nops(); ++i) sum += structural_derivative(e.op(i));
+    return sum;
+  }
+  if (GiNaC::is_a<GiNaC::mul>(e)) {
+    ex sum = 0;
+    for (size_t i = 0; i < e.nops(); ++i) {
+      const ex d = structural_derivative(e.op(i));
+      if (d.is_zero()) continue;
+      ex others = 1;
+      for (size_t j = 0; j < e.nops(); ++j)
+        if (j != i) others *= e.op(j);
+      sum += others * d;
+    }
+    return sum;
+  }
+  if (GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1))) {
+    const ex d = structural_derivative(e.op(0));
+    return d.is_zero() ? ex(0) : e.op(1) * GiNaC::pow(e.op(0), e.op(1) - 1) * d;
+  }
+  // Functions and other powers: the chain rule through each symbol, as GiNaC differentiates.
   ex result = 0;
+  std::vector<GiNaC::symbol> symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
+    bool seen = false;
+    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
+    if (!seen) symbols.push_back(s);
+  }
   for (const GiNaC::symbol& s : symbols) {
     const ex partial = e.diff(s);
     if (partial.is_zero()) continue;

@@ -70,6 +70,10 @@ class StagedProgram {
     bool staged = false;
   };
   GiNaC::ex derivative_of_symbol(const GiNaC::symbol& s);
+  GiNaC::ex structural_derivative(const GiNaC::ex& e);
+  GiNaC::ex merged_like_terms(const GiNaC::ex& e);
+  GiNaC::ex quotient_derivative(const GiNaC::symbol& s, const std::string& name,
+                                const GiNaC::ex& value);
   void evaluate(const GiNaC::symbol& s, const GiNaC::ex& value);
 
   std::vector<GiNaC::exmap> samples_;

@@ -3,20 +3,24 @@
 # and the numeric reference solver, per sample (one instant of the model's default step):
 #   1. Release build of mechgen_bench in build/ (MECHGEN_BUILD_BENCH=ON)
 #   2. mechgen_bench with 5 repetitions: the median CPU time per sample of every variant, and the
-#      ratios numeric/generated, dense_lu/generated, dense_inverse/generated, generated/generated_float
-#   3. when valgrind is installed: instructions per sample (callgrind) of pasibot's generated,
-#      dense_lu and numeric variants, start-up removed by subtracting a run of 0 samples
+#      ratios numeric/generated, dense_lu/generated, dense_inverse/generated,
+#      generated/generated_float, generated/generated_batch
+#   3. the targets of issue 5 met or missed, and the wall time of a 10^6-sample PASIBOT sweep
+#      (`mechgen sweep models/pasibot.yaml --samples 1000000 --summary`)
+#   4. when valgrind is installed: instructions per sample (callgrind) of pasibot's generated,
+#      generated_batch, dense_lu and numeric variants, start-up removed by subtracting a run of 0
+#      samples
 # Writes out/bench.json (Google Benchmark's JSON) and out/bench.txt (the tables printed here).
 #   MECHGEN_JOBS               build parallelism (default 2)
 #   MECHGEN_BENCH_BUILD        build folder (default build)
-#   MECHGEN_BENCH_SAMPLES      samples per callgrind run (default 1000)
+#   MECHGEN_BENCH_SAMPLES      samples per callgrind run (default 1024: whole batch blocks)
 #   MECHGEN_BENCH_CALLGRIND    variants counted by callgrind (default below); "" skips step 3
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 jobs=${MECHGEN_JOBS:-2}
 build=${MECHGEN_BENCH_BUILD:-build}
-samples=${MECHGEN_BENCH_SAMPLES:-1000}
-callgrind_variants=${MECHGEN_BENCH_CALLGRIND-pasibot/generated pasibot/dense_lu pasibot/numeric}
+samples=${MECHGEN_BENCH_SAMPLES:-1024}
+callgrind_variants=${MECHGEN_BENCH_CALLGRIND-pasibot/generated pasibot/generated_batch pasibot/dense_lu pasibot/numeric}
 bench=$build/bench/mechgen_bench
 out=out
 
@@ -37,7 +41,7 @@ if [[ -f $build/CMakeCache.txt ]] && grep -q '^MECHGEN_SANITIZE:BOOL=ON$' "$buil
   exit 1
 fi
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMECHGEN_BUILD_BENCH=ON >/dev/null
-cmake --build "$build" -j "$jobs" --target mechgen_bench
+cmake --build "$build" -j "$jobs" --target mechgen_bench mechgen
 
 mkdir -p "$out"
 tmp=$(mktemp -d)
@@ -97,10 +101,39 @@ fi
         ratio(models[i], "dense_lu", "generated")
         ratio(models[i], "dense_inverse", "generated")
         ratio(models[i], "generated", "generated_float")
+        ratio(models[i], "generated", "generated_batch")
       }
     }
   ' "$tmp/medians.txt"
+  echo
+  echo "Targets (issue 5), PASIBOT, this run:"
+  awk '
+    { time[$1] = $2 }
+    function check(what, value, unit, limit, ok) {
+      printf "  %-34s %10.2f %-6s target %s %-8s %s\n", what, value, unit, (ok ? "met" : "MISSED"), limit, ""
+    }
+    END {
+      g = time["pasibot/generated"]; b = time["pasibot/generated_batch"]
+      n = time["pasibot/numeric"]; l = time["pasibot/dense_lu"]
+      if (g > 0) check("generated per sample", g / 1e3, "us", "<= 1 us", g <= 1000)
+      if (b > 0) check("generated_batch per sample", b / 1e3, "us", "<= 0.25 us", b <= 250)
+      if (g > 0 && n > 0) check("numeric / generated", n / g, "x", ">= 150x", n / g >= 150)
+      if (g > 0 && l > 0) check("dense_lu / generated", l / g, "x", ">= 25x", l / g >= 25)
+    }
+  ' "$tmp/medians.txt"
 } | tee "$out/bench.txt"
+
+step "mechgen sweep: 10^6 PASIBOT samples, summary only"
+# Wall time of the whole command (model reading included), against the 1 s target.
+start=$(date +%s.%N)
+"$build/mechgen" sweep models/pasibot.yaml --samples 1000000 --summary >"$tmp/sweep.txt"
+end=$(date +%s.%N)
+head -1 "$tmp/sweep.txt"
+awk -v s="$start" -v e="$end" -v cpus="$(nproc)" -v load="$(cut -d' ' -f1 /proc/loadavg)" 'BEGIN {
+  w = e - s
+  printf "  %-34s %10.2f %-6s target %s %-8s (%s CPUs, load %s)\n", "sweep 10^6 samples --summary", w, "s",
+    (w < 1 ? "met" : "MISSED"), "< 1 s", cpus, load
+}' | tee -a "$out/bench.txt"
 
 if [[ -z $callgrind_variants ]]; then
   echo "bench.sh: MECHGEN_BENCH_CALLGRIND is empty: no instruction counts"

@@ -4,7 +4,7 @@
 //
 // Chebyshev lambda four-bar (crank 1, ground 2, rocker 2.5, coupler 5 with the rocker at its middle)
 //
-// Plain C++17 with <cmath> only: no heap, no exceptions, the scalar type a template parameter.
+// Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
 // outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
 // second time derivatives; joint outputs are the force (and moment) of the joint's first body on
@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace mechgen::gen::chebyshev {
 
@@ -34,6 +35,16 @@ template <class T>
 struct Inputs {
   T t = T(0);
   T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+};
+
+// N samples of driver inputs as structure of arrays (each pointer to n values), for
+// evaluate_batch.
+template <class T>
+struct BatchInputs {
+  const T* t = nullptr;
+  const T* crank_angle = nullptr;
+  const T* crank_angle_d = nullptr;
+  const T* crank_angle_dd = nullptr;
 };
 
 template <class T>
@@ -96,19 +107,115 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
   return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
 }
 
+namespace detail {
+#if defined(__GNUC__)
+#define MECHGEN_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_INLINE inline
+#endif
+// The kernels' sin, cos and atan2: branch-free straight-line selects that the compiler vectorises
+// in evaluate_batch (glibc declares its vector sin/cos only under -ffast-math, and has no vector
+// atan2 declaration; the kernels never use -ffast-math); the scalar entries use them too, so both
+// agree, and atan2 is several times cheaper than the C library's. Coefficients are Cephes' (S. L. Moshier): atan's rational
+// minimax form and sin/cos's polynomials on [-pi/4, pi/4]; within about 2 ulp of the C library.
+
+// atan2(y, x) in [-pi, pi]: atan of min/max(|x|, |y|) in [0, 1] (reduced to [-0.21, 0.66] by
+// atan(a) = pi/4 + atan((a - 1)/(a + 1))), then mirrored into the octant. Assumption: (x, y) is
+// not (+-0, -0), where it returns +-0 instead of the C library's +-pi.
+template <class T>
+MECHGEN_INLINE T atan2(T y, T x) noexcept {
+  using std::abs;
+  using std::copysign;
+  const T ax = abs(x), ay = abs(y);
+  const bool steep = ay > ax;
+  const T hi = steep ? ay : ax, lo = steep ? ax : ay;
+  const bool reduce = lo > T(0.66) * hi;
+  // Selects pick between values only, never between arithmetic results: the compiler may not
+  // speculate arithmetic out of a branch under -ftrapping-math (the default) and would keep the
+  // branch. So an arithmetic choice is a product with a 0/1 flag (exact: x + 0 * y = x), the flag
+  // itself a select of constants (a bool converted to T would not vectorise with GCC 12).
+  const T reduced = reduce ? T(1) : T(0), steeper = steep ? T(1) : T(0);
+  const T num = lo - reduced * hi, den = hi + reduced * lo;
+  const T a = num / (den + (den == T(0) ? T(1) : T(0)));  // 0 / 1 at the origin
+  const T z = a * a;
+  const T p = (((T(-8.750608600031904122785e-1) * z + T(-1.615753718733365076637e1)) * z +
+                T(-7.500855792314704667340e1)) * z + T(-1.228866684490136173410e2)) * z +
+              T(-6.485021904942025371773e1);
+  const T q = ((((z + T(2.485846490142306297962e1)) * z + T(1.650270098316988542046e2)) * z +
+                T(4.328810604912902668951e2)) * z + T(4.853903996359136964868e2)) * z +
+              T(1.945506571482613964425e2);
+  const T r = a * (z * p / q) + a;
+  const T first = reduced * T(7.853981633974483096157e-1) +
+                  (r + reduced * T(3.061616997868382943065e-17));
+  const T mirror = T(1) - T(2) * steeper;  // -1 when steep
+  const T quadrant = (steeper * T(1.570796326794896619231) + mirror * first) +
+                     steeper * T(6.123233995736765886130e-17);
+  const T left = copysign(T(1), x) < T(0) ? T(1) : T(0);
+  const T angle = (left * T(3.141592653589793238463) + (T(1) - T(2) * left) * quadrant) +
+                  left * T(1.224646799147353177226e-16);
+  return copysign(angle, y);
+}
+
+// sin and cos of x - k pi/2 on [-pi/4, pi/4], k = round(x 2/pi) by the 1.5 * 2^52 trick (no call
+// to nearbyint, which SSE2 cannot vectorise), pi/2 subtracted in three parts (Cody-Waite).
+// Assumption: |x| < 1e8 rad (k pi/2 exact); beyond, accuracy degrades gracefully.
+template <class T>
+MECHGEN_INLINE void sincos(T x, T& sine, T& cosine) noexcept {
+  // 1.5 * 2^(digits - 1) (1.5 * 2^52 for double): adding and subtracting it rounds to an integer.
+  const T round = T(1.5) / std::numeric_limits<T>::epsilon();
+  const T k = (x * T(6.366197723675813430755e-1) + round) - round;
+  const T r = ((x - k * T(1.570796251296997070312)) - k * T(7.549789415861596353350e-8)) -
+              k * T(5.390302858158119290900e-15);
+  const T z = r * r;
+  const T s = r + r * z * (((((T(1.58962301576546568060e-10) * z + T(-2.50507477628578072866e-8)) *
+                                  z + T(2.75573136213857245213e-6)) * z +
+                                 T(-1.98412698295895385996e-4)) * z +
+                                T(8.33333333332211858878e-3)) * z +
+                               T(-1.66666666666666307295e-1));
+  const T c = T(1) - T(0.5) * z +
+              z * z * (((((T(-1.13585365213876817300e-11) * z + T(2.08757008419747316778e-9)) * z +
+                          T(-2.75573141792967388112e-7)) * z + T(2.48015872888517045348e-5)) * z +
+                        T(-1.38888888888730564116e-3)) * z + T(4.16666666666665929218e-2));
+  const T centred = k - T(4) * ((k * T(0.25) + round) - round);  // k mod 4, in -2 .. 2
+  const T quadrant = centred + (centred < T(0) ? T(4) : T(0));  // k mod 4, in 0 .. 3 (atan2)
+  // Bitwise | and & on the comparisons: no short-circuit branches in the loop.
+  const bool odd = (quadrant == T(1)) | (quadrant == T(3));
+  const bool sine_negative = quadrant >= T(2);
+  const bool cosine_negative = (quadrant == T(1)) | (quadrant == T(2));
+  const T sa = odd ? c : s, ca = odd ? s : c;
+  sine = sine_negative ? -sa : sa;  // negation cannot trap
+  cosine = cosine_negative ? -ca : ca;
+}
+template <class T>
+MECHGEN_INLINE T sin(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return s;
+}
+template <class T>
+MECHGEN_INLINE T cos(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return c;
+}
+#undef MECHGEN_INLINE
+}  // namespace detail
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 378
+  // Total ops: 266
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.l;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.l*c_crank_rel;
   const T P_y = p.l*s_crank_rel;
   const T B_x = T(2)*p.l;
   const T g2_coupler_rocker_d_x = B_x - P_x;
@@ -117,86 +224,87 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
-  const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
+  const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T P_y_d = p.l*s_crank_rel_d;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
-  const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
-  const T _tmp1 = g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root;
-  const T M_x = _tmp1/g2_coupler_rocker_d2 + P_x;
-  const T _tmp2 = g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e;
-  const T M_y = P_y - _tmp2/g2_coupler_rocker_d2;
-  const T c_coupler = -T(0.4)*(M_x - P_x)/p.l;
-  const T s_coupler = -T(0.4)*(M_y - P_y)/p.l;
-  const T _tmp3 = g2_coupler_rocker_d2*g2_coupler_rocker_root;
-  const T _tmp4 = g2_coupler_rocker_d2*g2_coupler_rocker_d2;
-  const T M_x_d = P_x_d + T(0.5)*g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp3 + g2_coupler_rocker_d_x*g2_coupler_rocker_e_d/g2_coupler_rocker_d2 + g2_coupler_rocker_d_x_d*g2_coupler_rocker_e/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_d*g2_coupler_rocker_root/g2_coupler_rocker_d2 - g2_coupler_rocker_d2_d*_tmp1/_tmp4;
-  const T _tmp5 = T(0.4)*M_x_d/p.l;
-  const T c_coupler_d = T(0.4)*P_x_d/p.l - _tmp5;
-  const T M_y_d = P_y_d + g2_coupler_rocker_d2_d*_tmp2/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_e_d/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_d*g2_coupler_rocker_e/g2_coupler_rocker_d2 - T(0.5)*g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp3 - g2_coupler_rocker_d_x_d*g2_coupler_rocker_root/g2_coupler_rocker_d2;
-  const T _tmp6 = T(0.4)*M_y_d/p.l;
-  const T s_coupler_d = T(0.4)*P_y_d/p.l - _tmp6;
+  const T g2_coupler_rocker_disc_d = T(6.25)*_tmp0*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
+  const T _tmp1 = T(1)/g2_coupler_rocker_root;
+  const T g2_coupler_rocker_root_d = T(0.5)*g2_coupler_rocker_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g2_coupler_rocker_d2;
+  const T _tmp3 = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp2;
+  const T M_x = _tmp3 + P_x;
+  const T _tmp4 = (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2;
+  const T M_y = P_y - _tmp4;
+  const T _tmp5 = T(1)/p.l;
+  const T c_coupler = -T(0.4)*_tmp5*(M_x - P_x);
+  const T s_coupler = -T(0.4)*_tmp5*(M_y - P_y);
+  const T M_x_q = _tmp3;
+  const T M_x_q_d = -(M_x_q*g2_coupler_rocker_d2_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_d - g2_coupler_rocker_d_x_d*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_root)*_tmp2;
+  const T M_x_d = M_x_q_d + P_x_d;
+  const T c_coupler_d = -T(0.4)*_tmp5*(M_x_d - P_x_d);
+  const T M_y_q = -_tmp4;
+  const T M_y_q_d = -(M_y_q*g2_coupler_rocker_d2_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x_d*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_e)*_tmp2;
+  const T M_y_d = M_y_q_d + P_y_d;
+  const T s_coupler_d = -T(0.4)*_tmp5*(M_y_d - P_y_d);
   const T w_coupler = c_coupler*s_coupler_d - c_coupler_d*s_coupler;
-  const T x_coupler = P_x - T(5)*c_coupler*p.l;
+  const T x_coupler = P_x - T(5)*p.l*c_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T c_rocker = T(0.4)*(B_x - M_x)/p.l;
-  const T s_rocker = -T(0.4)*M_y/p.l;
-  const T c_rocker_d = -_tmp5;
-  const T s_rocker_d = -_tmp6;
+  const T c_rocker = T(0.4)*_tmp5*(B_x - M_x);
+  const T s_rocker = -T(0.4)*_tmp5*M_y;
+  const T c_rocker_d = -T(0.4)*_tmp5*M_x_d;
+  const T s_rocker_d = -T(0.4)*_tmp5*M_y_d;
   const T w_rocker = c_rocker*s_rocker_d - c_rocker_d*s_rocker;
-  const T x_rocker = B_x - T(2.5)*c_rocker*p.l;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.l;
+  const T com_crank_x = T(0.5)*p.l*c_crank_rel;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.l*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.l;
-  const T _tmp7 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp7*p.l - T(0.5)*in.crank_angle_dd*p.l*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.l - T(0.5)*_tmp7*p.l*s_crank_rel;
-  const T com_coupler_x = T(2.5)*c_coupler*p.l + x_coupler;
+  const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
-  const T x_coupler_d = P_x_d - T(5)*c_coupler_d*p.l;
-  const T com_coupler_x_d = T(2.5)*c_coupler_d*p.l + x_coupler_d;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+  const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
   const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
-  const T P_x_dd = -c_crank_rel*_tmp7*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
   const T g2_coupler_rocker_d_x_dd = -P_x_dd;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp7*p.l*s_crank_rel;
+  const T P_y_dd = p.l*s_crank_rel_dd;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
-  const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
-  const T _tmp8 = g2_coupler_rocker_d2_d*g2_coupler_rocker_e/_tmp4 - g2_coupler_rocker_e_d/g2_coupler_rocker_d2;
-  const T _tmp9 = g2_coupler_rocker_d2*(g2_coupler_rocker_root*g2_coupler_rocker_root);
-  const T _tmp10 = T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_root/_tmp4 - g2_coupler_rocker_disc_d/_tmp3;
-  const T _tmp11 = _tmp4*g2_coupler_rocker_root;
-  const T _tmp12 = _tmp4*g2_coupler_rocker_d2;
-  const T M_x_dd = P_x_dd + T(0.5)*g2_coupler_rocker_d_y*g2_coupler_rocker_disc_dd/_tmp3 + g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 - g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp8*g2_coupler_rocker_d_x_d - T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp9 - T(2)*g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root - T(0.5)*_tmp10*g2_coupler_rocker_d_y_d - T(0.5)*(T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_e_d/_tmp4 + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e/_tmp4 + T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp11 - T(4)*g2_coupler_rocker_d2_d*_tmp1/_tmp12)*g2_coupler_rocker_d2_d - g2_coupler_rocker_d2_dd*_tmp1/_tmp4;
-  const T _tmp13 = T(0.4)*M_x_dd/p.l;
-  const T c_coupler_dd = T(0.4)*P_x_dd/p.l - _tmp13;
-  const T x_coupler_dd = P_x_dd - T(5)*c_coupler_dd*p.l;
-  const T com_coupler_x_dd = T(2.5)*c_coupler_dd*p.l + x_coupler_dd;
-  const T M_y_dd = P_y_dd + T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp9 - T(2)*g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root + T(0.5)*_tmp10*g2_coupler_rocker_d_x_d + T(0.5)*(T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp11 - T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_e_d/_tmp4 - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e/_tmp4 - T(4)*g2_coupler_rocker_d2_d*_tmp2/_tmp12)*g2_coupler_rocker_d2_d + g2_coupler_rocker_d2_dd*_tmp2/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 - g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp8*g2_coupler_rocker_d_y_d - T(0.5)*g2_coupler_rocker_d_x*g2_coupler_rocker_disc_dd/_tmp3 - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2;
-  const T _tmp14 = T(0.4)*M_y_dd/p.l;
-  const T s_coupler_dd = T(0.4)*P_y_dd/p.l - _tmp14;
+  const T g2_coupler_rocker_disc_dd = T(6.25)*_tmp0*g2_coupler_rocker_d2_dd - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
+  const T g2_coupler_rocker_root_dd = -T(0.5)*(T(2)*(g2_coupler_rocker_root_d*g2_coupler_rocker_root_d) - g2_coupler_rocker_disc_dd)*_tmp1;
+  const T M_x_q_dd = -(M_x_q*g2_coupler_rocker_d2_dd + T(2)*M_x_q_d*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e_d - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root)*_tmp2;
+  const T M_x_dd = M_x_q_dd + P_x_dd;
+  const T c_coupler_dd = -T(0.4)*_tmp5*(M_x_dd - P_x_dd);
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+  const T M_y_q_dd = -(M_y_q*g2_coupler_rocker_d2_dd + T(2)*M_y_q_d*g2_coupler_rocker_d2_d + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_dd + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e)*_tmp2;
+  const T M_y_dd = M_y_q_dd + P_y_dd;
+  const T s_coupler_dd = -T(0.4)*_tmp5*(M_y_dd - P_y_dd);
   const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   const T w_coupler_d = c_coupler*s_coupler_dd - c_coupler_dd*s_coupler;
-  const T com_rocker_x = T(1.25)*c_rocker*p.l + x_rocker;
+  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
-  const T x_rocker_d = -T(2.5)*c_rocker_d*p.l;
-  const T com_rocker_x_d = T(1.25)*c_rocker_d*p.l + x_rocker_d;
+  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
+  const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
   const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
   const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
-  const T c_rocker_dd = -_tmp13;
-  const T x_rocker_dd = -T(2.5)*c_rocker_dd*p.l;
-  const T com_rocker_x_dd = T(1.25)*c_rocker_dd*p.l + x_rocker_dd;
-  const T s_rocker_dd = -_tmp14;
+  const T c_rocker_dd = -T(0.4)*_tmp5*M_x_dd;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+  const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+  const T s_rocker_dd = -T(0.4)*_tmp5*M_y_dd;
   const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
   const T w_rocker_d = c_rocker*s_rocker_dd - c_rocker_dd*s_rocker;
@@ -247,15 +355,17 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 497
+  // Total ops: 387
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.l;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.l*c_crank_rel;
   const T P_y = p.l*s_crank_rel;
   const T B_x = T(2)*p.l;
   const T g2_coupler_rocker_d_x = B_x - P_x;
@@ -264,117 +374,121 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
-  const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
+  const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T P_y_d = p.l*s_crank_rel_d;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
-  const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
-  const T _tmp1 = g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root;
-  const T M_x = _tmp1/g2_coupler_rocker_d2 + P_x;
-  const T _tmp2 = g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e;
-  const T M_y = P_y - _tmp2/g2_coupler_rocker_d2;
-  const T c_coupler = -T(0.4)*(M_x - P_x)/p.l;
-  const T s_coupler = -T(0.4)*(M_y - P_y)/p.l;
-  const T _tmp3 = g2_coupler_rocker_d2*g2_coupler_rocker_root;
-  const T _tmp4 = g2_coupler_rocker_d2*g2_coupler_rocker_d2;
-  const T M_x_d = P_x_d + T(0.5)*g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp3 + g2_coupler_rocker_d_x*g2_coupler_rocker_e_d/g2_coupler_rocker_d2 + g2_coupler_rocker_d_x_d*g2_coupler_rocker_e/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_d*g2_coupler_rocker_root/g2_coupler_rocker_d2 - g2_coupler_rocker_d2_d*_tmp1/_tmp4;
-  const T _tmp5 = T(0.4)*M_x_d/p.l;
-  const T c_coupler_d = T(0.4)*P_x_d/p.l - _tmp5;
-  const T M_y_d = P_y_d + g2_coupler_rocker_d2_d*_tmp2/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_e_d/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_d*g2_coupler_rocker_e/g2_coupler_rocker_d2 - T(0.5)*g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp3 - g2_coupler_rocker_d_x_d*g2_coupler_rocker_root/g2_coupler_rocker_d2;
-  const T _tmp6 = T(0.4)*M_y_d/p.l;
-  const T s_coupler_d = T(0.4)*P_y_d/p.l - _tmp6;
+  const T g2_coupler_rocker_disc_d = T(6.25)*_tmp0*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
+  const T _tmp1 = T(1)/g2_coupler_rocker_root;
+  const T g2_coupler_rocker_root_d = T(0.5)*g2_coupler_rocker_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g2_coupler_rocker_d2;
+  const T _tmp3 = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp2;
+  const T M_x = _tmp3 + P_x;
+  const T _tmp4 = (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2;
+  const T M_y = P_y - _tmp4;
+  const T _tmp5 = T(1)/p.l;
+  const T c_coupler = -T(0.4)*_tmp5*(M_x - P_x);
+  const T s_coupler = -T(0.4)*_tmp5*(M_y - P_y);
+  const T M_x_q = _tmp3;
+  const T M_x_q_d = -(M_x_q*g2_coupler_rocker_d2_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_d - g2_coupler_rocker_d_x_d*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_root)*_tmp2;
+  const T M_x_d = M_x_q_d + P_x_d;
+  const T c_coupler_d = -T(0.4)*_tmp5*(M_x_d - P_x_d);
+  const T M_y_q = -_tmp4;
+  const T M_y_q_d = -(M_y_q*g2_coupler_rocker_d2_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x_d*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_e)*_tmp2;
+  const T M_y_d = M_y_q_d + P_y_d;
+  const T s_coupler_d = -T(0.4)*_tmp5*(M_y_d - P_y_d);
   const T w_coupler = c_coupler*s_coupler_d - c_coupler_d*s_coupler;
-  const T x_coupler = P_x - T(5)*c_coupler*p.l;
+  const T x_coupler = P_x - T(5)*p.l*c_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T c_rocker = T(0.4)*(B_x - M_x)/p.l;
-  const T s_rocker = -T(0.4)*M_y/p.l;
-  const T c_rocker_d = -_tmp5;
-  const T s_rocker_d = -_tmp6;
+  const T c_rocker = T(0.4)*_tmp5*(B_x - M_x);
+  const T s_rocker = -T(0.4)*_tmp5*M_y;
+  const T c_rocker_d = -T(0.4)*_tmp5*M_x_d;
+  const T s_rocker_d = -T(0.4)*_tmp5*M_y_d;
   const T w_rocker = c_rocker*s_rocker_d - c_rocker_d*s_rocker;
-  const T x_rocker = B_x - T(2.5)*c_rocker*p.l;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.l;
+  const T com_crank_x = T(0.5)*p.l*c_crank_rel;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.l*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.l;
-  const T _tmp7 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp7*p.l - T(0.5)*in.crank_angle_dd*p.l*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.l - T(0.5)*_tmp7*p.l*s_crank_rel;
-  const T com_coupler_x = T(2.5)*c_coupler*p.l + x_coupler;
+  const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
-  const T x_coupler_d = P_x_d - T(5)*c_coupler_d*p.l;
-  const T com_coupler_x_d = T(2.5)*c_coupler_d*p.l + x_coupler_d;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+  const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
   const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
-  const T P_x_dd = -c_crank_rel*_tmp7*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
   const T g2_coupler_rocker_d_x_dd = -P_x_dd;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp7*p.l*s_crank_rel;
+  const T P_y_dd = p.l*s_crank_rel_dd;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
-  const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
-  const T _tmp8 = g2_coupler_rocker_d2_d*g2_coupler_rocker_e/_tmp4 - g2_coupler_rocker_e_d/g2_coupler_rocker_d2;
-  const T _tmp9 = g2_coupler_rocker_d2*(g2_coupler_rocker_root*g2_coupler_rocker_root);
-  const T _tmp10 = T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_root/_tmp4 - g2_coupler_rocker_disc_d/_tmp3;
-  const T _tmp11 = _tmp4*g2_coupler_rocker_root;
-  const T _tmp12 = _tmp4*g2_coupler_rocker_d2;
-  const T M_x_dd = P_x_dd + T(0.5)*g2_coupler_rocker_d_y*g2_coupler_rocker_disc_dd/_tmp3 + g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 - g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp8*g2_coupler_rocker_d_x_d - T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp9 - T(2)*g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root - T(0.5)*_tmp10*g2_coupler_rocker_d_y_d - T(0.5)*(T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_e_d/_tmp4 + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e/_tmp4 + T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp11 - T(4)*g2_coupler_rocker_d2_d*_tmp1/_tmp12)*g2_coupler_rocker_d2_d - g2_coupler_rocker_d2_dd*_tmp1/_tmp4;
-  const T _tmp13 = T(0.4)*M_x_dd/p.l;
-  const T c_coupler_dd = T(0.4)*P_x_dd/p.l - _tmp13;
-  const T x_coupler_dd = P_x_dd - T(5)*c_coupler_dd*p.l;
-  const T com_coupler_x_dd = T(2.5)*c_coupler_dd*p.l + x_coupler_dd;
-  const T M_y_dd = P_y_dd + T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp9 - T(2)*g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root + T(0.5)*_tmp10*g2_coupler_rocker_d_x_d + T(0.5)*(T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp11 - T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_e_d/_tmp4 - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e/_tmp4 - T(4)*g2_coupler_rocker_d2_d*_tmp2/_tmp12)*g2_coupler_rocker_d2_d + g2_coupler_rocker_d2_dd*_tmp2/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 - g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp8*g2_coupler_rocker_d_y_d - T(0.5)*g2_coupler_rocker_d_x*g2_coupler_rocker_disc_dd/_tmp3 - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2;
-  const T _tmp14 = T(0.4)*M_y_dd/p.l;
-  const T s_coupler_dd = T(0.4)*P_y_dd/p.l - _tmp14;
+  const T g2_coupler_rocker_disc_dd = T(6.25)*_tmp0*g2_coupler_rocker_d2_dd - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
+  const T g2_coupler_rocker_root_dd = -T(0.5)*(T(2)*(g2_coupler_rocker_root_d*g2_coupler_rocker_root_d) - g2_coupler_rocker_disc_dd)*_tmp1;
+  const T M_x_q_dd = -(M_x_q*g2_coupler_rocker_d2_dd + T(2)*M_x_q_d*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e_d - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root)*_tmp2;
+  const T M_x_dd = M_x_q_dd + P_x_dd;
+  const T c_coupler_dd = -T(0.4)*_tmp5*(M_x_dd - P_x_dd);
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+  const T M_y_q_dd = -(M_y_q*g2_coupler_rocker_d2_dd + T(2)*M_y_q_d*g2_coupler_rocker_d2_d + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_dd + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e)*_tmp2;
+  const T M_y_dd = M_y_q_dd + P_y_dd;
+  const T s_coupler_dd = -T(0.4)*_tmp5*(M_y_dd - P_y_dd);
   const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   const T w_coupler_d = c_coupler*s_coupler_dd - c_coupler_dd*s_coupler;
-  const T com_rocker_x = T(1.25)*c_rocker*p.l + x_rocker;
+  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
-  const T x_rocker_d = -T(2.5)*c_rocker_d*p.l;
-  const T com_rocker_x_d = T(1.25)*c_rocker_d*p.l + x_rocker_d;
+  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
+  const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
   const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
   const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
-  const T c_rocker_dd = -_tmp13;
-  const T x_rocker_dd = -T(2.5)*c_rocker_dd*p.l;
-  const T com_rocker_x_dd = T(1.25)*c_rocker_dd*p.l + x_rocker_dd;
-  const T s_rocker_dd = -_tmp14;
+  const T c_rocker_dd = -T(0.4)*_tmp5*M_x_dd;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+  const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+  const T s_rocker_dd = -T(0.4)*_tmp5*M_y_dd;
   const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
   const T w_rocker_d = c_rocker*s_rocker_dd - c_rocker_dd*s_rocker;
   const T ne1 = com_coupler_y - P_y;
   const T ne2 = com_coupler_y - M_y - ne1;
-  const T _tmp15 = p.bar_w*p.bar_w;
-  const T _tmp16 = sqrt(_tmp0);
-  const T ne3 = T(5)*(T(25)*_tmp0 + _tmp15)*p.bar_t*p.bar_w*p.rho*_tmp16*w_coupler_d/T(12) - T(5)*com_coupler_x_dd*ne1*p.bar_t*p.bar_w*p.rho*_tmp16;
+  const T _tmp6 = p.bar_w*p.bar_w;
+  const T _tmp7 = sqrt(_tmp0);
+  const T _tmp8 = T(1)/T(12);
+  const T ne3 = T(5)*(T(25)*_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp8*w_coupler_d - T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_coupler_x_dd*ne1;
   const T ne4 = P_x - com_coupler_x;
   const T ne5 = M_x - com_coupler_x - ne4;
-  const T _tmp17 = com_coupler_y_dd + T(9.81);
-  const T ne6 = ne3 - T(5)*_tmp17*ne4*p.bar_t*p.bar_w*p.rho*_tmp16;
-  const T ne9 = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp15)*p.bar_t*p.bar_w*p.rho*_tmp16*w_rocker_d - T(2.5)*com_rocker_x_dd*com_rocker_y*p.bar_t*p.bar_w*p.rho*_tmp16;
+  const T _tmp9 = com_coupler_y_dd + T(9.81);
+  const T ne6 = ne3 - T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp9*ne4;
+  const T ne9 = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp7*w_rocker_d - T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd*com_rocker_y;
   const T ne10 = B_x - com_rocker_x;
   const T ne11 = com_rocker_x + ne10 - M_x;
-  const T _tmp18 = com_rocker_y_dd + T(9.81);
-  const T ne12 = ne9 - T(2.5)*_tmp18*ne10*p.bar_t*p.bar_w*p.rho*_tmp16;
+  const T _tmp10 = com_rocker_y_dd + T(9.81);
+  const T ne12 = ne9 - T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10*ne10;
   if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T ne13 = M_y/ne2;
+  const T _tmp11 = T(1)/ne2;
+  const T ne13 = M_y*_tmp11;
   const T ne14 = ne11 - ne13*ne5;
   const T ne15 = ne12 - ne13*ne6;
   if (!(ne14 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T M_rocker_coupler_fy = ne15/ne14;
-  const T M_rocker_coupler_fx = -(M_rocker_coupler_fy*ne5 - ne6)/ne2;
-  const T B_ground_rocker_fy = M_rocker_coupler_fy + T(2.5)*_tmp18*p.bar_t*p.bar_w*p.rho*_tmp16;
-  const T B_ground_rocker_fx = M_rocker_coupler_fx + T(2.5)*com_rocker_x_dd*p.bar_t*p.bar_w*p.rho*_tmp16;
-  const T P_crank_coupler_fy = T(5)*_tmp17*p.bar_t*p.bar_w*p.rho*_tmp16 - M_rocker_coupler_fy;
-  const T P_crank_coupler_fx = T(5)*com_coupler_x_dd*p.bar_t*p.bar_w*p.rho*_tmp16 - M_rocker_coupler_fx;
-  const T A_ground_crank_fy = (com_crank_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp16 + P_crank_coupler_fy;
-  const T A_ground_crank_fx = P_crank_coupler_fx + com_crank_x_dd*p.bar_t*p.bar_w*p.rho*_tmp16;
-  const T crank_angle_effort = A_ground_crank_fy*com_crank_x + P_crank_coupler_fy*(P_x - com_crank_x) + in.crank_angle_dd*p.bar_t*p.bar_w*(_tmp15 + _tmp0)*p.rho*_tmp16/T(12) - A_ground_crank_fx*com_crank_y - P_crank_coupler_fx*(P_y - com_crank_y);
+  const T _tmp12 = T(1)/ne14;
+  const T M_rocker_coupler_fy = ne15*_tmp12;
+  const T M_rocker_coupler_fx = -(M_rocker_coupler_fy*ne5 - ne6)*_tmp11;
+  const T B_ground_rocker_fy = M_rocker_coupler_fy + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10;
+  const T B_ground_rocker_fx = M_rocker_coupler_fx + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd;
+  const T P_crank_coupler_fy = T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp9 - M_rocker_coupler_fy;
+  const T P_crank_coupler_fx = T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_coupler_x_dd - M_rocker_coupler_fx;
+  const T A_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp7*(com_crank_y_dd + T(9.81)) + P_crank_coupler_fy;
+  const T A_ground_crank_fx = P_crank_coupler_fx + p.bar_t*p.bar_w*p.rho*_tmp7*com_crank_x_dd;
+  const T crank_angle_effort = A_ground_crank_fy*com_crank_x + P_crank_coupler_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp6 + _tmp0)*p.rho*_tmp7*_tmp8*in.crank_angle_dd - A_ground_crank_fx*com_crank_y - P_crank_coupler_fx*(P_y - com_crank_y);
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -428,6 +542,236 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   return Status::ok;
 }
 
+
+// evaluate_batch's failure[i]: 0 when sample i is ok, else a code that these decode into the
+// status and failed group evaluate() gives.
+template <class T>
+constexpr Status batch_status(T failure) noexcept {
+  return static_cast<Status>(static_cast<long>(failure) % 4096 % 4);
+}
+template <class T>
+constexpr int batch_failed_group(T failure) noexcept {
+  return failure == T(0) ? -1 : static_cast<int>(static_cast<long>(failure) % 4096 / 4 - 1);
+}
+
+// evaluate() for n samples at once, in structure-of-arrays form and without branches, so that the
+// compiler vectorises the loop (with -fno-math-errno, which lets sqrt be an instruction; sin, cos
+// and atan2 are detail:: above). Output column c (column_names[c]) of sample i goes to
+// out[c * stride + i] (stride >= n); failure[i] is 0 or codes the status and group evaluate()
+// returns (batch_status, batch_failed_group). A failed sample's outputs are unspecified (NaN or
+// infinite), not an error. Vectorises with GCC 12 at -O3 with -fno-math-errno -fno-trapping-math
+// (neither changes a result; never -ffast-math); without them it is correct but scalar.
+template <class T>
+void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long n, T* out,
+                    long stride, T* failure) noexcept {
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  using std::max;
+  // Failed checks rank by order: the earliest failing one gives the result (see the emitter).
+  // Local copies: out[] cannot alias them, so their loads leave the loop.
+  [[maybe_unused]] const Params<T> p = params;
+  const T* const batch_t = inputs.t;
+  const T* const batch_crank_angle = inputs.crank_angle;
+  const T* const batch_crank_angle_d = inputs.crank_angle_d;
+  const T* const batch_crank_angle_dd = inputs.crank_angle_dd;
+#if defined(__clang__)
+#pragma clang loop vectorize(enable)
+#elif defined(__GNUC__)
+#pragma GCC ivdep
+#endif
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    in.t = batch_t[i];
+    in.crank_angle = batch_crank_angle[i];
+    in.crank_angle_d = batch_crank_angle_d[i];
+    in.crank_angle_dd = batch_crank_angle_dd[i];
+    // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    // Total ops: 387
+    const T c_crank_rel = cos(in.crank_angle);
+    const T s_crank_rel = sin(in.crank_angle);
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_x = p.l*c_crank_rel;
+    const T P_y = p.l*s_crank_rel;
+    const T B_x = T(2)*p.l;
+    const T g2_coupler_rocker_d_x = B_x - P_x;
+    const T g2_coupler_rocker_d_y = -P_y;
+    const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
+    failed = max(failed, (g2_coupler_rocker_d2 > T(0)) ? T(0) : T(8192010));
+    const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
+    const T _tmp0 = p.l*p.l;
+    const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
+    failed = max(failed, (g2_coupler_rocker_disc > T(0)) ? T(0) : T(8187913));
+    const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
+    const T P_x_d = p.l*c_crank_rel_d;
+    const T g2_coupler_rocker_d_x_d = -P_x_d;
+    const T P_y_d = p.l*s_crank_rel_d;
+    const T g2_coupler_rocker_d_y_d = -P_y_d;
+    const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
+    const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
+    const T g2_coupler_rocker_disc_d = T(6.25)*_tmp0*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
+    const T _tmp1 = T(1)/g2_coupler_rocker_root;
+    const T g2_coupler_rocker_root_d = T(0.5)*g2_coupler_rocker_disc_d*_tmp1;
+    const T _tmp2 = T(1)/g2_coupler_rocker_d2;
+    const T _tmp3 = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp2;
+    const T M_x = _tmp3 + P_x;
+    const T _tmp4 = (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2;
+    const T M_y = P_y - _tmp4;
+    const T _tmp5 = T(1)/p.l;
+    const T c_coupler = -T(0.4)*_tmp5*(M_x - P_x);
+    const T s_coupler = -T(0.4)*_tmp5*(M_y - P_y);
+    const T M_x_q = _tmp3;
+    const T M_x_q_d = -(M_x_q*g2_coupler_rocker_d2_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_d - g2_coupler_rocker_d_x_d*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_root)*_tmp2;
+    const T M_x_d = M_x_q_d + P_x_d;
+    const T c_coupler_d = -T(0.4)*_tmp5*(M_x_d - P_x_d);
+    const T M_y_q = -_tmp4;
+    const T M_y_q_d = -(M_y_q*g2_coupler_rocker_d2_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x_d*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_e)*_tmp2;
+    const T M_y_d = M_y_q_d + P_y_d;
+    const T s_coupler_d = -T(0.4)*_tmp5*(M_y_d - P_y_d);
+    const T w_coupler = c_coupler*s_coupler_d - c_coupler_d*s_coupler;
+    const T x_coupler = P_x - T(5)*p.l*c_coupler;
+    const T y_coupler = P_y - T(5)*p.l*s_coupler;
+    const T c_rocker = T(0.4)*_tmp5*(B_x - M_x);
+    const T s_rocker = -T(0.4)*_tmp5*M_y;
+    const T c_rocker_d = -T(0.4)*_tmp5*M_x_d;
+    const T s_rocker_d = -T(0.4)*_tmp5*M_y_d;
+    const T w_rocker = c_rocker*s_rocker_d - c_rocker_d*s_rocker;
+    const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
+    const T y_rocker = -T(2.5)*p.l*s_rocker;
+    const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+    const T com_crank_y = T(0.5)*p.l*s_crank_rel;
+    const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+    const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+    const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
+    const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
+    const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+    const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
+    const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
+    const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
+    const T P_x_dd = p.l*c_crank_rel_dd;
+    const T g2_coupler_rocker_d_x_dd = -P_x_dd;
+    const T P_y_dd = p.l*s_crank_rel_dd;
+    const T g2_coupler_rocker_d_y_dd = -P_y_dd;
+    const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
+    const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
+    const T g2_coupler_rocker_disc_dd = T(6.25)*_tmp0*g2_coupler_rocker_d2_dd - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
+    const T g2_coupler_rocker_root_dd = -T(0.5)*(T(2)*(g2_coupler_rocker_root_d*g2_coupler_rocker_root_d) - g2_coupler_rocker_disc_dd)*_tmp1;
+    const T M_x_q_dd = -(M_x_q*g2_coupler_rocker_d2_dd + T(2)*M_x_q_d*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e_d - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root)*_tmp2;
+    const T M_x_dd = M_x_q_dd + P_x_dd;
+    const T c_coupler_dd = -T(0.4)*_tmp5*(M_x_dd - P_x_dd);
+    const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+    const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+    const T M_y_q_dd = -(M_y_q*g2_coupler_rocker_d2_dd + T(2)*M_y_q_d*g2_coupler_rocker_d2_d + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_dd + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e)*_tmp2;
+    const T M_y_dd = M_y_q_dd + P_y_dd;
+    const T s_coupler_dd = -T(0.4)*_tmp5*(M_y_dd - P_y_dd);
+    const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+    const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
+    const T w_coupler_d = c_coupler*s_coupler_dd - c_coupler_dd*s_coupler;
+    const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
+    const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
+    const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
+    const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
+    const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
+    const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
+    const T c_rocker_dd = -T(0.4)*_tmp5*M_x_dd;
+    const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+    const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+    const T s_rocker_dd = -T(0.4)*_tmp5*M_y_dd;
+    const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
+    const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
+    const T w_rocker_d = c_rocker*s_rocker_dd - c_rocker_dd*s_rocker;
+    const T ne1 = com_coupler_y - P_y;
+    const T ne2 = com_coupler_y - M_y - ne1;
+    const T _tmp6 = p.bar_w*p.bar_w;
+    const T _tmp7 = sqrt(_tmp0);
+    const T _tmp8 = T(1)/T(12);
+    const T ne3 = T(5)*(T(25)*_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp8*w_coupler_d - T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_coupler_x_dd*ne1;
+    const T ne4 = P_x - com_coupler_x;
+    const T ne5 = M_x - com_coupler_x - ne4;
+    const T _tmp9 = com_coupler_y_dd + T(9.81);
+    const T ne6 = ne3 - T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp9*ne4;
+    const T ne9 = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp7*w_rocker_d - T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd*com_rocker_y;
+    const T ne10 = B_x - com_rocker_x;
+    const T ne11 = com_rocker_x + ne10 - M_x;
+    const T _tmp10 = com_rocker_y_dd + T(9.81);
+    const T ne12 = ne9 - T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10*ne10;
+    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183810));
+    const T _tmp11 = T(1)/ne2;
+    const T ne13 = M_y*_tmp11;
+    const T ne14 = ne11 - ne13*ne5;
+    const T ne15 = ne12 - ne13*ne6;
+    failed = max(failed, (ne14 != T(0)) ? T(0) : T(8179714));
+    const T _tmp12 = T(1)/ne14;
+    const T M_rocker_coupler_fy = ne15*_tmp12;
+    const T M_rocker_coupler_fx = -(M_rocker_coupler_fy*ne5 - ne6)*_tmp11;
+    const T B_ground_rocker_fy = M_rocker_coupler_fy + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp10;
+    const T B_ground_rocker_fx = M_rocker_coupler_fx + T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_rocker_x_dd;
+    const T P_crank_coupler_fy = T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp9 - M_rocker_coupler_fy;
+    const T P_crank_coupler_fx = T(5)*p.bar_t*p.bar_w*p.rho*_tmp7*com_coupler_x_dd - M_rocker_coupler_fx;
+    const T A_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp7*(com_crank_y_dd + T(9.81)) + P_crank_coupler_fy;
+    const T A_ground_crank_fx = P_crank_coupler_fx + p.bar_t*p.bar_w*p.rho*_tmp7*com_crank_x_dd;
+    const T crank_angle_effort = A_ground_crank_fy*com_crank_x + P_crank_coupler_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp6 + _tmp0)*p.rho*_tmp7*_tmp8*in.crank_angle_dd - A_ground_crank_fx*com_crank_y - P_crank_coupler_fx*(P_y - com_crank_y);
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.crank_angle;
+    out[2 * stride + i] = in.crank_angle_d;
+    out[3 * stride + i] = in.crank_angle_dd;
+    out[5 * stride + i] = com_crank_x;
+    out[6 * stride + i] = com_crank_y;
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
+    out[8 * stride + i] = com_crank_x_d;
+    out[9 * stride + i] = com_crank_y_d;
+    out[10 * stride + i] = in.crank_angle_d;
+    out[11 * stride + i] = com_crank_x_dd;
+    out[12 * stride + i] = com_crank_y_dd;
+    out[13 * stride + i] = in.crank_angle_dd;
+    out[14 * stride + i] = com_coupler_x;
+    out[15 * stride + i] = com_coupler_y;
+    out[16 * stride + i] = atan2(s_coupler, c_coupler);
+    out[17 * stride + i] = com_coupler_x_d;
+    out[18 * stride + i] = com_coupler_y_d;
+    out[19 * stride + i] = w_coupler;
+    out[20 * stride + i] = com_coupler_x_dd;
+    out[21 * stride + i] = com_coupler_y_dd;
+    out[22 * stride + i] = w_coupler_d;
+    out[23 * stride + i] = com_rocker_x;
+    out[24 * stride + i] = com_rocker_y;
+    out[25 * stride + i] = atan2(s_rocker, c_rocker);
+    out[26 * stride + i] = com_rocker_x_d;
+    out[27 * stride + i] = com_rocker_y_d;
+    out[28 * stride + i] = w_rocker;
+    out[29 * stride + i] = com_rocker_x_dd;
+    out[30 * stride + i] = com_rocker_y_dd;
+    out[31 * stride + i] = w_rocker_d;
+    out[32 * stride + i] = T(0);
+    out[33 * stride + i] = T(0);
+    out[34 * stride + i] = B_x;
+    out[35 * stride + i] = T(0);
+    out[36 * stride + i] = P_x;
+    out[37 * stride + i] = P_y;
+    out[38 * stride + i] = x_coupler;
+    out[39 * stride + i] = y_coupler;
+    out[40 * stride + i] = M_x;
+    out[41 * stride + i] = M_y;
+    out[42 * stride + i] = A_ground_crank_fx;
+    out[43 * stride + i] = A_ground_crank_fy;
+    out[44 * stride + i] = P_crank_coupler_fx;
+    out[45 * stride + i] = P_crank_coupler_fy;
+    out[46 * stride + i] = M_rocker_coupler_fx;
+    out[47 * stride + i] = M_rocker_coupler_fy;
+    out[48 * stride + i] = B_ground_rocker_fx;
+    out[49 * stride + i] = B_ground_rocker_fy;
+    out[4 * stride + i] = crank_angle_effort;
+    failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
+  }
+}
+
 // The Newton-Euler system itself, A x = b (9 x 9, A row-major): rows are per
 // moving body the force balance in x and y and the moment balance about the centre of mass;
 // unknowns are ne_unknowns[] in order.
@@ -435,15 +779,17 @@ inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy", "crank_angle.effort" };
 template <class T>
 Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 365
+  // Total ops: 285
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.l;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.l*c_crank_rel;
   const T P_y = p.l*s_crank_rel;
   const T B_x = T(2)*p.l;
   const T g2_coupler_rocker_d_x = B_x - P_x;
@@ -452,105 +798,109 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   if (!(g2_coupler_rocker_d2 > T(0))) return Status::singular;
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
-  const T g2_coupler_rocker_disc = T(6.25)*g2_coupler_rocker_d2*_tmp0 - g2_coupler_rocker_e*g2_coupler_rocker_e;
+  const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-  const T P_x_d = -in.crank_angle_d*p.l*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
   const T g2_coupler_rocker_d_x_d = -P_x_d;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.l;
+  const T P_y_d = p.l*s_crank_rel_d;
   const T g2_coupler_rocker_d_y_d = -P_y_d;
   const T g2_coupler_rocker_d2_d = T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_d + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_d;
   const T g2_coupler_rocker_e_d = T(0.5)*g2_coupler_rocker_d2_d;
-  const T g2_coupler_rocker_disc_d = T(6.25)*g2_coupler_rocker_d2_d*_tmp0 - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
-  const T _tmp1 = g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root;
-  const T M_x = _tmp1/g2_coupler_rocker_d2 + P_x;
-  const T _tmp2 = g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e;
-  const T M_y = P_y - _tmp2/g2_coupler_rocker_d2;
-  const T c_coupler = -T(0.4)*(M_x - P_x)/p.l;
-  const T s_coupler = -T(0.4)*(M_y - P_y)/p.l;
-  const T x_coupler = P_x - T(5)*c_coupler*p.l;
+  const T g2_coupler_rocker_disc_d = T(6.25)*_tmp0*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_d;
+  const T _tmp1 = T(1)/g2_coupler_rocker_root;
+  const T g2_coupler_rocker_root_d = T(0.5)*g2_coupler_rocker_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g2_coupler_rocker_d2;
+  const T _tmp3 = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp2;
+  const T M_x = _tmp3 + P_x;
+  const T _tmp4 = (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2;
+  const T M_y = P_y - _tmp4;
+  const T _tmp5 = T(1)/p.l;
+  const T c_coupler = -T(0.4)*_tmp5*(M_x - P_x);
+  const T s_coupler = -T(0.4)*_tmp5*(M_y - P_y);
+  const T M_x_q = _tmp3;
+  const T M_x_q_d = -(M_x_q*g2_coupler_rocker_d2_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_d - g2_coupler_rocker_d_x_d*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_root)*_tmp2;
+  const T M_y_q = -_tmp4;
+  const T M_y_q_d = -(M_y_q*g2_coupler_rocker_d2_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x_d*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y_d*g2_coupler_rocker_e)*_tmp2;
+  const T x_coupler = P_x - T(5)*p.l*c_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T c_rocker = T(0.4)*(B_x - M_x)/p.l;
-  const T s_rocker = -T(0.4)*M_y/p.l;
-  const T x_rocker = B_x - T(2.5)*c_rocker*p.l;
+  const T c_rocker = T(0.4)*_tmp5*(B_x - M_x);
+  const T s_rocker = -T(0.4)*_tmp5*M_y;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.l;
+  const T com_crank_x = T(0.5)*p.l*c_crank_rel;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
-  const T _tmp3 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp3*p.l - T(0.5)*in.crank_angle_dd*p.l*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.l - T(0.5)*_tmp3*p.l*s_crank_rel;
-  const T com_coupler_x = T(2.5)*c_coupler*p.l + x_coupler;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
-  const T P_x_dd = -c_crank_rel*_tmp3*p.l - in.crank_angle_dd*p.l*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
   const T g2_coupler_rocker_d_x_dd = -P_x_dd;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.l - _tmp3*p.l*s_crank_rel;
+  const T P_y_dd = p.l*s_crank_rel_dd;
   const T g2_coupler_rocker_d_y_dd = -P_y_dd;
   const T g2_coupler_rocker_d2_dd = T(2)*(g2_coupler_rocker_d_x_d*g2_coupler_rocker_d_x_d) + T(2)*(g2_coupler_rocker_d_y_d*g2_coupler_rocker_d_y_d) + T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_d_x_dd + T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_d_y_dd;
   const T g2_coupler_rocker_e_dd = T(0.5)*g2_coupler_rocker_d2_dd;
-  const T g2_coupler_rocker_disc_dd = T(6.25)*g2_coupler_rocker_d2_dd*_tmp0 - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
-  const T _tmp4 = g2_coupler_rocker_d2*g2_coupler_rocker_d2;
-  const T _tmp5 = g2_coupler_rocker_d2_d*g2_coupler_rocker_e/_tmp4 - g2_coupler_rocker_e_d/g2_coupler_rocker_d2;
-  const T _tmp6 = g2_coupler_rocker_d2*(g2_coupler_rocker_root*g2_coupler_rocker_root);
-  const T _tmp7 = g2_coupler_rocker_d2*g2_coupler_rocker_root;
-  const T _tmp8 = T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_root/_tmp4 - g2_coupler_rocker_disc_d/_tmp7;
-  const T _tmp9 = _tmp4*g2_coupler_rocker_root;
-  const T _tmp10 = _tmp4*g2_coupler_rocker_d2;
-  const T M_x_dd = P_x_dd + T(0.5)*g2_coupler_rocker_d_y*g2_coupler_rocker_disc_dd/_tmp7 + g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 - g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp5*g2_coupler_rocker_d_x_d - T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp6 - T(2)*g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root - T(0.5)*_tmp8*g2_coupler_rocker_d_y_d - T(0.5)*(T(2)*g2_coupler_rocker_d_x*g2_coupler_rocker_e_d/_tmp4 + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e/_tmp4 + T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_disc_d/_tmp9 - T(4)*g2_coupler_rocker_d2_d*_tmp1/_tmp10)*g2_coupler_rocker_d2_d - g2_coupler_rocker_d2_dd*_tmp1/_tmp4;
-  const T _tmp11 = T(0.4)*M_x_dd/p.l;
-  const T c_coupler_dd = T(0.4)*P_x_dd/p.l - _tmp11;
-  const T x_coupler_dd = P_x_dd - T(5)*c_coupler_dd*p.l;
-  const T com_coupler_x_dd = T(2.5)*c_coupler_dd*p.l + x_coupler_dd;
-  const T M_y_dd = P_y_dd + T(0.25)*(T(2)*g2_coupler_rocker_d2_d*g2_coupler_rocker_d_x/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp6 - T(2)*g2_coupler_rocker_d_x_d/g2_coupler_rocker_d2)*g2_coupler_rocker_disc_d/g2_coupler_rocker_root + T(0.5)*_tmp8*g2_coupler_rocker_d_x_d + T(0.5)*(T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root/_tmp4 + g2_coupler_rocker_d_x*g2_coupler_rocker_disc_d/_tmp9 - T(2)*g2_coupler_rocker_d_y*g2_coupler_rocker_e_d/_tmp4 - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e/_tmp4 - T(4)*g2_coupler_rocker_d2_d*_tmp2/_tmp10)*g2_coupler_rocker_d2_d + g2_coupler_rocker_d2_dd*_tmp2/_tmp4 + g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd/g2_coupler_rocker_d2 + g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e/g2_coupler_rocker_d2 - (g2_coupler_rocker_d2_d*g2_coupler_rocker_d_y/_tmp4 - g2_coupler_rocker_d_y_d/g2_coupler_rocker_d2)*g2_coupler_rocker_e_d - _tmp5*g2_coupler_rocker_d_y_d - T(0.5)*g2_coupler_rocker_d_x*g2_coupler_rocker_disc_dd/_tmp7 - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root/g2_coupler_rocker_d2;
-  const T _tmp12 = T(0.4)*M_y_dd/p.l;
-  const T s_coupler_dd = T(0.4)*P_y_dd/p.l - _tmp12;
+  const T g2_coupler_rocker_disc_dd = T(6.25)*_tmp0*g2_coupler_rocker_d2_dd - T(2)*(g2_coupler_rocker_e_d*g2_coupler_rocker_e_d) - T(2)*g2_coupler_rocker_e*g2_coupler_rocker_e_dd;
+  const T g2_coupler_rocker_root_dd = -T(0.5)*(T(2)*(g2_coupler_rocker_root_d*g2_coupler_rocker_root_d) - g2_coupler_rocker_disc_dd)*_tmp1;
+  const T M_x_q_dd = -(M_x_q*g2_coupler_rocker_d2_dd + T(2)*M_x_q_d*g2_coupler_rocker_d2_d - T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_e_d - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_root_d - g2_coupler_rocker_d_x*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_x_dd*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_root)*_tmp2;
+  const T M_x_dd = M_x_q_dd + P_x_dd;
+  const T c_coupler_dd = -T(0.4)*_tmp5*(M_x_dd - P_x_dd);
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+  const T M_y_q_dd = -(M_y_q*g2_coupler_rocker_d2_dd + T(2)*M_y_q_d*g2_coupler_rocker_d2_d + T(2)*g2_coupler_rocker_d_x_d*g2_coupler_rocker_root_d + g2_coupler_rocker_d_x*g2_coupler_rocker_root_dd + g2_coupler_rocker_d_x_dd*g2_coupler_rocker_root - T(2)*g2_coupler_rocker_d_y_d*g2_coupler_rocker_e_d - g2_coupler_rocker_d_y*g2_coupler_rocker_e_dd - g2_coupler_rocker_d_y_dd*g2_coupler_rocker_e)*_tmp2;
+  const T M_y_dd = M_y_q_dd + P_y_dd;
+  const T s_coupler_dd = -T(0.4)*_tmp5*(M_y_dd - P_y_dd);
   const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   const T w_coupler_d = c_coupler*s_coupler_dd - c_coupler_dd*s_coupler;
-  const T com_rocker_x = T(1.25)*c_rocker*p.l + x_rocker;
+  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
-  const T c_rocker_dd = -_tmp11;
-  const T x_rocker_dd = -T(2.5)*c_rocker_dd*p.l;
-  const T com_rocker_x_dd = T(1.25)*c_rocker_dd*p.l + x_rocker_dd;
-  const T s_rocker_dd = -_tmp12;
+  const T c_rocker_dd = -T(0.4)*_tmp5*M_x_dd;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+  const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+  const T s_rocker_dd = -T(0.4)*_tmp5*M_y_dd;
   const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
   const T w_rocker_d = c_rocker*s_rocker_dd - c_rocker_dd*s_rocker;
   A[0] = T(1);
   A[2] = -T(1);
-  const T _tmp13 = sqrt(_tmp0);
-  b[0] = com_crank_x_dd*p.bar_t*p.bar_w*p.rho*_tmp13;
+  const T _tmp6 = sqrt(_tmp0);
+  b[0] = p.bar_t*p.bar_w*p.rho*_tmp6*com_crank_x_dd;
   A[10] = T(1);
   A[12] = -T(1);
-  b[1] = (com_crank_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp13;
+  b[1] = p.bar_t*p.bar_w*p.rho*_tmp6*(com_crank_y_dd + T(9.81));
   A[18] = com_crank_y;
   A[19] = -com_crank_x;
   A[20] = P_y - com_crank_y;
   A[21] = com_crank_x - P_x;
   A[26] = T(1);
-  const T _tmp14 = p.bar_w*p.bar_w;
-  b[2] = in.crank_angle_dd*p.bar_t*p.bar_w*(_tmp14 + _tmp0)*p.rho*_tmp13/T(12);
+  const T _tmp7 = p.bar_w*p.bar_w;
+  const T _tmp8 = T(1)/T(12);
+  b[2] = p.bar_t*p.bar_w*(_tmp7 + _tmp0)*p.rho*_tmp6*_tmp8*in.crank_angle_dd;
   A[29] = T(1);
   A[31] = T(1);
-  b[3] = T(5)*com_coupler_x_dd*p.bar_t*p.bar_w*p.rho*_tmp13;
+  b[3] = T(5)*p.bar_t*p.bar_w*p.rho*_tmp6*com_coupler_x_dd;
   A[39] = T(1);
   A[41] = T(1);
-  b[4] = T(5)*(com_coupler_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp13;
+  b[4] = T(5)*p.bar_t*p.bar_w*p.rho*_tmp6*(com_coupler_y_dd + T(9.81));
   A[47] = com_coupler_y - P_y;
   A[48] = P_x - com_coupler_x;
   A[49] = com_coupler_y - M_y;
   A[50] = M_x - com_coupler_x;
-  b[5] = T(5)*(T(25)*_tmp0 + _tmp14)*p.bar_t*p.bar_w*p.rho*_tmp13*w_coupler_d/T(12);
+  b[5] = T(5)*(T(25)*_tmp0 + _tmp7)*p.bar_t*p.bar_w*p.rho*_tmp6*_tmp8*w_coupler_d;
   A[58] = -T(1);
   A[60] = T(1);
-  b[6] = T(2.5)*com_rocker_x_dd*p.bar_t*p.bar_w*p.rho*_tmp13;
+  b[6] = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp6*com_rocker_x_dd;
   A[68] = -T(1);
   A[70] = T(1);
-  b[7] = T(2.5)*(com_rocker_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp13;
+  b[7] = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp6*(com_rocker_y_dd + T(9.81));
   A[76] = M_y - com_rocker_y;
   A[77] = com_rocker_x - M_x;
   A[78] = com_rocker_y;
   A[79] = B_x - com_rocker_x;
-  b[8] = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp14)*p.bar_t*p.bar_w*p.rho*_tmp13*w_rocker_d;
+  b[8] = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp7)*p.bar_t*p.bar_w*p.rho*_tmp6*w_rocker_d;
 
   return Status::ok;
 }
@@ -564,6 +914,25 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.crank_angle_d = p.w;
   in.crank_angle_dd = T(0);
 
+}
+
+// The model's driver motion at n times t[0..n) for evaluate_batch: `storage` holds
+// batch_storage_per_sample * n values, which `batch` then points into (and batch.t to t).
+inline constexpr int batch_storage_per_sample = 3;
+template <class T>
+void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]] T* storage,
+                         BatchInputs<T>& batch) noexcept {
+  batch.t = t;
+  batch.crank_angle = storage + 0 * n;
+  batch.crank_angle_d = storage + 1 * n;
+  batch.crank_angle_dd = storage + 2 * n;
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    driver_inputs(p, t[i], in);
+    storage[0 * n + i] = in.crank_angle;
+    storage[1 * n + i] = in.crank_angle_d;
+    storage[2 * n + i] = in.crank_angle_dd;
+  }
 }
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.

@@ -4,7 +4,7 @@
 //
 // Planar leg driven by two linear cylinders (seed 002, sagittal plane only)
 //
-// Plain C++17 with <cmath> only: no heap, no exceptions, the scalar type a template parameter.
+// Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'torso'. Body
 // outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
 // second time derivatives; joint outputs are the force (and moment) of the joint's first body on
@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace mechgen::gen::cylinder_leg {
 
@@ -49,6 +50,19 @@ struct Inputs {
   T t = T(0);
   T l1 = T(0), l1_d = T(0), l1_dd = T(0);  // m
   T l2 = T(0), l2_d = T(0), l2_dd = T(0);  // m
+};
+
+// N samples of driver inputs as structure of arrays (each pointer to n values), for
+// evaluate_batch.
+template <class T>
+struct BatchInputs {
+  const T* t = nullptr;
+  const T* l1 = nullptr;
+  const T* l1_d = nullptr;
+  const T* l1_dd = nullptr;
+  const T* l2 = nullptr;
+  const T* l2_d = nullptr;
+  const T* l2_dd = nullptr;
 };
 
 template <class T>
@@ -123,176 +137,277 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
   return isfinite(in.t) && isfinite(in.l1) && isfinite(in.l1_d) && isfinite(in.l1_dd) && isfinite(in.l2) && isfinite(in.l2_d) && isfinite(in.l2_dd);
 }
 
+namespace detail {
+#if defined(__GNUC__)
+#define MECHGEN_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_INLINE inline
+#endif
+// The kernels' sin, cos and atan2: branch-free straight-line selects that the compiler vectorises
+// in evaluate_batch (glibc declares its vector sin/cos only under -ffast-math, and has no vector
+// atan2 declaration; the kernels never use -ffast-math); the scalar entries use them too, so both
+// agree, and atan2 is several times cheaper than the C library's. Coefficients are Cephes' (S. L. Moshier): atan's rational
+// minimax form and sin/cos's polynomials on [-pi/4, pi/4]; within about 2 ulp of the C library.
+
+// atan2(y, x) in [-pi, pi]: atan of min/max(|x|, |y|) in [0, 1] (reduced to [-0.21, 0.66] by
+// atan(a) = pi/4 + atan((a - 1)/(a + 1))), then mirrored into the octant. Assumption: (x, y) is
+// not (+-0, -0), where it returns +-0 instead of the C library's +-pi.
+template <class T>
+MECHGEN_INLINE T atan2(T y, T x) noexcept {
+  using std::abs;
+  using std::copysign;
+  const T ax = abs(x), ay = abs(y);
+  const bool steep = ay > ax;
+  const T hi = steep ? ay : ax, lo = steep ? ax : ay;
+  const bool reduce = lo > T(0.66) * hi;
+  // Selects pick between values only, never between arithmetic results: the compiler may not
+  // speculate arithmetic out of a branch under -ftrapping-math (the default) and would keep the
+  // branch. So an arithmetic choice is a product with a 0/1 flag (exact: x + 0 * y = x), the flag
+  // itself a select of constants (a bool converted to T would not vectorise with GCC 12).
+  const T reduced = reduce ? T(1) : T(0), steeper = steep ? T(1) : T(0);
+  const T num = lo - reduced * hi, den = hi + reduced * lo;
+  const T a = num / (den + (den == T(0) ? T(1) : T(0)));  // 0 / 1 at the origin
+  const T z = a * a;
+  const T p = (((T(-8.750608600031904122785e-1) * z + T(-1.615753718733365076637e1)) * z +
+                T(-7.500855792314704667340e1)) * z + T(-1.228866684490136173410e2)) * z +
+              T(-6.485021904942025371773e1);
+  const T q = ((((z + T(2.485846490142306297962e1)) * z + T(1.650270098316988542046e2)) * z +
+                T(4.328810604912902668951e2)) * z + T(4.853903996359136964868e2)) * z +
+              T(1.945506571482613964425e2);
+  const T r = a * (z * p / q) + a;
+  const T first = reduced * T(7.853981633974483096157e-1) +
+                  (r + reduced * T(3.061616997868382943065e-17));
+  const T mirror = T(1) - T(2) * steeper;  // -1 when steep
+  const T quadrant = (steeper * T(1.570796326794896619231) + mirror * first) +
+                     steeper * T(6.123233995736765886130e-17);
+  const T left = copysign(T(1), x) < T(0) ? T(1) : T(0);
+  const T angle = (left * T(3.141592653589793238463) + (T(1) - T(2) * left) * quadrant) +
+                  left * T(1.224646799147353177226e-16);
+  return copysign(angle, y);
+}
+
+// sin and cos of x - k pi/2 on [-pi/4, pi/4], k = round(x 2/pi) by the 1.5 * 2^52 trick (no call
+// to nearbyint, which SSE2 cannot vectorise), pi/2 subtracted in three parts (Cody-Waite).
+// Assumption: |x| < 1e8 rad (k pi/2 exact); beyond, accuracy degrades gracefully.
+template <class T>
+MECHGEN_INLINE void sincos(T x, T& sine, T& cosine) noexcept {
+  // 1.5 * 2^(digits - 1) (1.5 * 2^52 for double): adding and subtracting it rounds to an integer.
+  const T round = T(1.5) / std::numeric_limits<T>::epsilon();
+  const T k = (x * T(6.366197723675813430755e-1) + round) - round;
+  const T r = ((x - k * T(1.570796251296997070312)) - k * T(7.549789415861596353350e-8)) -
+              k * T(5.390302858158119290900e-15);
+  const T z = r * r;
+  const T s = r + r * z * (((((T(1.58962301576546568060e-10) * z + T(-2.50507477628578072866e-8)) *
+                                  z + T(2.75573136213857245213e-6)) * z +
+                                 T(-1.98412698295895385996e-4)) * z +
+                                T(8.33333333332211858878e-3)) * z +
+                               T(-1.66666666666666307295e-1));
+  const T c = T(1) - T(0.5) * z +
+              z * z * (((((T(-1.13585365213876817300e-11) * z + T(2.08757008419747316778e-9)) * z +
+                          T(-2.75573141792967388112e-7)) * z + T(2.48015872888517045348e-5)) * z +
+                        T(-1.38888888888730564116e-3)) * z + T(4.16666666666665929218e-2));
+  const T centred = k - T(4) * ((k * T(0.25) + round) - round);  // k mod 4, in -2 .. 2
+  const T quadrant = centred + (centred < T(0) ? T(4) : T(0));  // k mod 4, in 0 .. 3 (atan2)
+  // Bitwise | and & on the comparisons: no short-circuit branches in the loop.
+  const bool odd = (quadrant == T(1)) | (quadrant == T(3));
+  const bool sine_negative = quadrant >= T(2);
+  const bool cosine_negative = (quadrant == T(1)) | (quadrant == T(2));
+  const T sa = odd ? c : s, ca = odd ? s : c;
+  sine = sine_negative ? -sa : sa;  // negation cannot trap
+  cosine = cosine_negative ? -ca : ca;
+}
+template <class T>
+MECHGEN_INLINE T sin(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return s;
+}
+template <class T>
+MECHGEN_INLINE T cos(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return c;
+}
+#undef MECHGEN_INLINE
+}  // namespace detail
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
+  using detail::atan2;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 610
+  // Total ops: 438
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T G_x = -p.gx;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
   if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
-  const T _tmp0 = g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x;
-  const T _tmp1 = p.ty*p.ty;
-  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp1 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*_tmp0;
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp1 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
+  const T _tmp0 = p.ty*p.ty;
+  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T g1_thigh_barrel1_rod1_e_d = -g1_thigh_barrel1_rod1_v_x*in.l1_d;
   const T g1_thigh_barrel1_rod1_disc_d = -T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_d;
-  const T T1_x = G_x*g1_thigh_barrel1_rod1_e/g1_thigh_barrel1_rod1_d2;
-  const T T1_y = G_x*g1_thigh_barrel1_rod1_root/g1_thigh_barrel1_rod1_d2;
-  const T c_thigh = -T1_y/p.ty;
-  const T s_thigh = T1_x/p.ty;
-  const T _tmp2 = g1_thigh_barrel1_rod1_d2*g1_thigh_barrel1_rod1_root;
-  const T T1_y_d = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_d/_tmp2;
-  const T c_thigh_d = -T1_y_d/p.ty;
-  const T T1_x_d = G_x*g1_thigh_barrel1_rod1_e_d/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_d = T1_x_d/p.ty;
+  const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_root;
+  const T g1_thigh_barrel1_rod1_root_d = T(0.5)*g1_thigh_barrel1_rod1_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g1_thigh_barrel1_rod1_d2;
+  const T T1_x = G_x*_tmp2*g1_thigh_barrel1_rod1_e;
+  const T T1_y = G_x*_tmp2*g1_thigh_barrel1_rod1_root;
+  const T _tmp3 = T(1)/p.ty;
+  const T c_thigh = -_tmp3*T1_y;
+  const T s_thigh = _tmp3*T1_x;
+  const T T1_y_d = G_x*_tmp2*g1_thigh_barrel1_rod1_root_d;
+  const T c_thigh_d = -_tmp3*T1_y_d;
+  const T T1_x_d = G_x*_tmp2*g1_thigh_barrel1_rod1_e_d;
+  const T s_thigh_d = _tmp3*T1_x_d;
   const T w_thigh = c_thigh*s_thigh_d - c_thigh_d*s_thigh;
-  const T _tmp3 = G_x - T1_x;
-  const T c_barrel1 = -_tmp3/g1_thigh_barrel1_rod1_v_x;
-  const T s_barrel1 = T1_y/g1_thigh_barrel1_rod1_v_x;
-  const T c_barrel1_d = _tmp3*in.l1_d/_tmp0 + T1_x_d/g1_thigh_barrel1_rod1_v_x;
-  const T s_barrel1_d = T1_y_d/g1_thigh_barrel1_rod1_v_x - T1_y*in.l1_d/_tmp0;
+  const T _tmp4 = T(1)/g1_thigh_barrel1_rod1_v_x;
+  const T c_barrel1 = -(G_x - T1_x)*_tmp4;
+  const T s_barrel1 = T1_y*_tmp4;
+  const T c_barrel1_d = (T1_x_d - c_barrel1*in.l1_d)*_tmp4;
+  const T s_barrel1_d = (T1_y_d - in.l1_d*s_barrel1)*_tmp4;
   const T w_barrel1 = c_barrel1*s_barrel1_d - c_barrel1_d*s_barrel1;
-  const T x_rod1 = T1_x - c_barrel1*p.r1;
+  const T x_rod1 = T1_x - p.r1*c_barrel1;
   const T y_rod1 = T1_y - p.r1*s_barrel1;
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T K_x = p.l_th*s_thigh;
-  const T K_y = -c_thigh*p.l_th;
-  const T F_x = p.fy*s_thigh - c_thigh*p.fx;
-  const T F_y = -c_thigh*p.fy - p.fx*s_thigh;
+  const T K_y = -p.l_th*c_thigh;
+  const T F_x = p.fy*s_thigh - p.fx*c_thigh;
+  const T F_y = -p.fy*c_thigh - p.fx*s_thigh;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
   if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  const T _tmp4 = g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x;
   const T _tmp5 = p.sx*p.sx;
   const T _tmp6 = p.sy*p.sy;
-  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*_tmp4;
+  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp7 = _tmp5 + _tmp6;
-  const T g2_shank_rod2_barrel2_disc = g2_shank_rod2_barrel2_d2*_tmp7 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
+  const T g2_shank_rod2_barrel2_disc = _tmp7*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
   if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
-  const T F_x_d = p.fy*s_thigh_d - c_thigh_d*p.fx;
+  const T F_x_d = p.fy*s_thigh_d - p.fx*c_thigh_d;
   const T K_x_d = p.l_th*s_thigh_d;
   const T g2_shank_rod2_barrel2_d_x_d = F_x_d - K_x_d;
-  const T F_y_d = -c_thigh_d*p.fy - p.fx*s_thigh_d;
-  const T K_y_d = -c_thigh_d*p.l_th;
+  const T F_y_d = -p.fy*c_thigh_d - p.fx*s_thigh_d;
+  const T K_y_d = -p.l_th*c_thigh_d;
   const T g2_shank_rod2_barrel2_d_y_d = F_y_d - K_y_d;
   const T g2_shank_rod2_barrel2_d2_d = T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_d + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_d;
   const T g2_shank_rod2_barrel2_v_x_d = -in.l2_d;
   const T g2_shank_rod2_barrel2_e_d = T(0.5)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_d = g2_shank_rod2_barrel2_d2_d*_tmp7 - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
-  const T _tmp8 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root;
-  const T S_x = _tmp8/g2_shank_rod2_barrel2_d2 + K_x;
-  const T _tmp9 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e;
-  const T S_y = _tmp9/g2_shank_rod2_barrel2_d2 + K_y;
-  const T _tmp10 = K_x - S_x;
-  const T _tmp11 = K_y - S_y;
-  const T c_shank = (_tmp10*p.sx + _tmp11*p.sy)/_tmp7;
-  const T s_shank = -(_tmp10*p.sy - _tmp11*p.sx)/_tmp7;
-  const T _tmp12 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_root;
-  const T _tmp13 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_d2;
-  const T S_x_d = K_x_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp12 - g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_d = K_y_d + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp12 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp13;
-  const T c_shank_d = K_x_d*p.sx/_tmp7 + K_y_d*p.sy/_tmp7 - S_x_d*p.sx/_tmp7 - S_y_d*p.sy/_tmp7;
-  const T s_shank_d = K_y_d*p.sx/_tmp7 + S_x_d*p.sy/_tmp7 - K_x_d*p.sy/_tmp7 - S_y_d*p.sx/_tmp7;
+  const T g2_shank_rod2_barrel2_disc_d = _tmp7*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
+  const T _tmp8 = T(1)/g2_shank_rod2_barrel2_root;
+  const T g2_shank_rod2_barrel2_root_d = T(0.5)*g2_shank_rod2_barrel2_disc_d*_tmp8;
+  const T _tmp9 = T(1)/g2_shank_rod2_barrel2_d2;
+  const T _tmp10 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root)*_tmp9;
+  const T S_x = _tmp10 + K_x;
+  const T _tmp11 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y = _tmp11 + K_y;
+  const T _tmp12 = K_x - S_x;
+  const T _tmp13 = K_y - S_y;
+  const T _tmp14 = T(1)/_tmp7;
+  const T c_shank = _tmp14*(p.sx*_tmp12 + p.sy*_tmp13);
+  const T s_shank = -_tmp14*(p.sy*_tmp12 - p.sx*_tmp13);
+  const T S_x_q = _tmp10;
+  const T S_x_q_d = -(S_x_q*g2_shank_rod2_barrel2_d2_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_d = K_x_d + S_x_q_d;
+  const T S_y_q = _tmp11;
+  const T S_y_q_d = -(S_y_q*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_d = K_y_d + S_y_q_d;
+  const T _tmp15 = K_x_d - S_x_d;
+  const T _tmp16 = K_y_d - S_y_d;
+  const T c_shank_d = _tmp14*(p.sx*_tmp15 + p.sy*_tmp16);
+  const T s_shank_d = -_tmp14*(p.sy*_tmp15 - p.sx*_tmp16);
   const T w_shank = c_shank*s_shank_d - c_shank_d*s_shank;
-  const T _tmp14 = F_x - S_x;
-  const T c_rod2 = -_tmp14/g2_shank_rod2_barrel2_v_x;
-  const T _tmp15 = F_y - S_y;
-  const T s_rod2 = -_tmp15/g2_shank_rod2_barrel2_v_x;
-  const T c_rod2_d = _tmp14*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_x_d/g2_shank_rod2_barrel2_v_x - F_x_d/g2_shank_rod2_barrel2_v_x;
-  const T s_rod2_d = _tmp15*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_y_d/g2_shank_rod2_barrel2_v_x - F_y_d/g2_shank_rod2_barrel2_v_x;
+  const T _tmp17 = T(1)/g2_shank_rod2_barrel2_v_x;
+  const T c_rod2 = -(F_x - S_x)*_tmp17;
+  const T s_rod2 = -(F_y - S_y)*_tmp17;
+  const T c_rod2_d = -(F_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_d - S_x_d)*_tmp17;
+  const T s_rod2_d = -(F_y_d + g2_shank_rod2_barrel2_v_x_d*s_rod2 - S_y_d)*_tmp17;
   const T w_rod2 = c_rod2*s_rod2_d - c_rod2_d*s_rod2;
-  const T x_rod2 = F_x - c_rod2*p.r2;
+  const T x_rod2 = F_x - p.r2*c_rod2;
   const T y_rod2 = F_y - p.r2*s_rod2;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh;
-  const T com_thigh_y = -T(0.5)*c_thigh*p.l_th;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh;
   const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_d;
-  const T com_thigh_y_d = -T(0.5)*c_thigh_d*p.l_th;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_d;
   const T g1_thigh_barrel1_rod1_e_dd = -g1_thigh_barrel1_rod1_v_x*in.l1_dd - in.l1_d*in.l1_d;
-  const T T1_x_dd = G_x*g1_thigh_barrel1_rod1_e_dd/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_dd = T1_x_dd/p.ty;
+  const T T1_x_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_e_dd;
+  const T s_thigh_dd = _tmp3*T1_x_dd;
   const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_dd;
   const T g1_thigh_barrel1_rod1_disc_dd = -T(2)*(g1_thigh_barrel1_rod1_e_d*g1_thigh_barrel1_rod1_e_d) - T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_dd;
-  const T T1_y_dd = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_dd/_tmp2 - T(0.25)*G_x*(g1_thigh_barrel1_rod1_disc_d*g1_thigh_barrel1_rod1_disc_d)/(((g1_thigh_barrel1_rod1_root*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_d2);
-  const T c_thigh_dd = -T1_y_dd/p.ty;
-  const T com_thigh_y_dd = -T(0.5)*c_thigh_dd*p.l_th;
+  const T g1_thigh_barrel1_rod1_root_dd = -T(0.5)*(T(2)*(g1_thigh_barrel1_rod1_root_d*g1_thigh_barrel1_rod1_root_d) - g1_thigh_barrel1_rod1_disc_dd)*_tmp1;
+  const T T1_y_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_root_dd;
+  const T c_thigh_dd = -_tmp3*T1_y_dd;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_dd;
   const T w_thigh_d = c_thigh*s_thigh_dd - c_thigh_dd*s_thigh;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
   const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T com_shank_y_d = K_y_d - T(0.5)*c_shank_d*p.l_sh;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
   const T K_x_dd = p.l_th*s_thigh_dd;
-  const T K_y_dd = -c_thigh_dd*p.l_th;
-  const T F_x_dd = p.fy*s_thigh_dd - c_thigh_dd*p.fx;
+  const T K_y_dd = -p.l_th*c_thigh_dd;
+  const T F_x_dd = p.fy*s_thigh_dd - p.fx*c_thigh_dd;
   const T g2_shank_rod2_barrel2_d_x_dd = F_x_dd - K_x_dd;
-  const T F_y_dd = -c_thigh_dd*p.fy - p.fx*s_thigh_dd;
+  const T F_y_dd = -p.fy*c_thigh_dd - p.fx*s_thigh_dd;
   const T g2_shank_rod2_barrel2_d_y_dd = F_y_dd - K_y_dd;
   const T g2_shank_rod2_barrel2_d2_dd = T(2)*(g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_d_x_d) + T(2)*(g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_d_y_d) + T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_dd + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_dd;
   const T g2_shank_rod2_barrel2_v_x_dd = -in.l2_dd;
   const T g2_shank_rod2_barrel2_e_dd = T(0.5)*g2_shank_rod2_barrel2_d2_dd - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_dd - g2_shank_rod2_barrel2_v_x_d*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_dd = g2_shank_rod2_barrel2_d2_dd*_tmp7 - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
-  const T _tmp16 = g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_e/_tmp13 - g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2;
-  const T _tmp17 = _tmp13*g2_shank_rod2_barrel2_d2;
-  const T _tmp18 = _tmp13*g2_shank_rod2_barrel2_root;
-  const T _tmp19 = g2_shank_rod2_barrel2_d2*(g2_shank_rod2_barrel2_root*g2_shank_rod2_barrel2_root);
-  const T _tmp20 = T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_root/_tmp13 - g2_shank_rod2_barrel2_disc_d/_tmp12;
-  const T S_x_dd = K_x_dd + T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root + T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_y_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 - g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/_tmp13 - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/_tmp13 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp17 - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp18)*g2_shank_rod2_barrel2_d2_d - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_dd/_tmp12 - g2_shank_rod2_barrel2_d2_dd*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_dd = K_y_dd + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_dd/_tmp12 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 - g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_y_d - T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root - T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp18 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp17)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d2_dd*_tmp9/_tmp13;
-  const T s_shank_dd = K_y_dd*p.sx/_tmp7 + S_x_dd*p.sy/_tmp7 - K_x_dd*p.sy/_tmp7 - S_y_dd*p.sx/_tmp7;
+  const T g2_shank_rod2_barrel2_disc_dd = _tmp7*g2_shank_rod2_barrel2_d2_dd - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
+  const T g2_shank_rod2_barrel2_root_dd = -T(0.5)*(T(2)*(g2_shank_rod2_barrel2_root_d*g2_shank_rod2_barrel2_root_d) - g2_shank_rod2_barrel2_disc_dd)*_tmp8;
+  const T S_x_q_dd = -(S_x_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_x_q_d*g2_shank_rod2_barrel2_d2_d + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_dd + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_dd = K_x_dd + S_x_q_dd;
+  const T S_y_q_dd = -(S_y_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_y_q_d*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root_d - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_dd = K_y_dd + S_y_q_dd;
+  const T _tmp18 = K_x_dd - S_x_dd;
+  const T _tmp19 = K_y_dd - S_y_dd;
+  const T s_shank_dd = -_tmp14*(p.sy*_tmp18 - p.sx*_tmp19);
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T c_shank_dd = K_x_dd*p.sx/_tmp7 + K_y_dd*p.sy/_tmp7 - S_x_dd*p.sx/_tmp7 - S_y_dd*p.sy/_tmp7;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T c_shank_dd = _tmp14*(p.sx*_tmp18 + p.sy*_tmp19);
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = c_shank*s_shank_dd - c_shank_dd*s_shank;
   const T com_barrel1_x = G_x + T(0.08)*c_barrel1;
   const T com_barrel1_y = T(0.08)*s_barrel1;
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
   const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
-  const T _tmp21 = _tmp0*g1_thigh_barrel1_rod1_v_x;
-  const T c_barrel1_dd = _tmp3*in.l1_dd/_tmp0 + T1_x_dd/g1_thigh_barrel1_rod1_v_x - (T(2)*_tmp3*in.l1_d/_tmp21 + T1_x_d/_tmp0)*in.l1_d - T1_x_d*in.l1_d/_tmp0;
+  const T c_barrel1_dd = -(T(2)*c_barrel1_d*in.l1_d + c_barrel1*in.l1_dd - T1_x_dd)*_tmp4;
   const T com_barrel1_x_dd = T(0.08)*c_barrel1_dd;
-  const T s_barrel1_dd = (T(2)*T1_y*in.l1_d/_tmp21 - T1_y_d/_tmp0)*in.l1_d + T1_y_dd/g1_thigh_barrel1_rod1_v_x - T1_y*in.l1_dd/_tmp0 - T1_y_d*in.l1_d/_tmp0;
+  const T s_barrel1_dd = -(T(2)*in.l1_d*s_barrel1_d + in.l1_dd*s_barrel1 - T1_y_dd)*_tmp4;
   const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
   const T w_barrel1_d = c_barrel1*s_barrel1_dd - c_barrel1_dd*s_barrel1;
-  const T com_rod1_x = T(0.5)*c_barrel1*p.r1 + x_rod1;
+  const T com_rod1_x = T(0.5)*p.r1*c_barrel1 + x_rod1;
   const T com_rod1_y = T(0.5)*p.r1*s_barrel1 + y_rod1;
-  const T x_rod1_d = T1_x_d - c_barrel1_d*p.r1;
-  const T com_rod1_x_d = T(0.5)*c_barrel1_d*p.r1 + x_rod1_d;
+  const T x_rod1_d = T1_x_d - p.r1*c_barrel1_d;
+  const T com_rod1_x_d = T(0.5)*p.r1*c_barrel1_d + x_rod1_d;
   const T y_rod1_d = T1_y_d - p.r1*s_barrel1_d;
   const T com_rod1_y_d = T(0.5)*p.r1*s_barrel1_d + y_rod1_d;
-  const T x_rod1_dd = T1_x_dd - c_barrel1_dd*p.r1;
-  const T com_rod1_x_dd = T(0.5)*c_barrel1_dd*p.r1 + x_rod1_dd;
+  const T x_rod1_dd = T1_x_dd - p.r1*c_barrel1_dd;
+  const T com_rod1_x_dd = T(0.5)*p.r1*c_barrel1_dd + x_rod1_dd;
   const T y_rod1_dd = T1_y_dd - p.r1*s_barrel1_dd;
   const T com_rod1_y_dd = T(0.5)*p.r1*s_barrel1_dd + y_rod1_dd;
   const T com_barrel2_x = S_x + T(0.08)*c_rod2;
   const T com_barrel2_y = S_y + T(0.08)*s_rod2;
   const T com_barrel2_x_d = S_x_d + T(0.08)*c_rod2_d;
   const T com_barrel2_y_d = S_y_d + T(0.08)*s_rod2_d;
-  const T _tmp22 = _tmp4*g2_shank_rod2_barrel2_v_x;
-  const T c_rod2_dd = _tmp14*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_x_d/_tmp4 - S_x_d/_tmp4 - T(2)*_tmp14*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_x_dd/g2_shank_rod2_barrel2_v_x - F_x_dd/g2_shank_rod2_barrel2_v_x - S_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T c_rod2_dd = -(F_x_dd + T(2)*c_rod2_d*g2_shank_rod2_barrel2_v_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_dd - S_x_dd)*_tmp17;
   const T com_barrel2_x_dd = S_x_dd + T(0.08)*c_rod2_dd;
-  const T s_rod2_dd = _tmp15*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_y_d/_tmp4 - S_y_d/_tmp4 - T(2)*_tmp15*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_y_dd/g2_shank_rod2_barrel2_v_x - F_y_dd/g2_shank_rod2_barrel2_v_x - S_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T s_rod2_dd = -(F_y_dd + T(2)*g2_shank_rod2_barrel2_v_x_d*s_rod2_d + g2_shank_rod2_barrel2_v_x_dd*s_rod2 - S_y_dd)*_tmp17;
   const T com_barrel2_y_dd = S_y_dd + T(0.08)*s_rod2_dd;
   const T w_rod2_d = c_rod2*s_rod2_dd - c_rod2_dd*s_rod2;
-  const T com_rod2_x = T(0.5)*c_rod2*p.r2 + x_rod2;
+  const T com_rod2_x = T(0.5)*p.r2*c_rod2 + x_rod2;
   const T com_rod2_y = T(0.5)*p.r2*s_rod2 + y_rod2;
-  const T x_rod2_d = F_x_d - c_rod2_d*p.r2;
-  const T com_rod2_x_d = T(0.5)*c_rod2_d*p.r2 + x_rod2_d;
+  const T x_rod2_d = F_x_d - p.r2*c_rod2_d;
+  const T com_rod2_x_d = T(0.5)*p.r2*c_rod2_d + x_rod2_d;
   const T y_rod2_d = F_y_d - p.r2*s_rod2_d;
   const T com_rod2_y_d = T(0.5)*p.r2*s_rod2_d + y_rod2_d;
-  const T x_rod2_dd = F_x_dd - c_rod2_dd*p.r2;
-  const T com_rod2_x_dd = T(0.5)*c_rod2_dd*p.r2 + x_rod2_dd;
+  const T x_rod2_dd = F_x_dd - p.r2*c_rod2_dd;
+  const T com_rod2_x_dd = T(0.5)*p.r2*c_rod2_dd + x_rod2_dd;
   const T y_rod2_dd = F_y_dd - p.r2*s_rod2_dd;
   const T com_rod2_y_dd = T(0.5)*p.r2*s_rod2_dd + y_rod2_dd;
   const T D_x = K_x + p.l_sh*s_shank;
-  const T D_y = K_y - c_shank*p.l_sh;
+  const T D_y = K_y - p.l_sh*c_shank;
   s.drivers.l1.q = in.l1;
   s.drivers.l1.qd = in.l1_d;
   s.drivers.l1.qdd = in.l1_dd;
@@ -319,8 +434,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.shank.al = w_shank_d;
   s.bodies.barrel1.x = com_barrel1_x;
   s.bodies.barrel1.y = com_barrel1_y;
-  const T _tmp23 = atan2(s_barrel1, c_barrel1);
-  s.bodies.barrel1.th = _tmp23;
+  const T _tmp20 = atan2(s_barrel1, c_barrel1);
+  s.bodies.barrel1.th = _tmp20;
   s.bodies.barrel1.vx = com_barrel1_x_d;
   s.bodies.barrel1.vy = com_barrel1_y_d;
   s.bodies.barrel1.w = w_barrel1;
@@ -329,7 +444,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.barrel1.al = w_barrel1_d;
   s.bodies.rod1.x = com_rod1_x;
   s.bodies.rod1.y = com_rod1_y;
-  s.bodies.rod1.th = _tmp23;
+  s.bodies.rod1.th = _tmp20;
   s.bodies.rod1.vx = com_rod1_x_d;
   s.bodies.rod1.vy = com_rod1_y_d;
   s.bodies.rod1.w = w_barrel1;
@@ -338,8 +453,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rod1.al = w_barrel1_d;
   s.bodies.barrel2.x = com_barrel2_x;
   s.bodies.barrel2.y = com_barrel2_y;
-  const T _tmp24 = atan2(s_rod2, c_rod2);
-  s.bodies.barrel2.th = _tmp24;
+  const T _tmp21 = atan2(s_rod2, c_rod2);
+  s.bodies.barrel2.th = _tmp21;
   s.bodies.barrel2.vx = com_barrel2_x_d;
   s.bodies.barrel2.vy = com_barrel2_y_d;
   s.bodies.barrel2.w = w_rod2;
@@ -348,7 +463,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.barrel2.al = w_rod2_d;
   s.bodies.rod2.x = com_rod2_x;
   s.bodies.rod2.y = com_rod2_y;
-  s.bodies.rod2.th = _tmp24;
+  s.bodies.rod2.th = _tmp21;
   s.bodies.rod2.vx = com_rod2_x_d;
   s.bodies.rod2.vy = com_rod2_y_d;
   s.bodies.rod2.w = w_rod2;
@@ -380,291 +495,303 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
+  using detail::atan2;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 869
+  // Total ops: 701
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T G_x = -p.gx;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
   if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
-  const T _tmp0 = g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x;
-  const T _tmp1 = p.ty*p.ty;
-  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp1 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*_tmp0;
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp1 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
+  const T _tmp0 = p.ty*p.ty;
+  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T g1_thigh_barrel1_rod1_e_d = -g1_thigh_barrel1_rod1_v_x*in.l1_d;
   const T g1_thigh_barrel1_rod1_disc_d = -T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_d;
-  const T T1_x = G_x*g1_thigh_barrel1_rod1_e/g1_thigh_barrel1_rod1_d2;
-  const T T1_y = G_x*g1_thigh_barrel1_rod1_root/g1_thigh_barrel1_rod1_d2;
-  const T c_thigh = -T1_y/p.ty;
-  const T s_thigh = T1_x/p.ty;
-  const T _tmp2 = g1_thigh_barrel1_rod1_d2*g1_thigh_barrel1_rod1_root;
-  const T T1_y_d = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_d/_tmp2;
-  const T c_thigh_d = -T1_y_d/p.ty;
-  const T T1_x_d = G_x*g1_thigh_barrel1_rod1_e_d/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_d = T1_x_d/p.ty;
+  const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_root;
+  const T g1_thigh_barrel1_rod1_root_d = T(0.5)*g1_thigh_barrel1_rod1_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g1_thigh_barrel1_rod1_d2;
+  const T T1_x = G_x*_tmp2*g1_thigh_barrel1_rod1_e;
+  const T T1_y = G_x*_tmp2*g1_thigh_barrel1_rod1_root;
+  const T _tmp3 = T(1)/p.ty;
+  const T c_thigh = -_tmp3*T1_y;
+  const T s_thigh = _tmp3*T1_x;
+  const T T1_y_d = G_x*_tmp2*g1_thigh_barrel1_rod1_root_d;
+  const T c_thigh_d = -_tmp3*T1_y_d;
+  const T T1_x_d = G_x*_tmp2*g1_thigh_barrel1_rod1_e_d;
+  const T s_thigh_d = _tmp3*T1_x_d;
   const T w_thigh = c_thigh*s_thigh_d - c_thigh_d*s_thigh;
-  const T _tmp3 = G_x - T1_x;
-  const T c_barrel1 = -_tmp3/g1_thigh_barrel1_rod1_v_x;
-  const T s_barrel1 = T1_y/g1_thigh_barrel1_rod1_v_x;
-  const T c_barrel1_d = _tmp3*in.l1_d/_tmp0 + T1_x_d/g1_thigh_barrel1_rod1_v_x;
-  const T s_barrel1_d = T1_y_d/g1_thigh_barrel1_rod1_v_x - T1_y*in.l1_d/_tmp0;
+  const T _tmp4 = T(1)/g1_thigh_barrel1_rod1_v_x;
+  const T c_barrel1 = -(G_x - T1_x)*_tmp4;
+  const T s_barrel1 = T1_y*_tmp4;
+  const T c_barrel1_d = (T1_x_d - c_barrel1*in.l1_d)*_tmp4;
+  const T s_barrel1_d = (T1_y_d - in.l1_d*s_barrel1)*_tmp4;
   const T w_barrel1 = c_barrel1*s_barrel1_d - c_barrel1_d*s_barrel1;
-  const T x_rod1 = T1_x - c_barrel1*p.r1;
+  const T x_rod1 = T1_x - p.r1*c_barrel1;
   const T y_rod1 = T1_y - p.r1*s_barrel1;
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T K_x = p.l_th*s_thigh;
-  const T K_y = -c_thigh*p.l_th;
-  const T F_x = p.fy*s_thigh - c_thigh*p.fx;
-  const T F_y = -c_thigh*p.fy - p.fx*s_thigh;
+  const T K_y = -p.l_th*c_thigh;
+  const T F_x = p.fy*s_thigh - p.fx*c_thigh;
+  const T F_y = -p.fy*c_thigh - p.fx*s_thigh;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
   if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  const T _tmp4 = g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x;
   const T _tmp5 = p.sx*p.sx;
   const T _tmp6 = p.sy*p.sy;
-  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*_tmp4;
+  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp7 = _tmp5 + _tmp6;
-  const T g2_shank_rod2_barrel2_disc = g2_shank_rod2_barrel2_d2*_tmp7 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
+  const T g2_shank_rod2_barrel2_disc = _tmp7*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
   if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
-  const T F_x_d = p.fy*s_thigh_d - c_thigh_d*p.fx;
+  const T F_x_d = p.fy*s_thigh_d - p.fx*c_thigh_d;
   const T K_x_d = p.l_th*s_thigh_d;
   const T g2_shank_rod2_barrel2_d_x_d = F_x_d - K_x_d;
-  const T F_y_d = -c_thigh_d*p.fy - p.fx*s_thigh_d;
-  const T K_y_d = -c_thigh_d*p.l_th;
+  const T F_y_d = -p.fy*c_thigh_d - p.fx*s_thigh_d;
+  const T K_y_d = -p.l_th*c_thigh_d;
   const T g2_shank_rod2_barrel2_d_y_d = F_y_d - K_y_d;
   const T g2_shank_rod2_barrel2_d2_d = T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_d + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_d;
   const T g2_shank_rod2_barrel2_v_x_d = -in.l2_d;
   const T g2_shank_rod2_barrel2_e_d = T(0.5)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_d = g2_shank_rod2_barrel2_d2_d*_tmp7 - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
-  const T _tmp8 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root;
-  const T S_x = _tmp8/g2_shank_rod2_barrel2_d2 + K_x;
-  const T _tmp9 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e;
-  const T S_y = _tmp9/g2_shank_rod2_barrel2_d2 + K_y;
-  const T _tmp10 = K_x - S_x;
-  const T _tmp11 = K_y - S_y;
-  const T c_shank = (_tmp10*p.sx + _tmp11*p.sy)/_tmp7;
-  const T s_shank = -(_tmp10*p.sy - _tmp11*p.sx)/_tmp7;
-  const T _tmp12 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_root;
-  const T _tmp13 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_d2;
-  const T S_x_d = K_x_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp12 - g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_d = K_y_d + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp12 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp13;
-  const T c_shank_d = K_x_d*p.sx/_tmp7 + K_y_d*p.sy/_tmp7 - S_x_d*p.sx/_tmp7 - S_y_d*p.sy/_tmp7;
-  const T s_shank_d = K_y_d*p.sx/_tmp7 + S_x_d*p.sy/_tmp7 - K_x_d*p.sy/_tmp7 - S_y_d*p.sx/_tmp7;
+  const T g2_shank_rod2_barrel2_disc_d = _tmp7*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
+  const T _tmp8 = T(1)/g2_shank_rod2_barrel2_root;
+  const T g2_shank_rod2_barrel2_root_d = T(0.5)*g2_shank_rod2_barrel2_disc_d*_tmp8;
+  const T _tmp9 = T(1)/g2_shank_rod2_barrel2_d2;
+  const T _tmp10 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root)*_tmp9;
+  const T S_x = _tmp10 + K_x;
+  const T _tmp11 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y = _tmp11 + K_y;
+  const T _tmp12 = K_x - S_x;
+  const T _tmp13 = K_y - S_y;
+  const T _tmp14 = T(1)/_tmp7;
+  const T c_shank = _tmp14*(p.sx*_tmp12 + p.sy*_tmp13);
+  const T s_shank = -_tmp14*(p.sy*_tmp12 - p.sx*_tmp13);
+  const T S_x_q = _tmp10;
+  const T S_x_q_d = -(S_x_q*g2_shank_rod2_barrel2_d2_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_d = K_x_d + S_x_q_d;
+  const T S_y_q = _tmp11;
+  const T S_y_q_d = -(S_y_q*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_d = K_y_d + S_y_q_d;
+  const T _tmp15 = K_x_d - S_x_d;
+  const T _tmp16 = K_y_d - S_y_d;
+  const T c_shank_d = _tmp14*(p.sx*_tmp15 + p.sy*_tmp16);
+  const T s_shank_d = -_tmp14*(p.sy*_tmp15 - p.sx*_tmp16);
   const T w_shank = c_shank*s_shank_d - c_shank_d*s_shank;
-  const T _tmp14 = F_x - S_x;
-  const T c_rod2 = -_tmp14/g2_shank_rod2_barrel2_v_x;
-  const T _tmp15 = F_y - S_y;
-  const T s_rod2 = -_tmp15/g2_shank_rod2_barrel2_v_x;
-  const T c_rod2_d = _tmp14*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_x_d/g2_shank_rod2_barrel2_v_x - F_x_d/g2_shank_rod2_barrel2_v_x;
-  const T s_rod2_d = _tmp15*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_y_d/g2_shank_rod2_barrel2_v_x - F_y_d/g2_shank_rod2_barrel2_v_x;
+  const T _tmp17 = T(1)/g2_shank_rod2_barrel2_v_x;
+  const T c_rod2 = -(F_x - S_x)*_tmp17;
+  const T s_rod2 = -(F_y - S_y)*_tmp17;
+  const T c_rod2_d = -(F_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_d - S_x_d)*_tmp17;
+  const T s_rod2_d = -(F_y_d + g2_shank_rod2_barrel2_v_x_d*s_rod2 - S_y_d)*_tmp17;
   const T w_rod2 = c_rod2*s_rod2_d - c_rod2_d*s_rod2;
-  const T x_rod2 = F_x - c_rod2*p.r2;
+  const T x_rod2 = F_x - p.r2*c_rod2;
   const T y_rod2 = F_y - p.r2*s_rod2;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh;
-  const T com_thigh_y = -T(0.5)*c_thigh*p.l_th;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh;
   const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_d;
-  const T com_thigh_y_d = -T(0.5)*c_thigh_d*p.l_th;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_d;
   const T g1_thigh_barrel1_rod1_e_dd = -g1_thigh_barrel1_rod1_v_x*in.l1_dd - in.l1_d*in.l1_d;
-  const T T1_x_dd = G_x*g1_thigh_barrel1_rod1_e_dd/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_dd = T1_x_dd/p.ty;
+  const T T1_x_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_e_dd;
+  const T s_thigh_dd = _tmp3*T1_x_dd;
   const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_dd;
   const T g1_thigh_barrel1_rod1_disc_dd = -T(2)*(g1_thigh_barrel1_rod1_e_d*g1_thigh_barrel1_rod1_e_d) - T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_dd;
-  const T T1_y_dd = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_dd/_tmp2 - T(0.25)*G_x*(g1_thigh_barrel1_rod1_disc_d*g1_thigh_barrel1_rod1_disc_d)/(((g1_thigh_barrel1_rod1_root*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_d2);
-  const T c_thigh_dd = -T1_y_dd/p.ty;
-  const T com_thigh_y_dd = -T(0.5)*c_thigh_dd*p.l_th;
+  const T g1_thigh_barrel1_rod1_root_dd = -T(0.5)*(T(2)*(g1_thigh_barrel1_rod1_root_d*g1_thigh_barrel1_rod1_root_d) - g1_thigh_barrel1_rod1_disc_dd)*_tmp1;
+  const T T1_y_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_root_dd;
+  const T c_thigh_dd = -_tmp3*T1_y_dd;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_dd;
   const T w_thigh_d = c_thigh*s_thigh_dd - c_thigh_dd*s_thigh;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
   const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T com_shank_y_d = K_y_d - T(0.5)*c_shank_d*p.l_sh;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
   const T K_x_dd = p.l_th*s_thigh_dd;
-  const T K_y_dd = -c_thigh_dd*p.l_th;
-  const T F_x_dd = p.fy*s_thigh_dd - c_thigh_dd*p.fx;
+  const T K_y_dd = -p.l_th*c_thigh_dd;
+  const T F_x_dd = p.fy*s_thigh_dd - p.fx*c_thigh_dd;
   const T g2_shank_rod2_barrel2_d_x_dd = F_x_dd - K_x_dd;
-  const T F_y_dd = -c_thigh_dd*p.fy - p.fx*s_thigh_dd;
+  const T F_y_dd = -p.fy*c_thigh_dd - p.fx*s_thigh_dd;
   const T g2_shank_rod2_barrel2_d_y_dd = F_y_dd - K_y_dd;
   const T g2_shank_rod2_barrel2_d2_dd = T(2)*(g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_d_x_d) + T(2)*(g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_d_y_d) + T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_dd + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_dd;
   const T g2_shank_rod2_barrel2_v_x_dd = -in.l2_dd;
   const T g2_shank_rod2_barrel2_e_dd = T(0.5)*g2_shank_rod2_barrel2_d2_dd - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_dd - g2_shank_rod2_barrel2_v_x_d*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_dd = g2_shank_rod2_barrel2_d2_dd*_tmp7 - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
-  const T _tmp16 = g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_e/_tmp13 - g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2;
-  const T _tmp17 = _tmp13*g2_shank_rod2_barrel2_d2;
-  const T _tmp18 = _tmp13*g2_shank_rod2_barrel2_root;
-  const T _tmp19 = g2_shank_rod2_barrel2_d2*(g2_shank_rod2_barrel2_root*g2_shank_rod2_barrel2_root);
-  const T _tmp20 = T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_root/_tmp13 - g2_shank_rod2_barrel2_disc_d/_tmp12;
-  const T S_x_dd = K_x_dd + T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root + T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_y_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 - g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/_tmp13 - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/_tmp13 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp17 - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp18)*g2_shank_rod2_barrel2_d2_d - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_dd/_tmp12 - g2_shank_rod2_barrel2_d2_dd*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_dd = K_y_dd + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_dd/_tmp12 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 - g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_y_d - T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root - T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp18 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp17)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d2_dd*_tmp9/_tmp13;
-  const T s_shank_dd = K_y_dd*p.sx/_tmp7 + S_x_dd*p.sy/_tmp7 - K_x_dd*p.sy/_tmp7 - S_y_dd*p.sx/_tmp7;
+  const T g2_shank_rod2_barrel2_disc_dd = _tmp7*g2_shank_rod2_barrel2_d2_dd - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
+  const T g2_shank_rod2_barrel2_root_dd = -T(0.5)*(T(2)*(g2_shank_rod2_barrel2_root_d*g2_shank_rod2_barrel2_root_d) - g2_shank_rod2_barrel2_disc_dd)*_tmp8;
+  const T S_x_q_dd = -(S_x_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_x_q_d*g2_shank_rod2_barrel2_d2_d + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_dd + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_dd = K_x_dd + S_x_q_dd;
+  const T S_y_q_dd = -(S_y_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_y_q_d*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root_d - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_dd = K_y_dd + S_y_q_dd;
+  const T _tmp18 = K_x_dd - S_x_dd;
+  const T _tmp19 = K_y_dd - S_y_dd;
+  const T s_shank_dd = -_tmp14*(p.sy*_tmp18 - p.sx*_tmp19);
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T c_shank_dd = K_x_dd*p.sx/_tmp7 + K_y_dd*p.sy/_tmp7 - S_x_dd*p.sx/_tmp7 - S_y_dd*p.sy/_tmp7;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T c_shank_dd = _tmp14*(p.sx*_tmp18 + p.sy*_tmp19);
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = c_shank*s_shank_dd - c_shank_dd*s_shank;
   const T com_barrel1_x = G_x + T(0.08)*c_barrel1;
   const T com_barrel1_y = T(0.08)*s_barrel1;
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
   const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
-  const T _tmp21 = _tmp0*g1_thigh_barrel1_rod1_v_x;
-  const T c_barrel1_dd = _tmp3*in.l1_dd/_tmp0 + T1_x_dd/g1_thigh_barrel1_rod1_v_x - (T(2)*_tmp3*in.l1_d/_tmp21 + T1_x_d/_tmp0)*in.l1_d - T1_x_d*in.l1_d/_tmp0;
+  const T c_barrel1_dd = -(T(2)*c_barrel1_d*in.l1_d + c_barrel1*in.l1_dd - T1_x_dd)*_tmp4;
   const T com_barrel1_x_dd = T(0.08)*c_barrel1_dd;
-  const T s_barrel1_dd = (T(2)*T1_y*in.l1_d/_tmp21 - T1_y_d/_tmp0)*in.l1_d + T1_y_dd/g1_thigh_barrel1_rod1_v_x - T1_y*in.l1_dd/_tmp0 - T1_y_d*in.l1_d/_tmp0;
+  const T s_barrel1_dd = -(T(2)*in.l1_d*s_barrel1_d + in.l1_dd*s_barrel1 - T1_y_dd)*_tmp4;
   const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
   const T w_barrel1_d = c_barrel1*s_barrel1_dd - c_barrel1_dd*s_barrel1;
-  const T com_rod1_x = T(0.5)*c_barrel1*p.r1 + x_rod1;
+  const T com_rod1_x = T(0.5)*p.r1*c_barrel1 + x_rod1;
   const T com_rod1_y = T(0.5)*p.r1*s_barrel1 + y_rod1;
-  const T x_rod1_d = T1_x_d - c_barrel1_d*p.r1;
-  const T com_rod1_x_d = T(0.5)*c_barrel1_d*p.r1 + x_rod1_d;
+  const T x_rod1_d = T1_x_d - p.r1*c_barrel1_d;
+  const T com_rod1_x_d = T(0.5)*p.r1*c_barrel1_d + x_rod1_d;
   const T y_rod1_d = T1_y_d - p.r1*s_barrel1_d;
   const T com_rod1_y_d = T(0.5)*p.r1*s_barrel1_d + y_rod1_d;
-  const T x_rod1_dd = T1_x_dd - c_barrel1_dd*p.r1;
-  const T com_rod1_x_dd = T(0.5)*c_barrel1_dd*p.r1 + x_rod1_dd;
+  const T x_rod1_dd = T1_x_dd - p.r1*c_barrel1_dd;
+  const T com_rod1_x_dd = T(0.5)*p.r1*c_barrel1_dd + x_rod1_dd;
   const T y_rod1_dd = T1_y_dd - p.r1*s_barrel1_dd;
   const T com_rod1_y_dd = T(0.5)*p.r1*s_barrel1_dd + y_rod1_dd;
   const T com_barrel2_x = S_x + T(0.08)*c_rod2;
   const T com_barrel2_y = S_y + T(0.08)*s_rod2;
   const T com_barrel2_x_d = S_x_d + T(0.08)*c_rod2_d;
   const T com_barrel2_y_d = S_y_d + T(0.08)*s_rod2_d;
-  const T _tmp22 = _tmp4*g2_shank_rod2_barrel2_v_x;
-  const T c_rod2_dd = _tmp14*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_x_d/_tmp4 - S_x_d/_tmp4 - T(2)*_tmp14*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_x_dd/g2_shank_rod2_barrel2_v_x - F_x_dd/g2_shank_rod2_barrel2_v_x - S_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T c_rod2_dd = -(F_x_dd + T(2)*c_rod2_d*g2_shank_rod2_barrel2_v_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_dd - S_x_dd)*_tmp17;
   const T com_barrel2_x_dd = S_x_dd + T(0.08)*c_rod2_dd;
-  const T s_rod2_dd = _tmp15*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_y_d/_tmp4 - S_y_d/_tmp4 - T(2)*_tmp15*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_y_dd/g2_shank_rod2_barrel2_v_x - F_y_dd/g2_shank_rod2_barrel2_v_x - S_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T s_rod2_dd = -(F_y_dd + T(2)*g2_shank_rod2_barrel2_v_x_d*s_rod2_d + g2_shank_rod2_barrel2_v_x_dd*s_rod2 - S_y_dd)*_tmp17;
   const T com_barrel2_y_dd = S_y_dd + T(0.08)*s_rod2_dd;
   const T w_rod2_d = c_rod2*s_rod2_dd - c_rod2_dd*s_rod2;
-  const T com_rod2_x = T(0.5)*c_rod2*p.r2 + x_rod2;
+  const T com_rod2_x = T(0.5)*p.r2*c_rod2 + x_rod2;
   const T com_rod2_y = T(0.5)*p.r2*s_rod2 + y_rod2;
-  const T x_rod2_d = F_x_d - c_rod2_d*p.r2;
-  const T com_rod2_x_d = T(0.5)*c_rod2_d*p.r2 + x_rod2_d;
+  const T x_rod2_d = F_x_d - p.r2*c_rod2_d;
+  const T com_rod2_x_d = T(0.5)*p.r2*c_rod2_d + x_rod2_d;
   const T y_rod2_d = F_y_d - p.r2*s_rod2_d;
   const T com_rod2_y_d = T(0.5)*p.r2*s_rod2_d + y_rod2_d;
-  const T x_rod2_dd = F_x_dd - c_rod2_dd*p.r2;
-  const T com_rod2_x_dd = T(0.5)*c_rod2_dd*p.r2 + x_rod2_dd;
+  const T x_rod2_dd = F_x_dd - p.r2*c_rod2_dd;
+  const T com_rod2_x_dd = T(0.5)*p.r2*c_rod2_dd + x_rod2_dd;
   const T y_rod2_dd = F_y_dd - p.r2*s_rod2_dd;
   const T com_rod2_y_dd = T(0.5)*p.r2*s_rod2_dd + y_rod2_dd;
   const T D_x = K_x + p.l_sh*s_shank;
-  const T D_y = K_y - c_shank*p.l_sh;
+  const T D_y = K_y - p.l_sh*c_shank;
   const T stroke1_normal_x = -s_barrel1;
   const T stroke2_normal_x = -s_rod2;
-  const T _tmp23 = com_barrel1_y - y_rod1;
-  const T _tmp24 = com_barrel1_x - x_rod1;
-  const T ne2 = c_barrel1*_tmp24 + com_barrel1_y*stroke1_normal_x - _tmp23*stroke1_normal_x;
-  const T ne3 = _tmp24*s_barrel1 + c_barrel1*com_barrel1_y - c_barrel1*_tmp23;
-  const T ne4 = T(0.0021333333333333334)*p.m_b*w_barrel1_d - com_barrel1_x_dd*com_barrel1_y*p.m_b;
+  const T _tmp20 = com_barrel1_y - y_rod1;
+  const T _tmp21 = com_barrel1_x - x_rod1;
+  const T ne2 = c_barrel1*_tmp21 + com_barrel1_y*stroke1_normal_x - _tmp20*stroke1_normal_x;
+  const T ne3 = _tmp21*s_barrel1 + c_barrel1*com_barrel1_y - c_barrel1*_tmp20;
+  const T ne4 = T(0.0021333333333333334)*p.m_b*w_barrel1_d - p.m_b*com_barrel1_x_dd*com_barrel1_y;
   const T ne5 = G_x - com_barrel1_x;
   const T ne6 = c_barrel1*ne5 + ne2;
   const T ne7 = ne3 + ne5*s_barrel1;
-  const T _tmp25 = com_barrel1_y_dd + T(9.81);
-  const T ne8 = ne4 - _tmp25*ne5*p.m_b;
-  const T _tmp26 = com_rod1_y - y_rod1;
-  const T _tmp27 = com_rod1_x - x_rod1;
-  const T ne10 = _tmp26*stroke1_normal_x + ne6 - c_barrel1*_tmp27;
-  const T ne11 = c_barrel1*_tmp26 + ne7 - _tmp27*s_barrel1;
-  const T ne12 = ne8 + p.m_r*(p.r1*p.r1)*w_barrel1_d/T(12);
+  const T _tmp22 = com_barrel1_y_dd + T(9.81);
+  const T ne8 = ne4 - p.m_b*_tmp22*ne5;
+  const T _tmp23 = com_rod1_y - y_rod1;
+  const T _tmp24 = com_rod1_x - x_rod1;
+  const T ne10 = _tmp23*stroke1_normal_x + ne6 - c_barrel1*_tmp24;
+  const T ne11 = c_barrel1*_tmp23 + ne7 - _tmp24*s_barrel1;
+  const T _tmp25 = T(1)/T(12);
+  const T ne12 = ne8 + p.m_r*(p.r1*p.r1)*_tmp25*w_barrel1_d;
   const T ne15 = -T1_y;
   const T ne16 = -F_y;
-  const T ne17 = (p.l_th*p.l_th)*p.m_th*w_thigh_d/T(12) - com_thigh_x_dd*com_thigh_y*p.m_th;
-  const T ne20 = ne17 - K_y*com_shank_x_dd*p.m_sh;
+  const T ne17 = (p.l_th*p.l_th)*p.m_th*_tmp25*w_thigh_d - p.m_th*com_thigh_x_dd*com_thigh_y;
+  const T ne20 = ne17 - p.m_sh*K_y*com_shank_x_dd;
   const T ne21 = com_shank_y - K_y;
   const T ne22 = S_y + ne21 - com_shank_y;
-  const T ne23 = (p.l_sh*p.l_sh)*p.m_sh*w_shank_d/T(12) - com_shank_x_dd*ne21*p.m_sh;
+  const T ne23 = (p.l_sh*p.l_sh)*p.m_sh*_tmp25*w_shank_d - p.m_sh*com_shank_x_dd*ne21;
   const T ne24 = -com_thigh_x;
   const T ne25 = com_thigh_x + ne24 - K_x;
   const T ne26 = T1_x - com_thigh_x - ne24;
   const T ne27 = F_x - com_thigh_x - ne24;
-  const T _tmp28 = com_thigh_y_dd + T(9.81);
-  const T ne28 = ne20 - _tmp28*ne24*p.m_th;
-  const T _tmp29 = com_shank_y_dd + T(9.81);
-  const T ne31 = ne28 - _tmp29*ne25*p.m_sh;
+  const T _tmp26 = com_thigh_y_dd + T(9.81);
+  const T ne28 = ne20 - p.m_th*_tmp26*ne24;
+  const T _tmp27 = com_shank_y_dd + T(9.81);
+  const T ne31 = ne28 - p.m_sh*_tmp27*ne25;
   const T ne32 = K_x - com_shank_x;
   const T ne33 = com_shank_x + ne32 - S_x;
-  const T ne34 = ne23 - _tmp29*ne32*p.m_sh;
+  const T ne34 = ne23 - p.m_sh*_tmp27*ne32;
   const T ne35 = -ne15;
   const T ne36 = -ne35*stroke1_normal_x;
   const T ne37 = -c_barrel1*ne35;
-  const T ne38 = ne31 - com_rod1_x_dd*ne35*p.m_r;
+  const T ne38 = ne31 - p.m_r*com_rod1_x_dd*ne35;
   const T ne39 = com_rod1_y - T1_y;
   const T ne40 = ne10 - ne39*stroke1_normal_x;
   const T ne41 = ne11 - c_barrel1*ne39;
-  const T ne42 = ne12 - com_rod1_x_dd*ne39*p.m_r;
+  const T ne42 = ne12 - p.m_r*com_rod1_x_dd*ne39;
   const T ne43 = -ne26;
   const T ne44 = ne36 - c_barrel1*ne43;
   const T ne45 = ne37 - ne43*s_barrel1;
-  const T _tmp30 = com_rod1_y_dd + T(9.81);
-  const T ne46 = ne38 - _tmp30*ne43*p.m_r;
+  const T _tmp28 = com_rod1_y_dd + T(9.81);
+  const T ne46 = ne38 - p.m_r*_tmp28*ne43;
   const T ne47 = T1_x - com_rod1_x;
   const T ne48 = ne40 - c_barrel1*ne47;
   const T ne49 = ne41 - ne47*s_barrel1;
-  const T ne50 = ne42 - _tmp30*ne47*p.m_r;
+  const T ne50 = ne42 - p.m_r*_tmp28*ne47;
   if (!(ne48 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T ne51 = ne44/ne48;
+  const T _tmp29 = T(1)/ne48;
+  const T ne51 = ne44*_tmp29;
   const T ne52 = ne45 - ne49*ne51;
   const T ne53 = ne46 - ne50*ne51;
   if (!(ne52 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T ne54 = com_rod2_y - F_y;
-  const T _tmp31 = com_rod2_y - y_rod2;
-  const T _tmp32 = com_rod2_x - x_rod2;
-  const T ne55 = _tmp31*stroke2_normal_x - c_rod2*_tmp32 - ne54*stroke2_normal_x;
-  const T ne56 = c_rod2*_tmp31 - _tmp32*s_rod2 - c_rod2*ne54;
-  const T ne57 = p.m_r*(p.r2*p.r2)*w_rod2_d/T(12) - com_rod2_x_dd*ne54*p.m_r;
+  const T _tmp30 = com_rod2_y - y_rod2;
+  const T _tmp31 = com_rod2_x - x_rod2;
+  const T ne55 = _tmp30*stroke2_normal_x - c_rod2*_tmp31 - ne54*stroke2_normal_x;
+  const T ne56 = c_rod2*_tmp30 - _tmp31*s_rod2 - c_rod2*ne54;
+  const T ne57 = p.m_r*(p.r2*p.r2)*_tmp25*w_rod2_d - p.m_r*com_rod2_x_dd*ne54;
   const T ne58 = F_x - com_rod2_x;
   const T ne59 = ne55 - c_rod2*ne58;
   const T ne60 = ne56 - ne58*s_rod2;
-  const T _tmp33 = com_rod2_y_dd + T(9.81);
-  const T ne61 = ne57 - _tmp33*ne58*p.m_r;
-  const T _tmp34 = com_barrel2_y - y_rod2;
-  const T _tmp35 = com_barrel2_x - x_rod2;
-  const T ne63 = c_rod2*_tmp35 + ne59 - _tmp34*stroke2_normal_x;
-  const T ne64 = _tmp35*s_rod2 + ne60 - c_rod2*_tmp34;
+  const T _tmp32 = com_rod2_y_dd + T(9.81);
+  const T ne61 = ne57 - p.m_r*_tmp32*ne58;
+  const T _tmp33 = com_barrel2_y - y_rod2;
+  const T _tmp34 = com_barrel2_x - x_rod2;
+  const T ne63 = c_rod2*_tmp34 + ne59 - _tmp33*stroke2_normal_x;
+  const T ne64 = _tmp34*s_rod2 + ne60 - c_rod2*_tmp33;
   const T ne65 = T(0.0021333333333333334)*p.m_b*w_rod2_d + ne61;
   const T ne67 = ne22*stroke2_normal_x;
   const T ne68 = c_rod2*ne22;
-  const T ne69 = ne34 - com_barrel2_x_dd*ne22*p.m_b;
+  const T ne69 = ne34 - p.m_b*com_barrel2_x_dd*ne22;
   const T ne70 = com_barrel2_y - S_y;
   const T ne71 = ne63 + ne70*stroke2_normal_x;
   const T ne72 = c_rod2*ne70 + ne64;
-  const T ne73 = ne65 - com_barrel2_x_dd*ne70*p.m_b;
+  const T ne73 = ne65 - p.m_b*com_barrel2_x_dd*ne70;
   const T ne75 = c_rod2*ne33 + ne67;
   const T ne76 = ne33*s_rod2 + ne68;
-  const T _tmp36 = com_barrel2_y_dd + T(9.81);
-  const T ne77 = ne69 - _tmp36*ne33*p.m_b;
+  const T _tmp35 = com_barrel2_y_dd + T(9.81);
+  const T ne77 = ne69 - p.m_b*_tmp35*ne33;
   const T ne78 = S_x - com_barrel2_x;
   const T ne79 = c_rod2*ne78 + ne71;
   const T ne80 = ne72 + ne78*s_rod2;
-  const T ne81 = ne73 - _tmp36*ne78*p.m_b;
+  const T ne81 = ne73 - p.m_b*_tmp35*ne78;
   if (!(ne76 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T ne82 = ne80/ne76;
+  const T _tmp36 = T(1)/ne76;
+  const T ne82 = ne80*_tmp36;
   const T ne83 = ne79 - ne75*ne82;
   const T ne84 = ne81 - ne77*ne82;
   if (!(ne83 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T stroke2_n = ne84/ne83;
-  const T l2_effort = -(ne75*stroke2_n - ne77)/ne76;
-  const T _tmp37 = c_rod2*stroke2_n;
-  const T _tmp38 = l2_effort*s_rod2;
-  const T base2_fy = _tmp36*p.m_b + _tmp37 + _tmp38;
-  const T _tmp39 = c_rod2*l2_effort;
-  const T _tmp40 = stroke2_n*stroke2_normal_x;
-  const T base2_fx = _tmp39 + com_barrel2_x_dd*p.m_b + _tmp40;
+  const T _tmp37 = T(1)/ne83;
+  const T stroke2_n = ne84*_tmp37;
+  const T l2_effort = -(ne75*stroke2_n - ne77)*_tmp36;
+  const T _tmp38 = c_rod2*stroke2_n;
+  const T _tmp39 = l2_effort*s_rod2;
+  const T base2_fy = p.m_b*_tmp35 + _tmp38 + _tmp39;
+  const T _tmp40 = c_rod2*l2_effort;
+  const T _tmp41 = stroke2_n*stroke2_normal_x;
+  const T base2_fx = _tmp40 + p.m_b*com_barrel2_x_dd + _tmp41;
   const T stroke2_m = ne61 - l2_effort*ne60 - ne59*stroke2_n;
-  const T tip2_fy = _tmp37 + _tmp38 - _tmp33*p.m_r;
-  const T tip2_fx = _tmp39 + _tmp40 - com_rod2_x_dd*p.m_r;
-  const T l1_effort = -(K_y*base2_fx + base2_fy*ne25 + ne16*tip2_fx + ne27*tip2_fy - ne53)/ne52;
-  const T stroke1_n = -(l1_effort*ne49 - ne50)/ne48;
-  const T _tmp41 = c_barrel1*stroke1_n;
-  const T _tmp42 = l1_effort*s_barrel1;
-  const T tip1_fy = _tmp41 + _tmp42 - _tmp30*p.m_r;
-  const T _tmp43 = c_barrel1*l1_effort;
-  const T _tmp44 = stroke1_n*stroke1_normal_x;
-  const T tip1_fx = _tmp43 + _tmp44 - com_rod1_x_dd*p.m_r;
-  const T knee_fy = _tmp29*p.m_sh + base2_fy;
-  const T hip_fy = _tmp28*p.m_th + knee_fy - tip1_fy - tip2_fy;
-  const T knee_fx = base2_fx + com_shank_x_dd*p.m_sh;
-  const T hip_fx = com_thigh_x_dd*p.m_th + knee_fx - tip1_fx - tip2_fx;
+  const T tip2_fy = _tmp38 + _tmp39 - p.m_r*_tmp32;
+  const T tip2_fx = _tmp40 + _tmp41 - p.m_r*com_rod2_x_dd;
+  const T _tmp42 = T(1)/ne52;
+  const T l1_effort = -(K_y*base2_fx + base2_fy*ne25 + ne16*tip2_fx + ne27*tip2_fy - ne53)*_tmp42;
+  const T stroke1_n = -(l1_effort*ne49 - ne50)*_tmp29;
+  const T _tmp43 = c_barrel1*stroke1_n;
+  const T _tmp44 = l1_effort*s_barrel1;
+  const T tip1_fy = _tmp43 + _tmp44 - p.m_r*_tmp28;
+  const T _tmp45 = c_barrel1*l1_effort;
+  const T _tmp46 = stroke1_n*stroke1_normal_x;
+  const T tip1_fx = _tmp45 + _tmp46 - p.m_r*com_rod1_x_dd;
+  const T knee_fy = p.m_sh*_tmp27 + base2_fy;
+  const T hip_fy = p.m_th*_tmp26 + knee_fy - tip1_fy - tip2_fy;
+  const T knee_fx = base2_fx + p.m_sh*com_shank_x_dd;
+  const T hip_fx = p.m_th*com_thigh_x_dd + knee_fx - tip1_fx - tip2_fx;
   const T stroke1_m = l1_effort*ne7 + ne6*stroke1_n - ne8;
-  const T base1_fy = _tmp25*p.m_b + _tmp41 + _tmp42;
-  const T base1_fx = _tmp43 + com_barrel1_x_dd*p.m_b + _tmp44;
+  const T base1_fy = p.m_b*_tmp22 + _tmp43 + _tmp44;
+  const T base1_fx = _tmp45 + p.m_b*com_barrel1_x_dd + _tmp46;
   s.drivers.l1.q = in.l1;
   s.drivers.l1.qd = in.l1_d;
   s.drivers.l1.qdd = in.l1_dd;
@@ -691,8 +818,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.shank.al = w_shank_d;
   s.bodies.barrel1.x = com_barrel1_x;
   s.bodies.barrel1.y = com_barrel1_y;
-  const T _tmp45 = atan2(s_barrel1, c_barrel1);
-  s.bodies.barrel1.th = _tmp45;
+  const T _tmp47 = atan2(s_barrel1, c_barrel1);
+  s.bodies.barrel1.th = _tmp47;
   s.bodies.barrel1.vx = com_barrel1_x_d;
   s.bodies.barrel1.vy = com_barrel1_y_d;
   s.bodies.barrel1.w = w_barrel1;
@@ -701,7 +828,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.barrel1.al = w_barrel1_d;
   s.bodies.rod1.x = com_rod1_x;
   s.bodies.rod1.y = com_rod1_y;
-  s.bodies.rod1.th = _tmp45;
+  s.bodies.rod1.th = _tmp47;
   s.bodies.rod1.vx = com_rod1_x_d;
   s.bodies.rod1.vy = com_rod1_y_d;
   s.bodies.rod1.w = w_barrel1;
@@ -710,8 +837,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.rod1.al = w_barrel1_d;
   s.bodies.barrel2.x = com_barrel2_x;
   s.bodies.barrel2.y = com_barrel2_y;
-  const T _tmp46 = atan2(s_rod2, c_rod2);
-  s.bodies.barrel2.th = _tmp46;
+  const T _tmp48 = atan2(s_rod2, c_rod2);
+  s.bodies.barrel2.th = _tmp48;
   s.bodies.barrel2.vx = com_barrel2_x_d;
   s.bodies.barrel2.vy = com_barrel2_y_d;
   s.bodies.barrel2.w = w_rod2;
@@ -720,7 +847,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.barrel2.al = w_rod2_d;
   s.bodies.rod2.x = com_rod2_x;
   s.bodies.rod2.y = com_rod2_y;
-  s.bodies.rod2.th = _tmp46;
+  s.bodies.rod2.th = _tmp48;
   s.bodies.rod2.vx = com_rod2_x_d;
   s.bodies.rod2.vy = com_rod2_y_d;
   s.bodies.rod2.w = w_rod2;
@@ -751,15 +878,15 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.knee.fy = knee_fy;
   s.joints.base1.fx = base1_fx;
   s.joints.base1.fy = base1_fy;
-  s.joints.stroke1.fx = _tmp44;
-  s.joints.stroke1.fy = _tmp41;
+  s.joints.stroke1.fx = _tmp46;
+  s.joints.stroke1.fy = _tmp43;
   s.joints.stroke1.m = stroke1_m;
   s.joints.tip1.fx = tip1_fx;
   s.joints.tip1.fy = tip1_fy;
   s.joints.base2.fx = base2_fx;
   s.joints.base2.fy = base2_fy;
-  s.joints.stroke2.fx = _tmp40;
-  s.joints.stroke2.fy = _tmp37;
+  s.joints.stroke2.fx = _tmp41;
+  s.joints.stroke2.fy = _tmp38;
   s.joints.stroke2.m = stroke2_m;
   s.joints.tip2.fx = tip2_fx;
   s.joints.tip2.fy = tip2_fy;
@@ -767,6 +894,456 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.drivers.l2.effort = l2_effort;
 
   return Status::ok;
+}
+
+
+// evaluate_batch's failure[i]: 0 when sample i is ok, else a code that these decode into the
+// status and failed group evaluate() gives.
+template <class T>
+constexpr Status batch_status(T failure) noexcept {
+  return static_cast<Status>(static_cast<long>(failure) % 4096 % 4);
+}
+template <class T>
+constexpr int batch_failed_group(T failure) noexcept {
+  return failure == T(0) ? -1 : static_cast<int>(static_cast<long>(failure) % 4096 / 4 - 1);
+}
+
+// evaluate() for n samples at once, in structure-of-arrays form and without branches, so that the
+// compiler vectorises the loop (with -fno-math-errno, which lets sqrt be an instruction; sin, cos
+// and atan2 are detail:: above). Output column c (column_names[c]) of sample i goes to
+// out[c * stride + i] (stride >= n); failure[i] is 0 or codes the status and group evaluate()
+// returns (batch_status, batch_failed_group). A failed sample's outputs are unspecified (NaN or
+// infinite), not an error. Vectorises with GCC 12 at -O3 with -fno-math-errno -fno-trapping-math
+// (neither changes a result; never -ffast-math); without them it is correct but scalar.
+template <class T>
+void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long n, T* out,
+                    long stride, T* failure) noexcept {
+  using detail::atan2;
+  using std::sqrt;
+  using std::max;
+  // Failed checks rank by order: the earliest failing one gives the result (see the emitter).
+  // Local copies: out[] cannot alias them, so their loads leave the loop.
+  [[maybe_unused]] const Params<T> p = params;
+  const T* const batch_t = inputs.t;
+  const T* const batch_l1 = inputs.l1;
+  const T* const batch_l1_d = inputs.l1_d;
+  const T* const batch_l1_dd = inputs.l1_dd;
+  const T* const batch_l2 = inputs.l2;
+  const T* const batch_l2_d = inputs.l2_d;
+  const T* const batch_l2_dd = inputs.l2_dd;
+#if defined(__clang__)
+#pragma clang loop vectorize(enable)
+#elif defined(__GNUC__)
+#pragma GCC ivdep
+#endif
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    in.t = batch_t[i];
+    in.l1 = batch_l1[i];
+    in.l1_d = batch_l1_d[i];
+    in.l1_dd = batch_l1_dd[i];
+    in.l2 = batch_l2[i];
+    in.l2_d = batch_l2_d[i];
+    in.l2_dd = batch_l2_dd[i];
+    // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
+    T failed = ((in.t - in.t) + (in.l1 - in.l1) + (in.l1_d - in.l1_d) + (in.l1_dd - in.l1_dd) + (in.l2 - in.l2) + (in.l2_d - in.l2_d) + (in.l2_dd - in.l2_dd)) == T(0) ? T(0) : T(8196097);
+    // Total ops: 701
+    const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
+    const T G_x = -p.gx;
+    const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
+    failed = max(failed, (g1_thigh_barrel1_rod1_d2 > T(0)) ? T(0) : T(8192006));
+    const T _tmp0 = p.ty*p.ty;
+    const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
+    const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
+    failed = max(failed, (g1_thigh_barrel1_rod1_disc > T(0)) ? T(0) : T(8187909));
+    const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
+    const T g1_thigh_barrel1_rod1_e_d = -g1_thigh_barrel1_rod1_v_x*in.l1_d;
+    const T g1_thigh_barrel1_rod1_disc_d = -T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_d;
+    const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_root;
+    const T g1_thigh_barrel1_rod1_root_d = T(0.5)*g1_thigh_barrel1_rod1_disc_d*_tmp1;
+    const T _tmp2 = T(1)/g1_thigh_barrel1_rod1_d2;
+    const T T1_x = G_x*_tmp2*g1_thigh_barrel1_rod1_e;
+    const T T1_y = G_x*_tmp2*g1_thigh_barrel1_rod1_root;
+    const T _tmp3 = T(1)/p.ty;
+    const T c_thigh = -_tmp3*T1_y;
+    const T s_thigh = _tmp3*T1_x;
+    const T T1_y_d = G_x*_tmp2*g1_thigh_barrel1_rod1_root_d;
+    const T c_thigh_d = -_tmp3*T1_y_d;
+    const T T1_x_d = G_x*_tmp2*g1_thigh_barrel1_rod1_e_d;
+    const T s_thigh_d = _tmp3*T1_x_d;
+    const T w_thigh = c_thigh*s_thigh_d - c_thigh_d*s_thigh;
+    const T _tmp4 = T(1)/g1_thigh_barrel1_rod1_v_x;
+    const T c_barrel1 = -(G_x - T1_x)*_tmp4;
+    const T s_barrel1 = T1_y*_tmp4;
+    const T c_barrel1_d = (T1_x_d - c_barrel1*in.l1_d)*_tmp4;
+    const T s_barrel1_d = (T1_y_d - in.l1_d*s_barrel1)*_tmp4;
+    const T w_barrel1 = c_barrel1*s_barrel1_d - c_barrel1_d*s_barrel1;
+    const T x_rod1 = T1_x - p.r1*c_barrel1;
+    const T y_rod1 = T1_y - p.r1*s_barrel1;
+    const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
+    const T K_x = p.l_th*s_thigh;
+    const T K_y = -p.l_th*c_thigh;
+    const T F_x = p.fy*s_thigh - p.fx*c_thigh;
+    const T F_y = -p.fy*c_thigh - p.fx*s_thigh;
+    const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
+    const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
+    const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
+    failed = max(failed, (g2_shank_rod2_barrel2_d2 > T(0)) ? T(0) : T(8183818));
+    const T _tmp5 = p.sx*p.sx;
+    const T _tmp6 = p.sy*p.sy;
+    const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
+    const T _tmp7 = _tmp5 + _tmp6;
+    const T g2_shank_rod2_barrel2_disc = _tmp7*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
+    failed = max(failed, (g2_shank_rod2_barrel2_disc > T(0)) ? T(0) : T(8179721));
+    const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
+    const T F_x_d = p.fy*s_thigh_d - p.fx*c_thigh_d;
+    const T K_x_d = p.l_th*s_thigh_d;
+    const T g2_shank_rod2_barrel2_d_x_d = F_x_d - K_x_d;
+    const T F_y_d = -p.fy*c_thigh_d - p.fx*s_thigh_d;
+    const T K_y_d = -p.l_th*c_thigh_d;
+    const T g2_shank_rod2_barrel2_d_y_d = F_y_d - K_y_d;
+    const T g2_shank_rod2_barrel2_d2_d = T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_d + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_d;
+    const T g2_shank_rod2_barrel2_v_x_d = -in.l2_d;
+    const T g2_shank_rod2_barrel2_e_d = T(0.5)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_d;
+    const T g2_shank_rod2_barrel2_disc_d = _tmp7*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
+    const T _tmp8 = T(1)/g2_shank_rod2_barrel2_root;
+    const T g2_shank_rod2_barrel2_root_d = T(0.5)*g2_shank_rod2_barrel2_disc_d*_tmp8;
+    const T _tmp9 = T(1)/g2_shank_rod2_barrel2_d2;
+    const T _tmp10 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root)*_tmp9;
+    const T S_x = _tmp10 + K_x;
+    const T _tmp11 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp9;
+    const T S_y = _tmp11 + K_y;
+    const T _tmp12 = K_x - S_x;
+    const T _tmp13 = K_y - S_y;
+    const T _tmp14 = T(1)/_tmp7;
+    const T c_shank = _tmp14*(p.sx*_tmp12 + p.sy*_tmp13);
+    const T s_shank = -_tmp14*(p.sy*_tmp12 - p.sx*_tmp13);
+    const T S_x_q = _tmp10;
+    const T S_x_q_d = -(S_x_q*g2_shank_rod2_barrel2_d2_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e)*_tmp9;
+    const T S_x_d = K_x_d + S_x_q_d;
+    const T S_y_q = _tmp11;
+    const T S_y_q_d = -(S_y_q*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e)*_tmp9;
+    const T S_y_d = K_y_d + S_y_q_d;
+    const T _tmp15 = K_x_d - S_x_d;
+    const T _tmp16 = K_y_d - S_y_d;
+    const T c_shank_d = _tmp14*(p.sx*_tmp15 + p.sy*_tmp16);
+    const T s_shank_d = -_tmp14*(p.sy*_tmp15 - p.sx*_tmp16);
+    const T w_shank = c_shank*s_shank_d - c_shank_d*s_shank;
+    const T _tmp17 = T(1)/g2_shank_rod2_barrel2_v_x;
+    const T c_rod2 = -(F_x - S_x)*_tmp17;
+    const T s_rod2 = -(F_y - S_y)*_tmp17;
+    const T c_rod2_d = -(F_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_d - S_x_d)*_tmp17;
+    const T s_rod2_d = -(F_y_d + g2_shank_rod2_barrel2_v_x_d*s_rod2 - S_y_d)*_tmp17;
+    const T w_rod2 = c_rod2*s_rod2_d - c_rod2_d*s_rod2;
+    const T x_rod2 = F_x - p.r2*c_rod2;
+    const T y_rod2 = F_y - p.r2*s_rod2;
+    const T com_thigh_x = T(0.5)*p.l_th*s_thigh;
+    const T com_thigh_y = -T(0.5)*p.l_th*c_thigh;
+    const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_d;
+    const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_d;
+    const T g1_thigh_barrel1_rod1_e_dd = -g1_thigh_barrel1_rod1_v_x*in.l1_dd - in.l1_d*in.l1_d;
+    const T T1_x_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_e_dd;
+    const T s_thigh_dd = _tmp3*T1_x_dd;
+    const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_dd;
+    const T g1_thigh_barrel1_rod1_disc_dd = -T(2)*(g1_thigh_barrel1_rod1_e_d*g1_thigh_barrel1_rod1_e_d) - T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_dd;
+    const T g1_thigh_barrel1_rod1_root_dd = -T(0.5)*(T(2)*(g1_thigh_barrel1_rod1_root_d*g1_thigh_barrel1_rod1_root_d) - g1_thigh_barrel1_rod1_disc_dd)*_tmp1;
+    const T T1_y_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_root_dd;
+    const T c_thigh_dd = -_tmp3*T1_y_dd;
+    const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_dd;
+    const T w_thigh_d = c_thigh*s_thigh_dd - c_thigh_dd*s_thigh;
+    const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+    const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+    const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
+    const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+    const T K_x_dd = p.l_th*s_thigh_dd;
+    const T K_y_dd = -p.l_th*c_thigh_dd;
+    const T F_x_dd = p.fy*s_thigh_dd - p.fx*c_thigh_dd;
+    const T g2_shank_rod2_barrel2_d_x_dd = F_x_dd - K_x_dd;
+    const T F_y_dd = -p.fy*c_thigh_dd - p.fx*s_thigh_dd;
+    const T g2_shank_rod2_barrel2_d_y_dd = F_y_dd - K_y_dd;
+    const T g2_shank_rod2_barrel2_d2_dd = T(2)*(g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_d_x_d) + T(2)*(g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_d_y_d) + T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_dd + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_dd;
+    const T g2_shank_rod2_barrel2_v_x_dd = -in.l2_dd;
+    const T g2_shank_rod2_barrel2_e_dd = T(0.5)*g2_shank_rod2_barrel2_d2_dd - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_dd - g2_shank_rod2_barrel2_v_x_d*g2_shank_rod2_barrel2_v_x_d;
+    const T g2_shank_rod2_barrel2_disc_dd = _tmp7*g2_shank_rod2_barrel2_d2_dd - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
+    const T g2_shank_rod2_barrel2_root_dd = -T(0.5)*(T(2)*(g2_shank_rod2_barrel2_root_d*g2_shank_rod2_barrel2_root_d) - g2_shank_rod2_barrel2_disc_dd)*_tmp8;
+    const T S_x_q_dd = -(S_x_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_x_q_d*g2_shank_rod2_barrel2_d2_d + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_dd + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+    const T S_x_dd = K_x_dd + S_x_q_dd;
+    const T S_y_q_dd = -(S_y_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_y_q_d*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root_d - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+    const T S_y_dd = K_y_dd + S_y_q_dd;
+    const T _tmp18 = K_x_dd - S_x_dd;
+    const T _tmp19 = K_y_dd - S_y_dd;
+    const T s_shank_dd = -_tmp14*(p.sy*_tmp18 - p.sx*_tmp19);
+    const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+    const T c_shank_dd = _tmp14*(p.sx*_tmp18 + p.sy*_tmp19);
+    const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+    const T w_shank_d = c_shank*s_shank_dd - c_shank_dd*s_shank;
+    const T com_barrel1_x = G_x + T(0.08)*c_barrel1;
+    const T com_barrel1_y = T(0.08)*s_barrel1;
+    const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
+    const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
+    const T c_barrel1_dd = -(T(2)*c_barrel1_d*in.l1_d + c_barrel1*in.l1_dd - T1_x_dd)*_tmp4;
+    const T com_barrel1_x_dd = T(0.08)*c_barrel1_dd;
+    const T s_barrel1_dd = -(T(2)*in.l1_d*s_barrel1_d + in.l1_dd*s_barrel1 - T1_y_dd)*_tmp4;
+    const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
+    const T w_barrel1_d = c_barrel1*s_barrel1_dd - c_barrel1_dd*s_barrel1;
+    const T com_rod1_x = T(0.5)*p.r1*c_barrel1 + x_rod1;
+    const T com_rod1_y = T(0.5)*p.r1*s_barrel1 + y_rod1;
+    const T x_rod1_d = T1_x_d - p.r1*c_barrel1_d;
+    const T com_rod1_x_d = T(0.5)*p.r1*c_barrel1_d + x_rod1_d;
+    const T y_rod1_d = T1_y_d - p.r1*s_barrel1_d;
+    const T com_rod1_y_d = T(0.5)*p.r1*s_barrel1_d + y_rod1_d;
+    const T x_rod1_dd = T1_x_dd - p.r1*c_barrel1_dd;
+    const T com_rod1_x_dd = T(0.5)*p.r1*c_barrel1_dd + x_rod1_dd;
+    const T y_rod1_dd = T1_y_dd - p.r1*s_barrel1_dd;
+    const T com_rod1_y_dd = T(0.5)*p.r1*s_barrel1_dd + y_rod1_dd;
+    const T com_barrel2_x = S_x + T(0.08)*c_rod2;
+    const T com_barrel2_y = S_y + T(0.08)*s_rod2;
+    const T com_barrel2_x_d = S_x_d + T(0.08)*c_rod2_d;
+    const T com_barrel2_y_d = S_y_d + T(0.08)*s_rod2_d;
+    const T c_rod2_dd = -(F_x_dd + T(2)*c_rod2_d*g2_shank_rod2_barrel2_v_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_dd - S_x_dd)*_tmp17;
+    const T com_barrel2_x_dd = S_x_dd + T(0.08)*c_rod2_dd;
+    const T s_rod2_dd = -(F_y_dd + T(2)*g2_shank_rod2_barrel2_v_x_d*s_rod2_d + g2_shank_rod2_barrel2_v_x_dd*s_rod2 - S_y_dd)*_tmp17;
+    const T com_barrel2_y_dd = S_y_dd + T(0.08)*s_rod2_dd;
+    const T w_rod2_d = c_rod2*s_rod2_dd - c_rod2_dd*s_rod2;
+    const T com_rod2_x = T(0.5)*p.r2*c_rod2 + x_rod2;
+    const T com_rod2_y = T(0.5)*p.r2*s_rod2 + y_rod2;
+    const T x_rod2_d = F_x_d - p.r2*c_rod2_d;
+    const T com_rod2_x_d = T(0.5)*p.r2*c_rod2_d + x_rod2_d;
+    const T y_rod2_d = F_y_d - p.r2*s_rod2_d;
+    const T com_rod2_y_d = T(0.5)*p.r2*s_rod2_d + y_rod2_d;
+    const T x_rod2_dd = F_x_dd - p.r2*c_rod2_dd;
+    const T com_rod2_x_dd = T(0.5)*p.r2*c_rod2_dd + x_rod2_dd;
+    const T y_rod2_dd = F_y_dd - p.r2*s_rod2_dd;
+    const T com_rod2_y_dd = T(0.5)*p.r2*s_rod2_dd + y_rod2_dd;
+    const T D_x = K_x + p.l_sh*s_shank;
+    const T D_y = K_y - p.l_sh*c_shank;
+    const T stroke1_normal_x = -s_barrel1;
+    const T stroke2_normal_x = -s_rod2;
+    const T _tmp20 = com_barrel1_y - y_rod1;
+    const T _tmp21 = com_barrel1_x - x_rod1;
+    const T ne2 = c_barrel1*_tmp21 + com_barrel1_y*stroke1_normal_x - _tmp20*stroke1_normal_x;
+    const T ne3 = _tmp21*s_barrel1 + c_barrel1*com_barrel1_y - c_barrel1*_tmp20;
+    const T ne4 = T(0.0021333333333333334)*p.m_b*w_barrel1_d - p.m_b*com_barrel1_x_dd*com_barrel1_y;
+    const T ne5 = G_x - com_barrel1_x;
+    const T ne6 = c_barrel1*ne5 + ne2;
+    const T ne7 = ne3 + ne5*s_barrel1;
+    const T _tmp22 = com_barrel1_y_dd + T(9.81);
+    const T ne8 = ne4 - p.m_b*_tmp22*ne5;
+    const T _tmp23 = com_rod1_y - y_rod1;
+    const T _tmp24 = com_rod1_x - x_rod1;
+    const T ne10 = _tmp23*stroke1_normal_x + ne6 - c_barrel1*_tmp24;
+    const T ne11 = c_barrel1*_tmp23 + ne7 - _tmp24*s_barrel1;
+    const T _tmp25 = T(1)/T(12);
+    const T ne12 = ne8 + p.m_r*(p.r1*p.r1)*_tmp25*w_barrel1_d;
+    const T ne15 = -T1_y;
+    const T ne16 = -F_y;
+    const T ne17 = (p.l_th*p.l_th)*p.m_th*_tmp25*w_thigh_d - p.m_th*com_thigh_x_dd*com_thigh_y;
+    const T ne20 = ne17 - p.m_sh*K_y*com_shank_x_dd;
+    const T ne21 = com_shank_y - K_y;
+    const T ne22 = S_y + ne21 - com_shank_y;
+    const T ne23 = (p.l_sh*p.l_sh)*p.m_sh*_tmp25*w_shank_d - p.m_sh*com_shank_x_dd*ne21;
+    const T ne24 = -com_thigh_x;
+    const T ne25 = com_thigh_x + ne24 - K_x;
+    const T ne26 = T1_x - com_thigh_x - ne24;
+    const T ne27 = F_x - com_thigh_x - ne24;
+    const T _tmp26 = com_thigh_y_dd + T(9.81);
+    const T ne28 = ne20 - p.m_th*_tmp26*ne24;
+    const T _tmp27 = com_shank_y_dd + T(9.81);
+    const T ne31 = ne28 - p.m_sh*_tmp27*ne25;
+    const T ne32 = K_x - com_shank_x;
+    const T ne33 = com_shank_x + ne32 - S_x;
+    const T ne34 = ne23 - p.m_sh*_tmp27*ne32;
+    const T ne35 = -ne15;
+    const T ne36 = -ne35*stroke1_normal_x;
+    const T ne37 = -c_barrel1*ne35;
+    const T ne38 = ne31 - p.m_r*com_rod1_x_dd*ne35;
+    const T ne39 = com_rod1_y - T1_y;
+    const T ne40 = ne10 - ne39*stroke1_normal_x;
+    const T ne41 = ne11 - c_barrel1*ne39;
+    const T ne42 = ne12 - p.m_r*com_rod1_x_dd*ne39;
+    const T ne43 = -ne26;
+    const T ne44 = ne36 - c_barrel1*ne43;
+    const T ne45 = ne37 - ne43*s_barrel1;
+    const T _tmp28 = com_rod1_y_dd + T(9.81);
+    const T ne46 = ne38 - p.m_r*_tmp28*ne43;
+    const T ne47 = T1_x - com_rod1_x;
+    const T ne48 = ne40 - c_barrel1*ne47;
+    const T ne49 = ne41 - ne47*s_barrel1;
+    const T ne50 = ne42 - p.m_r*_tmp28*ne47;
+    failed = max(failed, (ne48 != T(0)) ? T(0) : T(8175618));
+    const T _tmp29 = T(1)/ne48;
+    const T ne51 = ne44*_tmp29;
+    const T ne52 = ne45 - ne49*ne51;
+    const T ne53 = ne46 - ne50*ne51;
+    failed = max(failed, (ne52 != T(0)) ? T(0) : T(8171522));
+    const T ne54 = com_rod2_y - F_y;
+    const T _tmp30 = com_rod2_y - y_rod2;
+    const T _tmp31 = com_rod2_x - x_rod2;
+    const T ne55 = _tmp30*stroke2_normal_x - c_rod2*_tmp31 - ne54*stroke2_normal_x;
+    const T ne56 = c_rod2*_tmp30 - _tmp31*s_rod2 - c_rod2*ne54;
+    const T ne57 = p.m_r*(p.r2*p.r2)*_tmp25*w_rod2_d - p.m_r*com_rod2_x_dd*ne54;
+    const T ne58 = F_x - com_rod2_x;
+    const T ne59 = ne55 - c_rod2*ne58;
+    const T ne60 = ne56 - ne58*s_rod2;
+    const T _tmp32 = com_rod2_y_dd + T(9.81);
+    const T ne61 = ne57 - p.m_r*_tmp32*ne58;
+    const T _tmp33 = com_barrel2_y - y_rod2;
+    const T _tmp34 = com_barrel2_x - x_rod2;
+    const T ne63 = c_rod2*_tmp34 + ne59 - _tmp33*stroke2_normal_x;
+    const T ne64 = _tmp34*s_rod2 + ne60 - c_rod2*_tmp33;
+    const T ne65 = T(0.0021333333333333334)*p.m_b*w_rod2_d + ne61;
+    const T ne67 = ne22*stroke2_normal_x;
+    const T ne68 = c_rod2*ne22;
+    const T ne69 = ne34 - p.m_b*com_barrel2_x_dd*ne22;
+    const T ne70 = com_barrel2_y - S_y;
+    const T ne71 = ne63 + ne70*stroke2_normal_x;
+    const T ne72 = c_rod2*ne70 + ne64;
+    const T ne73 = ne65 - p.m_b*com_barrel2_x_dd*ne70;
+    const T ne75 = c_rod2*ne33 + ne67;
+    const T ne76 = ne33*s_rod2 + ne68;
+    const T _tmp35 = com_barrel2_y_dd + T(9.81);
+    const T ne77 = ne69 - p.m_b*_tmp35*ne33;
+    const T ne78 = S_x - com_barrel2_x;
+    const T ne79 = c_rod2*ne78 + ne71;
+    const T ne80 = ne72 + ne78*s_rod2;
+    const T ne81 = ne73 - p.m_b*_tmp35*ne78;
+    failed = max(failed, (ne76 != T(0)) ? T(0) : T(8167426));
+    const T _tmp36 = T(1)/ne76;
+    const T ne82 = ne80*_tmp36;
+    const T ne83 = ne79 - ne75*ne82;
+    const T ne84 = ne81 - ne77*ne82;
+    failed = max(failed, (ne83 != T(0)) ? T(0) : T(8163330));
+    const T _tmp37 = T(1)/ne83;
+    const T stroke2_n = ne84*_tmp37;
+    const T l2_effort = -(ne75*stroke2_n - ne77)*_tmp36;
+    const T _tmp38 = c_rod2*stroke2_n;
+    const T _tmp39 = l2_effort*s_rod2;
+    const T base2_fy = p.m_b*_tmp35 + _tmp38 + _tmp39;
+    const T _tmp40 = c_rod2*l2_effort;
+    const T _tmp41 = stroke2_n*stroke2_normal_x;
+    const T base2_fx = _tmp40 + p.m_b*com_barrel2_x_dd + _tmp41;
+    const T stroke2_m = ne61 - l2_effort*ne60 - ne59*stroke2_n;
+    const T tip2_fy = _tmp38 + _tmp39 - p.m_r*_tmp32;
+    const T tip2_fx = _tmp40 + _tmp41 - p.m_r*com_rod2_x_dd;
+    const T _tmp42 = T(1)/ne52;
+    const T l1_effort = -(K_y*base2_fx + base2_fy*ne25 + ne16*tip2_fx + ne27*tip2_fy - ne53)*_tmp42;
+    const T stroke1_n = -(l1_effort*ne49 - ne50)*_tmp29;
+    const T _tmp43 = c_barrel1*stroke1_n;
+    const T _tmp44 = l1_effort*s_barrel1;
+    const T tip1_fy = _tmp43 + _tmp44 - p.m_r*_tmp28;
+    const T _tmp45 = c_barrel1*l1_effort;
+    const T _tmp46 = stroke1_n*stroke1_normal_x;
+    const T tip1_fx = _tmp45 + _tmp46 - p.m_r*com_rod1_x_dd;
+    const T knee_fy = p.m_sh*_tmp27 + base2_fy;
+    const T hip_fy = p.m_th*_tmp26 + knee_fy - tip1_fy - tip2_fy;
+    const T knee_fx = base2_fx + p.m_sh*com_shank_x_dd;
+    const T hip_fx = p.m_th*com_thigh_x_dd + knee_fx - tip1_fx - tip2_fx;
+    const T stroke1_m = l1_effort*ne7 + ne6*stroke1_n - ne8;
+    const T base1_fy = p.m_b*_tmp22 + _tmp43 + _tmp44;
+    const T base1_fx = _tmp45 + p.m_b*com_barrel1_x_dd + _tmp46;
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.l1;
+    out[2 * stride + i] = in.l1_d;
+    out[3 * stride + i] = in.l1_dd;
+    out[5 * stride + i] = in.l2;
+    out[6 * stride + i] = in.l2_d;
+    out[7 * stride + i] = in.l2_dd;
+    out[9 * stride + i] = com_thigh_x;
+    out[10 * stride + i] = com_thigh_y;
+    out[11 * stride + i] = atan2(s_thigh, c_thigh);
+    out[12 * stride + i] = com_thigh_x_d;
+    out[13 * stride + i] = com_thigh_y_d;
+    out[14 * stride + i] = w_thigh;
+    out[15 * stride + i] = com_thigh_x_dd;
+    out[16 * stride + i] = com_thigh_y_dd;
+    out[17 * stride + i] = w_thigh_d;
+    out[18 * stride + i] = com_shank_x;
+    out[19 * stride + i] = com_shank_y;
+    out[20 * stride + i] = atan2(s_shank, c_shank);
+    out[21 * stride + i] = com_shank_x_d;
+    out[22 * stride + i] = com_shank_y_d;
+    out[23 * stride + i] = w_shank;
+    out[24 * stride + i] = com_shank_x_dd;
+    out[25 * stride + i] = com_shank_y_dd;
+    out[26 * stride + i] = w_shank_d;
+    out[27 * stride + i] = com_barrel1_x;
+    out[28 * stride + i] = com_barrel1_y;
+    const T _tmp47 = atan2(s_barrel1, c_barrel1);
+    out[29 * stride + i] = _tmp47;
+    out[30 * stride + i] = com_barrel1_x_d;
+    out[31 * stride + i] = com_barrel1_y_d;
+    out[32 * stride + i] = w_barrel1;
+    out[33 * stride + i] = com_barrel1_x_dd;
+    out[34 * stride + i] = com_barrel1_y_dd;
+    out[35 * stride + i] = w_barrel1_d;
+    out[36 * stride + i] = com_rod1_x;
+    out[37 * stride + i] = com_rod1_y;
+    out[38 * stride + i] = _tmp47;
+    out[39 * stride + i] = com_rod1_x_d;
+    out[40 * stride + i] = com_rod1_y_d;
+    out[41 * stride + i] = w_barrel1;
+    out[42 * stride + i] = com_rod1_x_dd;
+    out[43 * stride + i] = com_rod1_y_dd;
+    out[44 * stride + i] = w_barrel1_d;
+    out[45 * stride + i] = com_barrel2_x;
+    out[46 * stride + i] = com_barrel2_y;
+    const T _tmp48 = atan2(s_rod2, c_rod2);
+    out[47 * stride + i] = _tmp48;
+    out[48 * stride + i] = com_barrel2_x_d;
+    out[49 * stride + i] = com_barrel2_y_d;
+    out[50 * stride + i] = w_rod2;
+    out[51 * stride + i] = com_barrel2_x_dd;
+    out[52 * stride + i] = com_barrel2_y_dd;
+    out[53 * stride + i] = w_rod2_d;
+    out[54 * stride + i] = com_rod2_x;
+    out[55 * stride + i] = com_rod2_y;
+    out[56 * stride + i] = _tmp48;
+    out[57 * stride + i] = com_rod2_x_d;
+    out[58 * stride + i] = com_rod2_y_d;
+    out[59 * stride + i] = w_rod2;
+    out[60 * stride + i] = com_rod2_x_dd;
+    out[61 * stride + i] = com_rod2_y_dd;
+    out[62 * stride + i] = w_rod2_d;
+    out[63 * stride + i] = T(0);
+    out[64 * stride + i] = T(0);
+    out[65 * stride + i] = G_x;
+    out[66 * stride + i] = T(0);
+    out[67 * stride + i] = T1_x;
+    out[68 * stride + i] = T1_y;
+    out[69 * stride + i] = F_x;
+    out[70 * stride + i] = F_y;
+    out[71 * stride + i] = K_x;
+    out[72 * stride + i] = K_y;
+    out[73 * stride + i] = S_x;
+    out[74 * stride + i] = S_y;
+    out[75 * stride + i] = D_x;
+    out[76 * stride + i] = D_y;
+    out[77 * stride + i] = x_rod1;
+    out[78 * stride + i] = y_rod1;
+    out[79 * stride + i] = x_rod2;
+    out[80 * stride + i] = y_rod2;
+    out[81 * stride + i] = hip_fx;
+    out[82 * stride + i] = hip_fy;
+    out[83 * stride + i] = knee_fx;
+    out[84 * stride + i] = knee_fy;
+    out[85 * stride + i] = base1_fx;
+    out[86 * stride + i] = base1_fy;
+    out[87 * stride + i] = _tmp46;
+    out[88 * stride + i] = _tmp43;
+    out[89 * stride + i] = stroke1_m;
+    out[90 * stride + i] = tip1_fx;
+    out[91 * stride + i] = tip1_fy;
+    out[92 * stride + i] = base2_fx;
+    out[93 * stride + i] = base2_fy;
+    out[94 * stride + i] = _tmp41;
+    out[95 * stride + i] = _tmp38;
+    out[96 * stride + i] = stroke2_m;
+    out[97 * stride + i] = tip2_fx;
+    out[98 * stride + i] = tip2_fy;
+    out[4 * stride + i] = l1_effort;
+    out[8 * stride + i] = l2_effort;
+    failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
+  }
 }
 
 // The Newton-Euler system itself, A x = b (18 x 18, A row-major): rows are per
@@ -779,139 +1356,148 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 599
+  // Total ops: 459
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T G_x = -p.gx;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
   if (!(g1_thigh_barrel1_rod1_d2 > T(0))) return Status::singular;
-  const T _tmp0 = g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x;
-  const T _tmp1 = p.ty*p.ty;
-  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp1 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*_tmp0;
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp1 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
+  const T _tmp0 = p.ty*p.ty;
+  const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   if (!(g1_thigh_barrel1_rod1_disc > T(0))) return Status::unreachable;
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T g1_thigh_barrel1_rod1_e_d = -g1_thigh_barrel1_rod1_v_x*in.l1_d;
   const T g1_thigh_barrel1_rod1_disc_d = -T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_d;
-  const T T1_x = G_x*g1_thigh_barrel1_rod1_e/g1_thigh_barrel1_rod1_d2;
-  const T T1_y = G_x*g1_thigh_barrel1_rod1_root/g1_thigh_barrel1_rod1_d2;
-  const T c_thigh = -T1_y/p.ty;
-  const T s_thigh = T1_x/p.ty;
-  const T _tmp2 = g1_thigh_barrel1_rod1_d2*g1_thigh_barrel1_rod1_root;
-  const T T1_y_d = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_d/_tmp2;
-  const T c_thigh_d = -T1_y_d/p.ty;
-  const T T1_x_d = G_x*g1_thigh_barrel1_rod1_e_d/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_d = T1_x_d/p.ty;
-  const T _tmp3 = G_x - T1_x;
-  const T c_barrel1 = -_tmp3/g1_thigh_barrel1_rod1_v_x;
-  const T s_barrel1 = T1_y/g1_thigh_barrel1_rod1_v_x;
-  const T x_rod1 = T1_x - c_barrel1*p.r1;
+  const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_root;
+  const T g1_thigh_barrel1_rod1_root_d = T(0.5)*g1_thigh_barrel1_rod1_disc_d*_tmp1;
+  const T _tmp2 = T(1)/g1_thigh_barrel1_rod1_d2;
+  const T T1_x = G_x*_tmp2*g1_thigh_barrel1_rod1_e;
+  const T T1_y = G_x*_tmp2*g1_thigh_barrel1_rod1_root;
+  const T _tmp3 = T(1)/p.ty;
+  const T c_thigh = -_tmp3*T1_y;
+  const T s_thigh = _tmp3*T1_x;
+  const T T1_y_d = G_x*_tmp2*g1_thigh_barrel1_rod1_root_d;
+  const T c_thigh_d = -_tmp3*T1_y_d;
+  const T T1_x_d = G_x*_tmp2*g1_thigh_barrel1_rod1_e_d;
+  const T s_thigh_d = _tmp3*T1_x_d;
+  const T _tmp4 = T(1)/g1_thigh_barrel1_rod1_v_x;
+  const T c_barrel1 = -(G_x - T1_x)*_tmp4;
+  const T s_barrel1 = T1_y*_tmp4;
+  const T c_barrel1_d = (T1_x_d - c_barrel1*in.l1_d)*_tmp4;
+  const T s_barrel1_d = (T1_y_d - in.l1_d*s_barrel1)*_tmp4;
+  const T x_rod1 = T1_x - p.r1*c_barrel1;
   const T y_rod1 = T1_y - p.r1*s_barrel1;
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T K_x = p.l_th*s_thigh;
-  const T K_y = -c_thigh*p.l_th;
-  const T F_x = p.fy*s_thigh - c_thigh*p.fx;
-  const T F_y = -c_thigh*p.fy - p.fx*s_thigh;
+  const T K_y = -p.l_th*c_thigh;
+  const T F_x = p.fy*s_thigh - p.fx*c_thigh;
+  const T F_y = -p.fy*c_thigh - p.fx*s_thigh;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
   if (!(g2_shank_rod2_barrel2_d2 > T(0))) return Status::singular;
-  const T _tmp4 = g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x;
   const T _tmp5 = p.sx*p.sx;
   const T _tmp6 = p.sy*p.sy;
-  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*_tmp4;
+  const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp5 + T(0.5)*_tmp6 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp7 = _tmp5 + _tmp6;
-  const T g2_shank_rod2_barrel2_disc = g2_shank_rod2_barrel2_d2*_tmp7 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
+  const T g2_shank_rod2_barrel2_disc = _tmp7*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
   if (!(g2_shank_rod2_barrel2_disc > T(0))) return Status::unreachable;
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
-  const T F_x_d = p.fy*s_thigh_d - c_thigh_d*p.fx;
+  const T F_x_d = p.fy*s_thigh_d - p.fx*c_thigh_d;
   const T K_x_d = p.l_th*s_thigh_d;
   const T g2_shank_rod2_barrel2_d_x_d = F_x_d - K_x_d;
-  const T F_y_d = -c_thigh_d*p.fy - p.fx*s_thigh_d;
-  const T K_y_d = -c_thigh_d*p.l_th;
+  const T F_y_d = -p.fy*c_thigh_d - p.fx*s_thigh_d;
+  const T K_y_d = -p.l_th*c_thigh_d;
   const T g2_shank_rod2_barrel2_d_y_d = F_y_d - K_y_d;
   const T g2_shank_rod2_barrel2_d2_d = T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_d + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_d;
   const T g2_shank_rod2_barrel2_v_x_d = -in.l2_d;
   const T g2_shank_rod2_barrel2_e_d = T(0.5)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_d = g2_shank_rod2_barrel2_d2_d*_tmp7 - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
-  const T _tmp8 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root;
-  const T S_x = _tmp8/g2_shank_rod2_barrel2_d2 + K_x;
-  const T _tmp9 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e;
-  const T S_y = _tmp9/g2_shank_rod2_barrel2_d2 + K_y;
-  const T _tmp10 = K_x - S_x;
-  const T _tmp11 = K_y - S_y;
-  const T c_shank = (_tmp10*p.sx + _tmp11*p.sy)/_tmp7;
-  const T s_shank = -(_tmp10*p.sy - _tmp11*p.sx)/_tmp7;
-  const T _tmp12 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_root;
-  const T _tmp13 = g2_shank_rod2_barrel2_d2*g2_shank_rod2_barrel2_d2;
-  const T S_x_d = K_x_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp12 - g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_d = K_y_d + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp12 + g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp13;
-  const T _tmp14 = F_x - S_x;
-  const T c_rod2 = -_tmp14/g2_shank_rod2_barrel2_v_x;
-  const T _tmp15 = F_y - S_y;
-  const T s_rod2 = -_tmp15/g2_shank_rod2_barrel2_v_x;
-  const T x_rod2 = F_x - c_rod2*p.r2;
+  const T g2_shank_rod2_barrel2_disc_d = _tmp7*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_d;
+  const T _tmp8 = T(1)/g2_shank_rod2_barrel2_root;
+  const T g2_shank_rod2_barrel2_root_d = T(0.5)*g2_shank_rod2_barrel2_disc_d*_tmp8;
+  const T _tmp9 = T(1)/g2_shank_rod2_barrel2_d2;
+  const T _tmp10 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root)*_tmp9;
+  const T S_x = _tmp10 + K_x;
+  const T _tmp11 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y = _tmp11 + K_y;
+  const T _tmp12 = K_x - S_x;
+  const T _tmp13 = K_y - S_y;
+  const T _tmp14 = T(1)/_tmp7;
+  const T c_shank = _tmp14*(p.sx*_tmp12 + p.sy*_tmp13);
+  const T s_shank = -_tmp14*(p.sy*_tmp12 - p.sx*_tmp13);
+  const T S_x_q = _tmp10;
+  const T S_x_q_d = -(S_x_q*g2_shank_rod2_barrel2_d2_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_d = K_x_d + S_x_q_d;
+  const T S_y_q = _tmp11;
+  const T S_y_q_d = -(S_y_q*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_d - g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_d = K_y_d + S_y_q_d;
+  const T _tmp15 = T(1)/g2_shank_rod2_barrel2_v_x;
+  const T c_rod2 = -(F_x - S_x)*_tmp15;
+  const T s_rod2 = -(F_y - S_y)*_tmp15;
+  const T c_rod2_d = -(F_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_d - S_x_d)*_tmp15;
+  const T s_rod2_d = -(F_y_d + g2_shank_rod2_barrel2_v_x_d*s_rod2 - S_y_d)*_tmp15;
+  const T x_rod2 = F_x - p.r2*c_rod2;
   const T y_rod2 = F_y - p.r2*s_rod2;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh;
-  const T com_thigh_y = -T(0.5)*c_thigh*p.l_th;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh;
   const T g1_thigh_barrel1_rod1_e_dd = -g1_thigh_barrel1_rod1_v_x*in.l1_dd - in.l1_d*in.l1_d;
-  const T T1_x_dd = G_x*g1_thigh_barrel1_rod1_e_dd/g1_thigh_barrel1_rod1_d2;
-  const T s_thigh_dd = T1_x_dd/p.ty;
+  const T T1_x_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_e_dd;
+  const T s_thigh_dd = _tmp3*T1_x_dd;
   const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_dd;
   const T g1_thigh_barrel1_rod1_disc_dd = -T(2)*(g1_thigh_barrel1_rod1_e_d*g1_thigh_barrel1_rod1_e_d) - T(2)*g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e_dd;
-  const T T1_y_dd = T(0.5)*G_x*g1_thigh_barrel1_rod1_disc_dd/_tmp2 - T(0.25)*G_x*(g1_thigh_barrel1_rod1_disc_d*g1_thigh_barrel1_rod1_disc_d)/(((g1_thigh_barrel1_rod1_root*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_root)*g1_thigh_barrel1_rod1_d2);
-  const T c_thigh_dd = -T1_y_dd/p.ty;
-  const T com_thigh_y_dd = -T(0.5)*c_thigh_dd*p.l_th;
+  const T g1_thigh_barrel1_rod1_root_dd = -T(0.5)*(T(2)*(g1_thigh_barrel1_rod1_root_d*g1_thigh_barrel1_rod1_root_d) - g1_thigh_barrel1_rod1_disc_dd)*_tmp1;
+  const T T1_y_dd = G_x*_tmp2*g1_thigh_barrel1_rod1_root_dd;
+  const T c_thigh_dd = -_tmp3*T1_y_dd;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_dd;
   const T w_thigh_d = c_thigh*s_thigh_dd - c_thigh_dd*s_thigh;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
   const T K_x_dd = p.l_th*s_thigh_dd;
-  const T K_y_dd = -c_thigh_dd*p.l_th;
-  const T F_x_dd = p.fy*s_thigh_dd - c_thigh_dd*p.fx;
+  const T K_y_dd = -p.l_th*c_thigh_dd;
+  const T F_x_dd = p.fy*s_thigh_dd - p.fx*c_thigh_dd;
   const T g2_shank_rod2_barrel2_d_x_dd = F_x_dd - K_x_dd;
-  const T F_y_dd = -c_thigh_dd*p.fy - p.fx*s_thigh_dd;
+  const T F_y_dd = -p.fy*c_thigh_dd - p.fx*s_thigh_dd;
   const T g2_shank_rod2_barrel2_d_y_dd = F_y_dd - K_y_dd;
   const T g2_shank_rod2_barrel2_d2_dd = T(2)*(g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_d_x_d) + T(2)*(g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_d_y_d) + T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x_dd + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y_dd;
   const T g2_shank_rod2_barrel2_v_x_dd = -in.l2_dd;
   const T g2_shank_rod2_barrel2_e_dd = T(0.5)*g2_shank_rod2_barrel2_d2_dd - g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x_dd - g2_shank_rod2_barrel2_v_x_d*g2_shank_rod2_barrel2_v_x_d;
-  const T g2_shank_rod2_barrel2_disc_dd = g2_shank_rod2_barrel2_d2_dd*_tmp7 - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
-  const T _tmp16 = g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_e/_tmp13 - g2_shank_rod2_barrel2_e_d/g2_shank_rod2_barrel2_d2;
-  const T _tmp17 = _tmp13*g2_shank_rod2_barrel2_d2;
-  const T _tmp18 = _tmp13*g2_shank_rod2_barrel2_root;
-  const T _tmp19 = g2_shank_rod2_barrel2_d2*(g2_shank_rod2_barrel2_root*g2_shank_rod2_barrel2_root);
-  const T _tmp20 = T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_root/_tmp13 - g2_shank_rod2_barrel2_disc_d/_tmp12;
-  const T S_x_dd = K_x_dd + T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root + T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_y_d + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 - g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e/_tmp13 - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root/_tmp13 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp8/_tmp17 - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_d/_tmp18)*g2_shank_rod2_barrel2_d2_d - T(0.5)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_disc_dd/_tmp12 - g2_shank_rod2_barrel2_d2_dd*_tmp8/_tmp13 - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2;
-  const T S_y_dd = K_y_dd + T(0.5)*g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_dd/_tmp12 + g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd/g2_shank_rod2_barrel2_d2 + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e/g2_shank_rod2_barrel2_d2 - (g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_y/_tmp13 - g2_shank_rod2_barrel2_d_y_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_e_d - _tmp16*g2_shank_rod2_barrel2_d_y_d - T(0.25)*(T(2)*g2_shank_rod2_barrel2_d2_d*g2_shank_rod2_barrel2_d_x/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp19 - T(2)*g2_shank_rod2_barrel2_d_x_d/g2_shank_rod2_barrel2_d2)*g2_shank_rod2_barrel2_disc_d/g2_shank_rod2_barrel2_root - T(0.5)*_tmp20*g2_shank_rod2_barrel2_d_x_d - T(0.5)*(T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_d/_tmp13 + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e/_tmp13 + g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_disc_d/_tmp18 - T(4)*g2_shank_rod2_barrel2_d2_d*_tmp9/_tmp17)*g2_shank_rod2_barrel2_d2_d - g2_shank_rod2_barrel2_d2_dd*_tmp9/_tmp13;
-  const T s_shank_dd = K_y_dd*p.sx/_tmp7 + S_x_dd*p.sy/_tmp7 - K_x_dd*p.sy/_tmp7 - S_y_dd*p.sx/_tmp7;
+  const T g2_shank_rod2_barrel2_disc_dd = _tmp7*g2_shank_rod2_barrel2_d2_dd - T(2)*(g2_shank_rod2_barrel2_e_d*g2_shank_rod2_barrel2_e_d) - T(2)*g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e_dd;
+  const T g2_shank_rod2_barrel2_root_dd = -T(0.5)*(T(2)*(g2_shank_rod2_barrel2_root_d*g2_shank_rod2_barrel2_root_d) - g2_shank_rod2_barrel2_disc_dd)*_tmp8;
+  const T S_x_q_dd = -(S_x_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_x_q_d*g2_shank_rod2_barrel2_d2_d + T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_root_d + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root_dd + g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_root - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_x_dd = K_x_dd + S_x_q_dd;
+  const T S_y_q_dd = -(S_y_q*g2_shank_rod2_barrel2_d2_dd + T(2)*S_y_q_d*g2_shank_rod2_barrel2_d2_d - T(2)*g2_shank_rod2_barrel2_d_x_d*g2_shank_rod2_barrel2_root_d - T(2)*g2_shank_rod2_barrel2_d_y_d*g2_shank_rod2_barrel2_e_d - g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root_dd - g2_shank_rod2_barrel2_d_x_dd*g2_shank_rod2_barrel2_root - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e_dd - g2_shank_rod2_barrel2_d_y_dd*g2_shank_rod2_barrel2_e)*_tmp9;
+  const T S_y_dd = K_y_dd + S_y_q_dd;
+  const T _tmp16 = K_x_dd - S_x_dd;
+  const T _tmp17 = K_y_dd - S_y_dd;
+  const T s_shank_dd = -_tmp14*(p.sy*_tmp16 - p.sx*_tmp17);
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T c_shank_dd = K_x_dd*p.sx/_tmp7 + K_y_dd*p.sy/_tmp7 - S_x_dd*p.sx/_tmp7 - S_y_dd*p.sy/_tmp7;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T c_shank_dd = _tmp14*(p.sx*_tmp16 + p.sy*_tmp17);
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = c_shank*s_shank_dd - c_shank_dd*s_shank;
   const T com_barrel1_x = G_x + T(0.08)*c_barrel1;
   const T com_barrel1_y = T(0.08)*s_barrel1;
-  const T _tmp21 = _tmp0*g1_thigh_barrel1_rod1_v_x;
-  const T c_barrel1_dd = _tmp3*in.l1_dd/_tmp0 + T1_x_dd/g1_thigh_barrel1_rod1_v_x - (T(2)*_tmp3*in.l1_d/_tmp21 + T1_x_d/_tmp0)*in.l1_d - T1_x_d*in.l1_d/_tmp0;
+  const T c_barrel1_dd = -(T(2)*c_barrel1_d*in.l1_d + c_barrel1*in.l1_dd - T1_x_dd)*_tmp4;
   const T com_barrel1_x_dd = T(0.08)*c_barrel1_dd;
-  const T s_barrel1_dd = (T(2)*T1_y*in.l1_d/_tmp21 - T1_y_d/_tmp0)*in.l1_d + T1_y_dd/g1_thigh_barrel1_rod1_v_x - T1_y*in.l1_dd/_tmp0 - T1_y_d*in.l1_d/_tmp0;
+  const T s_barrel1_dd = -(T(2)*in.l1_d*s_barrel1_d + in.l1_dd*s_barrel1 - T1_y_dd)*_tmp4;
   const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
   const T w_barrel1_d = c_barrel1*s_barrel1_dd - c_barrel1_dd*s_barrel1;
-  const T com_rod1_x = T(0.5)*c_barrel1*p.r1 + x_rod1;
+  const T com_rod1_x = T(0.5)*p.r1*c_barrel1 + x_rod1;
   const T com_rod1_y = T(0.5)*p.r1*s_barrel1 + y_rod1;
-  const T x_rod1_dd = T1_x_dd - c_barrel1_dd*p.r1;
-  const T com_rod1_x_dd = T(0.5)*c_barrel1_dd*p.r1 + x_rod1_dd;
+  const T x_rod1_dd = T1_x_dd - p.r1*c_barrel1_dd;
+  const T com_rod1_x_dd = T(0.5)*p.r1*c_barrel1_dd + x_rod1_dd;
   const T y_rod1_dd = T1_y_dd - p.r1*s_barrel1_dd;
   const T com_rod1_y_dd = T(0.5)*p.r1*s_barrel1_dd + y_rod1_dd;
   const T com_barrel2_x = S_x + T(0.08)*c_rod2;
   const T com_barrel2_y = S_y + T(0.08)*s_rod2;
-  const T _tmp22 = _tmp4*g2_shank_rod2_barrel2_v_x;
-  const T c_rod2_dd = _tmp14*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_x_d/_tmp4 - S_x_d/_tmp4 - T(2)*_tmp14*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_x_dd/g2_shank_rod2_barrel2_v_x - F_x_dd/g2_shank_rod2_barrel2_v_x - S_x_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T c_rod2_dd = -(F_x_dd + T(2)*c_rod2_d*g2_shank_rod2_barrel2_v_x_d + c_rod2*g2_shank_rod2_barrel2_v_x_dd - S_x_dd)*_tmp15;
   const T com_barrel2_x_dd = S_x_dd + T(0.08)*c_rod2_dd;
-  const T s_rod2_dd = _tmp15*g2_shank_rod2_barrel2_v_x_dd/_tmp4 + (F_y_d/_tmp4 - S_y_d/_tmp4 - T(2)*_tmp15*g2_shank_rod2_barrel2_v_x_d/_tmp22)*g2_shank_rod2_barrel2_v_x_d + F_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4 + S_y_dd/g2_shank_rod2_barrel2_v_x - F_y_dd/g2_shank_rod2_barrel2_v_x - S_y_d*g2_shank_rod2_barrel2_v_x_d/_tmp4;
+  const T s_rod2_dd = -(F_y_dd + T(2)*g2_shank_rod2_barrel2_v_x_d*s_rod2_d + g2_shank_rod2_barrel2_v_x_dd*s_rod2 - S_y_dd)*_tmp15;
   const T com_barrel2_y_dd = S_y_dd + T(0.08)*s_rod2_dd;
   const T w_rod2_d = c_rod2*s_rod2_dd - c_rod2_dd*s_rod2;
-  const T com_rod2_x = T(0.5)*c_rod2*p.r2 + x_rod2;
+  const T com_rod2_x = T(0.5)*p.r2*c_rod2 + x_rod2;
   const T com_rod2_y = T(0.5)*p.r2*s_rod2 + y_rod2;
-  const T x_rod2_dd = F_x_dd - c_rod2_dd*p.r2;
-  const T com_rod2_x_dd = T(0.5)*c_rod2_dd*p.r2 + x_rod2_dd;
+  const T x_rod2_dd = F_x_dd - p.r2*c_rod2_dd;
+  const T com_rod2_x_dd = T(0.5)*p.r2*c_rod2_dd + x_rod2_dd;
   const T y_rod2_dd = F_y_dd - p.r2*s_rod2_dd;
   const T com_rod2_y_dd = T(0.5)*p.r2*s_rod2_dd + y_rod2_dd;
   const T stroke1_normal_x = -s_barrel1;
@@ -920,12 +1506,12 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[2] = -T(1);
   A[8] = T(1);
   A[14] = T(1);
-  b[0] = com_thigh_x_dd*p.m_th;
+  b[0] = p.m_th*com_thigh_x_dd;
   A[19] = T(1);
   A[21] = -T(1);
   A[27] = T(1);
   A[33] = T(1);
-  b[1] = (com_thigh_y_dd + T(9.81))*p.m_th;
+  b[1] = p.m_th*(com_thigh_y_dd + T(9.81));
   A[36] = com_thigh_y;
   A[37] = -com_thigh_x;
   A[38] = K_y - com_thigh_y;
@@ -934,82 +1520,83 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[45] = T1_x - com_thigh_x;
   A[50] = com_thigh_y - F_y;
   A[51] = F_x - com_thigh_x;
-  b[2] = (p.l_th*p.l_th)*p.m_th*w_thigh_d/T(12);
+  const T _tmp18 = T(1)/T(12);
+  b[2] = (p.l_th*p.l_th)*p.m_th*_tmp18*w_thigh_d;
   A[56] = T(1);
   A[64] = -T(1);
-  b[3] = com_shank_x_dd*p.m_sh;
+  b[3] = p.m_sh*com_shank_x_dd;
   A[75] = T(1);
   A[83] = -T(1);
-  b[4] = (com_shank_y_dd + T(9.81))*p.m_sh;
+  b[4] = p.m_sh*(com_shank_y_dd + T(9.81));
   A[92] = com_shank_y - K_y;
   A[93] = K_x - com_shank_x;
   A[100] = S_y - com_shank_y;
   A[101] = com_shank_x - S_x;
-  b[5] = (p.l_sh*p.l_sh)*p.m_sh*w_shank_d/T(12);
+  b[5] = (p.l_sh*p.l_sh)*p.m_sh*_tmp18*w_shank_d;
   A[112] = T(1);
   A[114] = -stroke1_normal_x;
   A[124] = -c_barrel1;
-  b[6] = com_barrel1_x_dd*p.m_b;
+  b[6] = p.m_b*com_barrel1_x_dd;
   A[131] = T(1);
   A[132] = -c_barrel1;
   A[142] = -s_barrel1;
-  b[7] = (com_barrel1_y_dd + T(9.81))*p.m_b;
+  b[7] = p.m_b*(com_barrel1_y_dd + T(9.81));
   A[148] = com_barrel1_y;
   A[149] = G_x - com_barrel1_x;
-  const T _tmp23 = com_barrel1_y - y_rod1;
-  const T _tmp24 = com_barrel1_x - x_rod1;
-  A[150] = c_barrel1*_tmp24 - _tmp23*stroke1_normal_x;
+  const T _tmp19 = com_barrel1_y - y_rod1;
+  const T _tmp20 = com_barrel1_x - x_rod1;
+  A[150] = c_barrel1*_tmp20 - _tmp19*stroke1_normal_x;
   A[151] = -T(1);
-  A[160] = _tmp24*s_barrel1 - c_barrel1*_tmp23;
+  A[160] = _tmp20*s_barrel1 - c_barrel1*_tmp19;
   b[8] = T(0.0021333333333333334)*p.m_b*w_barrel1_d;
   A[168] = stroke1_normal_x;
   A[170] = -T(1);
   A[178] = c_barrel1;
-  b[9] = com_rod1_x_dd*p.m_r;
+  b[9] = p.m_r*com_rod1_x_dd;
   A[186] = c_barrel1;
   A[189] = -T(1);
   A[196] = s_barrel1;
-  b[10] = (com_rod1_y_dd + T(9.81))*p.m_r;
-  const T _tmp25 = com_rod1_y - y_rod1;
-  const T _tmp26 = com_rod1_x - x_rod1;
-  A[204] = _tmp25*stroke1_normal_x - c_barrel1*_tmp26;
+  b[10] = p.m_r*(com_rod1_y_dd + T(9.81));
+  const T _tmp21 = com_rod1_y - y_rod1;
+  const T _tmp22 = com_rod1_x - x_rod1;
+  A[204] = _tmp21*stroke1_normal_x - c_barrel1*_tmp22;
   A[205] = T(1);
   A[206] = T1_y - com_rod1_y;
   A[207] = com_rod1_x - T1_x;
-  A[214] = c_barrel1*_tmp25 - _tmp26*s_barrel1;
-  b[11] = p.m_r*(p.r1*p.r1)*w_barrel1_d/T(12);
+  A[214] = c_barrel1*_tmp21 - _tmp22*s_barrel1;
+  b[11] = p.m_r*(p.r1*p.r1)*_tmp18*w_barrel1_d;
   A[226] = T(1);
   A[228] = -stroke2_normal_x;
   A[233] = -c_rod2;
-  b[12] = com_barrel2_x_dd*p.m_b;
+  b[12] = p.m_b*com_barrel2_x_dd;
   A[245] = T(1);
   A[246] = -c_rod2;
   A[251] = -s_rod2;
-  b[13] = (com_barrel2_y_dd + T(9.81))*p.m_b;
+  b[13] = p.m_b*(com_barrel2_y_dd + T(9.81));
   A[262] = com_barrel2_y - S_y;
   A[263] = S_x - com_barrel2_x;
-  const T _tmp27 = com_barrel2_y - y_rod2;
-  const T _tmp28 = com_barrel2_x - x_rod2;
-  A[264] = c_rod2*_tmp28 - _tmp27*stroke2_normal_x;
+  const T _tmp23 = com_barrel2_y - y_rod2;
+  const T _tmp24 = com_barrel2_x - x_rod2;
+  A[264] = c_rod2*_tmp24 - _tmp23*stroke2_normal_x;
   A[265] = -T(1);
-  A[269] = _tmp28*s_rod2 - c_rod2*_tmp27;
+  A[269] = _tmp24*s_rod2 - c_rod2*_tmp23;
   b[14] = T(0.0021333333333333334)*p.m_b*w_rod2_d;
   A[282] = stroke2_normal_x;
   A[284] = -T(1);
   A[287] = c_rod2;
-  b[15] = com_rod2_x_dd*p.m_r;
+  b[15] = p.m_r*com_rod2_x_dd;
   A[300] = c_rod2;
   A[303] = -T(1);
   A[305] = s_rod2;
-  b[16] = (com_rod2_y_dd + T(9.81))*p.m_r;
-  const T _tmp29 = com_rod2_y - y_rod2;
-  const T _tmp30 = com_rod2_x - x_rod2;
-  A[318] = _tmp29*stroke2_normal_x - c_rod2*_tmp30;
+  b[16] = p.m_r*(com_rod2_y_dd + T(9.81));
+  const T _tmp25 = com_rod2_y - y_rod2;
+  const T _tmp26 = com_rod2_x - x_rod2;
+  A[318] = _tmp25*stroke2_normal_x - c_rod2*_tmp26;
   A[319] = T(1);
   A[320] = F_y - com_rod2_y;
   A[321] = com_rod2_x - F_x;
-  A[323] = c_rod2*_tmp29 - _tmp30*s_rod2;
-  b[17] = p.m_r*(p.r2*p.r2)*w_rod2_d/T(12);
+  A[323] = c_rod2*_tmp25 - _tmp26*s_rod2;
+  b[17] = p.m_r*(p.r2*p.r2)*_tmp18*w_rod2_d;
 
   return Status::ok;
 }
@@ -1017,21 +1604,46 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
 // The model's own driver motion (its `drivers:` values) at time t.
 template <class T>
 void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noexcept {
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   in.t = t;
   const T _tmp0 = p.w*t;
   const T _tmp1 = sin(_tmp0);
   in.l1 = p.a1*_tmp1 + p.s1;
-  in.l1_d = cos(_tmp0)*p.a1*p.w;
+  in.l1_d = p.a1*p.w*cos(_tmp0);
   const T _tmp2 = p.w*p.w;
   in.l1_dd = -p.a1*_tmp2*_tmp1;
   const T _tmp3 = T(2)*p.w*t;
   const T _tmp4 = sin(_tmp3);
   in.l2 = p.a2*_tmp4 + p.s2;
-  in.l2_d = T(2)*cos(_tmp3)*p.a2*p.w;
+  in.l2_d = T(2)*p.a2*p.w*cos(_tmp3);
   in.l2_dd = -T(4)*p.a2*_tmp2*_tmp4;
 
+}
+
+// The model's driver motion at n times t[0..n) for evaluate_batch: `storage` holds
+// batch_storage_per_sample * n values, which `batch` then points into (and batch.t to t).
+inline constexpr int batch_storage_per_sample = 6;
+template <class T>
+void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]] T* storage,
+                         BatchInputs<T>& batch) noexcept {
+  batch.t = t;
+  batch.l1 = storage + 0 * n;
+  batch.l1_d = storage + 1 * n;
+  batch.l1_dd = storage + 2 * n;
+  batch.l2 = storage + 3 * n;
+  batch.l2_d = storage + 4 * n;
+  batch.l2_dd = storage + 5 * n;
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    driver_inputs(p, t[i], in);
+    storage[0 * n + i] = in.l1;
+    storage[1 * n + i] = in.l1_d;
+    storage[2 * n + i] = in.l1_dd;
+    storage[3 * n + i] = in.l2;
+    storage[4 * n + i] = in.l2_d;
+    storage[5 * n + i] = in.l2_dd;
+  }
 }
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.

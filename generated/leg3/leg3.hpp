@@ -4,7 +4,7 @@
 //
 // Three-joint planar leg driven by the lecture's abstract-kinematics step pattern
 //
-// Plain C++17 with <cmath> only: no heap, no exceptions, the scalar type a template parameter.
+// Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'pelvis'. Body
 // outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
 // second time derivatives; joint outputs are the force (and moment) of the joint's first body on
@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace mechgen::gen::leg3 {
 
@@ -45,6 +46,22 @@ struct Inputs {
   T q1 = T(0), q1_d = T(0), q1_dd = T(0);  // rad
   T q2 = T(0), q2_d = T(0), q2_dd = T(0);  // rad
   T q3 = T(0), q3_d = T(0), q3_dd = T(0);  // rad
+};
+
+// N samples of driver inputs as structure of arrays (each pointer to n values), for
+// evaluate_batch.
+template <class T>
+struct BatchInputs {
+  const T* t = nullptr;
+  const T* q1 = nullptr;
+  const T* q1_d = nullptr;
+  const T* q1_dd = nullptr;
+  const T* q2 = nullptr;
+  const T* q2_d = nullptr;
+  const T* q2_dd = nullptr;
+  const T* q3 = nullptr;
+  const T* q3_d = nullptr;
+  const T* q3_dd = nullptr;
 };
 
 template <class T>
@@ -108,81 +125,180 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
   return isfinite(in.t) && isfinite(in.q1) && isfinite(in.q1_d) && isfinite(in.q1_dd) && isfinite(in.q2) && isfinite(in.q2_d) && isfinite(in.q2_dd) && isfinite(in.q3) && isfinite(in.q3_d) && isfinite(in.q3_dd);
 }
 
+namespace detail {
+#if defined(__GNUC__)
+#define MECHGEN_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_INLINE inline
+#endif
+// The kernels' sin, cos and atan2: branch-free straight-line selects that the compiler vectorises
+// in evaluate_batch (glibc declares its vector sin/cos only under -ffast-math, and has no vector
+// atan2 declaration; the kernels never use -ffast-math); the scalar entries use them too, so both
+// agree, and atan2 is several times cheaper than the C library's. Coefficients are Cephes' (S. L. Moshier): atan's rational
+// minimax form and sin/cos's polynomials on [-pi/4, pi/4]; within about 2 ulp of the C library.
+
+// atan2(y, x) in [-pi, pi]: atan of min/max(|x|, |y|) in [0, 1] (reduced to [-0.21, 0.66] by
+// atan(a) = pi/4 + atan((a - 1)/(a + 1))), then mirrored into the octant. Assumption: (x, y) is
+// not (+-0, -0), where it returns +-0 instead of the C library's +-pi.
+template <class T>
+MECHGEN_INLINE T atan2(T y, T x) noexcept {
+  using std::abs;
+  using std::copysign;
+  const T ax = abs(x), ay = abs(y);
+  const bool steep = ay > ax;
+  const T hi = steep ? ay : ax, lo = steep ? ax : ay;
+  const bool reduce = lo > T(0.66) * hi;
+  // Selects pick between values only, never between arithmetic results: the compiler may not
+  // speculate arithmetic out of a branch under -ftrapping-math (the default) and would keep the
+  // branch. So an arithmetic choice is a product with a 0/1 flag (exact: x + 0 * y = x), the flag
+  // itself a select of constants (a bool converted to T would not vectorise with GCC 12).
+  const T reduced = reduce ? T(1) : T(0), steeper = steep ? T(1) : T(0);
+  const T num = lo - reduced * hi, den = hi + reduced * lo;
+  const T a = num / (den + (den == T(0) ? T(1) : T(0)));  // 0 / 1 at the origin
+  const T z = a * a;
+  const T p = (((T(-8.750608600031904122785e-1) * z + T(-1.615753718733365076637e1)) * z +
+                T(-7.500855792314704667340e1)) * z + T(-1.228866684490136173410e2)) * z +
+              T(-6.485021904942025371773e1);
+  const T q = ((((z + T(2.485846490142306297962e1)) * z + T(1.650270098316988542046e2)) * z +
+                T(4.328810604912902668951e2)) * z + T(4.853903996359136964868e2)) * z +
+              T(1.945506571482613964425e2);
+  const T r = a * (z * p / q) + a;
+  const T first = reduced * T(7.853981633974483096157e-1) +
+                  (r + reduced * T(3.061616997868382943065e-17));
+  const T mirror = T(1) - T(2) * steeper;  // -1 when steep
+  const T quadrant = (steeper * T(1.570796326794896619231) + mirror * first) +
+                     steeper * T(6.123233995736765886130e-17);
+  const T left = copysign(T(1), x) < T(0) ? T(1) : T(0);
+  const T angle = (left * T(3.141592653589793238463) + (T(1) - T(2) * left) * quadrant) +
+                  left * T(1.224646799147353177226e-16);
+  return copysign(angle, y);
+}
+
+// sin and cos of x - k pi/2 on [-pi/4, pi/4], k = round(x 2/pi) by the 1.5 * 2^52 trick (no call
+// to nearbyint, which SSE2 cannot vectorise), pi/2 subtracted in three parts (Cody-Waite).
+// Assumption: |x| < 1e8 rad (k pi/2 exact); beyond, accuracy degrades gracefully.
+template <class T>
+MECHGEN_INLINE void sincos(T x, T& sine, T& cosine) noexcept {
+  // 1.5 * 2^(digits - 1) (1.5 * 2^52 for double): adding and subtracting it rounds to an integer.
+  const T round = T(1.5) / std::numeric_limits<T>::epsilon();
+  const T k = (x * T(6.366197723675813430755e-1) + round) - round;
+  const T r = ((x - k * T(1.570796251296997070312)) - k * T(7.549789415861596353350e-8)) -
+              k * T(5.390302858158119290900e-15);
+  const T z = r * r;
+  const T s = r + r * z * (((((T(1.58962301576546568060e-10) * z + T(-2.50507477628578072866e-8)) *
+                                  z + T(2.75573136213857245213e-6)) * z +
+                                 T(-1.98412698295895385996e-4)) * z +
+                                T(8.33333333332211858878e-3)) * z +
+                               T(-1.66666666666666307295e-1));
+  const T c = T(1) - T(0.5) * z +
+              z * z * (((((T(-1.13585365213876817300e-11) * z + T(2.08757008419747316778e-9)) * z +
+                          T(-2.75573141792967388112e-7)) * z + T(2.48015872888517045348e-5)) * z +
+                        T(-1.38888888888730564116e-3)) * z + T(4.16666666666665929218e-2));
+  const T centred = k - T(4) * ((k * T(0.25) + round) - round);  // k mod 4, in -2 .. 2
+  const T quadrant = centred + (centred < T(0) ? T(4) : T(0));  // k mod 4, in 0 .. 3 (atan2)
+  // Bitwise | and & on the comparisons: no short-circuit branches in the loop.
+  const bool odd = (quadrant == T(1)) | (quadrant == T(3));
+  const bool sine_negative = quadrant >= T(2);
+  const bool cosine_negative = (quadrant == T(1)) | (quadrant == T(2));
+  const T sa = odd ? c : s, ca = odd ? s : c;
+  sine = sine_negative ? -sa : sa;  // negation cannot trap
+  cosine = cosine_negative ? -ca : ca;
+}
+template <class T>
+MECHGEN_INLINE T sin(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return s;
+}
+template <class T>
+MECHGEN_INLINE T cos(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return c;
+}
+#undef MECHGEN_INLINE
+}  // namespace detail
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 267
+  // Total ops: 228
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
   const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -c_thigh_rel*p.l_th;
+  const T K_y = -p.l_th*c_thigh_rel;
   const T c_shank_rel = cos(in.q2);
   const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
   const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
   const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
   const T w_shank = in.q1_d + in.q2_d;
   const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - c_shank*p.l_sh;
+  const T Ank_y = K_y - p.l_sh*c_shank;
   const T c_foot_rel = cos(in.q3);
   const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
   const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
   const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
   const T w_foot = in.q3_d + w_shank;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*c_thigh_rel*p.l_th;
-  const T com_thigh_x_d = T(0.5)*c_thigh_rel*in.q1_d*p.l_th;
-  const T com_thigh_y_d = T(0.5)*in.q1_d*p.l_th*s_thigh_rel;
-  const T _tmp0 = in.q1_d*in.q1_d;
-  const T com_thigh_x_dd = T(0.5)*c_thigh_rel*in.q1_dd*p.l_th - T(0.5)*_tmp0*p.l_th*s_thigh_rel;
-  const T com_thigh_y_dd = T(0.5)*c_thigh_rel*_tmp0*p.l_th + T(0.5)*in.q1_dd*p.l_th*s_thigh_rel;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
-  const T K_x_d = c_thigh_rel*in.q1_d*p.l_th;
-  const T s_shank_d = c_shank_rel*c_thigh_rel*in.q1_d + c_shank_rel*c_thigh_rel*in.q2_d - in.q1_d*s_shank_rel*s_thigh_rel - in.q2_d*s_shank_rel*s_thigh_rel;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
   const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T K_y_d = in.q1_d*p.l_th*s_thigh_rel;
-  const T c_shank_d = -c_shank_rel*in.q1_d*s_thigh_rel - c_shank_rel*in.q2_d*s_thigh_rel - c_thigh_rel*in.q1_d*s_shank_rel - c_thigh_rel*in.q2_d*s_shank_rel;
-  const T com_shank_y_d = K_y_d - T(0.5)*c_shank_d*p.l_sh;
-  const T K_x_dd = c_thigh_rel*in.q1_dd*p.l_th - _tmp0*p.l_th*s_thigh_rel;
-  const T _tmp1 = c_shank_rel*in.q1_d + c_shank_rel*in.q2_d;
-  const T _tmp2 = c_thigh_rel*in.q1_d + c_thigh_rel*in.q2_d;
-  const T _tmp3 = in.q1_d*s_thigh_rel + in.q2_d*s_thigh_rel;
-  const T _tmp4 = in.q1_d*s_shank_rel + in.q2_d*s_shank_rel;
-  const T s_shank_dd = c_shank*in.q1_dd + c_shank*in.q2_dd - _tmp1*in.q1_d*s_thigh_rel - _tmp2*in.q2_d*s_shank_rel - c_shank_rel*_tmp3*in.q2_d - c_thigh_rel*in.q1_d*_tmp4;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T K_y_dd = c_thigh_rel*_tmp0*p.l_th + in.q1_dd*p.l_th*s_thigh_rel;
-  const T c_shank_dd = _tmp3*in.q2_d*s_shank_rel + in.q1_d*_tmp4*s_thigh_rel - _tmp1*c_thigh_rel*in.q1_d - s_shank*in.q1_dd - s_shank*in.q2_dd - c_shank_rel*_tmp2*in.q2_d;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T _tmp5 = p.l_heel - p.l_toe;
-  const T com_foot_x = Ank_x + T(0.5)*c_foot*_tmp5 + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp5*s_foot - T(0.5)*c_foot*p.h_ft;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
   const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
-  const T c_foot_d = c_foot_rel*c_shank_d - c_foot_rel*in.q3_d*s_shank - c_shank*in.q3_d*s_foot_rel - s_foot_rel*s_shank_d;
-  const T s_foot_d = c_foot_rel*c_shank*in.q3_d + c_foot_rel*s_shank_d + c_shank_d*s_foot_rel - in.q3_d*s_foot_rel*s_shank;
-  const T com_foot_x_d = Ank_x_d + T(0.5)*c_foot_d*_tmp5 + T(0.5)*p.h_ft*s_foot_d;
-  const T Ank_y_d = K_y_d - c_shank_d*p.l_sh;
-  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp5*s_foot_d - T(0.5)*c_foot_d*p.h_ft;
+  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
   const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T _tmp6 = c_shank_d - in.q3_d*s_shank;
-  const T _tmp7 = c_shank*in.q3_d + s_shank_d;
-  const T c_foot_dd = c_foot_rel*c_shank_dd - s_foot*in.q3_dd - _tmp6*in.q3_d*s_foot_rel - c_foot_rel*_tmp7*in.q3_d - c_foot_rel*in.q3_d*s_shank_d - c_shank_d*in.q3_d*s_foot_rel - s_foot_rel*s_shank_dd;
-  const T s_foot_dd = c_foot*in.q3_dd + c_foot_rel*_tmp6*in.q3_d + c_foot_rel*c_shank_d*in.q3_d + c_foot_rel*s_shank_dd + c_shank_dd*s_foot_rel - _tmp7*in.q3_d*s_foot_rel - in.q3_d*s_foot_rel*s_shank_d;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*c_foot_dd*_tmp5 + T(0.5)*p.h_ft*s_foot_dd;
-  const T Ank_y_dd = K_y_dd - c_shank_dd*p.l_sh;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp5*s_foot_dd - T(0.5)*c_foot_dd*p.h_ft;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
   const T w_foot_d = in.q3_dd + w_shank_d;
-  const T _tmp8 = p.h_ft*s_foot;
-  const T Toe_x = Ank_x + _tmp8 - c_foot*p.l_toe;
-  const T _tmp9 = c_foot*p.h_ft;
-  const T Toe_y = Ank_y - _tmp9 - p.l_toe*s_foot;
-  const T Heel_x = Ank_x + c_foot*p.l_heel + _tmp8;
-  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp9;
+  const T _tmp1 = p.h_ft*s_foot;
+  const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
+  const T _tmp2 = p.h_ft*c_foot;
+  const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
+  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
+  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -236,91 +352,97 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 327
+  // Total ops: 288
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
   const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -c_thigh_rel*p.l_th;
+  const T K_y = -p.l_th*c_thigh_rel;
   const T c_shank_rel = cos(in.q2);
   const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
   const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
   const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
   const T w_shank = in.q1_d + in.q2_d;
   const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - c_shank*p.l_sh;
+  const T Ank_y = K_y - p.l_sh*c_shank;
   const T c_foot_rel = cos(in.q3);
   const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
   const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
   const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
   const T w_foot = in.q3_d + w_shank;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*c_thigh_rel*p.l_th;
-  const T com_thigh_x_d = T(0.5)*c_thigh_rel*in.q1_d*p.l_th;
-  const T com_thigh_y_d = T(0.5)*in.q1_d*p.l_th*s_thigh_rel;
-  const T _tmp0 = in.q1_d*in.q1_d;
-  const T com_thigh_x_dd = T(0.5)*c_thigh_rel*in.q1_dd*p.l_th - T(0.5)*_tmp0*p.l_th*s_thigh_rel;
-  const T com_thigh_y_dd = T(0.5)*c_thigh_rel*_tmp0*p.l_th + T(0.5)*in.q1_dd*p.l_th*s_thigh_rel;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
-  const T K_x_d = c_thigh_rel*in.q1_d*p.l_th;
-  const T s_shank_d = c_shank_rel*c_thigh_rel*in.q1_d + c_shank_rel*c_thigh_rel*in.q2_d - in.q1_d*s_shank_rel*s_thigh_rel - in.q2_d*s_shank_rel*s_thigh_rel;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
   const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T K_y_d = in.q1_d*p.l_th*s_thigh_rel;
-  const T c_shank_d = -c_shank_rel*in.q1_d*s_thigh_rel - c_shank_rel*in.q2_d*s_thigh_rel - c_thigh_rel*in.q1_d*s_shank_rel - c_thigh_rel*in.q2_d*s_shank_rel;
-  const T com_shank_y_d = K_y_d - T(0.5)*c_shank_d*p.l_sh;
-  const T K_x_dd = c_thigh_rel*in.q1_dd*p.l_th - _tmp0*p.l_th*s_thigh_rel;
-  const T _tmp1 = c_shank_rel*in.q1_d + c_shank_rel*in.q2_d;
-  const T _tmp2 = c_thigh_rel*in.q1_d + c_thigh_rel*in.q2_d;
-  const T _tmp3 = in.q1_d*s_thigh_rel + in.q2_d*s_thigh_rel;
-  const T _tmp4 = in.q1_d*s_shank_rel + in.q2_d*s_shank_rel;
-  const T s_shank_dd = c_shank*in.q1_dd + c_shank*in.q2_dd - _tmp1*in.q1_d*s_thigh_rel - _tmp2*in.q2_d*s_shank_rel - c_shank_rel*_tmp3*in.q2_d - c_thigh_rel*in.q1_d*_tmp4;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T K_y_dd = c_thigh_rel*_tmp0*p.l_th + in.q1_dd*p.l_th*s_thigh_rel;
-  const T c_shank_dd = _tmp3*in.q2_d*s_shank_rel + in.q1_d*_tmp4*s_thigh_rel - _tmp1*c_thigh_rel*in.q1_d - s_shank*in.q1_dd - s_shank*in.q2_dd - c_shank_rel*_tmp2*in.q2_d;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T _tmp5 = p.l_heel - p.l_toe;
-  const T com_foot_x = Ank_x + T(0.5)*c_foot*_tmp5 + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp5*s_foot - T(0.5)*c_foot*p.h_ft;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
   const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
-  const T c_foot_d = c_foot_rel*c_shank_d - c_foot_rel*in.q3_d*s_shank - c_shank*in.q3_d*s_foot_rel - s_foot_rel*s_shank_d;
-  const T s_foot_d = c_foot_rel*c_shank*in.q3_d + c_foot_rel*s_shank_d + c_shank_d*s_foot_rel - in.q3_d*s_foot_rel*s_shank;
-  const T com_foot_x_d = Ank_x_d + T(0.5)*c_foot_d*_tmp5 + T(0.5)*p.h_ft*s_foot_d;
-  const T Ank_y_d = K_y_d - c_shank_d*p.l_sh;
-  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp5*s_foot_d - T(0.5)*c_foot_d*p.h_ft;
+  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
   const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T _tmp6 = c_shank_d - in.q3_d*s_shank;
-  const T _tmp7 = c_shank*in.q3_d + s_shank_d;
-  const T c_foot_dd = c_foot_rel*c_shank_dd - s_foot*in.q3_dd - _tmp6*in.q3_d*s_foot_rel - c_foot_rel*_tmp7*in.q3_d - c_foot_rel*in.q3_d*s_shank_d - c_shank_d*in.q3_d*s_foot_rel - s_foot_rel*s_shank_dd;
-  const T s_foot_dd = c_foot*in.q3_dd + c_foot_rel*_tmp6*in.q3_d + c_foot_rel*c_shank_d*in.q3_d + c_foot_rel*s_shank_dd + c_shank_dd*s_foot_rel - _tmp7*in.q3_d*s_foot_rel - in.q3_d*s_foot_rel*s_shank_d;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*c_foot_dd*_tmp5 + T(0.5)*p.h_ft*s_foot_dd;
-  const T Ank_y_dd = K_y_dd - c_shank_dd*p.l_sh;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp5*s_foot_dd - T(0.5)*c_foot_dd*p.h_ft;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
   const T w_foot_d = in.q3_dd + w_shank_d;
-  const T _tmp8 = p.h_ft*s_foot;
-  const T Toe_x = Ank_x + _tmp8 - c_foot*p.l_toe;
-  const T _tmp9 = c_foot*p.h_ft;
-  const T Toe_y = Ank_y - _tmp9 - p.l_toe*s_foot;
-  const T Heel_x = Ank_x + c_foot*p.l_heel + _tmp8;
-  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp9;
+  const T _tmp1 = p.h_ft*s_foot;
+  const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
+  const T _tmp2 = p.h_ft*c_foot;
+  const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
+  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
+  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
   const T ne1 = com_foot_y - Ank_y;
-  const T _tmp10 = p.l_heel + p.l_toe;
-  const T ne2 = (_tmp10*_tmp10 + p.h_ft*p.h_ft)*p.m_ft*w_foot_d/T(12) - com_foot_x_dd*ne1*p.m_ft;
+  const T _tmp3 = p.l_heel + p.l_toe;
+  const T _tmp4 = T(1)/T(12);
+  const T ne2 = (_tmp3*_tmp3 + p.h_ft*p.h_ft)*p.m_ft*_tmp4*w_foot_d - p.m_ft*com_foot_x_dd*ne1;
   const T ne3 = Ank_x - com_foot_x;
-  const T _tmp11 = com_foot_y_dd + T(9.81);
-  const T ne4 = ne2 - _tmp11*ne3*p.m_ft;
-  const T ankle_fy = _tmp11*p.m_ft;
-  const T ankle_fx = com_foot_x_dd*p.m_ft;
-  const T knee_fy = (com_shank_y_dd + T(9.81))*p.m_sh + ankle_fy;
-  const T knee_fx = ankle_fx + com_shank_x_dd*p.m_sh;
-  const T q2_effort = (Ank_x - com_shank_x)*ankle_fy + (K_y - com_shank_y)*knee_fx + (p.l_sh*p.l_sh)*p.m_sh*w_shank_d/T(12) + ne4 - (Ank_y - com_shank_y)*ankle_fx - (K_x - com_shank_x)*knee_fy;
-  const T hip_fy = (com_thigh_y_dd + T(9.81))*p.m_th + knee_fy;
-  const T hip_fx = com_thigh_x_dd*p.m_th + knee_fx;
-  const T q1_effort = (K_x - com_thigh_x)*knee_fy + com_thigh_x*hip_fy + in.q1_dd*(p.l_th*p.l_th)*p.m_th/T(12) + q2_effort - (K_y - com_thigh_y)*knee_fx - com_thigh_y*hip_fx;
+  const T _tmp5 = com_foot_y_dd + T(9.81);
+  const T ne4 = ne2 - p.m_ft*_tmp5*ne3;
+  const T ankle_fy = p.m_ft*_tmp5;
+  const T ankle_fx = p.m_ft*com_foot_x_dd;
+  const T knee_fy = p.m_sh*(com_shank_y_dd + T(9.81)) + ankle_fy;
+  const T knee_fx = ankle_fx + p.m_sh*com_shank_x_dd;
+  const T q2_effort = (Ank_x - com_shank_x)*ankle_fy + (K_y - com_shank_y)*knee_fx + (p.l_sh*p.l_sh)*p.m_sh*_tmp4*w_shank_d + ne4 - (Ank_y - com_shank_y)*ankle_fx - (K_x - com_shank_x)*knee_fy;
+  const T hip_fy = p.m_th*(com_thigh_y_dd + T(9.81)) + knee_fy;
+  const T hip_fx = p.m_th*com_thigh_x_dd + knee_fx;
+  const T q1_effort = (K_x - com_thigh_x)*knee_fy + com_thigh_x*hip_fy + (p.l_th*p.l_th)*p.m_th*_tmp4*in.q1_dd + q2_effort - (K_y - com_thigh_y)*knee_fx - com_thigh_y*hip_fx;
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -380,6 +502,211 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   return Status::ok;
 }
 
+
+// evaluate_batch's failure[i]: 0 when sample i is ok, else a code that these decode into the
+// status and failed group evaluate() gives.
+template <class T>
+constexpr Status batch_status(T failure) noexcept {
+  return static_cast<Status>(static_cast<long>(failure) % 4096 % 4);
+}
+template <class T>
+constexpr int batch_failed_group(T failure) noexcept {
+  return failure == T(0) ? -1 : static_cast<int>(static_cast<long>(failure) % 4096 / 4 - 1);
+}
+
+// evaluate() for n samples at once, in structure-of-arrays form and without branches, so that the
+// compiler vectorises the loop (with -fno-math-errno, which lets sqrt be an instruction; sin, cos
+// and atan2 are detail:: above). Output column c (column_names[c]) of sample i goes to
+// out[c * stride + i] (stride >= n); failure[i] is 0 or codes the status and group evaluate()
+// returns (batch_status, batch_failed_group). A failed sample's outputs are unspecified (NaN or
+// infinite), not an error. Vectorises with GCC 12 at -O3 with -fno-math-errno -fno-trapping-math
+// (neither changes a result; never -ffast-math); without them it is correct but scalar.
+template <class T>
+void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long n, T* out,
+                    long stride, T* failure) noexcept {
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::max;
+  // Failed checks rank by order: the earliest failing one gives the result (see the emitter).
+  // Local copies: out[] cannot alias them, so their loads leave the loop.
+  [[maybe_unused]] const Params<T> p = params;
+  const T* const batch_t = inputs.t;
+  const T* const batch_q1 = inputs.q1;
+  const T* const batch_q1_d = inputs.q1_d;
+  const T* const batch_q1_dd = inputs.q1_dd;
+  const T* const batch_q2 = inputs.q2;
+  const T* const batch_q2_d = inputs.q2_d;
+  const T* const batch_q2_dd = inputs.q2_dd;
+  const T* const batch_q3 = inputs.q3;
+  const T* const batch_q3_d = inputs.q3_d;
+  const T* const batch_q3_dd = inputs.q3_dd;
+#if defined(__clang__)
+#pragma clang loop vectorize(enable)
+#elif defined(__GNUC__)
+#pragma GCC ivdep
+#endif
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    in.t = batch_t[i];
+    in.q1 = batch_q1[i];
+    in.q1_d = batch_q1_d[i];
+    in.q1_dd = batch_q1_dd[i];
+    in.q2 = batch_q2[i];
+    in.q2_d = batch_q2_d[i];
+    in.q2_dd = batch_q2_dd[i];
+    in.q3 = batch_q3[i];
+    in.q3_d = batch_q3_d[i];
+    in.q3_dd = batch_q3_dd[i];
+    // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
+    T failed = ((in.t - in.t) + (in.q1 - in.q1) + (in.q1_d - in.q1_d) + (in.q1_dd - in.q1_dd) + (in.q2 - in.q2) + (in.q2_d - in.q2_d) + (in.q2_dd - in.q2_dd) + (in.q3 - in.q3) + (in.q3_d - in.q3_d) + (in.q3_dd - in.q3_dd)) == T(0) ? T(0) : T(8196097);
+    // Total ops: 288
+    const T c_thigh_rel = cos(in.q1);
+    const T s_thigh_rel = sin(in.q1);
+    const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+    const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+    const T K_x = p.l_th*s_thigh_rel;
+    const T K_y = -p.l_th*c_thigh_rel;
+    const T c_shank_rel = cos(in.q2);
+    const T s_shank_rel = sin(in.q2);
+    const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+    const T s_shank_rel_d = c_shank_rel*in.q2_d;
+    const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
+    const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
+    const T w_shank = in.q1_d + in.q2_d;
+    const T Ank_x = K_x + p.l_sh*s_shank;
+    const T Ank_y = K_y - p.l_sh*c_shank;
+    const T c_foot_rel = cos(in.q3);
+    const T s_foot_rel = sin(in.q3);
+    const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+    const T s_foot_rel_d = c_foot_rel*in.q3_d;
+    const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
+    const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
+    const T w_foot = in.q3_d + w_shank;
+    const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
+    const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+    const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+    const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+    const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+    const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+    const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+    const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
+    const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+    const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+    const T K_x_d = p.l_th*s_thigh_rel_d;
+    const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+    const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
+    const T K_y_d = -p.l_th*c_thigh_rel_d;
+    const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+    const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+    const T K_x_dd = p.l_th*s_thigh_rel_dd;
+    const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+    const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+    const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+    const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+    const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+    const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+    const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+    const T w_shank_d = in.q1_dd + in.q2_dd;
+    const T _tmp0 = p.l_heel - p.l_toe;
+    const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+    const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
+    const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+    const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+    const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+    const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+    const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+    const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
+    const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+    const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+    const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+    const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+    const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+    const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+    const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+    const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
+    const T w_foot_d = in.q3_dd + w_shank_d;
+    const T _tmp1 = p.h_ft*s_foot;
+    const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
+    const T _tmp2 = p.h_ft*c_foot;
+    const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
+    const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
+    const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
+    const T ne1 = com_foot_y - Ank_y;
+    const T _tmp3 = p.l_heel + p.l_toe;
+    const T _tmp4 = T(1)/T(12);
+    const T ne2 = (_tmp3*_tmp3 + p.h_ft*p.h_ft)*p.m_ft*_tmp4*w_foot_d - p.m_ft*com_foot_x_dd*ne1;
+    const T ne3 = Ank_x - com_foot_x;
+    const T _tmp5 = com_foot_y_dd + T(9.81);
+    const T ne4 = ne2 - p.m_ft*_tmp5*ne3;
+    const T ankle_fy = p.m_ft*_tmp5;
+    const T ankle_fx = p.m_ft*com_foot_x_dd;
+    const T knee_fy = p.m_sh*(com_shank_y_dd + T(9.81)) + ankle_fy;
+    const T knee_fx = ankle_fx + p.m_sh*com_shank_x_dd;
+    const T q2_effort = (Ank_x - com_shank_x)*ankle_fy + (K_y - com_shank_y)*knee_fx + (p.l_sh*p.l_sh)*p.m_sh*_tmp4*w_shank_d + ne4 - (Ank_y - com_shank_y)*ankle_fx - (K_x - com_shank_x)*knee_fy;
+    const T hip_fy = p.m_th*(com_thigh_y_dd + T(9.81)) + knee_fy;
+    const T hip_fx = p.m_th*com_thigh_x_dd + knee_fx;
+    const T q1_effort = (K_x - com_thigh_x)*knee_fy + com_thigh_x*hip_fy + (p.l_th*p.l_th)*p.m_th*_tmp4*in.q1_dd + q2_effort - (K_y - com_thigh_y)*knee_fx - com_thigh_y*hip_fx;
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.q1;
+    out[2 * stride + i] = in.q1_d;
+    out[3 * stride + i] = in.q1_dd;
+    out[5 * stride + i] = in.q2;
+    out[6 * stride + i] = in.q2_d;
+    out[7 * stride + i] = in.q2_dd;
+    out[9 * stride + i] = in.q3;
+    out[10 * stride + i] = in.q3_d;
+    out[11 * stride + i] = in.q3_dd;
+    out[13 * stride + i] = com_thigh_x;
+    out[14 * stride + i] = com_thigh_y;
+    out[15 * stride + i] = atan2(s_thigh_rel, c_thigh_rel);
+    out[16 * stride + i] = com_thigh_x_d;
+    out[17 * stride + i] = com_thigh_y_d;
+    out[18 * stride + i] = in.q1_d;
+    out[19 * stride + i] = com_thigh_x_dd;
+    out[20 * stride + i] = com_thigh_y_dd;
+    out[21 * stride + i] = in.q1_dd;
+    out[22 * stride + i] = com_shank_x;
+    out[23 * stride + i] = com_shank_y;
+    out[24 * stride + i] = atan2(s_shank, c_shank);
+    out[25 * stride + i] = com_shank_x_d;
+    out[26 * stride + i] = com_shank_y_d;
+    out[27 * stride + i] = w_shank;
+    out[28 * stride + i] = com_shank_x_dd;
+    out[29 * stride + i] = com_shank_y_dd;
+    out[30 * stride + i] = w_shank_d;
+    out[31 * stride + i] = com_foot_x;
+    out[32 * stride + i] = com_foot_y;
+    out[33 * stride + i] = atan2(s_foot, c_foot);
+    out[34 * stride + i] = com_foot_x_d;
+    out[35 * stride + i] = com_foot_y_d;
+    out[36 * stride + i] = w_foot;
+    out[37 * stride + i] = com_foot_x_dd;
+    out[38 * stride + i] = com_foot_y_dd;
+    out[39 * stride + i] = w_foot_d;
+    out[40 * stride + i] = T(0);
+    out[41 * stride + i] = T(0);
+    out[42 * stride + i] = K_x;
+    out[43 * stride + i] = K_y;
+    out[44 * stride + i] = Ank_x;
+    out[45 * stride + i] = Ank_y;
+    out[46 * stride + i] = Toe_x;
+    out[47 * stride + i] = Toe_y;
+    out[48 * stride + i] = Heel_x;
+    out[49 * stride + i] = Heel_y;
+    out[50 * stride + i] = hip_fx;
+    out[51 * stride + i] = hip_fy;
+    out[52 * stride + i] = knee_fx;
+    out[53 * stride + i] = knee_fy;
+    out[54 * stride + i] = ankle_fx;
+    out[55 * stride + i] = ankle_fy;
+    out[4 * stride + i] = q1_effort;
+    out[8 * stride + i] = q2_effort;
+    out[12 * stride + i] = ne4;
+    failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
+  }
+}
+
 // The Newton-Euler system itself, A x = b (9 x 9, A row-major): rows are per
 // moving body the force balance in x and y and the moment balance about the centre of mass;
 // unknowns are ne_unknowns[] in order.
@@ -387,92 +714,98 @@ inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "hip.fx", "hip.fy", "knee.fx", "knee.fy", "ankle.fx", "ankle.fy", "q1.effort", "q2.effort", "q3.effort" };
 template <class T>
 Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 230
+  // Total ops: 199
   const T c_thigh_rel = cos(in.q1);
   const T s_thigh_rel = sin(in.q1);
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
   const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -c_thigh_rel*p.l_th;
+  const T K_y = -p.l_th*c_thigh_rel;
   const T c_shank_rel = cos(in.q2);
   const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
   const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
   const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
   const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - c_shank*p.l_sh;
+  const T Ank_y = K_y - p.l_sh*c_shank;
   const T c_foot_rel = cos(in.q3);
   const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
   const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
   const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*c_thigh_rel*p.l_th;
-  const T _tmp0 = in.q1_d*in.q1_d;
-  const T com_thigh_x_dd = T(0.5)*c_thigh_rel*in.q1_dd*p.l_th - T(0.5)*_tmp0*p.l_th*s_thigh_rel;
-  const T com_thigh_y_dd = T(0.5)*c_thigh_rel*_tmp0*p.l_th + T(0.5)*in.q1_dd*p.l_th*s_thigh_rel;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*c_shank*p.l_sh;
-  const T s_shank_d = c_shank_rel*c_thigh_rel*in.q1_d + c_shank_rel*c_thigh_rel*in.q2_d - in.q1_d*s_shank_rel*s_thigh_rel - in.q2_d*s_shank_rel*s_thigh_rel;
-  const T c_shank_d = -c_shank_rel*in.q1_d*s_thigh_rel - c_shank_rel*in.q2_d*s_thigh_rel - c_thigh_rel*in.q1_d*s_shank_rel - c_thigh_rel*in.q2_d*s_shank_rel;
-  const T K_x_dd = c_thigh_rel*in.q1_dd*p.l_th - _tmp0*p.l_th*s_thigh_rel;
-  const T _tmp1 = c_shank_rel*in.q1_d + c_shank_rel*in.q2_d;
-  const T _tmp2 = c_thigh_rel*in.q1_d + c_thigh_rel*in.q2_d;
-  const T _tmp3 = in.q1_d*s_thigh_rel + in.q2_d*s_thigh_rel;
-  const T _tmp4 = in.q1_d*s_shank_rel + in.q2_d*s_shank_rel;
-  const T s_shank_dd = c_shank*in.q1_dd + c_shank*in.q2_dd - _tmp1*in.q1_d*s_thigh_rel - _tmp2*in.q2_d*s_shank_rel - c_shank_rel*_tmp3*in.q2_d - c_thigh_rel*in.q1_d*_tmp4;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
   const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T K_y_dd = c_thigh_rel*_tmp0*p.l_th + in.q1_dd*p.l_th*s_thigh_rel;
-  const T c_shank_dd = _tmp3*in.q2_d*s_shank_rel + in.q1_d*_tmp4*s_thigh_rel - _tmp1*c_thigh_rel*in.q1_d - s_shank*in.q1_dd - s_shank*in.q2_dd - c_shank_rel*_tmp2*in.q2_d;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*c_shank_dd*p.l_sh;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
   const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T _tmp5 = p.l_heel - p.l_toe;
-  const T com_foot_x = Ank_x + T(0.5)*c_foot*_tmp5 + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp5*s_foot - T(0.5)*c_foot*p.h_ft;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
   const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T _tmp6 = c_shank_d - in.q3_d*s_shank;
-  const T _tmp7 = c_shank*in.q3_d + s_shank_d;
-  const T c_foot_dd = c_foot_rel*c_shank_dd - s_foot*in.q3_dd - _tmp6*in.q3_d*s_foot_rel - c_foot_rel*_tmp7*in.q3_d - c_foot_rel*in.q3_d*s_shank_d - c_shank_d*in.q3_d*s_foot_rel - s_foot_rel*s_shank_dd;
-  const T s_foot_dd = c_foot*in.q3_dd + c_foot_rel*_tmp6*in.q3_d + c_foot_rel*c_shank_d*in.q3_d + c_foot_rel*s_shank_dd + c_shank_dd*s_foot_rel - _tmp7*in.q3_d*s_foot_rel - in.q3_d*s_foot_rel*s_shank_d;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*c_foot_dd*_tmp5 + T(0.5)*p.h_ft*s_foot_dd;
-  const T Ank_y_dd = K_y_dd - c_shank_dd*p.l_sh;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp5*s_foot_dd - T(0.5)*c_foot_dd*p.h_ft;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
   const T w_foot_d = in.q3_dd + w_shank_d;
   A[0] = T(1);
   A[2] = -T(1);
-  b[0] = com_thigh_x_dd*p.m_th;
+  b[0] = p.m_th*com_thigh_x_dd;
   A[10] = T(1);
   A[12] = -T(1);
-  b[1] = (com_thigh_y_dd + T(9.81))*p.m_th;
+  b[1] = p.m_th*(com_thigh_y_dd + T(9.81));
   A[18] = com_thigh_y;
   A[19] = -com_thigh_x;
   A[20] = K_y - com_thigh_y;
   A[21] = com_thigh_x - K_x;
   A[24] = T(1);
   A[25] = -T(1);
-  b[2] = in.q1_dd*(p.l_th*p.l_th)*p.m_th/T(12);
+  const T _tmp1 = T(1)/T(12);
+  b[2] = (p.l_th*p.l_th)*p.m_th*_tmp1*in.q1_dd;
   A[29] = T(1);
   A[31] = -T(1);
-  b[3] = com_shank_x_dd*p.m_sh;
+  b[3] = p.m_sh*com_shank_x_dd;
   A[39] = T(1);
   A[41] = -T(1);
-  b[4] = (com_shank_y_dd + T(9.81))*p.m_sh;
+  b[4] = p.m_sh*(com_shank_y_dd + T(9.81));
   A[47] = com_shank_y - K_y;
   A[48] = K_x - com_shank_x;
   A[49] = Ank_y - com_shank_y;
   A[50] = com_shank_x - Ank_x;
   A[52] = T(1);
   A[53] = -T(1);
-  b[5] = (p.l_sh*p.l_sh)*p.m_sh*w_shank_d/T(12);
+  b[5] = (p.l_sh*p.l_sh)*p.m_sh*_tmp1*w_shank_d;
   A[58] = T(1);
-  b[6] = com_foot_x_dd*p.m_ft;
+  b[6] = p.m_ft*com_foot_x_dd;
   A[68] = T(1);
-  b[7] = (com_foot_y_dd + T(9.81))*p.m_ft;
+  b[7] = p.m_ft*(com_foot_y_dd + T(9.81));
   A[76] = com_foot_y - Ank_y;
   A[77] = Ank_x - com_foot_x;
   A[80] = T(1);
-  const T _tmp8 = p.l_heel + p.l_toe;
-  b[8] = (_tmp8*_tmp8 + p.h_ft*p.h_ft)*p.m_ft*w_foot_d/T(12);
+  const T _tmp2 = p.l_heel + p.l_toe;
+  b[8] = (_tmp2*_tmp2 + p.h_ft*p.h_ft)*p.m_ft*_tmp1*w_foot_d;
 
   return Status::ok;
 }
@@ -481,40 +814,72 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
 template <class T>
 void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noexcept {
   using std::acos;
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   in.t = t;
   const T _tmp0 = p.w*t;
   const T _tmp1 = sin(_tmp0);
   const T _tmp2 = _tmp1 + T(1);
   const T _tmp3 = _tmp2*_tmp2;
-  const T _tmp4 = acos(p.eta0 - T(0.25)*_tmp3*p.a_lift);
+  const T _tmp4 = acos(p.eta0 - T(0.25)*p.a_lift*_tmp3);
   const T _tmp5 = cos(_tmp0);
-  const T _tmp6 = _tmp5*p.S;
+  const T _tmp6 = p.S*_tmp5;
   in.q1 = _tmp6 - _tmp4;
-  const T _tmp7 = _tmp3*p.a_lift - T(4)*p.eta0;
+  const T _tmp7 = p.a_lift*_tmp3 - T(4)*p.eta0;
   const T _tmp8 = T(0.0625)*(_tmp7*_tmp7) - T(1);
   const T _tmp9 = sqrt(-_tmp8);
-  const T _tmp10 = T(0.5)*_tmp5*p.a_lift*p.w*_tmp2/_tmp9;
-  const T _tmp11 = p.S*p.w*_tmp1;
-  in.q1_d = -_tmp10 - _tmp11;
-  const T _tmp12 = _tmp5*_tmp5;
-  const T _tmp13 = p.a_lift*p.a_lift;
-  const T _tmp14 = p.w*p.w;
-  const T _tmp15 = (-_tmp8)*_tmp9;
-  const T _tmp16 = T(0.0625)*_tmp7*_tmp3*_tmp12*_tmp13*_tmp14/_tmp15;
-  const T _tmp17 = T(0.5)*_tmp12*p.a_lift*_tmp14/_tmp9;
-  const T _tmp18 = _tmp5*p.S*_tmp14;
-  const T _tmp19 = T(0.5)*p.a_lift*_tmp14*_tmp1*_tmp2/_tmp9;
-  in.q1_dd = _tmp19 - _tmp16 - _tmp17 - _tmp18;
+  const T _tmp10 = T(1)/_tmp9;
+  const T _tmp11 = T(0.5)*p.a_lift*p.w*_tmp5*_tmp2*_tmp10;
+  const T _tmp12 = p.S*p.w*_tmp1;
+  in.q1_d = -_tmp11 - _tmp12;
+  const T _tmp13 = _tmp5*_tmp5;
+  const T _tmp14 = p.a_lift*p.a_lift;
+  const T _tmp15 = p.w*p.w;
+  const T _tmp16 = T(1)/((-_tmp8)*_tmp9);
+  const T _tmp17 = T(0.0625)*_tmp14*_tmp15*_tmp7*_tmp3*_tmp13*_tmp16;
+  const T _tmp18 = T(0.5)*p.a_lift*_tmp15*_tmp13*_tmp10;
+  const T _tmp19 = p.S*_tmp15*_tmp5;
+  const T _tmp20 = T(0.5)*p.a_lift*_tmp15*_tmp1*_tmp2*_tmp10;
+  in.q1_dd = _tmp20 - _tmp17 - _tmp18 - _tmp19;
   in.q2 = T(2)*_tmp4;
-  in.q2_d = _tmp5*p.a_lift*p.w*_tmp2/_tmp9;
-  in.q2_dd = _tmp12*p.a_lift*_tmp14/_tmp9 + T(0.125)*_tmp7*_tmp3*_tmp12*_tmp13*_tmp14/_tmp15 - p.a_lift*_tmp14*_tmp1*_tmp2/_tmp9;
+  in.q2_d = p.a_lift*p.w*_tmp5*_tmp2*_tmp10;
+  in.q2_dd = p.a_lift*_tmp15*_tmp13*_tmp10 + T(0.125)*_tmp14*_tmp15*_tmp7*_tmp3*_tmp13*_tmp16 - p.a_lift*_tmp15*_tmp1*_tmp2*_tmp10;
   in.q3 = p.th_foot - _tmp4 - _tmp6;
-  in.q3_d = _tmp11 - _tmp10;
-  in.q3_dd = _tmp19 + _tmp18 - _tmp16 - _tmp17;
+  in.q3_d = _tmp12 - _tmp11;
+  in.q3_dd = _tmp20 + _tmp19 - _tmp17 - _tmp18;
 
+}
+
+// The model's driver motion at n times t[0..n) for evaluate_batch: `storage` holds
+// batch_storage_per_sample * n values, which `batch` then points into (and batch.t to t).
+inline constexpr int batch_storage_per_sample = 9;
+template <class T>
+void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]] T* storage,
+                         BatchInputs<T>& batch) noexcept {
+  batch.t = t;
+  batch.q1 = storage + 0 * n;
+  batch.q1_d = storage + 1 * n;
+  batch.q1_dd = storage + 2 * n;
+  batch.q2 = storage + 3 * n;
+  batch.q2_d = storage + 4 * n;
+  batch.q2_dd = storage + 5 * n;
+  batch.q3 = storage + 6 * n;
+  batch.q3_d = storage + 7 * n;
+  batch.q3_dd = storage + 8 * n;
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    driver_inputs(p, t[i], in);
+    storage[0 * n + i] = in.q1;
+    storage[1 * n + i] = in.q1_d;
+    storage[2 * n + i] = in.q1_dd;
+    storage[3 * n + i] = in.q2;
+    storage[4 * n + i] = in.q2_d;
+    storage[5 * n + i] = in.q2_dd;
+    storage[6 * n + i] = in.q3;
+    storage[7 * n + i] = in.q3_d;
+    storage[8 * n + i] = in.q3_dd;
+  }
 }
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.

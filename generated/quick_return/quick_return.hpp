@@ -4,7 +4,7 @@
 //
 // Crank-shaper quick return (slot on the lever, PRP block and ram)
 //
-// Plain C++17 with <cmath> only: no heap, no exceptions, the scalar type a template parameter.
+// Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
 // outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
 // second time derivatives; joint outputs are the force (and moment) of the joint's first body on
@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace mechgen::gen::quick_return {
 
@@ -40,6 +41,16 @@ template <class T>
 struct Inputs {
   T t = T(0);
   T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+};
+
+// N samples of driver inputs as structure of arrays (each pointer to n values), for
+// evaluate_batch.
+template <class T>
+struct BatchInputs {
+  const T* t = nullptr;
+  const T* crank_angle = nullptr;
+  const T* crank_angle_d = nullptr;
+  const T* crank_angle_dd = nullptr;
 };
 
 template <class T>
@@ -106,69 +117,166 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
   return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
 }
 
+namespace detail {
+#if defined(__GNUC__)
+#define MECHGEN_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_INLINE inline
+#endif
+// The kernels' sin, cos and atan2: branch-free straight-line selects that the compiler vectorises
+// in evaluate_batch (glibc declares its vector sin/cos only under -ffast-math, and has no vector
+// atan2 declaration; the kernels never use -ffast-math); the scalar entries use them too, so both
+// agree, and atan2 is several times cheaper than the C library's. Coefficients are Cephes' (S. L. Moshier): atan's rational
+// minimax form and sin/cos's polynomials on [-pi/4, pi/4]; within about 2 ulp of the C library.
+
+// atan2(y, x) in [-pi, pi]: atan of min/max(|x|, |y|) in [0, 1] (reduced to [-0.21, 0.66] by
+// atan(a) = pi/4 + atan((a - 1)/(a + 1))), then mirrored into the octant. Assumption: (x, y) is
+// not (+-0, -0), where it returns +-0 instead of the C library's +-pi.
+template <class T>
+MECHGEN_INLINE T atan2(T y, T x) noexcept {
+  using std::abs;
+  using std::copysign;
+  const T ax = abs(x), ay = abs(y);
+  const bool steep = ay > ax;
+  const T hi = steep ? ay : ax, lo = steep ? ax : ay;
+  const bool reduce = lo > T(0.66) * hi;
+  // Selects pick between values only, never between arithmetic results: the compiler may not
+  // speculate arithmetic out of a branch under -ftrapping-math (the default) and would keep the
+  // branch. So an arithmetic choice is a product with a 0/1 flag (exact: x + 0 * y = x), the flag
+  // itself a select of constants (a bool converted to T would not vectorise with GCC 12).
+  const T reduced = reduce ? T(1) : T(0), steeper = steep ? T(1) : T(0);
+  const T num = lo - reduced * hi, den = hi + reduced * lo;
+  const T a = num / (den + (den == T(0) ? T(1) : T(0)));  // 0 / 1 at the origin
+  const T z = a * a;
+  const T p = (((T(-8.750608600031904122785e-1) * z + T(-1.615753718733365076637e1)) * z +
+                T(-7.500855792314704667340e1)) * z + T(-1.228866684490136173410e2)) * z +
+              T(-6.485021904942025371773e1);
+  const T q = ((((z + T(2.485846490142306297962e1)) * z + T(1.650270098316988542046e2)) * z +
+                T(4.328810604912902668951e2)) * z + T(4.853903996359136964868e2)) * z +
+              T(1.945506571482613964425e2);
+  const T r = a * (z * p / q) + a;
+  const T first = reduced * T(7.853981633974483096157e-1) +
+                  (r + reduced * T(3.061616997868382943065e-17));
+  const T mirror = T(1) - T(2) * steeper;  // -1 when steep
+  const T quadrant = (steeper * T(1.570796326794896619231) + mirror * first) +
+                     steeper * T(6.123233995736765886130e-17);
+  const T left = copysign(T(1), x) < T(0) ? T(1) : T(0);
+  const T angle = (left * T(3.141592653589793238463) + (T(1) - T(2) * left) * quadrant) +
+                  left * T(1.224646799147353177226e-16);
+  return copysign(angle, y);
+}
+
+// sin and cos of x - k pi/2 on [-pi/4, pi/4], k = round(x 2/pi) by the 1.5 * 2^52 trick (no call
+// to nearbyint, which SSE2 cannot vectorise), pi/2 subtracted in three parts (Cody-Waite).
+// Assumption: |x| < 1e8 rad (k pi/2 exact); beyond, accuracy degrades gracefully.
+template <class T>
+MECHGEN_INLINE void sincos(T x, T& sine, T& cosine) noexcept {
+  // 1.5 * 2^(digits - 1) (1.5 * 2^52 for double): adding and subtracting it rounds to an integer.
+  const T round = T(1.5) / std::numeric_limits<T>::epsilon();
+  const T k = (x * T(6.366197723675813430755e-1) + round) - round;
+  const T r = ((x - k * T(1.570796251296997070312)) - k * T(7.549789415861596353350e-8)) -
+              k * T(5.390302858158119290900e-15);
+  const T z = r * r;
+  const T s = r + r * z * (((((T(1.58962301576546568060e-10) * z + T(-2.50507477628578072866e-8)) *
+                                  z + T(2.75573136213857245213e-6)) * z +
+                                 T(-1.98412698295895385996e-4)) * z +
+                                T(8.33333333332211858878e-3)) * z +
+                               T(-1.66666666666666307295e-1));
+  const T c = T(1) - T(0.5) * z +
+              z * z * (((((T(-1.13585365213876817300e-11) * z + T(2.08757008419747316778e-9)) * z +
+                          T(-2.75573141792967388112e-7)) * z + T(2.48015872888517045348e-5)) * z +
+                        T(-1.38888888888730564116e-3)) * z + T(4.16666666666665929218e-2));
+  const T centred = k - T(4) * ((k * T(0.25) + round) - round);  // k mod 4, in -2 .. 2
+  const T quadrant = centred + (centred < T(0) ? T(4) : T(0));  // k mod 4, in 0 .. 3 (atan2)
+  // Bitwise | and & on the comparisons: no short-circuit branches in the loop.
+  const bool odd = (quadrant == T(1)) | (quadrant == T(3));
+  const bool sine_negative = quadrant >= T(2);
+  const bool cosine_negative = (quadrant == T(1)) | (quadrant == T(2));
+  const T sa = odd ? c : s, ca = odd ? s : c;
+  sine = sine_negative ? -sa : sa;  // negation cannot trap
+  cosine = cosine_negative ? -ca : ca;
+}
+template <class T>
+MECHGEN_INLINE T sin(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return s;
+}
+template <class T>
+MECHGEN_INLINE T cos(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return c;
+}
+#undef MECHGEN_INLINE
+}  // namespace detail
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 175
+  // Total ops: 132
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.d + p.r*s_crank_rel;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
   if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_lever = P_x/g2_lever_root;
-  const T s_lever = P_y/g2_lever_root;
-  const T _tmp0 = g2_lever_root*g2_lever_root;
-  const T _tmp1 = _tmp0*g2_lever_root;
-  const T c_lever_d = P_x_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_d/_tmp1;
-  const T s_lever_d = P_y_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_d/_tmp1;
+  const T _tmp0 = T(1)/g2_lever_root;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T c_lever = P_x*_tmp0;
+  const T s_lever = P_y*_tmp0;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
   const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
   const T g3_block_ram_cross = -s_lever;
   if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
-  const T g3_block_ram_lambda = -p.h/g3_block_ram_cross;
+  const T _tmp1 = T(1)/g3_block_ram_cross;
+  const T g3_block_ram_lambda = -p.h*_tmp1;
   const T C_x = c_lever*g3_block_ram_lambda;
   const T C_y = g3_block_ram_lambda*s_lever;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.r*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.r;
-  const T _tmp2 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp2*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp2*p.r*s_crank_rel;
-  const T com_lever_x = T(0.5)*c_lever*p.L;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
   const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T com_lever_x_d = T(0.5)*c_lever_d*p.L;
+  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
   const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
-  const T P_x_dd = -c_crank_rel*_tmp2*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp2*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T _tmp3 = _tmp0*_tmp0;
-  const T c_lever_dd = P_x_dd/g2_lever_root - T(0.25)*(T(2)*P_x_d/_tmp0 - T(3)*P_x*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_dd/_tmp1 - T(0.5)*P_x_d*g2_lever_disc_d/_tmp1;
-  const T com_lever_x_dd = T(0.5)*c_lever_dd*p.L;
-  const T s_lever_dd = P_y_dd/g2_lever_root - T(0.25)*(T(2)*P_y_d/_tmp0 - T(3)*P_y*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_dd/_tmp1 - T(0.5)*P_y_d*g2_lever_disc_d/_tmp1;
+  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
   const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
   const T g3_block_ram_cross_d = -s_lever_d;
-  const T _tmp4 = g3_block_ram_cross*g3_block_ram_cross;
-  const T g3_block_ram_lambda_d = g3_block_ram_cross_d*p.h/_tmp4;
+  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
   const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
   const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
   const T g3_block_ram_cross_dd = -s_lever_dd;
-  const T g3_block_ram_lambda_dd = g3_block_ram_cross_dd*p.h/_tmp4 - T(2)*(g3_block_ram_cross_d*g3_block_ram_cross_d)*p.h/(_tmp4*g3_block_ram_cross);
+  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
   const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
   const T com_ram_x = C_x + T(0.05);
-  const T E_x = c_lever*p.L;
+  const T E_x = p.L*c_lever;
   const T E_y = p.L*s_lever;
   const T Tool_x = C_x + T(0.1);
   const T Tool_y = C_y - T(0.02);
@@ -186,8 +294,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.al = in.crank_angle_dd;
   s.bodies.lever.x = com_lever_x;
   s.bodies.lever.y = com_lever_y;
-  const T _tmp5 = atan2(s_lever, c_lever);
-  s.bodies.lever.th = _tmp5;
+  const T _tmp2 = atan2(s_lever, c_lever);
+  s.bodies.lever.th = _tmp2;
   s.bodies.lever.vx = com_lever_x_d;
   s.bodies.lever.vy = com_lever_y_d;
   s.bodies.lever.w = w_lever;
@@ -196,7 +304,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.lever.al = w_lever_d;
   s.bodies.block.x = C_x;
   s.bodies.block.y = C_y;
-  s.bodies.block.th = _tmp5;
+  s.bodies.block.th = _tmp2;
   s.bodies.block.vx = C_x_d;
   s.bodies.block.vy = C_y_d;
   s.bodies.block.w = w_lever;
@@ -231,79 +339,84 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 255
+  // Total ops: 214
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.d + p.r*s_crank_rel;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
   if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_lever = P_x/g2_lever_root;
-  const T s_lever = P_y/g2_lever_root;
-  const T _tmp0 = g2_lever_root*g2_lever_root;
-  const T _tmp1 = _tmp0*g2_lever_root;
-  const T c_lever_d = P_x_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_d/_tmp1;
-  const T s_lever_d = P_y_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_d/_tmp1;
+  const T _tmp0 = T(1)/g2_lever_root;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T c_lever = P_x*_tmp0;
+  const T s_lever = P_y*_tmp0;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
   const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
   const T g3_block_ram_cross = -s_lever;
   if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
-  const T g3_block_ram_lambda = -p.h/g3_block_ram_cross;
+  const T _tmp1 = T(1)/g3_block_ram_cross;
+  const T g3_block_ram_lambda = -p.h*_tmp1;
   const T C_x = c_lever*g3_block_ram_lambda;
   const T C_y = g3_block_ram_lambda*s_lever;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.r*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.r;
-  const T _tmp2 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp2*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp2*p.r*s_crank_rel;
-  const T com_lever_x = T(0.5)*c_lever*p.L;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
   const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T com_lever_x_d = T(0.5)*c_lever_d*p.L;
+  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
   const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
-  const T P_x_dd = -c_crank_rel*_tmp2*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp2*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T _tmp3 = _tmp0*_tmp0;
-  const T c_lever_dd = P_x_dd/g2_lever_root - T(0.25)*(T(2)*P_x_d/_tmp0 - T(3)*P_x*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_dd/_tmp1 - T(0.5)*P_x_d*g2_lever_disc_d/_tmp1;
-  const T com_lever_x_dd = T(0.5)*c_lever_dd*p.L;
-  const T s_lever_dd = P_y_dd/g2_lever_root - T(0.25)*(T(2)*P_y_d/_tmp0 - T(3)*P_y*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_dd/_tmp1 - T(0.5)*P_y_d*g2_lever_disc_d/_tmp1;
+  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
   const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
   const T g3_block_ram_cross_d = -s_lever_d;
-  const T _tmp4 = g3_block_ram_cross*g3_block_ram_cross;
-  const T g3_block_ram_lambda_d = g3_block_ram_cross_d*p.h/_tmp4;
+  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
   const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
   const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
   const T g3_block_ram_cross_dd = -s_lever_dd;
-  const T g3_block_ram_lambda_dd = g3_block_ram_cross_dd*p.h/_tmp4 - T(2)*(g3_block_ram_cross_d*g3_block_ram_cross_d)*p.h/(_tmp4*g3_block_ram_cross);
+  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
   const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
   const T com_ram_x = C_x + T(0.05);
-  const T E_x = c_lever*p.L;
+  const T E_x = p.L*c_lever;
   const T E_y = p.L*s_lever;
   const T Tool_x = C_x + T(0.1);
   const T Tool_y = C_y - T(0.02);
   const T crank_pin_normal_x = -s_lever;
   const T block_slide_normal_x = -s_lever;
-  const T _tmp5 = T(1e-04)*w_lever_d;
-  const T ne2 = (p.L*p.L)*p.m_l*w_lever_d/T(12) + _tmp5;
-  const T _tmp6 = C_x_dd*p.m_r;
-  const T ne4 = C_x_dd*p.m_b + _tmp6 + p.F_cut;
+  const T _tmp2 = T(1)/T(12);
+  const T _tmp3 = T(1e-04)*w_lever_d;
+  const T ne2 = (p.L*p.L)*p.m_l*_tmp2*w_lever_d + _tmp3;
+  const T _tmp4 = p.m_r*C_x_dd;
+  const T ne4 = p.m_b*C_x_dd + _tmp4 + p.F_cut;
   if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T ne6 = com_lever_x_dd*p.m_l + ne4;
-  const T ne7 = -c_lever/block_slide_normal_x;
-  const T ne8 = (com_lever_y_dd + T(9.81))*p.m_l - ne4*ne7;
-  const T ne9 = -((C_x - com_lever_x)*c_lever - (C_y - com_lever_y)*block_slide_normal_x)/block_slide_normal_x;
+  const T ne6 = p.m_l*com_lever_x_dd + ne4;
+  const T _tmp5 = T(1)/block_slide_normal_x;
+  const T ne7 = -c_lever*_tmp5;
+  const T ne8 = p.m_l*(com_lever_y_dd + T(9.81)) - ne4*ne7;
+  const T ne9 = -((C_x - com_lever_x)*c_lever - (C_y - com_lever_y)*block_slide_normal_x)*_tmp5;
   const T ne10 = ne2 - ne4*ne9;
   const T ne12 = (P_y - com_lever_y)*crank_pin_normal_x + com_lever_y*crank_pin_normal_x - (P_x - com_lever_x)*c_lever;
   const T ne13 = ne10 - com_lever_y*ne6;
@@ -311,23 +424,24 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ne15 = c_lever*ne14 + ne12;
   const T ne16 = ne13 - ne14*ne8;
   if (!(ne15 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T crank_pin_n = ne16/ne15;
+  const T _tmp6 = T(1)/ne15;
+  const T crank_pin_n = ne16*_tmp6;
   const T _tmp7 = c_lever*crank_pin_n;
   const T lever_pivot_fy = _tmp7 + ne8;
   const T _tmp8 = crank_pin_n*crank_pin_normal_x;
   const T lever_pivot_fx = _tmp8 + ne6;
-  const T block_slide_n = ne4/block_slide_normal_x;
+  const T block_slide_n = ne4*_tmp5;
   const T _tmp9 = C_y_dd + T(9.81);
   const T _tmp10 = block_slide_n*c_lever;
-  const T ram_pin_fy = _tmp10 - _tmp9*p.m_b;
-  const T ram_slide_n = _tmp9*p.m_r - ram_pin_fy;
+  const T ram_pin_fy = _tmp10 - p.m_b*_tmp9;
+  const T ram_slide_n = p.m_r*_tmp9 - ram_pin_fy;
   const T _tmp11 = C_x - com_ram_x;
-  const T ram_slide_m = (C_y - Tool_y)*p.F_cut - _tmp11*ram_pin_fy - _tmp11*ram_slide_n;
-  const T ram_pin_fx = _tmp6 + p.F_cut;
-  const T block_slide_m = _tmp5;
-  const T crank_pivot_fy = (com_crank_y_dd + T(9.81))*p.m_c - _tmp7;
-  const T crank_pivot_fx = com_crank_x_dd*p.m_c - _tmp8;
-  const T crank_angle_effort = com_crank_x*crank_pivot_fy + in.crank_angle_dd*p.m_c*(p.r*p.r)/T(12) - ((P_x - com_crank_x)*c_lever - (P_y - com_crank_y)*crank_pin_normal_x)*crank_pin_n - (com_crank_y - p.d)*crank_pivot_fx;
+  const T ram_slide_m = p.F_cut*(C_y - Tool_y) - _tmp11*ram_pin_fy - _tmp11*ram_slide_n;
+  const T ram_pin_fx = _tmp4 + p.F_cut;
+  const T block_slide_m = _tmp3;
+  const T crank_pivot_fy = p.m_c*(com_crank_y_dd + T(9.81)) - _tmp7;
+  const T crank_pivot_fx = p.m_c*com_crank_x_dd - _tmp8;
+  const T crank_angle_effort = com_crank_x*crank_pivot_fy + p.m_c*(p.r*p.r)*_tmp2*in.crank_angle_dd - ((P_x - com_crank_x)*c_lever - (P_y - com_crank_y)*crank_pin_normal_x)*crank_pin_n - (com_crank_y - p.d)*crank_pivot_fx;
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -399,6 +513,223 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   return Status::ok;
 }
 
+
+// evaluate_batch's failure[i]: 0 when sample i is ok, else a code that these decode into the
+// status and failed group evaluate() gives.
+template <class T>
+constexpr Status batch_status(T failure) noexcept {
+  return static_cast<Status>(static_cast<long>(failure) % 4096 % 4);
+}
+template <class T>
+constexpr int batch_failed_group(T failure) noexcept {
+  return failure == T(0) ? -1 : static_cast<int>(static_cast<long>(failure) % 4096 / 4 - 1);
+}
+
+// evaluate() for n samples at once, in structure-of-arrays form and without branches, so that the
+// compiler vectorises the loop (with -fno-math-errno, which lets sqrt be an instruction; sin, cos
+// and atan2 are detail:: above). Output column c (column_names[c]) of sample i goes to
+// out[c * stride + i] (stride >= n); failure[i] is 0 or codes the status and group evaluate()
+// returns (batch_status, batch_failed_group). A failed sample's outputs are unspecified (NaN or
+// infinite), not an error. Vectorises with GCC 12 at -O3 with -fno-math-errno -fno-trapping-math
+// (neither changes a result; never -ffast-math); without them it is correct but scalar.
+template <class T>
+void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long n, T* out,
+                    long stride, T* failure) noexcept {
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  using std::max;
+  // Failed checks rank by order: the earliest failing one gives the result (see the emitter).
+  // Local copies: out[] cannot alias them, so their loads leave the loop.
+  [[maybe_unused]] const Params<T> p = params;
+  const T* const batch_t = inputs.t;
+  const T* const batch_crank_angle = inputs.crank_angle;
+  const T* const batch_crank_angle_d = inputs.crank_angle_d;
+  const T* const batch_crank_angle_dd = inputs.crank_angle_dd;
+#if defined(__clang__)
+#pragma clang loop vectorize(enable)
+#elif defined(__GNUC__)
+#pragma GCC ivdep
+#endif
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    in.t = batch_t[i];
+    in.crank_angle = batch_crank_angle[i];
+    in.crank_angle_d = batch_crank_angle_d[i];
+    in.crank_angle_dd = batch_crank_angle_dd[i];
+    // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    // Total ops: 214
+    const T c_crank_rel = cos(in.crank_angle);
+    const T s_crank_rel = sin(in.crank_angle);
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_x = p.r*c_crank_rel;
+    const T P_y = p.d + p.r*s_crank_rel;
+    const T g2_lever_disc = P_x*P_x + P_y*P_y;
+    failed = max(failed, (g2_lever_disc > T(0)) ? T(0) : T(8192009));
+    const T g2_lever_root = sqrt(g2_lever_disc);
+    const T P_x_d = p.r*c_crank_rel_d;
+    const T P_y_d = p.r*s_crank_rel_d;
+    const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
+    const T _tmp0 = T(1)/g2_lever_root;
+    const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+    const T c_lever = P_x*_tmp0;
+    const T s_lever = P_y*_tmp0;
+    const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+    const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
+    const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
+    const T g3_block_ram_cross = -s_lever;
+    failed = max(failed, (g3_block_ram_cross != T(0)) ? T(0) : T(8187918));
+    const T _tmp1 = T(1)/g3_block_ram_cross;
+    const T g3_block_ram_lambda = -p.h*_tmp1;
+    const T C_x = c_lever*g3_block_ram_lambda;
+    const T C_y = g3_block_ram_lambda*s_lever;
+    const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+    const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
+    const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+    const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+    const T com_lever_x = T(0.5)*p.L*c_lever;
+    const T com_lever_y = T(0.5)*p.L*s_lever;
+    const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
+    const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
+    const T P_x_dd = p.r*c_crank_rel_dd;
+    const T P_y_dd = p.r*s_crank_rel_dd;
+    const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
+    const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+    const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+    const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+    const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
+    const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
+    const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
+    const T g3_block_ram_cross_d = -s_lever_d;
+    const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
+    const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
+    const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
+    const T g3_block_ram_cross_dd = -s_lever_dd;
+    const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
+    const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
+    const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
+    const T com_ram_x = C_x + T(0.05);
+    const T E_x = p.L*c_lever;
+    const T E_y = p.L*s_lever;
+    const T Tool_x = C_x + T(0.1);
+    const T Tool_y = C_y - T(0.02);
+    const T crank_pin_normal_x = -s_lever;
+    const T block_slide_normal_x = -s_lever;
+    const T _tmp2 = T(1)/T(12);
+    const T _tmp3 = T(1e-04)*w_lever_d;
+    const T ne2 = (p.L*p.L)*p.m_l*_tmp2*w_lever_d + _tmp3;
+    const T _tmp4 = p.m_r*C_x_dd;
+    const T ne4 = p.m_b*C_x_dd + _tmp4 + p.F_cut;
+    failed = max(failed, (block_slide_normal_x != T(0)) ? T(0) : T(8183810));
+    const T ne6 = p.m_l*com_lever_x_dd + ne4;
+    const T _tmp5 = T(1)/block_slide_normal_x;
+    const T ne7 = -c_lever*_tmp5;
+    const T ne8 = p.m_l*(com_lever_y_dd + T(9.81)) - ne4*ne7;
+    const T ne9 = -((C_x - com_lever_x)*c_lever - (C_y - com_lever_y)*block_slide_normal_x)*_tmp5;
+    const T ne10 = ne2 - ne4*ne9;
+    const T ne12 = (P_y - com_lever_y)*crank_pin_normal_x + com_lever_y*crank_pin_normal_x - (P_x - com_lever_x)*c_lever;
+    const T ne13 = ne10 - com_lever_y*ne6;
+    const T ne14 = -com_lever_x;
+    const T ne15 = c_lever*ne14 + ne12;
+    const T ne16 = ne13 - ne14*ne8;
+    failed = max(failed, (ne15 != T(0)) ? T(0) : T(8179714));
+    const T _tmp6 = T(1)/ne15;
+    const T crank_pin_n = ne16*_tmp6;
+    const T _tmp7 = c_lever*crank_pin_n;
+    const T lever_pivot_fy = _tmp7 + ne8;
+    const T _tmp8 = crank_pin_n*crank_pin_normal_x;
+    const T lever_pivot_fx = _tmp8 + ne6;
+    const T block_slide_n = ne4*_tmp5;
+    const T _tmp9 = C_y_dd + T(9.81);
+    const T _tmp10 = block_slide_n*c_lever;
+    const T ram_pin_fy = _tmp10 - p.m_b*_tmp9;
+    const T ram_slide_n = p.m_r*_tmp9 - ram_pin_fy;
+    const T _tmp11 = C_x - com_ram_x;
+    const T ram_slide_m = p.F_cut*(C_y - Tool_y) - _tmp11*ram_pin_fy - _tmp11*ram_slide_n;
+    const T ram_pin_fx = _tmp4 + p.F_cut;
+    const T block_slide_m = _tmp3;
+    const T crank_pivot_fy = p.m_c*(com_crank_y_dd + T(9.81)) - _tmp7;
+    const T crank_pivot_fx = p.m_c*com_crank_x_dd - _tmp8;
+    const T crank_angle_effort = com_crank_x*crank_pivot_fy + p.m_c*(p.r*p.r)*_tmp2*in.crank_angle_dd - ((P_x - com_crank_x)*c_lever - (P_y - com_crank_y)*crank_pin_normal_x)*crank_pin_n - (com_crank_y - p.d)*crank_pivot_fx;
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.crank_angle;
+    out[2 * stride + i] = in.crank_angle_d;
+    out[3 * stride + i] = in.crank_angle_dd;
+    out[5 * stride + i] = com_crank_x;
+    out[6 * stride + i] = com_crank_y;
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
+    out[8 * stride + i] = com_crank_x_d;
+    out[9 * stride + i] = com_crank_y_d;
+    out[10 * stride + i] = in.crank_angle_d;
+    out[11 * stride + i] = com_crank_x_dd;
+    out[12 * stride + i] = com_crank_y_dd;
+    out[13 * stride + i] = in.crank_angle_dd;
+    out[14 * stride + i] = com_lever_x;
+    out[15 * stride + i] = com_lever_y;
+    const T _tmp12 = atan2(s_lever, c_lever);
+    out[16 * stride + i] = _tmp12;
+    out[17 * stride + i] = com_lever_x_d;
+    out[18 * stride + i] = com_lever_y_d;
+    out[19 * stride + i] = w_lever;
+    out[20 * stride + i] = com_lever_x_dd;
+    out[21 * stride + i] = com_lever_y_dd;
+    out[22 * stride + i] = w_lever_d;
+    out[23 * stride + i] = C_x;
+    out[24 * stride + i] = C_y;
+    out[25 * stride + i] = _tmp12;
+    out[26 * stride + i] = C_x_d;
+    out[27 * stride + i] = C_y_d;
+    out[28 * stride + i] = w_lever;
+    out[29 * stride + i] = C_x_dd;
+    out[30 * stride + i] = C_y_dd;
+    out[31 * stride + i] = w_lever_d;
+    out[32 * stride + i] = com_ram_x;
+    out[33 * stride + i] = C_y;
+    out[34 * stride + i] = T(0);
+    out[35 * stride + i] = C_x_d;
+    out[36 * stride + i] = C_y_d;
+    out[37 * stride + i] = T(0);
+    out[38 * stride + i] = C_x_dd;
+    out[39 * stride + i] = C_y_dd;
+    out[40 * stride + i] = T(0);
+    out[41 * stride + i] = T(0);
+    out[42 * stride + i] = T(0);
+    out[43 * stride + i] = T(0);
+    out[44 * stride + i] = p.d;
+    out[45 * stride + i] = P_x;
+    out[46 * stride + i] = P_y;
+    out[47 * stride + i] = E_x;
+    out[48 * stride + i] = E_y;
+    out[49 * stride + i] = C_x;
+    out[50 * stride + i] = C_y;
+    out[51 * stride + i] = Tool_x;
+    out[52 * stride + i] = Tool_y;
+    out[53 * stride + i] = crank_pivot_fx;
+    out[54 * stride + i] = crank_pivot_fy;
+    out[55 * stride + i] = lever_pivot_fx;
+    out[56 * stride + i] = lever_pivot_fy;
+    out[57 * stride + i] = _tmp8;
+    out[58 * stride + i] = _tmp7;
+    out[59 * stride + i] = block_slide_n*block_slide_normal_x;
+    out[60 * stride + i] = _tmp10;
+    out[61 * stride + i] = block_slide_m;
+    out[62 * stride + i] = ram_pin_fx;
+    out[63 * stride + i] = ram_pin_fy;
+    out[64 * stride + i] = T(0);
+    out[65 * stride + i] = ram_slide_n;
+    out[66 * stride + i] = ram_slide_m;
+    out[4 * stride + i] = crank_angle_effort;
+    failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
+  }
+}
+
 // The Newton-Euler system itself, A x = b (12 x 12, A row-major): rows are per
 // moving body the force balance in x and y and the moment balance about the centre of mass;
 // unknowns are ne_unknowns[] in order.
@@ -406,54 +737,57 @@ inline constexpr int ne_size = 12;
 inline constexpr const char* ne_unknowns[] = { "crank_pivot.fx", "crank_pivot.fy", "lever_pivot.fx", "lever_pivot.fy", "crank_pin.n", "block_slide.n", "block_slide.m", "ram_pin.fx", "ram_pin.fy", "ram_slide.n", "ram_slide.m", "crank_angle.effort" };
 template <class T>
 Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 191
+  // Total ops: 150
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.d + p.r*s_crank_rel;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
   if (!(g2_lever_disc > T(0))) return Status::unreachable;
   const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_lever = P_x/g2_lever_root;
-  const T s_lever = P_y/g2_lever_root;
-  const T _tmp0 = g2_lever_root*g2_lever_root;
-  const T _tmp1 = _tmp0*g2_lever_root;
-  const T c_lever_d = P_x_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_d/_tmp1;
-  const T s_lever_d = P_y_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_d/_tmp1;
+  const T _tmp0 = T(1)/g2_lever_root;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T c_lever = P_x*_tmp0;
+  const T s_lever = P_y*_tmp0;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
   const T g3_block_ram_cross = -s_lever;
   if (!(g3_block_ram_cross != T(0))) return Status::singular;
-  const T g3_block_ram_lambda = -p.h/g3_block_ram_cross;
+  const T _tmp1 = T(1)/g3_block_ram_cross;
+  const T g3_block_ram_lambda = -p.h*_tmp1;
   const T C_x = c_lever*g3_block_ram_lambda;
   const T C_y = g3_block_ram_lambda*s_lever;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T _tmp2 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp2*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp2*p.r*s_crank_rel;
-  const T com_lever_x = T(0.5)*c_lever*p.L;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
   const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T P_x_dd = -c_crank_rel*_tmp2*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp2*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T _tmp3 = _tmp0*_tmp0;
-  const T c_lever_dd = P_x_dd/g2_lever_root - T(0.25)*(T(2)*P_x_d/_tmp0 - T(3)*P_x*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_x*g2_lever_disc_dd/_tmp1 - T(0.5)*P_x_d*g2_lever_disc_d/_tmp1;
-  const T com_lever_x_dd = T(0.5)*c_lever_dd*p.L;
-  const T s_lever_dd = P_y_dd/g2_lever_root - T(0.25)*(T(2)*P_y_d/_tmp0 - T(3)*P_y*g2_lever_disc_d/_tmp3)*g2_lever_disc_d/g2_lever_root - T(0.5)*P_y*g2_lever_disc_dd/_tmp1 - T(0.5)*P_y_d*g2_lever_disc_d/_tmp1;
+  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
   const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
   const T g3_block_ram_cross_d = -s_lever_d;
-  const T _tmp4 = g3_block_ram_cross*g3_block_ram_cross;
-  const T g3_block_ram_lambda_d = g3_block_ram_cross_d*p.h/_tmp4;
+  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
   const T g3_block_ram_cross_dd = -s_lever_dd;
-  const T g3_block_ram_lambda_dd = g3_block_ram_cross_dd*p.h/_tmp4 - T(2)*(g3_block_ram_cross_d*g3_block_ram_cross_d)*p.h/(_tmp4*g3_block_ram_cross);
+  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
   const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
   const T com_ram_x = C_x + T(0.05);
@@ -463,48 +797,49 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   if (!(block_slide_normal_x != T(0))) return Status::singular;
   A[0] = T(1);
   A[4] = crank_pin_normal_x;
-  b[0] = com_crank_x_dd*p.m_c;
+  b[0] = p.m_c*com_crank_x_dd;
   A[13] = T(1);
   A[16] = c_lever;
-  b[1] = (com_crank_y_dd + T(9.81))*p.m_c;
+  b[1] = p.m_c*(com_crank_y_dd + T(9.81));
   A[24] = com_crank_y - p.d;
   A[25] = -com_crank_x;
   A[28] = (P_x - com_crank_x)*c_lever - (P_y - com_crank_y)*crank_pin_normal_x;
   A[35] = T(1);
-  b[2] = in.crank_angle_dd*p.m_c*(p.r*p.r)/T(12);
+  const T _tmp2 = T(1)/T(12);
+  b[2] = p.m_c*(p.r*p.r)*_tmp2*in.crank_angle_dd;
   A[38] = T(1);
   A[40] = -crank_pin_normal_x;
   A[41] = -block_slide_normal_x;
-  b[3] = com_lever_x_dd*p.m_l;
+  b[3] = p.m_l*com_lever_x_dd;
   A[51] = T(1);
   A[52] = -c_lever;
   A[53] = -c_lever;
-  b[4] = (com_lever_y_dd + T(9.81))*p.m_l;
+  b[4] = p.m_l*(com_lever_y_dd + T(9.81));
   A[62] = com_lever_y;
   A[63] = -com_lever_x;
   A[64] = (P_y - com_lever_y)*crank_pin_normal_x - (P_x - com_lever_x)*c_lever;
   A[65] = (C_y - com_lever_y)*block_slide_normal_x - (C_x - com_lever_x)*c_lever;
   A[66] = -T(1);
-  b[5] = (p.L*p.L)*p.m_l*w_lever_d/T(12);
+  b[5] = (p.L*p.L)*p.m_l*_tmp2*w_lever_d;
   A[77] = block_slide_normal_x;
   A[79] = -T(1);
-  b[6] = C_x_dd*p.m_b;
+  b[6] = p.m_b*C_x_dd;
   A[89] = c_lever;
   A[92] = -T(1);
-  const T _tmp5 = C_y_dd + T(9.81);
-  b[7] = _tmp5*p.m_b;
+  const T _tmp3 = C_y_dd + T(9.81);
+  b[7] = p.m_b*_tmp3;
   A[102] = T(1);
   b[8] = T(1e-04)*w_lever_d;
   A[115] = T(1);
-  b[9] = C_x_dd*p.m_r + p.F_cut;
+  b[9] = p.m_r*C_x_dd + p.F_cut;
   A[128] = T(1);
   A[129] = T(1);
-  b[10] = _tmp5*p.m_r;
-  const T _tmp6 = C_x - com_ram_x;
-  A[140] = _tmp6;
-  A[141] = _tmp6;
+  b[10] = p.m_r*_tmp3;
+  const T _tmp4 = C_x - com_ram_x;
+  A[140] = _tmp4;
+  A[141] = _tmp4;
   A[142] = T(1);
-  b[11] = (C_y - Tool_y)*p.F_cut;
+  b[11] = p.F_cut*(C_y - Tool_y);
 
   return Status::ok;
 }
@@ -518,6 +853,25 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.crank_angle_d = p.w;
   in.crank_angle_dd = T(0);
 
+}
+
+// The model's driver motion at n times t[0..n) for evaluate_batch: `storage` holds
+// batch_storage_per_sample * n values, which `batch` then points into (and batch.t to t).
+inline constexpr int batch_storage_per_sample = 3;
+template <class T>
+void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]] T* storage,
+                         BatchInputs<T>& batch) noexcept {
+  batch.t = t;
+  batch.crank_angle = storage + 0 * n;
+  batch.crank_angle_d = storage + 1 * n;
+  batch.crank_angle_dd = storage + 2 * n;
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    driver_inputs(p, t[i], in);
+    storage[0 * n + i] = in.crank_angle;
+    storage[1 * n + i] = in.crank_angle_d;
+    storage[2 * n + i] = in.crank_angle_dd;
+  }
 }
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.

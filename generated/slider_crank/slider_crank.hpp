@@ -4,7 +4,7 @@
 //
 // In-line slider-crank with a return spring, a piston load and crank friction
 //
-// Plain C++17 with <cmath> only: no heap, no exceptions, the scalar type a template parameter.
+// Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
 // outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
 // second time derivatives; joint outputs are the force (and moment) of the joint's first body on
@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace mechgen::gen::slider_crank {
 
@@ -42,6 +43,16 @@ template <class T>
 struct Inputs {
   T t = T(0);
   T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+};
+
+// N samples of driver inputs as structure of arrays (each pointer to n values), for
+// evaluate_batch.
+template <class T>
+struct BatchInputs {
+  const T* t = nullptr;
+  const T* crank_angle = nullptr;
+  const T* crank_angle_d = nullptr;
+  const T* crank_angle_dd = nullptr;
 };
 
 template <class T>
@@ -103,57 +114,158 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
   return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
 }
 
+namespace detail {
+#if defined(__GNUC__)
+#define MECHGEN_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_INLINE inline
+#endif
+// The kernels' sin, cos and atan2: branch-free straight-line selects that the compiler vectorises
+// in evaluate_batch (glibc declares its vector sin/cos only under -ffast-math, and has no vector
+// atan2 declaration; the kernels never use -ffast-math); the scalar entries use them too, so both
+// agree, and atan2 is several times cheaper than the C library's. Coefficients are Cephes' (S. L. Moshier): atan's rational
+// minimax form and sin/cos's polynomials on [-pi/4, pi/4]; within about 2 ulp of the C library.
+
+// atan2(y, x) in [-pi, pi]: atan of min/max(|x|, |y|) in [0, 1] (reduced to [-0.21, 0.66] by
+// atan(a) = pi/4 + atan((a - 1)/(a + 1))), then mirrored into the octant. Assumption: (x, y) is
+// not (+-0, -0), where it returns +-0 instead of the C library's +-pi.
+template <class T>
+MECHGEN_INLINE T atan2(T y, T x) noexcept {
+  using std::abs;
+  using std::copysign;
+  const T ax = abs(x), ay = abs(y);
+  const bool steep = ay > ax;
+  const T hi = steep ? ay : ax, lo = steep ? ax : ay;
+  const bool reduce = lo > T(0.66) * hi;
+  // Selects pick between values only, never between arithmetic results: the compiler may not
+  // speculate arithmetic out of a branch under -ftrapping-math (the default) and would keep the
+  // branch. So an arithmetic choice is a product with a 0/1 flag (exact: x + 0 * y = x), the flag
+  // itself a select of constants (a bool converted to T would not vectorise with GCC 12).
+  const T reduced = reduce ? T(1) : T(0), steeper = steep ? T(1) : T(0);
+  const T num = lo - reduced * hi, den = hi + reduced * lo;
+  const T a = num / (den + (den == T(0) ? T(1) : T(0)));  // 0 / 1 at the origin
+  const T z = a * a;
+  const T p = (((T(-8.750608600031904122785e-1) * z + T(-1.615753718733365076637e1)) * z +
+                T(-7.500855792314704667340e1)) * z + T(-1.228866684490136173410e2)) * z +
+              T(-6.485021904942025371773e1);
+  const T q = ((((z + T(2.485846490142306297962e1)) * z + T(1.650270098316988542046e2)) * z +
+                T(4.328810604912902668951e2)) * z + T(4.853903996359136964868e2)) * z +
+              T(1.945506571482613964425e2);
+  const T r = a * (z * p / q) + a;
+  const T first = reduced * T(7.853981633974483096157e-1) +
+                  (r + reduced * T(3.061616997868382943065e-17));
+  const T mirror = T(1) - T(2) * steeper;  // -1 when steep
+  const T quadrant = (steeper * T(1.570796326794896619231) + mirror * first) +
+                     steeper * T(6.123233995736765886130e-17);
+  const T left = copysign(T(1), x) < T(0) ? T(1) : T(0);
+  const T angle = (left * T(3.141592653589793238463) + (T(1) - T(2) * left) * quadrant) +
+                  left * T(1.224646799147353177226e-16);
+  return copysign(angle, y);
+}
+
+// sin and cos of x - k pi/2 on [-pi/4, pi/4], k = round(x 2/pi) by the 1.5 * 2^52 trick (no call
+// to nearbyint, which SSE2 cannot vectorise), pi/2 subtracted in three parts (Cody-Waite).
+// Assumption: |x| < 1e8 rad (k pi/2 exact); beyond, accuracy degrades gracefully.
+template <class T>
+MECHGEN_INLINE void sincos(T x, T& sine, T& cosine) noexcept {
+  // 1.5 * 2^(digits - 1) (1.5 * 2^52 for double): adding and subtracting it rounds to an integer.
+  const T round = T(1.5) / std::numeric_limits<T>::epsilon();
+  const T k = (x * T(6.366197723675813430755e-1) + round) - round;
+  const T r = ((x - k * T(1.570796251296997070312)) - k * T(7.549789415861596353350e-8)) -
+              k * T(5.390302858158119290900e-15);
+  const T z = r * r;
+  const T s = r + r * z * (((((T(1.58962301576546568060e-10) * z + T(-2.50507477628578072866e-8)) *
+                                  z + T(2.75573136213857245213e-6)) * z +
+                                 T(-1.98412698295895385996e-4)) * z +
+                                T(8.33333333332211858878e-3)) * z +
+                               T(-1.66666666666666307295e-1));
+  const T c = T(1) - T(0.5) * z +
+              z * z * (((((T(-1.13585365213876817300e-11) * z + T(2.08757008419747316778e-9)) * z +
+                          T(-2.75573141792967388112e-7)) * z + T(2.48015872888517045348e-5)) * z +
+                        T(-1.38888888888730564116e-3)) * z + T(4.16666666666665929218e-2));
+  const T centred = k - T(4) * ((k * T(0.25) + round) - round);  // k mod 4, in -2 .. 2
+  const T quadrant = centred + (centred < T(0) ? T(4) : T(0));  // k mod 4, in 0 .. 3 (atan2)
+  // Bitwise | and & on the comparisons: no short-circuit branches in the loop.
+  const bool odd = (quadrant == T(1)) | (quadrant == T(3));
+  const bool sine_negative = quadrant >= T(2);
+  const bool cosine_negative = (quadrant == T(1)) | (quadrant == T(2));
+  const T sa = odd ? c : s, ca = odd ? s : c;
+  sine = sine_negative ? -sa : sa;  // negation cannot trap
+  cosine = cosine_negative ? -ca : ca;
+}
+template <class T>
+MECHGEN_INLINE T sin(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return s;
+}
+template <class T>
+MECHGEN_INLINE T cos(T x) noexcept {
+  T s, c;
+  sincos(x, s, c);
+  return c;
+}
+#undef MECHGEN_INLINE
+}  // namespace detail
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 106
+  // Total ops: 88
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_w_y = -P_y;
   const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
   if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_rod_slider_w_y_d = -P_y_d;
   const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp0 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp0;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T c_rod = -(P_x - g2_rod_slider_lambda)/p.L;
-  const T s_rod = -P_y/p.L;
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
+  const T _tmp1 = T(1)/p.L;
+  const T c_rod = -_tmp1*(P_x - g2_rod_slider_lambda);
+  const T s_rod = -_tmp1*P_y;
+  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
-  const T g2_rod_slider_lambda_d = T(0.5)*g2_rod_slider_disc_d/g2_rod_slider_root - g2_rod_slider_w_x_d;
-  const T c_rod_d = g2_rod_slider_lambda_d/p.L - P_x_d/p.L;
-  const T s_rod_d = -P_y_d/p.L;
+  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+  const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
+  const T s_rod_d = -_tmp1*P_y_d;
   const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.r*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.r;
-  const T _tmp0 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp0*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp0*p.r*s_crank_rel;
-  const T com_rod_x = P_x + T(0.5)*c_rod*p.L;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T com_rod_x_d = P_x_d + T(0.5)*c_rod_d*p.L;
+  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
   const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
-  const T P_x_dd = -c_crank_rel*_tmp0*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp0*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp0;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*c_rod_dd*p.L;
-  const T s_rod_dd = -P_y_dd/p.L;
+  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+  const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  const T s_rod_dd = -_tmp1*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
   const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
   const T G_x = T(3)*p.r + p.L;
@@ -202,15 +314,17 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 204
+  // Total ops: 188
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_w_y = -P_y;
@@ -218,69 +332,77 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
   if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_rod_slider_w_y_d = -P_y_d;
   const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp1 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T c_rod = -(P_x - g2_rod_slider_lambda)/p.L;
-  const T s_rod = -P_y/p.L;
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
+  const T _tmp2 = T(1)/p.L;
+  const T c_rod = -_tmp2*(P_x - g2_rod_slider_lambda);
+  const T s_rod = -_tmp2*P_y;
+  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
-  const T g2_rod_slider_lambda_d = T(0.5)*g2_rod_slider_disc_d/g2_rod_slider_root - g2_rod_slider_w_x_d;
-  const T c_rod_d = g2_rod_slider_lambda_d/p.L - P_x_d/p.L;
-  const T s_rod_d = -P_y_d/p.L;
+  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+  const T c_rod_d = -_tmp2*(P_x_d - g2_rod_slider_lambda_d);
+  const T s_rod_d = -_tmp2*P_y_d;
   const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T com_crank_x_d = -T(0.5)*in.crank_angle_d*p.r*s_crank_rel;
-  const T com_crank_y_d = T(0.5)*c_crank_rel*in.crank_angle_d*p.r;
-  const T _tmp1 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp1*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp1*p.r*s_crank_rel;
-  const T com_rod_x = P_x + T(0.5)*c_rod*p.L;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T com_rod_x_d = P_x_d + T(0.5)*c_rod_d*p.L;
+  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
   const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
-  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp1*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*c_rod_dd*p.L;
-  const T s_rod_dd = -P_y_dd/p.L;
+  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+  const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  const T s_rod_dd = -_tmp2*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
   const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
   const T G_x = T(3)*p.r + p.L;
   const T spring_d_x = g2_rod_slider_lambda - G_x;
   const T spring_length = sqrt(spring_d_x*spring_d_x);
-  const T spring_tension = g2_rod_slider_lambda_d*p.c_s*spring_d_x/spring_length - p.k_s*(p.s0 - spring_length);
-  const T _tmp2 = cos(in.t*p.w) + T(1);
-  const T _tmp3 = T(0.5)*_tmp2*p.F0;
-  const T _tmp4 = sqrt(_tmp0);
-  const T _tmp5 = g2_rod_slider_lambda_dd*p.m_s;
-  const T _tmp6 = spring_d_x*spring_tension/spring_length;
-  const T ne2 = _tmp3 + com_rod_x_dd*p.bar_t*p.bar_w*p.rho*_tmp4 + _tmp5 + _tmp6;
+  const T _tmp3 = T(1)/spring_length;
+  const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp3 - p.k_s*(p.s0 - spring_length);
+  const T _tmp4 = cos(p.w*in.t) + T(1);
+  const T _tmp5 = T(0.5)*p.F0*_tmp4;
+  const T _tmp6 = sqrt(_tmp0);
+  const T _tmp7 = p.m_s*g2_rod_slider_lambda_dd;
+  const T _tmp8 = spring_d_x*spring_tension*_tmp3;
+  const T ne2 = _tmp5 + p.bar_t*p.bar_w*p.rho*_tmp6*com_rod_x_dd + _tmp7 + _tmp8;
   const T ne3 = -com_rod_y;
-  const T _tmp7 = p.bar_w*p.bar_w;
-  const T ne4 = (_tmp0 + _tmp7)*p.bar_t*p.bar_w*p.rho*_tmp4*w_rod_d/T(12) - T(0.5)*(_tmp2*p.F0 + T(2)*g2_rod_slider_lambda_dd*p.m_s + T(2)*spring_d_x*spring_tension/spring_length)*ne3;
+  const T _tmp9 = p.bar_w*p.bar_w;
+  const T _tmp10 = T(1)/T(12);
+  const T ne4 = (_tmp0 + _tmp9)*p.bar_t*p.bar_w*p.rho*_tmp6*_tmp10*w_rod_d - T(0.5)*(p.F0*_tmp4 + T(2)*p.m_s*g2_rod_slider_lambda_dd + T(2)*spring_d_x*spring_tension*_tmp3)*ne3;
   const T ne5 = com_rod_y - P_y;
   const T ne6 = ne4 - ne2*ne5;
   const T ne7 = P_x - com_rod_x;
   const T ne8 = com_rod_x + ne7 - g2_rod_slider_lambda;
-  const T _tmp8 = com_rod_y_dd + T(9.81);
-  const T ne9 = ne6 - _tmp8*ne7*p.bar_t*p.bar_w*p.rho*_tmp4;
+  const T _tmp11 = com_rod_y_dd + T(9.81);
+  const T ne9 = ne6 - p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11*ne7;
   if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
-  const T Q_rod_slider_fy = ne9/ne8;
-  const T P_crank_rod_fy = _tmp8*p.bar_t*p.bar_w*p.rho*_tmp4 + Q_rod_slider_fy;
+  const T _tmp12 = T(1)/ne8;
+  const T Q_rod_slider_fy = ne9*_tmp12;
+  const T P_crank_rod_fy = p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11 + Q_rod_slider_fy;
   const T slide_n = T(9.81)*p.m_s - Q_rod_slider_fy;
-  const T Q_rod_slider_fx = _tmp3 + _tmp5 + _tmp6;
-  const T _tmp9 = p.r*p.r;
-  const T _tmp10 = sqrt(_tmp9);
-  const T O_ground_crank_fy = (com_crank_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp10 + P_crank_rod_fy;
-  const T O_ground_crank_fx = com_crank_x_dd*p.bar_t*p.bar_w*p.rho*_tmp10 + ne2;
-  const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + in.crank_angle_dd*p.bar_t*p.bar_w*(_tmp7 + _tmp9)*p.rho*_tmp10/T(12) + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
+  const T Q_rod_slider_fx = _tmp5 + _tmp7 + _tmp8;
+  const T _tmp13 = p.r*p.r;
+  const T _tmp14 = sqrt(_tmp13);
+  const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp14*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
+  const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp14*com_crank_x_dd + ne2;
+  const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp13)*p.rho*_tmp14*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -333,6 +455,190 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   return Status::ok;
 }
 
+
+// evaluate_batch's failure[i]: 0 when sample i is ok, else a code that these decode into the
+// status and failed group evaluate() gives.
+template <class T>
+constexpr Status batch_status(T failure) noexcept {
+  return static_cast<Status>(static_cast<long>(failure) % 4096 % 4);
+}
+template <class T>
+constexpr int batch_failed_group(T failure) noexcept {
+  return failure == T(0) ? -1 : static_cast<int>(static_cast<long>(failure) % 4096 / 4 - 1);
+}
+
+// evaluate() for n samples at once, in structure-of-arrays form and without branches, so that the
+// compiler vectorises the loop (with -fno-math-errno, which lets sqrt be an instruction; sin, cos
+// and atan2 are detail:: above). Output column c (column_names[c]) of sample i goes to
+// out[c * stride + i] (stride >= n); failure[i] is 0 or codes the status and group evaluate()
+// returns (batch_status, batch_failed_group). A failed sample's outputs are unspecified (NaN or
+// infinite), not an error. Vectorises with GCC 12 at -O3 with -fno-math-errno -fno-trapping-math
+// (neither changes a result; never -ffast-math); without them it is correct but scalar.
+template <class T>
+void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long n, T* out,
+                    long stride, T* failure) noexcept {
+  using detail::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  using std::max;
+  // Failed checks rank by order: the earliest failing one gives the result (see the emitter).
+  // Local copies: out[] cannot alias them, so their loads leave the loop.
+  [[maybe_unused]] const Params<T> p = params;
+  const T* const batch_t = inputs.t;
+  const T* const batch_crank_angle = inputs.crank_angle;
+  const T* const batch_crank_angle_d = inputs.crank_angle_d;
+  const T* const batch_crank_angle_dd = inputs.crank_angle_dd;
+#if defined(__clang__)
+#pragma clang loop vectorize(enable)
+#elif defined(__GNUC__)
+#pragma GCC ivdep
+#endif
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    in.t = batch_t[i];
+    in.crank_angle = batch_crank_angle[i];
+    in.crank_angle_d = batch_crank_angle_d[i];
+    in.crank_angle_dd = batch_crank_angle_dd[i];
+    // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    // Total ops: 188
+    const T c_crank_rel = cos(in.crank_angle);
+    const T s_crank_rel = sin(in.crank_angle);
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_x = p.r*c_crank_rel;
+    const T P_y = p.r*s_crank_rel;
+    const T g2_rod_slider_w_x = -P_x;
+    const T g2_rod_slider_w_y = -P_y;
+    const T _tmp0 = p.L*p.L;
+    const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
+    failed = max(failed, (g2_rod_slider_disc > T(0)) ? T(0) : T(8192009));
+    const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
+    const T P_y_d = p.r*s_crank_rel_d;
+    const T g2_rod_slider_w_y_d = -P_y_d;
+    const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+    const T _tmp1 = T(1)/g2_rod_slider_root;
+    const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
+    const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
+    const T _tmp2 = T(1)/p.L;
+    const T c_rod = -_tmp2*(P_x - g2_rod_slider_lambda);
+    const T s_rod = -_tmp2*P_y;
+    const T P_x_d = p.r*c_crank_rel_d;
+    const T g2_rod_slider_w_x_d = -P_x_d;
+    const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+    const T c_rod_d = -_tmp2*(P_x_d - g2_rod_slider_lambda_d);
+    const T s_rod_d = -_tmp2*P_y_d;
+    const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
+    const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+    const T com_crank_y = T(0.5)*p.r*s_crank_rel;
+    const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+    const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+    const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
+    const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+    const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
+    const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+    const T P_x_dd = p.r*c_crank_rel_dd;
+    const T P_y_dd = p.r*s_crank_rel_dd;
+    const T g2_rod_slider_w_y_dd = -P_y_dd;
+    const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+    const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
+    const T g2_rod_slider_w_x_dd = -P_x_dd;
+    const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+    const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
+    const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+    const T s_rod_dd = -_tmp2*P_y_dd;
+    const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
+    const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
+    const T G_x = T(3)*p.r + p.L;
+    const T spring_d_x = g2_rod_slider_lambda - G_x;
+    const T spring_length = sqrt(spring_d_x*spring_d_x);
+    const T _tmp3 = T(1)/spring_length;
+    const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp3 - p.k_s*(p.s0 - spring_length);
+    const T _tmp4 = cos(p.w*in.t) + T(1);
+    const T _tmp5 = T(0.5)*p.F0*_tmp4;
+    const T _tmp6 = sqrt(_tmp0);
+    const T _tmp7 = p.m_s*g2_rod_slider_lambda_dd;
+    const T _tmp8 = spring_d_x*spring_tension*_tmp3;
+    const T ne2 = _tmp5 + p.bar_t*p.bar_w*p.rho*_tmp6*com_rod_x_dd + _tmp7 + _tmp8;
+    const T ne3 = -com_rod_y;
+    const T _tmp9 = p.bar_w*p.bar_w;
+    const T _tmp10 = T(1)/T(12);
+    const T ne4 = (_tmp0 + _tmp9)*p.bar_t*p.bar_w*p.rho*_tmp6*_tmp10*w_rod_d - T(0.5)*(p.F0*_tmp4 + T(2)*p.m_s*g2_rod_slider_lambda_dd + T(2)*spring_d_x*spring_tension*_tmp3)*ne3;
+    const T ne5 = com_rod_y - P_y;
+    const T ne6 = ne4 - ne2*ne5;
+    const T ne7 = P_x - com_rod_x;
+    const T ne8 = com_rod_x + ne7 - g2_rod_slider_lambda;
+    const T _tmp11 = com_rod_y_dd + T(9.81);
+    const T ne9 = ne6 - p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11*ne7;
+    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8187906));
+    const T _tmp12 = T(1)/ne8;
+    const T Q_rod_slider_fy = ne9*_tmp12;
+    const T P_crank_rod_fy = p.bar_t*p.bar_w*p.rho*_tmp6*_tmp11 + Q_rod_slider_fy;
+    const T slide_n = T(9.81)*p.m_s - Q_rod_slider_fy;
+    const T Q_rod_slider_fx = _tmp5 + _tmp7 + _tmp8;
+    const T _tmp13 = p.r*p.r;
+    const T _tmp14 = sqrt(_tmp13);
+    const T O_ground_crank_fy = p.bar_t*p.bar_w*p.rho*_tmp14*(com_crank_y_dd + T(9.81)) + P_crank_rod_fy;
+    const T O_ground_crank_fx = p.bar_t*p.bar_w*p.rho*_tmp14*com_crank_x_dd + ne2;
+    const T crank_angle_effort = O_ground_crank_fy*com_crank_x + P_crank_rod_fy*(P_x - com_crank_x) + p.bar_t*p.bar_w*(_tmp9 + _tmp13)*p.rho*_tmp14*_tmp10*in.crank_angle_dd + p.T_f - (P_y - com_crank_y)*ne2 - O_ground_crank_fx*com_crank_y;
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.crank_angle;
+    out[2 * stride + i] = in.crank_angle_d;
+    out[3 * stride + i] = in.crank_angle_dd;
+    out[5 * stride + i] = com_crank_x;
+    out[6 * stride + i] = com_crank_y;
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
+    out[8 * stride + i] = com_crank_x_d;
+    out[9 * stride + i] = com_crank_y_d;
+    out[10 * stride + i] = in.crank_angle_d;
+    out[11 * stride + i] = com_crank_x_dd;
+    out[12 * stride + i] = com_crank_y_dd;
+    out[13 * stride + i] = in.crank_angle_dd;
+    out[14 * stride + i] = com_rod_x;
+    out[15 * stride + i] = com_rod_y;
+    out[16 * stride + i] = atan2(s_rod, c_rod);
+    out[17 * stride + i] = com_rod_x_d;
+    out[18 * stride + i] = com_rod_y_d;
+    out[19 * stride + i] = w_rod;
+    out[20 * stride + i] = com_rod_x_dd;
+    out[21 * stride + i] = com_rod_y_dd;
+    out[22 * stride + i] = w_rod_d;
+    out[23 * stride + i] = g2_rod_slider_lambda;
+    out[24 * stride + i] = T(0);
+    out[25 * stride + i] = T(0);
+    out[26 * stride + i] = g2_rod_slider_lambda_d;
+    out[27 * stride + i] = T(0);
+    out[28 * stride + i] = T(0);
+    out[29 * stride + i] = g2_rod_slider_lambda_dd;
+    out[30 * stride + i] = T(0);
+    out[31 * stride + i] = T(0);
+    out[32 * stride + i] = T(0);
+    out[33 * stride + i] = T(0);
+    out[34 * stride + i] = G_x;
+    out[35 * stride + i] = T(0);
+    out[36 * stride + i] = P_x;
+    out[37 * stride + i] = P_y;
+    out[38 * stride + i] = g2_rod_slider_lambda;
+    out[39 * stride + i] = T(0);
+    out[40 * stride + i] = O_ground_crank_fx;
+    out[41 * stride + i] = O_ground_crank_fy;
+    out[42 * stride + i] = ne2;
+    out[43 * stride + i] = P_crank_rod_fy;
+    out[44 * stride + i] = Q_rod_slider_fx;
+    out[45 * stride + i] = Q_rod_slider_fy;
+    out[46 * stride + i] = T(0);
+    out[47 * stride + i] = slide_n;
+    out[48 * stride + i] = T(0);
+    out[4 * stride + i] = crank_angle_effort;
+    failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
+  }
+}
+
 // The Newton-Euler system itself, A x = b (9 x 9, A row-major): rows are per
 // moving body the force balance in x and y and the moment balance about the centre of mass;
 // unknowns are ne_unknowns[] in order.
@@ -340,15 +646,17 @@ inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "O_ground_crank.fx", "O_ground_crank.fy", "P_crank_rod.fx", "P_crank_rod.fy", "Q_rod_slider.fx", "Q_rod_slider.fy", "slide.n", "slide.m", "crank_angle.effort" };
 template <class T>
 Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
-  using std::cos;
-  using std::sin;
+  using detail::cos;
+  using detail::sin;
   using std::sqrt;
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 147
+  // Total ops: 133
   const T c_crank_rel = cos(in.crank_angle);
   const T s_crank_rel = sin(in.crank_angle);
-  const T P_x = c_crank_rel*p.r;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_x = p.r*c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_w_y = -P_y;
@@ -356,66 +664,73 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
   if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T P_y_d = c_crank_rel*in.crank_angle_d*p.r;
+  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_rod_slider_w_y_d = -P_y_d;
   const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp1 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T c_rod = -(P_x - g2_rod_slider_lambda)/p.L;
-  const T s_rod = -P_y/p.L;
-  const T P_x_d = -in.crank_angle_d*p.r*s_crank_rel;
+  const T _tmp2 = T(1)/p.L;
+  const T c_rod = -_tmp2*(P_x - g2_rod_slider_lambda);
+  const T s_rod = -_tmp2*P_y;
+  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
-  const T g2_rod_slider_lambda_d = T(0.5)*g2_rod_slider_disc_d/g2_rod_slider_root - g2_rod_slider_w_x_d;
-  const T com_crank_x = T(0.5)*c_crank_rel*p.r;
+  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T _tmp1 = in.crank_angle_d*in.crank_angle_d;
-  const T com_crank_x_dd = -T(0.5)*c_crank_rel*_tmp1*p.r - T(0.5)*in.crank_angle_dd*p.r*s_crank_rel;
-  const T com_crank_y_dd = T(0.5)*c_crank_rel*in.crank_angle_dd*p.r - T(0.5)*_tmp1*p.r*s_crank_rel;
-  const T com_rod_x = P_x + T(0.5)*c_rod*p.L;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
   const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T P_x_dd = -c_crank_rel*_tmp1*p.r - in.crank_angle_dd*p.r*s_crank_rel;
-  const T P_y_dd = c_crank_rel*in.crank_angle_dd*p.r - _tmp1*p.r*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T g2_rod_slider_lambda_dd = T(0.5)*g2_rod_slider_disc_dd/g2_rod_slider_root - T(0.25)*(g2_rod_slider_disc_d*g2_rod_slider_disc_d)/((g2_rod_slider_root*g2_rod_slider_root)*g2_rod_slider_root) - g2_rod_slider_w_x_dd;
-  const T c_rod_dd = g2_rod_slider_lambda_dd/p.L - P_x_dd/p.L;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*c_rod_dd*p.L;
-  const T s_rod_dd = -P_y_dd/p.L;
+  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+  const T c_rod_dd = -_tmp2*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  const T s_rod_dd = -_tmp2*P_y_dd;
   const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
   const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
   const T G_x = T(3)*p.r + p.L;
   const T spring_d_x = g2_rod_slider_lambda - G_x;
   const T spring_length = sqrt(spring_d_x*spring_d_x);
-  const T spring_tension = g2_rod_slider_lambda_d*p.c_s*spring_d_x/spring_length - p.k_s*(p.s0 - spring_length);
+  const T _tmp3 = T(1)/spring_length;
+  const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp3 - p.k_s*(p.s0 - spring_length);
   A[0] = T(1);
   A[2] = -T(1);
-  const T _tmp2 = p.r*p.r;
-  const T _tmp3 = sqrt(_tmp2);
-  b[0] = com_crank_x_dd*p.bar_t*p.bar_w*p.rho*_tmp3;
+  const T _tmp4 = p.r*p.r;
+  const T _tmp5 = sqrt(_tmp4);
+  b[0] = p.bar_t*p.bar_w*p.rho*_tmp5*com_crank_x_dd;
   A[10] = T(1);
   A[12] = -T(1);
-  b[1] = (com_crank_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp3;
+  b[1] = p.bar_t*p.bar_w*p.rho*_tmp5*(com_crank_y_dd + T(9.81));
   A[18] = com_crank_y;
   A[19] = -com_crank_x;
   A[20] = P_y - com_crank_y;
   A[21] = com_crank_x - P_x;
   A[26] = T(1);
-  const T _tmp4 = p.bar_w*p.bar_w;
-  b[2] = in.crank_angle_dd*p.bar_t*p.bar_w*(_tmp4 + _tmp2)*p.rho*_tmp3/T(12) + p.T_f;
+  const T _tmp6 = p.bar_w*p.bar_w;
+  const T _tmp7 = T(1)/T(12);
+  b[2] = p.bar_t*p.bar_w*(_tmp6 + _tmp4)*p.rho*_tmp5*_tmp7*in.crank_angle_dd + p.T_f;
   A[29] = T(1);
   A[31] = -T(1);
-  const T _tmp5 = sqrt(_tmp0);
-  b[3] = com_rod_x_dd*p.bar_t*p.bar_w*p.rho*_tmp5;
+  const T _tmp8 = sqrt(_tmp0);
+  b[3] = p.bar_t*p.bar_w*p.rho*_tmp8*com_rod_x_dd;
   A[39] = T(1);
   A[41] = -T(1);
-  b[4] = (com_rod_y_dd + T(9.81))*p.bar_t*p.bar_w*p.rho*_tmp5;
+  b[4] = p.bar_t*p.bar_w*p.rho*_tmp8*(com_rod_y_dd + T(9.81));
   A[47] = com_rod_y - P_y;
   A[48] = P_x - com_rod_x;
   A[49] = -com_rod_y;
   A[50] = com_rod_x - g2_rod_slider_lambda;
-  b[5] = (_tmp0 + _tmp4)*p.bar_t*p.bar_w*p.rho*_tmp5*w_rod_d/T(12);
+  b[5] = (_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp8*_tmp7*w_rod_d;
   A[58] = T(1);
-  b[6] = T(0.5)*(cos(in.t*p.w) + T(1))*p.F0 + g2_rod_slider_lambda_dd*p.m_s + spring_d_x*spring_tension/spring_length;
+  b[6] = T(0.5)*p.F0*(cos(p.w*in.t) + T(1)) + p.m_s*g2_rod_slider_lambda_dd + spring_d_x*spring_tension*_tmp3;
   A[68] = T(1);
   A[69] = T(1);
   b[7] = T(9.81)*p.m_s;
@@ -434,6 +749,25 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.crank_angle_d = p.w;
   in.crank_angle_dd = T(0);
 
+}
+
+// The model's driver motion at n times t[0..n) for evaluate_batch: `storage` holds
+// batch_storage_per_sample * n values, which `batch` then points into (and batch.t to t).
+inline constexpr int batch_storage_per_sample = 3;
+template <class T>
+void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]] T* storage,
+                         BatchInputs<T>& batch) noexcept {
+  batch.t = t;
+  batch.crank_angle = storage + 0 * n;
+  batch.crank_angle_d = storage + 1 * n;
+  batch.crank_angle_dd = storage + 2 * n;
+  for (long i = 0; i < n; ++i) {
+    Inputs<T> in;
+    driver_inputs(p, t[i], in);
+    storage[0 * n + i] = in.crank_angle;
+    storage[1 * n + i] = in.crank_angle_d;
+    storage[2 * n + i] = in.crank_angle_dd;
+  }
 }
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.

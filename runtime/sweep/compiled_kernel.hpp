@@ -11,6 +11,14 @@ struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
   // returns 0 (ok), 1 (unreachable) or 2 (singular) and the failing group.
   using RowFunction = int (*)(const double* parameters, double t, double* row, int* failed_group);
+  // The row for a driver motion other than the model's own: `drivers` holds (q, qd, qdd) per
+  // driver, in model order (driver_count of them); same return values.
+  using DrivenRowFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                    double* row, int* failed_group);
+  // n samples at once, vectorised (evaluate_batch): column c of sample i to out[c * n + i];
+  // status[i] and group[i] as RowFunction returns them (a failed sample's columns are garbage).
+  using BatchFunction = void (*)(const double* parameters, const double* t, long n, double* out,
+                                 int* status, int* group);
 
   const char* model;
   int parameter_count;
@@ -21,12 +29,9 @@ struct CompiledKernel {
   const char* const* group_names;
   RowFunction evaluate_double;
   RowFunction evaluate_float;
-  // The row for a driver motion other than the model's own: `drivers` holds (q, qd, qdd) per
-  // driver, in model order (driver_count of them); same return values.
-  using DrivenRowFunction = int (*)(const double* parameters, double t, const double* drivers,
-                                    double* row, int* failed_group);
   int driver_count;
   DrivenRowFunction evaluate_driven_double;
+  BatchFunction evaluate_batch_double;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -85,17 +86,76 @@ struct KernelFailure {
   int group = -1;
 };
 
-// Evaluates samples [begin, end); stops at the first failure and returns it (status 0: none).
+// Samples per call of the batch entry: its column-major block (columns x kBlock doubles, 170 kB
+// for PASIBOT) stays in the L2 cache (measured: 32 to 128 samples are within 10%).
+constexpr size_t kBlock = 64;
+
+// A thread's scratch for one block of the batch entry.
+struct BlockBuffers {
+  explicit BlockBuffers(const CompiledKernel& kernel)
+      : out(static_cast<size_t>(kernel.column_count) * kBlock), status(kBlock), group(kBlock) {}
+  std::vector<double> out;
+  std::vector<int> status, group;
+};
+
+// Evaluates samples [begin, end) block by block, handing each block to `use(first, n, out)`
+// (samples first .. first + n, column c of sample first + k at out[c * n + k]); stops at the first
+// failure and returns it (status 0: none); a failing block is not handed over.
+template <class Use>
+KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<double>& parameters,
+                              const std::vector<double>& times, size_t begin, size_t end,
+                              Use&& use) {
+  BlockBuffers buffers(kernel);
+  for (size_t first = begin; first < end; first += kBlock) {
+    const size_t n = std::min(kBlock, end - first);
+    kernel.evaluate_batch_double(parameters.data(), &times[first], static_cast<long>(n),
+                                 buffers.out.data(), buffers.status.data(), buffers.group.data());
+    for (size_t k = 0; k < n; ++k)
+      if (buffers.status[k] != 0) return {first + k, buffers.status[k], buffers.group[k]};
+    use(first, n, buffers.out.data());
+  }
+  return {};
+}
+
+// Evaluates samples [begin, end) into rows; stops at the first failure and returns it.
 KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<double>& parameters,
                              const std::vector<double>& times, size_t begin, size_t end,
                              std::vector<std::vector<double>>& rows) {
-  for (size_t i = begin; i < end; ++i) {
-    rows[i].assign(static_cast<size_t>(kernel.column_count), 0.0);  // first touch by this thread
-    int group = -1;
-    const int status = kernel.evaluate_double(parameters.data(), times[i], rows[i].data(), &group);
-    if (status != 0) return {i, status, group};
+  const size_t columns = static_cast<size_t>(kernel.column_count);
+  return evaluate_blocks(kernel, parameters, times, begin, end,
+                         [&](size_t first, size_t n, const double* out) {
+                           for (size_t k = 0; k < n; ++k) {
+                             std::vector<double>& row = rows[first + k];
+                             row.resize(columns);  // first touch by this thread
+                             for (size_t c = 0; c < columns; ++c) row[c] = out[c * n + k];
+                           }
+                         });
+}
+
+// The threads a generated sweep of n samples uses.
+int sweep_threads(const SweepOptions& options, size_t n) {
+  int threads = options.threads;
+  if (threads <= 0)
+    threads = static_cast<int>(n) >= SweepOptions::parallel_threshold
+                  ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()))
+                  : 1;
+  return static_cast<int>(std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(threads), n)));
+}
+
+// Runs task(k, begin, end) on `threads` contiguous chunks of [0, n), one thread each.
+template <class Task>
+void in_parallel(int threads, size_t n, Task&& task) {
+  if (threads <= 1) {
+    task(0, 0, n);
+    return;
   }
-  return {};
+  std::vector<std::thread> pool;
+  const size_t chunk = (n + static_cast<size_t>(threads) - 1) / static_cast<size_t>(threads);
+  for (size_t k = 0; k < static_cast<size_t>(threads); ++k) {
+    const size_t begin = std::min(n, k * chunk), end = std::min(n, begin + chunk);
+    pool.emplace_back([&task, k, begin, end] { task(k, begin, end); });
+  }
+  for (std::thread& thread : pool) thread.join();
 }
 
 [[noreturn]] void report_kernel_failure(const Model& model, const CompiledKernel& kernel, double t,
@@ -113,28 +173,12 @@ void sweep_generated(const Model& model, const SweepOptions& options,
                      const std::vector<double>& times, SweepResult& result) {
   const CompiledKernel& kernel = kernel_for(model);
   const size_t n = times.size();
-  int threads = options.threads;
-  if (threads <= 0)
-    threads = static_cast<int>(n) >= SweepOptions::parallel_threshold
-                  ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()))
-                  : 1;
-  threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), n));
-
+  const int threads = sweep_threads(options, n);
+  // Contiguous chunks, one per thread; each thread writes only its own rows.
   std::vector<KernelFailure> failures(static_cast<size_t>(threads));
-  if (threads <= 1) {
-    failures[0] = evaluate_range(kernel, options.parameters, times, 0, n, result.rows);
-  } else {
-    // Contiguous chunks, one per thread; each thread writes only its own rows.
-    std::vector<std::thread> pool;
-    const size_t chunk = (n + static_cast<size_t>(threads) - 1) / static_cast<size_t>(threads);
-    for (size_t k = 0; k < static_cast<size_t>(threads); ++k) {
-      const size_t begin = std::min(n, k * chunk), end = std::min(n, begin + chunk);
-      pool.emplace_back([&, k, begin, end] {
-        failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, result.rows);
-      });
-    }
-    for (std::thread& thread : pool) thread.join();
-  }
+  in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
+    failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, result.rows);
+  });
   // The earliest failing sample, as a sequential sweep would report it.
   for (const KernelFailure& failure : failures)
     if (failure.status != 0) report_kernel_failure(model, kernel, times[failure.sample], failure);
@@ -193,7 +237,10 @@ std::vector<double> sample_times(double t0, double t1, int samples) {
   return times;
 }
 
-SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
+namespace {
+
+// run_sweep's checks of a request; fills in the default parameters.
+SweepOptions checked(const Model& model, const SweepOptions& options_in) {
   SweepOptions options = options_in;
   if (options.parameters.empty()) options.parameters = model.default_parameters();
   const SourceLoc where = model_loc(model);
@@ -209,7 +256,73 @@ SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
   if (options.solver != "generated" && options.solver != "numeric")
     throw ModelError(
         where, "sweep: unknown solver '" + options.solver + "' (expected generated or numeric)");
+  return options;
+}
 
+void include(ColumnRanges& ranges, size_t c, double value) {
+  ranges.min[c] = std::min(ranges.min[c], value);
+  ranges.max[c] = std::max(ranges.max[c], value);
+}
+
+ColumnRanges empty_ranges(std::vector<std::string> columns) {
+  ColumnRanges ranges;
+  ranges.min.assign(columns.size(), std::numeric_limits<double>::infinity());
+  ranges.max.assign(columns.size(), -std::numeric_limits<double>::infinity());
+  ranges.columns = std::move(columns);
+  return ranges;
+}
+
+}  // namespace
+
+ColumnRanges column_ranges(const SweepResult& result) {
+  ColumnRanges ranges = empty_ranges(result.columns);
+  ranges.samples = result.rows.size();
+  for (const std::vector<double>& row : result.rows)
+    for (size_t c = 0; c < row.size(); ++c) include(ranges, c, row[c]);
+  return ranges;
+}
+
+ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
+  const SweepOptions options = checked(model, options_in);
+  if (options.solver != "generated") return column_ranges(run_sweep(model, options));
+  const CompiledKernel& kernel = kernel_for(model);
+  const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  const size_t n = times.size(), columns = static_cast<size_t>(kernel.column_count);
+  const int threads = sweep_threads(options, n);
+  // Each thread folds its chunk into its own ranges; they are merged at the end.
+  std::vector<ColumnRanges> partial(static_cast<size_t>(threads),
+                                    empty_ranges(column_names(model)));
+  std::vector<KernelFailure> failures(static_cast<size_t>(threads));
+  in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
+    ColumnRanges& mine = partial[k];
+    failures[k] = evaluate_blocks(kernel, options.parameters, times, begin, end,
+                                  [&](size_t, size_t n, const double* out) {
+                                    // A column's samples are contiguous: this loop vectorises.
+                                    for (size_t c = 0; c < columns; ++c) {
+                                      double lo = mine.min[c], hi = mine.max[c];
+                                      for (size_t k = 0; k < n; ++k) {
+                                        lo = std::min(lo, out[c * n + k]);
+                                        hi = std::max(hi, out[c * n + k]);
+                                      }
+                                      mine.min[c] = lo;
+                                      mine.max[c] = hi;
+                                    }
+                                  });
+  });
+  for (const KernelFailure& failure : failures)
+    if (failure.status != 0) report_kernel_failure(model, kernel, times[failure.sample], failure);
+  ColumnRanges ranges = empty_ranges(column_names(model));
+  ranges.samples = n;
+  for (const ColumnRanges& part : partial)
+    for (size_t c = 0; c < columns; ++c) {
+      include(ranges, c, part.min[c]);
+      include(ranges, c, part.max[c]);
+    }
+  return ranges;
+}
+
+SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
+  const SweepOptions options = checked(model, options_in);
   SweepResult result;
   result.columns = column_names(model);
   const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);

@@ -35,6 +35,20 @@ SweepOptions default_sweep(const Model& model, const std::vector<double>& parame
 // returns a NaN row.
 SweepResult run_sweep(const Model& model, const SweepOptions& options);
 
+// The smallest and largest value of every column over a sweep.
+struct ColumnRanges {
+  std::vector<std::string> columns;  // column_names(model)
+  std::vector<double> min, max;      // one per column
+  size_t samples = 0;
+};
+
+// run_sweep's ranges without keeping the table: the generated solver evaluates blocks of samples
+// through the kernel's vectorised batch entry on `threads` threads, each folding its samples into
+// its own ranges (memory independent of the sample count). Same errors as run_sweep.
+ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options);
+// The ranges of a table already computed.
+ColumnRanges column_ranges(const SweepResult& result);
+
 // The sample times: t0 + (t1 - t0) * i / (samples - 1), the last exactly t1.
 std::vector<double> sample_times(double t0, double t1, int samples);
 

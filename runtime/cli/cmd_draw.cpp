@@ -38,9 +38,7 @@ int run_draw(const Args& args) {
     throw UsageError("give either --at T or --animate");
   if (args.has("--steps") && !args.has("--animate")) throw UsageError("--steps needs --animate");
   if (args.has("--ramp") && !args.has("--steps")) throw UsageError("--ramp needs --steps");
-  const std::string solver = args.get("--solver", "generated");
-  if (solver != "generated" && solver != "numeric")
-    throw UsageError("--solver: expected generated or numeric, got '" + solver + "'");
+  const std::string solver = solver_option(args);
   if (args.has("--steps") && solver != "generated")
     throw UsageError("--steps walks with the generated kernel only");
   report::DrawingOptions drawing;

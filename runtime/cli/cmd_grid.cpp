@@ -57,9 +57,7 @@ int run_grid_command(const Args& args) {
   } catch (const std::invalid_argument& error) {
     throw UsageError(std::string("--grid: ") + error.what());
   }
-  options.solver = args.get("--solver", "generated");
-  if (options.solver != "generated" && options.solver != "numeric")
-    throw UsageError("--solver: expected generated or numeric, got '" + options.solver + "'");
+  options.solver = solver_option(args);
   options.samples = args.integer("--samples", 0);
   if (args.has("--samples") && options.samples < 1)
     throw UsageError("--samples must be at least 1");

@@ -35,9 +35,7 @@ int run_size_motor(const Args& args) {
   if (!args.has("--catalogue")) throw UsageError("missing --catalogue FILE.csv");
   const double safety = args.number("--safety", 1.5);
   if (safety < 1) throw UsageError("--safety must be at least 1");
-  const std::string solver = args.get("--solver", "generated");
-  if (solver != "generated" && solver != "numeric")
-    throw UsageError("--solver: expected generated or numeric, got '" + solver + "'");
+  const std::string solver = solver_option(args);
   const int samples = args.integer("--samples", 0);
   if (args.has("--samples") && samples < 1) throw UsageError("--samples must be at least 1");
 

@@ -49,4 +49,22 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+std::string solver_option(const Args& args) {
+  const std::string solver = args.get("--solver", "generated");
+  if (solver != "generated" && solver != "numeric")
+    throw UsageError("--solver: expected generated or numeric, got '" + solver + "'");
+  return solver;
+}
+
+SweepOptions sweep_options(const Model& model, const std::vector<double>& parameters,
+                           const Args& args) {
+  SweepOptions options = default_sweep(model, parameters);
+  options.solver = solver_option(args);
+  options.samples = args.integer("--samples", options.samples);
+  if (options.samples < 1) throw UsageError("--samples must be at least 1");
+  options.t0 = args.number("--t0", options.t0);
+  options.t1 = args.number("--t1", options.t1);
+  return options;
+}
+
 }  // namespace mechgen::cli

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "sweep/sweep.hpp"
 
 namespace mechgen::cli {
 
@@ -141,6 +142,12 @@ double wrap_angle(double a);
 // Reads a model, remembering its path for errors that carry no location.
 Model load_model(const std::string& path);
 double seconds_since(std::chrono::steady_clock::time_point start);
+// --solver's value: "generated" (the default) or "numeric"; anything else is a UsageError.
+std::string solver_option(const Args& args);
+// A fresh sweep of `model` at `parameters`: the model's step, overridden by --solver, --samples,
+// --t0 and --t1 where given (each checked).
+SweepOptions sweep_options(const Model& model, const std::vector<double>& parameters,
+                           const Args& args);
 
 // ---- the command table --------------------------------------------------------------------------
 

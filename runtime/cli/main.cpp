@@ -296,14 +296,7 @@ int run_sweep_command(const Args& args) {
   const Model model = load_model(path);
   std::vector<double> parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
-  SweepOptions options = default_sweep(model, parameters);
-  options.solver = args.get("--solver", "generated");
-  if (options.solver != "generated" && options.solver != "numeric")
-    throw UsageError("--solver: expected generated or numeric, got '" + options.solver + "'");
-  options.samples = args.integer("--samples", options.samples);
-  if (options.samples < 1) throw UsageError("--samples must be at least 1");
-  options.t0 = args.number("--t0", options.t0);
-  options.t1 = args.number("--t1", options.t1);
+  SweepOptions options = sweep_options(model, parameters, args);
   options.threads = args.integer("--threads", 0);
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
 

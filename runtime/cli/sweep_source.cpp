@@ -38,14 +38,7 @@ SweepSource sweep_source(const Model& model, const Args& args) {
     source.label = path;
     return source;
   }
-  SweepOptions options = default_sweep(model, source.parameters);
-  options.solver = args.get("--solver", "generated");
-  if (options.solver != "generated" && options.solver != "numeric")
-    throw UsageError("--solver: expected generated or numeric, got '" + options.solver + "'");
-  options.samples = args.integer("--samples", options.samples);
-  if (options.samples < 1) throw UsageError("--samples must be at least 1");
-  options.t0 = args.number("--t0", options.t0);
-  options.t1 = args.number("--t1", options.t1);
+  const SweepOptions options = sweep_options(model, source.parameters, args);
   SweepResult result = run_sweep(model, options);
   source.columns = std::move(result.columns);
   source.rows = std::move(result.rows);

@@ -27,10 +27,19 @@ int expression_latency(const ex& e) {
     if (exponent.is_equal(-1)) return base + kDivision;
     return base + kArithmetic + (exponent.info(GiNaC::info_flags::negint) ? kDivision : 0);
   }
-  int slowest = 0;
-  for (size_t i = 0; i < e.nops(); ++i) slowest = std::max(slowest, expression_latency(e.op(i)));
+  // A factor +-1 is not counted: GiNaC prints -(b - a) c or (a - b) c depending on its
+  // run-dependent term order, and the order must be the same in every process.
+  int slowest = 0, operands = 0;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const ex op = e.op(i);
+    if (GiNaC::is_a<GiNaC::mul>(e) && GiNaC::is_a<GiNaC::numeric>(op) &&
+        GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(op)).is_equal(1))
+      continue;
+    slowest = std::max(slowest, expression_latency(op));
+    ++operands;
+  }
   if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e))
-    return slowest + kArithmetic * static_cast<int>(e.nops() > 0 ? e.nops() - 1 : 0);
+    return slowest + kArithmetic * std::max(0, operands - 1);
   return slowest + kFunction;
 }
 

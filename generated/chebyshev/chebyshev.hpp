@@ -382,8 +382,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T c_coupler = -T(0.4)*_tmp8*_tmp4;
   const T s_coupler = -T(0.4)*_tmp8*_tmp3;
   const T c_rocker = T(0.4)*_tmp8*_tmp2;
-  const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   const T s_rocker = -T(0.4)*_tmp8*M_y;
+  const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   const T s_coupler_d = c_coupler*w_coupler;
   const T s_rocker_d = c_rocker*w_rocker;
@@ -392,8 +392,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
   const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
   const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
   const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+  const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
   const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
   const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
@@ -405,14 +405,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ne9 = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp9)*p.bar_t*p.bar_w*p.rho*_tmp10*w_rocker_d - T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp10*com_rocker_x_dd*com_rocker_y;
   const T c_coupler_d = -s_coupler*w_coupler;
   const T c_rocker_d = -s_rocker*w_rocker;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
   const T x_coupler = P_x - T(5)*p.l*c_coupler;
   const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
   const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
   const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
   const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
-  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
   const T ne4 = P_x - com_coupler_x;

@@ -27,6 +27,9 @@ struct Samples {
   kernel::State<double> s{};
   std::vector<double> times;
   std::size_t k = 0;
+  // evaluate_batch's blocks: inputs, driver storage, outputs (column-major), failure codes
+  std::vector<double> block_t, storage, out, failure;
+  std::size_t used = batch_block;
 };
 Samples& samples() {
   static Samples instance;
@@ -43,6 +46,33 @@ void prepare(const double* parameters, const double* times, std::size_t count) {
   kernel::set_parameters(m.p, parameters);
   m.times.assign(times, times + count);
   m.k = 0;
+  m.block_t.assign(batch_block, 0);
+  m.storage.assign(kernel::batch_storage_per_sample * batch_block + 1, 0);
+  m.out.assign(kernel::column_count * batch_block, 0);
+  m.failure.assign(batch_block, 0);
+  m.used = batch_block;
+}
+
+bool next_batch() {
+  Samples& m = samples();
+  if (m.used == batch_block) {
+    for (double& t : m.block_t) {
+      t = m.times[m.k];
+      if (++m.k == m.times.size()) m.k = 0;
+    }
+    kernel::BatchInputs<double> batch;
+    kernel::batch_driver_inputs(m.p, m.block_t.data(), static_cast<long>(batch_block),
+                                m.storage.data(), batch);
+    kernel::evaluate_batch(m.p, batch, static_cast<long>(batch_block), m.out.data(),
+                           static_cast<long>(batch_block), m.failure.data());
+    asm volatile("" : : "r"(m.out.data()) : "memory");
+    m.used = 0;
+  }
+  return m.failure[m.used++] == 0;
+}
+
+double batch_output(int column, std::size_t i) {
+  return samples().out[static_cast<std::size_t>(column) * batch_block + i];
 }
 
 bool next(bool kinematics_only, double* effort) {
@@ -61,6 +91,9 @@ bool available() {
   return false;
 }
 void prepare(const double*, const double*, std::size_t) {}
+bool next_batch() {
+  return false;
+}
 bool next(bool, double*) {
   return false;
 }

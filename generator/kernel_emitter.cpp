@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "code_block.hpp"
+#include "latency_schedule.hpp"
 #include "model/columns.hpp"
 #include "template_renderer.hpp"
 
@@ -63,8 +64,11 @@ class Emitter {
   // Straight-line code for `outputs` (target, value): only the statements they need, in program
   // order, with the checks on the way; `fail` maps a status and group to the statement run when a
   // check fails.
+  // `scheduled`: in latency_order (the scalar entries), else in program order (the batch loop,
+  // where the longer live ranges of that order spill more of the 16 vector registers).
   CodeBlock block(const std::vector<Output>& outputs,
-                  std::string (*fail)(const std::string& status, int group)) const {
+                  std::string (*fail)(const std::string& status, int group),
+                  bool scheduled = true) const {
     std::set<ex, GiNaC::ex_is_less> needed;
     std::vector<ex> pending;
     for (const Output& o : outputs) pending.push_back(o.value);
@@ -93,8 +97,15 @@ class Emitter {
     }
     CodeBlock code;
     code.invert_every_denominator();
-    for (const Statement& st : program_.statements()) {
-      if (!needed.count(st.symbol)) continue;
+    std::vector<size_t> order;
+    if (scheduled) {
+      order = latency_order(program_.statements(), needed);
+    } else {
+      for (size_t i = 0; i < program_.statements().size(); ++i)
+        if (needed.count(program_.statements()[i].symbol)) order.push_back(i);
+    }
+    for (size_t index : order) {
+      const Statement& st = program_.statements()[index];
       switch (st.kind) {
         case Statement::Kind::define:
           code.define(st.symbol.get_name(), st.value.subs(rename_));
@@ -300,7 +311,7 @@ class Emitter {
     auto code = [](const std::string& status, int group) {
       return std::to_string((status == "unreachable" ? 1 : 2) + 4 * (group + 1));
     };
-    const CodeBlock batch = block(outputs, code);
+    const CodeBlock batch = block(outputs, code, false);
     // Functions without a detail:: version (acos, ...) stay library calls: the batch is then
     // correct but not vectorised.
     const std::string using_text = using_lines(batch);

@@ -4,7 +4,8 @@
 #   1. Release build of mechgen_bench in build/ (MECHGEN_BUILD_BENCH=ON)
 #   2. mechgen_bench with 5 repetitions: the median CPU time per sample of every variant, and the
 #      ratios numeric/generated, dense_lu/generated, dense_inverse/generated,
-#      generated/generated_float, generated/generated_batch
+#      generated/generated_float, generated/generated_batch (and numeric, dense_lu over
+#      generated_v3, the kernel compiled for x86-64-v3, where the processor has it)
 #   3. the targets of issue 5 met or missed, and the wall time of a 10^6-sample PASIBOT sweep
 #      (`mechgen sweep models/pasibot.yaml --samples 1000000 --summary`)
 #   4. when valgrind is installed: instructions per sample (callgrind) of pasibot's generated,
@@ -102,6 +103,8 @@ fi
         ratio(models[i], "dense_inverse", "generated")
         ratio(models[i], "generated", "generated_float")
         ratio(models[i], "generated", "generated_batch")
+        ratio(models[i], "numeric", "generated_v3")
+        ratio(models[i], "dense_lu", "generated_v3")
       }
     }
   ' "$tmp/medians.txt"
@@ -119,6 +122,11 @@ fi
       if (b > 0) check("generated_batch per sample", b / 1e3, "us", "<= 0.25 us", b <= 250)
       if (g > 0 && n > 0) check("numeric / generated", n / g, "x", ">= 150x", n / g >= 150)
       if (g > 0 && l > 0) check("dense_lu / generated", l / g, "x", ">= 25x", l / g >= 25)
+      # The same kernel compiled for x86-64-v3 (AVX2, FMA), where the processor has it.
+      v = time["pasibot/generated_v3"]
+      if (v > 0) check("generated_v3 per sample (x86-64-v3)", v / 1e3, "us", "<= 1 us", v <= 1000)
+      if (v > 0 && n > 0) check("numeric / generated_v3", n / v, "x", ">= 150x", n / v >= 150)
+      if (v > 0 && l > 0) check("dense_lu / generated_v3", l / v, "x", ">= 25x", l / v >= 25)
     }
   ' "$tmp/medians.txt"
 } | tee "$out/bench.txt"

@@ -7,6 +7,23 @@
 
 namespace mechgen::gen {
 
+namespace {
+
+// The distinct symbols of e, in the order of a preorder walk.
+std::vector<GiNaC::symbol> symbols_in(const GiNaC::ex& e) {
+  std::vector<GiNaC::symbol> symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
+    bool seen = false;
+    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
+    if (!seen) symbols.push_back(s);
+  }
+  return symbols;
+}
+
+}  // namespace
+
 using GiNaC::ex;
 
 void StagedProgram::declare(const GiNaC::symbol& s, const ex& derivative) {
@@ -154,14 +171,7 @@ ex StagedProgram::quotient_derivative(const GiNaC::symbol& s, const std::string&
 ex StagedProgram::derivative(const ex& e) {
   // Visit the symbols by name, not in GiNaC's order (hash based, different in every process): the
   // derivatives staged on the way are named and emitted in this order.
-  std::vector<GiNaC::symbol> symbols;
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
-    bool seen = false;
-    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
-    if (!seen) symbols.push_back(s);
-  }
+  std::vector<GiNaC::symbol> symbols = symbols_in(e);
   std::stable_sort(
       symbols.begin(), symbols.end(),
       [](const GiNaC::symbol& a, const GiNaC::symbol& b) { return a.get_name() < b.get_name(); });
@@ -227,14 +237,7 @@ ex StagedProgram::structural_derivative(const ex& e) {
   }
   // Functions and other powers: the chain rule through each symbol, as GiNaC differentiates.
   ex result = 0;
-  std::vector<GiNaC::symbol> symbols;
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-    const GiNaC::symbol& s = GiNaC::ex_to<GiNaC::symbol>(*it);
-    bool seen = false;
-    for (const GiNaC::symbol& other : symbols) seen = seen || other.is_equal(s);
-    if (!seen) symbols.push_back(s);
-  }
+  const std::vector<GiNaC::symbol> symbols = symbols_in(e);
   for (const GiNaC::symbol& s : symbols) {
     const ex partial = e.diff(s);
     if (partial.is_zero()) continue;

@@ -670,7 +670,7 @@ class Deriver {
                 const Load& load, int sign) {
     const int base = row_of_[static_cast<size_t>(b)];
     if (base < 0) return;  // the ground's equations are not part of the system
-    const Vec& g = com_[static_cast<size_t>(b)];
+    const Vec& g = moment_point_[static_cast<size_t>(b)];
     const ex mz = cross(load.at - g, load.force) + load.moment;
     const ex comps[3] = {load.force.x, load.force.y, mz};
     for (int k = 0; k < 3; ++k) {
@@ -700,14 +700,32 @@ class Deriver {
     std::vector<ex> rhs(static_cast<size_t>(n), 0);
     std::vector<std::pair<std::string, std::vector<std::pair<int, Vec>>>> reactions;
 
+    // Each body's moment equation is taken about the pin of its first revolute joint (the COM
+    // when it has none): that joint's two reactions drop out of the row, so the elimination
+    // couples fewer unknowns; the inertial forces' moment about the pin moves to the rhs.
+    moment_point_ = com_;
+    for (size_t b = 0; b < model_.bodies.size(); ++b)
+      for (const Joint& j : model_.joints)
+        if (j.type == JointType::revolute &&
+            (j.first == static_cast<int>(b) || j.second == static_cast<int>(b))) {
+          moment_point_[b] = world_point(j.point);
+          break;
+        }
+
     const Vec gravity{model_.gravity.x.ex, model_.gravity.y.ex};
     for (size_t b = 0; b < model_.bodies.size(); ++b) {
       if (row_of_[b] < 0) continue;
+      // Mass and inertia named once: as products of parameters (a bar's density, width,
+      // thickness, length) they were repeated in every term that carries them.
       const MassProperties& m = model_.bodies[b].mass;
-      const Vec inertial = m.mass.ex * (acceleration_[b] - gravity);
+      const std::string& body_name = model_.bodies[b].name;
+      const ex mass = name(body_name + "_mass", m.mass.ex);
+      const ex inertia = name(body_name + "_inertia", m.inertia.ex);
+      const Vec inertial = name(body_name + "_inertial", mass * (acceleration_[b] - gravity));
       rhs[static_cast<size_t>(row_of_[b])] += inertial.x;
       rhs[static_cast<size_t>(row_of_[b] + 1)] += inertial.y;
-      rhs[static_cast<size_t>(row_of_[b] + 2)] += m.inertia.ex * angular_acceleration_[b];
+      rhs[static_cast<size_t>(row_of_[b] + 2)] +=
+          inertia * angular_acceleration_[b] + cross(com_[b] - moment_point_[b], inertial);
     }
 
     int col = 0;
@@ -927,6 +945,7 @@ class Deriver {
   std::vector<Frame> world_;  // body rotations in the ground frame (when it is not the reference)
   Frame ground_frame_{true, 0, 0, 1, 0, 0};
   std::vector<Vec> com_, acceleration_;
+  std::vector<Vec> moment_point_;  // the point each body's moment equation is taken about
   std::vector<ex> angular_acceleration_;
   std::vector<int> row_of_;
 };

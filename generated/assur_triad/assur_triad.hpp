@@ -2729,8 +2729,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (15 x 15, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 15;
 inline constexpr const char* ne_unknowns[] = { "jA.fx", "jA.fy", "jP.fx", "jP.fy", "jC1.fx", "jC1.fy", "jB.fx", "jB.fy", "jC2.fx", "jC2.fy", "jD.fx", "jD.fy", "jC3.fx", "jC3.fy", "crank_angle.effort" };
 template <class T>

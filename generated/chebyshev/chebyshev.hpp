@@ -736,8 +736,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (9 x 9, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy", "crank_angle.effort" };
 template <class T>

@@ -1307,8 +1307,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (18 x 18, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 18;
 inline constexpr const char* ne_unknowns[] = { "hip.fx", "hip.fy", "knee.fx", "knee.fy", "base1.fx", "base1.fy", "stroke1.n", "stroke1.m", "tip1.fx", "tip1.fy", "base2.fx", "base2.fy", "stroke2.n", "stroke2.m", "tip2.fx", "tip2.fy", "l1.effort", "l2.effort" };
 template <class T>

@@ -5858,8 +5858,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (69 x 69, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 69;
 inline constexpr const char* ne_unknowns[] = { "A_13_8.fx", "A_13_8.fy", "B_13_9.fx", "B_13_9.fy", "P_8_7.fx", "P_8_7.fy", "M_9_7.fx", "M_9_7.fy", "C_7_3.fx", "C_7_3.fy", "D_13_6.fx", "D_13_6.fy", "K_6_3.fx", "K_6_3.fy", "D_13_4.fx", "D_13_4.fy", "J_3_2.fx", "J_3_2.fy", "L_4_2.fx", "L_4_2.fy", "C_3_10.fx", "C_3_10.fy", "S_13_10.n", "S_10_12.fx", "S_10_12.fy", "J_3_5.fx", "J_3_5.fy", "R_12_5.fx", "R_12_5.fy", "R_12_11.fx", "R_12_11.fy", "E_2_1.fx", "E_2_1.fy", "F_11_1.fx", "F_11_1.fy", "B_13_9p.fx", "B_13_9p.fy", "Pp_8_7p.fx", "Pp_8_7p.fy", "Mp_9p_7p.fx", "Mp_9p_7p.fy", "Cp_7p_3p.fx", "Cp_7p_3p.fy", "D_13_6p.fx", "D_13_6p.fy", "Kp_6p_3p.fx", "Kp_6p_3p.fy", "D_13_4p.fx", "D_13_4p.fy", "Jp_3p_2p.fx", "Jp_3p_2p.fy", "Lp_4p_2p.fx", "Lp_4p_2p.fy", "Cp_3p_10p.fx", "Cp_3p_10p.fy", "Sp_13_10p.n", "Sp_10p_12p.fx", "Sp_10p_12p.fy", "Jp_3p_5p.fx", "Jp_3p_5p.fy", "Rp_12p_5p.fx", "Rp_12p_5p.fy", "Rp_12p_11p.fx", "Rp_12p_11p.fy", "Ep_2p_1p.fx", "Ep_2p_1p.fy", "Fp_11p_1p.fx", "Fp_11p_1p.fy", "theta8.effort" };
 template <class T>

@@ -733,8 +733,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (12 x 12, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 12;
 inline constexpr const char* ne_unknowns[] = { "crank_pivot.fx", "crank_pivot.fy", "lever_pivot.fx", "lever_pivot.fy", "crank_pin.n", "block_slide.n", "block_slide.m", "ram_pin.fx", "ram_pin.fy", "ram_slide.n", "ram_slide.m", "crank_angle.effort" };
 template <class T>

@@ -646,8 +646,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 }
 
 // The Newton-Euler system itself, A x = b (9 x 9, A row-major): rows are per
-// moving body the force balance in x and y and the moment balance about the centre of mass;
-// unknowns are ne_unknowns[] in order.
+// moving body the force balance in x and y and the moment balance about the pin of its first
+// revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
+// row combined with its body's force rows, an exact row operation with the same solution, and
+// sparser. Unknowns are ne_unknowns[] in order.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "O_ground_crank.fx", "O_ground_crank.fy", "P_crank_rod.fx", "P_crank_rod.fy", "Q_rod_slider.fx", "Q_rod_slider.fy", "slide.n", "slide.m", "crank_angle.effort" };
 template <class T>

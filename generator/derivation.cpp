@@ -644,7 +644,8 @@ class Deriver {
       const std::string t = "s.bodies." + B.name + ".";
       emit(out_.kinematics, t + "x", com.x);
       emit(out_.kinematics, t + "y", com.y);
-      emit(out_.kinematics, t + "th", atan2(w.s, w.c));
+      emit(out_.kinematics, t + "cos_th", w.c);
+      emit(out_.kinematics, t + "sin_th", w.s);
       emit(out_.kinematics, t + "vx", v.x);
       emit(out_.kinematics, t + "vy", v.y);
       emit(out_.kinematics, t + "w", w.w);

@@ -76,13 +76,13 @@ TEST(SlotOnLeverAndPrp, RamFollowsTextbookFormulaAndItsDerivative) {
   for (double t = 0; t < 2 * M_PI / p.w; t += 0.037) {
     k::Inputs<double> in;
     k::driver_inputs(p, t, in);
-    k::State<double> s;
+    k::State<double> s{};
     ASSERT_EQ(k::evaluate(p, in, s), k::Status::ok) << "t=" << t;
     const double a = in.crank_angle, ad = in.crank_angle_d;
     const double num = p.h * p.r * cos(a), den = p.d + p.r * sin(a);
     EXPECT_NEAR(s.points.C.x, num / den, 1e-12) << "t=" << t;
     EXPECT_NEAR(s.points.C.y, p.h, 1e-12) << "t=" << t;
-    EXPECT_NEAR(s.bodies.lever.th, std::atan2(den, p.r * cos(a)), 1e-12) << "t=" << t;
+    EXPECT_NEAR(s.bodies.lever.th(), std::atan2(den, p.r * cos(a)), 1e-12) << "t=" << t;
     // The ram translates: its centre of mass moves with C.
     const double rate = (-p.h * p.r * sin(a) * den - num * p.r * cos(a)) / (den * den) * ad;
     EXPECT_NEAR(s.bodies.ram.vx, rate, 1e-12) << "t=" << t;
@@ -100,13 +100,14 @@ template <class T>
 double triad_residual(const mechgen::gen::assur_triad::State<T>& s) {
   const auto& b = s.bodies;
   const Xy plate_com{0.233, 0.148};
-  const Xy c2_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.108, -0.028});
-  const Xy c3_plate = body_point(b.plate.x, b.plate.y, b.plate.th, plate_com, {0.386, 0.326});
+  const Xy c2_plate = body_point(b.plate.x, b.plate.y, b.plate.th(), plate_com, {0.108, -0.028});
+  const Xy c3_plate = body_point(b.plate.x, b.plate.y, b.plate.th(), plate_com, {0.386, 0.326});
   const Xy c2_link =
-      body_point(b.link2.x, b.link2.y, b.link2.th, {0.214, -0.1505}, {0.108, -0.028});
-  const Xy c3_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.412, 0.253}, {0.386, 0.326});
-  const Xy b_link = body_point(b.link2.x, b.link2.y, b.link2.th, {0.214, -0.1505}, {0.32, -0.273});
-  const Xy d_link = body_point(b.link3.x, b.link3.y, b.link3.th, {0.412, 0.253}, {0.438, 0.18});
+      body_point(b.link2.x, b.link2.y, b.link2.th(), {0.214, -0.1505}, {0.108, -0.028});
+  const Xy c3_link = body_point(b.link3.x, b.link3.y, b.link3.th(), {0.412, 0.253}, {0.386, 0.326});
+  const Xy b_link =
+      body_point(b.link2.x, b.link2.y, b.link2.th(), {0.214, -0.1505}, {0.32, -0.273});
+  const Xy d_link = body_point(b.link3.x, b.link3.y, b.link3.th(), {0.412, 0.253}, {0.438, 0.18});
   return std::max({std::hypot(c2_plate.x - c2_link.x, c2_plate.y - c2_link.y),
                    std::hypot(c3_plate.x - c3_link.x, c3_plate.y - c3_link.y),
                    std::hypot(b_link.x - 0.32, b_link.y + 0.273),
@@ -137,7 +138,7 @@ TEST(IterativeTriad, WarmStartAlongASweepGivesTheSameState) {
     k::State<double> fresh;
     ASSERT_EQ(k::evaluate(p, in, warm), k::Status::ok);
     ASSERT_EQ(k::evaluate(p, in, fresh), k::Status::ok);
-    EXPECT_NEAR(warm.bodies.plate.th, fresh.bodies.plate.th, 1e-13) << "t=" << t;
+    EXPECT_NEAR(warm.bodies.plate.th(), fresh.bodies.plate.th(), 1e-13) << "t=" << t;
     EXPECT_NEAR(warm.bodies.plate.al, fresh.bodies.plate.al, 1e-9) << "t=" << t;
     EXPECT_NEAR(warm.joints.jC2.fx, fresh.joints.jC2.fx, 1e-9) << "t=" << t;
   }

@@ -73,22 +73,27 @@ TEST(PasibotKernel, AnglesEqualTheSeedsClosedForms) {
     pb::driver_inputs(p, t, in);
     pb::State<double> s;
     ASSERT_EQ(pb::kinematics(p, in, s), pb::Status::ok) << "t=" << t;
-    const double hip = s.bodies.l13.th;  // seed eq. (11): hip-frame angle = ground angle - hip's
+    const double hip = s.bodies.l13.th();  // seed eq. (11): hip-frame angle = ground angle - hip's
     double th7, th9, th6, th3;
     seed_eq6(in.theta8, th7, th9);
     seed_eq7(th7, th9, th6, th3);
     const double th10 = seed_eq8(th7, in.theta8);
     const double errors[] = {
-        wrap(s.bodies.l7.th - hip - th7), wrap(s.bodies.l9.th - hip - th9),
-        wrap(s.bodies.l6.th - hip - th6), wrap(s.bodies.l3.th - hip - th3),
-        wrap(s.bodies.l10.th - hip - th10),
+        wrap(s.bodies.l7.th() - hip - th7), wrap(s.bodies.l9.th() - hip - th9),
+        wrap(s.bodies.l6.th() - hip - th6), wrap(s.bodies.l3.th() - hip - th3),
+        wrap(s.bodies.l10.th() - hip - th10),
         // eq. (9): the parallel links share the angles
-        wrap(s.bodies.l1p.th - s.bodies.l5p.th), wrap(s.bodies.l5.th - s.bodies.l10.th),
-        wrap(s.bodies.l12.th - s.bodies.l3.th), wrap(s.bodies.l4.th - s.bodies.l3.th),
-        wrap(s.bodies.l2.th - s.bodies.l6.th), wrap(s.bodies.l11.th - s.bodies.l6.th),
+        wrap(s.bodies.l1p.th() - s.bodies.l5p.th()), wrap(s.bodies.l5.th() - s.bodies.l10.th()),
+        wrap(s.bodies.l12.th() - s.bodies.l3.th()), wrap(s.bodies.l4.th() - s.bodies.l3.th()),
+        wrap(s.bodies.l2.th() - s.bodies.l6.th()), wrap(s.bodies.l11.th() - s.bodies.l6.th()),
         // the support foot is the ground: link 1 parallel to link 10 means the hip tilts by -th10
         wrap(hip + th10)};
     for (double e : errors) worst = std::max(worst, std::abs(e));
+    // The orientation is kept as its cosine and sine, each taken from the closed form's joint
+    // positions divided by the link's length: a unit vector only if the loop closes.
+    for (const auto* b : {&s.bodies.l7, &s.bodies.l9, &s.bodies.l6, &s.bodies.l3, &s.bodies.l10,
+                          &s.bodies.l2, &s.bodies.l11, &s.bodies.l1p, &s.bodies.l13})
+      worst = std::max(worst, std::abs(std::hypot(b->cos_th, b->sin_th) - 1));
   }
   EXPECT_LE(worst, 1e-12);
 }
@@ -103,10 +108,10 @@ TEST(PasibotKernel, FlyingLegIsTheSupportLegPhasedByPi) {
     pb::State<double> sa, sb;
     ASSERT_EQ(pb::kinematics(p, a, sa), pb::Status::ok);
     ASSERT_EQ(pb::kinematics(p, b, sb), pb::Status::ok);
-    const double hip_a = sa.bodies.l13.th, hip_b = sb.bodies.l13.th;
-    EXPECT_NEAR(wrap(sa.bodies.l7p.th - hip_a - (sb.bodies.l7.th - hip_b)), 0, 1e-12);
-    EXPECT_NEAR(wrap(sa.bodies.l3p.th - hip_a - (sb.bodies.l3.th - hip_b)), 0, 1e-12);
-    EXPECT_NEAR(wrap(sa.bodies.l10p.th - hip_a - (sb.bodies.l10.th - hip_b)), 0, 1e-12);
+    const double hip_a = sa.bodies.l13.th(), hip_b = sb.bodies.l13.th();
+    EXPECT_NEAR(wrap(sa.bodies.l7p.th() - hip_a - (sb.bodies.l7.th() - hip_b)), 0, 1e-12);
+    EXPECT_NEAR(wrap(sa.bodies.l3p.th() - hip_a - (sb.bodies.l3.th() - hip_b)), 0, 1e-12);
+    EXPECT_NEAR(wrap(sa.bodies.l10p.th() - hip_a - (sb.bodies.l10.th() - hip_b)), 0, 1e-12);
   }
 }
 
@@ -235,7 +240,7 @@ TEST(Kernels, NewGroupKindsAllocateNothing) {
     failures += static_cast<int>(cl::evaluate(cp, ci, cs)) +
                 static_cast<int>(qr::evaluate(qp, qi, qs)) +
                 static_cast<int>(at::evaluate(ap, ai, as));
-    sink += cs.points.D.x + qs.points.C.x + as.bodies.plate.th;
+    sink += cs.points.D.x + qs.points.C.x + as.bodies.plate.th();
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(failures, 0);

@@ -1,6 +1,8 @@
 // latency_order (generator/latency_schedule.cpp): the printed order of a kernel's statements is a
 // valid program order (every definition after what it reads, every check after its quantity,
-// checks in their original relative order) and puts the long chain first.
+// checks in their original relative order) and puts the long chain first. emission_order: the
+// same guarantees with the outputs placed among the statements, each value computed right before
+// its first use and each output written as soon as it is known.
 #include "latency_schedule.hpp"
 
 #include <gtest/gtest.h>
@@ -61,6 +63,53 @@ TEST(LatencySchedule, ValidOrderLongChainFirstChecksKept) {
   EXPECT_LT(position(order, 3), position(order, 0));
   EXPECT_LT(position(order, 5), position(order, 0));
   EXPECT_LT(position(order, 6), position(order, 0));
+}
+
+size_t step_position(const std::vector<Step>& order, bool output, size_t index) {
+  for (size_t k = 0; k < order.size(); ++k)
+    if (order[k].output == output && order[k].index == index) return k;
+  return order.size();
+}
+
+TEST(EmissionOrder, OutputsAsSoonAsKnownValuesJustBeforeUseWarmStartLast) {
+  const symbol x("x"), y("y"), a("a"), b("b"), c("c"), e("e"), f("f"), unused("u");
+  const std::vector<Statement> statements = {
+      define(a, x + y),           // 0: only output 0 reads it
+      define(b, x * y),           // 1
+      check(b, 0),                // 2
+      define(c, GiNaC::sqrt(b)),  // 3
+      check(c, 1),                // 4
+      define(e, c / (b + x)),     // 5
+      define(f, e * e),           // 6
+      define(unused, x - y),      // 7: needed by nobody
+  };
+  const std::set<ex, GiNaC::ex_is_less> needed = {x, y, a, b, c, e, f};
+  // Output 0 reads a, output 1 reads f, output 2 (a warm start) reads c, output 3 is constant.
+  const std::vector<ex> outputs = {a, f, c, ex(2)};
+  const std::vector<bool> after_checks = {false, false, true, false};
+  for (const Readiness readiness : {Readiness::latency, Readiness::program}) {
+    const std::vector<Step> order =
+        emission_order(statements, needed, outputs, after_checks, readiness);
+    ASSERT_EQ(order.size(), 7u + 4u);  // statements 0-6 and the four outputs, 7 left out
+    EXPECT_EQ(step_position(order, false, 7), order.size());
+    auto at = [&](size_t statement) { return step_position(order, false, statement); };
+    auto out = [&](size_t output) { return step_position(order, true, output); };
+    // A valid program: reads before uses, checks after their quantity and in their order.
+    EXPECT_LT(at(1), at(2));
+    EXPECT_LT(at(1), at(3));
+    EXPECT_LT(at(3), at(4));
+    EXPECT_LT(at(2), at(4));
+    EXPECT_LT(at(3), at(5));
+    EXPECT_LT(at(5), at(6));
+    // Each output right after what it reads (a constant one first); a is computed right
+    // before output 0 rather than at the top.
+    EXPECT_EQ(out(3), 0u);
+    EXPECT_EQ(out(0), at(0) + 1);
+    EXPECT_EQ(out(1), at(6) + 1);
+    // The warm start only after every check, at the very end.
+    EXPECT_GT(out(2), at(4));
+    EXPECT_EQ(out(2), order.size() - 1);
+  }
 }
 
 }  // namespace

@@ -6,9 +6,10 @@
 //
 // Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
-// outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
-// second time derivatives; joint outputs are the force (and moment) of the joint's first body on
-// its second, at the joint point; a driver's effort acts on its joint's second body.
+// outputs are the centre of mass (x, y), the orientation (cos_th, sin_th), its angle th() (in
+// (-pi, pi], computed on demand) and their first and second time derivatives; joint outputs are
+// the force (and moment) of the joint's first body on its second, at the joint point; a driver's
+// effort acts on its joint's second body.
 //
 // Solve plan, in the frame of body 'ground':
 //   g1_crank: driven revolute, bodies crank, joints A_ground_crank, driver crank_angle
@@ -46,66 +47,6 @@ struct BatchInputs {
   const T* crank_angle_d = nullptr;
   const T* crank_angle_dd = nullptr;
 };
-
-template <class T>
-struct BodyState {
-  T x, y, th, vx, vy, w, ax, ay, al;
-};
-template <class T>
-struct PointState {
-  T x, y;
-};
-template <class T>
-struct JointForce {
-  T fx, fy;
-};
-template <class T>
-struct JointForceMoment {
-  T fx, fy, m;
-};
-template <class T>
-struct DriverState {
-  T q, qd, qdd, effort;
-};
-
-template <class T>
-struct State {
-  struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
-  } bodies;
-  struct Points {
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> P;
-    PointState<T> C;
-    PointState<T> M;
-  } points;
-  struct Joints {
-    JointForce<T> A_ground_crank;  // revolute
-    JointForce<T> P_crank_coupler;  // revolute
-    JointForce<T> M_rocker_coupler;  // revolute
-    JointForce<T> B_ground_rocker;  // revolute
-  } joints;
-  struct Drivers {
-    DriverState<T> crank_angle;
-  } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
-};
-
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
-
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker" };
-
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
-template <class T>
-bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
-}
 
 namespace detail {
 #if defined(__GNUC__)
@@ -201,136 +142,202 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+template <class T>
+struct BodyState {
+  // The orientation is kept as its cosine and sine, exact from the closed form, which is what a
+  // rotation needs; the angle costs an atan2, so it is computed only when asked for.
+  T x, y, cos_th, sin_th, vx, vy, w, ax, ay, al;
+  T th() const noexcept { return detail::atan2(sin_th, cos_th); }
+};
+template <class T>
+struct PointState {
+  T x, y;
+};
+template <class T>
+struct JointForce {
+  T fx, fy;
+};
+template <class T>
+struct JointForceMoment {
+  T fx, fy, m;
+};
+template <class T>
+struct DriverState {
+  T q, qd, qdd, effort;
+};
+
+template <class T>
+struct State {
+  struct Bodies {
+    BodyState<T> crank;
+    BodyState<T> coupler;
+    BodyState<T> rocker;
+  } bodies;
+  struct Points {
+    PointState<T> A;
+    PointState<T> B;
+    PointState<T> P;
+    PointState<T> C;
+    PointState<T> M;
+  } points;
+  struct Joints {
+    JointForce<T> A_ground_crank;  // revolute
+    JointForce<T> P_crank_coupler;  // revolute
+    JointForce<T> M_rocker_coupler;  // revolute
+    JointForce<T> B_ground_rocker;  // revolute
+  } joints;
+  struct Drivers {
+    DriverState<T> crank_angle;
+  } drivers;
+  int failed_group = -1;  // the solve group that failed, when the status is not ok
+};
+
+enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+
+inline constexpr int group_count = 2;
+// Solve groups in order; State::failed_group indexes this table.
+inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker" };
+
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
+}
+
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 179
+  // Total ops: 176
+  s.drivers.crank_angle.q = in.crank_angle;
+  s.drivers.crank_angle.qd = in.crank_angle_d;
+  s.drivers.crank_angle.qdd = in.crank_angle_dd;
+  s.bodies.crank.w = in.crank_angle_d;
+  s.bodies.crank.al = in.crank_angle_dd;
+  s.points.A.x = T(0);
+  s.points.A.y = T(0);
+  s.points.B.y = T(0);
   const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
   const T P_x = p.l*c_crank_rel;
+  s.points.P.x = P_x;
   const T B_x = T(2)*p.l;
+  s.points.B.x = B_x;
   const T P_y = p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x = B_x - P_x;
+  s.points.P.y = P_y;
   const T g2_coupler_rocker_d_y = -P_y;
+  const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T g2_coupler_rocker_disc = T(6.25)*(p.l*p.l)*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp0 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp0 + P_x;
+  s.points.M.x = M_x;
   const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp0;
+  s.points.M.y = M_y;
   const T _tmp1 = B_x - M_x;
   const T _tmp2 = M_y - P_y;
   const T _tmp3 = M_x - P_x;
   const T _tmp4 = T(1)/(_tmp1*_tmp2 + _tmp3*M_y);
   const T g2_coupler_rocker_inv = _tmp4;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
   const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_x_d = p.l*c_crank_rel_d;
   const T P_y_d = p.l*s_crank_rel_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
   const T w_coupler = (_tmp1*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
+  s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp3*P_x_d + _tmp2*P_y_d)*g2_coupler_rocker_inv;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  s.bodies.rocker.w = w_rocker;
+  const T _tmp5 = T(1)/p.l;
+  const T c_coupler = -T(0.4)*_tmp5*_tmp3;
+  s.bodies.coupler.cos_th = c_coupler;
+  const T s_coupler = -T(0.4)*_tmp5*_tmp2;
+  s.bodies.coupler.sin_th = s_coupler;
+  const T c_rocker = T(0.4)*_tmp5*_tmp1;
+  s.bodies.rocker.cos_th = c_rocker;
+  const T s_rocker = -T(0.4)*_tmp5*M_y;
+  s.bodies.rocker.sin_th = s_rocker;
   const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.l*c_crank_rel_dd;
   const T P_y_dd = p.l*s_crank_rel_dd;
-  const T _tmp5 = w_rocker*w_rocker;
   const T _tmp6 = w_coupler*w_coupler;
-  const T g2_coupler_rocker_acc_x = _tmp1*_tmp5 + _tmp3*_tmp6 - P_x_dd;
-  const T g2_coupler_rocker_acc_y = _tmp2*_tmp6 - M_y*_tmp5 - P_y_dd;
-  const T _tmp7 = T(1)/p.l;
-  const T c_coupler = -T(0.4)*_tmp7*_tmp3;
-  const T s_coupler = -T(0.4)*_tmp7*_tmp2;
-  const T c_rocker = T(0.4)*_tmp7*_tmp1;
-  const T s_rocker = -T(0.4)*_tmp7*M_y;
+  const T _tmp7 = w_rocker*w_rocker;
+  const T g2_coupler_rocker_acc_y = _tmp2*_tmp6 - M_y*_tmp7 - P_y_dd;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
+  const T g2_coupler_rocker_acc_x = _tmp1*_tmp7 + _tmp3*_tmp6 - P_x_dd;
   const T w_coupler_d = -(_tmp1*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
+  s.bodies.coupler.al = w_coupler_d;
   const T w_rocker_d = (_tmp3*g2_coupler_rocker_acc_x + _tmp2*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
-  const T c_coupler_d = -s_coupler*w_coupler;
-  const T s_coupler_d = c_coupler*w_coupler;
-  const T c_rocker_d = -s_rocker*w_rocker;
-  const T s_rocker_d = c_rocker*w_rocker;
-  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
-  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
-  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
+  s.bodies.rocker.al = w_rocker_d;
   const T x_coupler = P_x - T(5)*p.l*c_coupler;
+  s.points.C.x = x_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
-  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
-  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
-  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
-  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
-  const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
-  const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
-  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
-  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
+  s.points.C.y = y_coupler;
   const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
+  s.bodies.coupler.x = com_coupler_x;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
+  s.bodies.coupler.y = com_coupler_y;
+  const T c_coupler_d = -s_coupler*w_coupler;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
   const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
+  s.bodies.coupler.vx = com_coupler_x_d;
+  const T s_coupler_d = c_coupler*w_coupler;
+  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
+  s.bodies.coupler.vy = com_coupler_y_d;
+  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
   const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+  s.bodies.coupler.ax = com_coupler_x_dd;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
+  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
+  s.bodies.coupler.ay = com_coupler_y_dd;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
+  s.bodies.rocker.x = com_rocker_x;
+  const T y_rocker = -T(2.5)*p.l*s_rocker;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
+  s.bodies.rocker.y = com_rocker_y;
+  const T c_rocker_d = -s_rocker*w_rocker;
+  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
   const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
+  s.bodies.rocker.vx = com_rocker_x_d;
+  const T s_rocker_d = c_rocker*w_rocker;
+  const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
   const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
+  s.bodies.rocker.vy = com_rocker_y_d;
+  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
   const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+  s.bodies.rocker.ax = com_rocker_x_dd;
+  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
+  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
+  s.bodies.rocker.ay = com_rocker_y_dd;
   const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
+  s.bodies.crank.y = com_crank_y;
   const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
   const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
   const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
   if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  s.drivers.crank_angle.q = in.crank_angle;
-  s.drivers.crank_angle.qd = in.crank_angle_d;
-  s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
-  s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
-  s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.coupler.x = com_coupler_x;
-  s.bodies.coupler.y = com_coupler_y;
-  s.bodies.coupler.th = atan2(s_coupler, c_coupler);
-  s.bodies.coupler.vx = com_coupler_x_d;
-  s.bodies.coupler.vy = com_coupler_y_d;
-  s.bodies.coupler.w = w_coupler;
-  s.bodies.coupler.ax = com_coupler_x_dd;
-  s.bodies.coupler.ay = com_coupler_y_dd;
-  s.bodies.coupler.al = w_coupler_d;
-  s.bodies.rocker.x = com_rocker_x;
-  s.bodies.rocker.y = com_rocker_y;
-  s.bodies.rocker.th = atan2(s_rocker, c_rocker);
-  s.bodies.rocker.vx = com_rocker_x_d;
-  s.bodies.rocker.vy = com_rocker_y_d;
-  s.bodies.rocker.w = w_rocker;
-  s.bodies.rocker.ax = com_rocker_x_dd;
-  s.bodies.rocker.ay = com_rocker_y_dd;
-  s.bodies.rocker.al = w_rocker_d;
-  s.points.A.x = T(0);
-  s.points.A.y = T(0);
-  s.points.B.x = B_x;
-  s.points.B.y = T(0);
-  s.points.P.x = P_x;
-  s.points.P.y = P_y;
-  s.points.C.x = x_coupler;
-  s.points.C.y = y_coupler;
-  s.points.M.x = M_x;
-  s.points.M.y = M_y;
 
   return Status::ok;
 }
@@ -338,19 +345,31 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 267
+  // Total ops: 264
+  s.drivers.crank_angle.q = in.crank_angle;
+  s.drivers.crank_angle.qd = in.crank_angle_d;
+  s.drivers.crank_angle.qdd = in.crank_angle_dd;
+  s.bodies.crank.w = in.crank_angle_d;
+  s.bodies.crank.al = in.crank_angle_dd;
+  s.points.A.x = T(0);
+  s.points.A.y = T(0);
+  s.points.B.y = T(0);
   const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
   const T P_x = p.l*c_crank_rel;
+  s.points.P.x = P_x;
   const T B_x = T(2)*p.l;
+  s.points.B.x = B_x;
   const T P_y = p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x = B_x - P_x;
+  s.points.P.y = P_y;
   const T g2_coupler_rocker_d_y = -P_y;
+  const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
@@ -358,159 +377,149 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp1 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
+  s.points.M.x = M_x;
   const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1;
+  s.points.M.y = M_y;
   const T _tmp2 = B_x - M_x;
   const T _tmp3 = M_y - P_y;
   const T _tmp4 = M_x - P_x;
   const T _tmp5 = T(1)/(_tmp2*_tmp3 + _tmp4*M_y);
   const T g2_coupler_rocker_inv = _tmp5;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
   const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_x_d = p.l*c_crank_rel_d;
   const T P_y_d = p.l*s_crank_rel_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
   const T w_coupler = (_tmp2*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
+  s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp4*P_x_d + _tmp3*P_y_d)*g2_coupler_rocker_inv;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  s.bodies.rocker.w = w_rocker;
+  const T _tmp6 = T(1)/p.l;
+  const T s_coupler = -T(0.4)*_tmp6*_tmp3;
+  s.bodies.coupler.sin_th = s_coupler;
+  const T c_coupler = -T(0.4)*_tmp6*_tmp4;
+  s.bodies.coupler.cos_th = c_coupler;
+  const T c_rocker = T(0.4)*_tmp6*_tmp2;
+  s.bodies.rocker.cos_th = c_rocker;
   const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.l*c_crank_rel_dd;
   const T P_y_dd = p.l*s_crank_rel_dd;
-  const T _tmp6 = w_rocker*w_rocker;
   const T _tmp7 = w_coupler*w_coupler;
-  const T g2_coupler_rocker_acc_x = _tmp2*_tmp6 + _tmp4*_tmp7 - P_x_dd;
-  const T g2_coupler_rocker_acc_y = _tmp3*_tmp7 - M_y*_tmp6 - P_y_dd;
-  const T _tmp8 = T(1)/p.l;
-  const T s_coupler = -T(0.4)*_tmp8*_tmp3;
-  const T c_coupler = -T(0.4)*_tmp8*_tmp4;
-  const T c_rocker = T(0.4)*_tmp8*_tmp2;
+  const T _tmp8 = w_rocker*w_rocker;
+  const T g2_coupler_rocker_acc_y = _tmp3*_tmp7 - M_y*_tmp8 - P_y_dd;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
+  const T g2_coupler_rocker_acc_x = _tmp2*_tmp8 + _tmp4*_tmp7 - P_x_dd;
   const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
-  const T s_rocker = -T(0.4)*_tmp8*M_y;
+  s.bodies.coupler.al = w_coupler_d;
+  const T s_rocker = -T(0.4)*_tmp6*M_y;
+  s.bodies.rocker.sin_th = s_rocker;
   const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
-  const T _tmp9 = sqrt(_tmp0);
-  const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp9;
-  const T c_coupler_d = -s_coupler*w_coupler;
-  const T _tmp10 = p.bar_w*p.bar_w;
-  const T _tmp11 = T(1)/T(12);
-  const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9*_tmp11;
-  const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp9;
-  const T s_coupler_d = c_coupler*w_coupler;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
-  const T s_rocker_d = c_rocker*w_rocker;
-  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
-  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
-  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
-  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  s.bodies.rocker.al = w_rocker_d;
   const T x_coupler = P_x - T(5)*p.l*c_coupler;
+  s.points.C.x = x_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
-  const T c_rocker_d = -s_rocker*w_rocker;
+  s.points.C.y = y_coupler;
+  const T c_coupler_d = -s_coupler*w_coupler;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
+  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
+  s.bodies.coupler.ay = com_coupler_y_dd;
+  const T s_coupler_d = c_coupler*w_coupler;
+  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
   const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+  s.bodies.coupler.ax = com_coupler_x_dd;
+  const T s_rocker_d = c_rocker*w_rocker;
+  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
   const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
-  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
-  const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9;
+  s.bodies.rocker.ax = com_rocker_x_dd;
   const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
+  s.bodies.coupler.x = com_coupler_x;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
+  s.bodies.coupler.y = com_coupler_y;
+  const T c_rocker_d = -s_rocker*w_rocker;
+  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
   const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
+  const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
+  s.bodies.rocker.ay = com_rocker_y_dd;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
+  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
+  s.bodies.rocker.x = com_rocker_x;
+  const T y_rocker = -T(2.5)*p.l*s_rocker;
+  const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
+  s.bodies.rocker.y = com_rocker_y;
+  const T ne1 = _tmp3;
+  const T ne2 = -ne1;
+  const T _tmp9 = T(1)/ne2;
+  const T ne7 = M_y*_tmp9;
+  const T ne4 = -_tmp4;
+  const T _tmp10 = sqrt(_tmp0);
+  const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp10;
+  const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
+  const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp10;
   const T coupler_inertial_y = coupler_mass*(com_coupler_y_dd + T(9.81));
   const T coupler_inertial_x = coupler_mass*com_coupler_x_dd;
-  const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
-  const T ne1 = _tmp3;
-  const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
+  const T _tmp11 = p.bar_w*p.bar_w;
+  const T _tmp12 = T(1)/T(12);
+  const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp11)*p.bar_t*p.bar_w*p.rho*_tmp10*_tmp12;
   const T ne3 = (P_y - com_coupler_y)*coupler_inertial_x + coupler_inertia*w_coupler_d - (P_x - com_coupler_x)*coupler_inertial_y - ne1*rocker_inertial_x;
-  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
-  const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T ne2 = -ne1;
-  const T _tmp12 = T(1)/ne2;
-  const T ne7 = M_y*_tmp12;
   const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
-  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
-  const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
-  const T ne4 = -_tmp4;
   const T ne6 = ne3 - ne4*rocker_inertial_y;
+  const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp11)*p.bar_t*p.bar_w*p.rho*_tmp10;
   const T ne9 = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y - ne6*ne7;
   const T ne5 = -ne4;
   const T ne8 = B_x - M_x - ne5*ne7;
   const T _tmp13 = T(1)/ne8;
   const T B_ground_rocker_fy = ne9*_tmp13;
-  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp9;
-  const T crank_inertia = p.bar_t*p.bar_w*(_tmp10 + _tmp0)*p.rho*_tmp9*_tmp11;
-  const T B_ground_rocker_fx = -(B_ground_rocker_fy*ne5 - ne6)*_tmp12;
+  s.joints.B_ground_rocker.fy = B_ground_rocker_fy;
+  const T B_ground_rocker_fx = -(B_ground_rocker_fy*ne5 - ne6)*_tmp9;
+  s.joints.B_ground_rocker.fx = B_ground_rocker_fx;
   const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
   const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
   const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
-  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+  s.bodies.crank.y = com_crank_y;
   const T M_rocker_coupler_fy = B_ground_rocker_fy - rocker_inertial_y;
+  s.joints.M_rocker_coupler.fy = M_rocker_coupler_fy;
   const T M_rocker_coupler_fx = B_ground_rocker_fx - rocker_inertial_x;
-  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
-  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
-  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  s.joints.M_rocker_coupler.fx = M_rocker_coupler_fx;
   const T P_crank_coupler_fy = coupler_inertial_y - M_rocker_coupler_fy;
+  s.joints.P_crank_coupler.fy = P_crank_coupler_fy;
   const T P_crank_coupler_fx = coupler_inertial_x - M_rocker_coupler_fx;
-  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
-  const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
+  s.joints.P_crank_coupler.fx = P_crank_coupler_fx;
+  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp10;
+  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  const T crank_inertia = p.bar_t*p.bar_w*(_tmp11 + _tmp0)*p.rho*_tmp10*_tmp12;
   const T crank_angle_effort = P_crank_coupler_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_crank_coupler_fx*P_y - com_crank_y*crank_inertial_x;
+  s.drivers.crank_angle.effort = crank_angle_effort;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
   const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
+  s.bodies.coupler.vx = com_coupler_x_d;
+  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
+  s.bodies.coupler.vy = com_coupler_y_d;
+  const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
   const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
+  s.bodies.rocker.vx = com_rocker_x_d;
+  const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
   const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
+  s.bodies.rocker.vy = com_rocker_y_d;
   const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
   if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
+  s.joints.A_ground_crank.fy = A_ground_crank_fy;
   const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
+  s.joints.A_ground_crank.fx = A_ground_crank_fx;
   if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
   if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
-  s.drivers.crank_angle.q = in.crank_angle;
-  s.drivers.crank_angle.qd = in.crank_angle_d;
-  s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
-  s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
-  s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.coupler.x = com_coupler_x;
-  s.bodies.coupler.y = com_coupler_y;
-  s.bodies.coupler.th = atan2(s_coupler, c_coupler);
-  s.bodies.coupler.vx = com_coupler_x_d;
-  s.bodies.coupler.vy = com_coupler_y_d;
-  s.bodies.coupler.w = w_coupler;
-  s.bodies.coupler.ax = com_coupler_x_dd;
-  s.bodies.coupler.ay = com_coupler_y_dd;
-  s.bodies.coupler.al = w_coupler_d;
-  s.bodies.rocker.x = com_rocker_x;
-  s.bodies.rocker.y = com_rocker_y;
-  s.bodies.rocker.th = atan2(s_rocker, c_rocker);
-  s.bodies.rocker.vx = com_rocker_x_d;
-  s.bodies.rocker.vy = com_rocker_y_d;
-  s.bodies.rocker.w = w_rocker;
-  s.bodies.rocker.ax = com_rocker_x_dd;
-  s.bodies.rocker.ay = com_rocker_y_dd;
-  s.bodies.rocker.al = w_rocker_d;
-  s.points.A.x = T(0);
-  s.points.A.y = T(0);
-  s.points.B.x = B_x;
-  s.points.B.y = T(0);
-  s.points.P.x = P_x;
-  s.points.P.y = P_y;
-  s.points.C.x = x_coupler;
-  s.points.C.y = y_coupler;
-  s.points.M.x = M_x;
-  s.points.M.y = M_y;
-  s.joints.A_ground_crank.fx = A_ground_crank_fx;
-  s.joints.A_ground_crank.fy = A_ground_crank_fy;
-  s.joints.P_crank_coupler.fx = P_crank_coupler_fx;
-  s.joints.P_crank_coupler.fy = P_crank_coupler_fy;
-  s.joints.M_rocker_coupler.fx = M_rocker_coupler_fx;
-  s.joints.M_rocker_coupler.fy = M_rocker_coupler_fy;
-  s.joints.B_ground_rocker.fx = B_ground_rocker_fx;
-  s.joints.B_ground_rocker.fy = B_ground_rocker_fy;
-  s.drivers.crank_angle.effort = crank_angle_effort;
 
   return Status::ok;
 }
@@ -563,15 +572,26 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
     // Total ops: 267
-    const T c_crank_rel = cos(in.crank_angle);
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.crank_angle;
+    out[2 * stride + i] = in.crank_angle_d;
+    out[3 * stride + i] = in.crank_angle_dd;
+    out[10 * stride + i] = in.crank_angle_d;
+    out[13 * stride + i] = in.crank_angle_dd;
+    out[32 * stride + i] = T(0);
+    out[33 * stride + i] = T(0);
+    out[35 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T c_crank_rel = cos(in.crank_angle);
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
     const T P_x = p.l*c_crank_rel;
+    out[36 * stride + i] = P_x;
     const T P_y = p.l*s_crank_rel;
+    out[37 * stride + i] = P_y;
     const T B_x = T(2)*p.l;
-    const T g2_coupler_rocker_d_x = B_x - P_x;
+    out[34 * stride + i] = B_x;
     const T g2_coupler_rocker_d_y = -P_y;
+    const T g2_coupler_rocker_d_x = B_x - P_x;
     const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
     failed = max(failed, (g2_coupler_rocker_d2 > T(0)) ? T(0) : T(8192010));
     const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
@@ -579,158 +599,147 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
     failed = max(failed, (g2_coupler_rocker_disc > T(0)) ? T(0) : T(8187913));
     const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
-    const T P_x_d = p.l*c_crank_rel_d;
-    const T P_y_d = p.l*s_crank_rel_d;
     const T _tmp1 = T(1)/g2_coupler_rocker_d2;
     const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
+    out[40 * stride + i] = M_x;
     const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1;
-    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-    const T P_x_dd = p.l*c_crank_rel_dd;
-    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-    const T P_y_dd = p.l*s_crank_rel_dd;
+    out[41 * stride + i] = M_y;
     const T _tmp2 = B_x - M_x;
     const T _tmp3 = M_y - P_y;
     const T _tmp4 = M_x - P_x;
     const T _tmp5 = T(1)/(_tmp2*_tmp3 + _tmp4*M_y);
     const T g2_coupler_rocker_inv = _tmp5;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.l*s_crank_rel_d;
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.l*c_crank_rel_d;
     const T w_coupler = (_tmp2*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
+    out[19 * stride + i] = w_coupler;
     const T w_rocker = -(_tmp4*P_x_d + _tmp3*P_y_d)*g2_coupler_rocker_inv;
-    const T _tmp6 = w_rocker*w_rocker;
-    const T _tmp7 = w_coupler*w_coupler;
-    const T g2_coupler_rocker_acc_x = _tmp2*_tmp6 + _tmp4*_tmp7 - P_x_dd;
-    const T g2_coupler_rocker_acc_y = _tmp3*_tmp7 - M_y*_tmp6 - P_y_dd;
+    out[28 * stride + i] = w_rocker;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T P_y_dd = p.l*s_crank_rel_dd;
+    const T _tmp6 = w_coupler*w_coupler;
+    const T _tmp7 = w_rocker*w_rocker;
+    const T g2_coupler_rocker_acc_y = _tmp3*_tmp6 - M_y*_tmp7 - P_y_dd;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T P_x_dd = p.l*c_crank_rel_dd;
+    const T g2_coupler_rocker_acc_x = _tmp2*_tmp7 + _tmp4*_tmp6 - P_x_dd;
     const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
+    out[22 * stride + i] = w_coupler_d;
     const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
+    out[31 * stride + i] = w_rocker_d;
     const T _tmp8 = T(1)/p.l;
-    const T c_coupler = -T(0.4)*_tmp8*_tmp4;
     const T s_coupler = -T(0.4)*_tmp8*_tmp3;
-    const T c_coupler_d = -s_coupler*w_coupler;
-    const T s_coupler_d = c_coupler*w_coupler;
-    const T c_rocker = T(0.4)*_tmp8*_tmp2;
+    const T c_coupler = -T(0.4)*_tmp8*_tmp4;
+    out[16 * stride + i] = atan2(s_coupler, c_coupler);
     const T s_rocker = -T(0.4)*_tmp8*M_y;
-    const T c_rocker_d = -s_rocker*w_rocker;
-    const T s_rocker_d = c_rocker*w_rocker;
+    const T c_rocker = T(0.4)*_tmp8*_tmp2;
+    out[25 * stride + i] = atan2(s_rocker, c_rocker);
     const T x_coupler = P_x - T(5)*p.l*c_coupler;
+    out[38 * stride + i] = x_coupler;
     const T y_coupler = P_y - T(5)*p.l*s_coupler;
-    const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
-    const T y_rocker = -T(2.5)*p.l*s_rocker;
+    out[39 * stride + i] = y_coupler;
     const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+    out[5 * stride + i] = com_crank_x;
     const T com_crank_y = T(0.5)*p.l*s_crank_rel;
+    out[6 * stride + i] = com_crank_y;
     const T com_crank_x_d = T(0.5)*p.l*c_crank_rel_d;
+    out[8 * stride + i] = com_crank_x_d;
     const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
+    out[9 * stride + i] = com_crank_y_d;
     const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+    out[11 * stride + i] = com_crank_x_dd;
     const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+    out[12 * stride + i] = com_crank_y_dd;
     const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
+    out[14 * stride + i] = com_coupler_x;
     const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
+    out[15 * stride + i] = com_coupler_y;
+    const T c_coupler_d = -s_coupler*w_coupler;
     const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
     const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
+    out[17 * stride + i] = com_coupler_x_d;
+    const T s_coupler_d = c_coupler*w_coupler;
     const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
     const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
+    out[18 * stride + i] = com_coupler_y_d;
     const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
     const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
     const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
+    out[20 * stride + i] = com_coupler_x_dd;
     const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
     const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
     const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
+    out[21 * stride + i] = com_coupler_y_dd;
+    const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
     const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
+    out[23 * stride + i] = com_rocker_x;
+    const T y_rocker = -T(2.5)*p.l*s_rocker;
     const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
+    out[24 * stride + i] = com_rocker_y;
+    const T c_rocker_d = -s_rocker*w_rocker;
     const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
     const T com_rocker_x_d = T(1.25)*p.l*c_rocker_d + x_rocker_d;
+    out[26 * stride + i] = com_rocker_x_d;
+    const T s_rocker_d = c_rocker*w_rocker;
     const T y_rocker_d = -T(2.5)*p.l*s_rocker_d;
     const T com_rocker_y_d = T(1.25)*p.l*s_rocker_d + y_rocker_d;
+    out[27 * stride + i] = com_rocker_y_d;
     const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
     const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
     const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
+    out[29 * stride + i] = com_rocker_x_dd;
     const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
     const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
     const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
-    const T _tmp9 = sqrt(_tmp0);
-    const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp9;
-    const T _tmp10 = p.bar_w*p.bar_w;
-    const T _tmp11 = T(1)/T(12);
-    const T crank_inertia = p.bar_t*p.bar_w*(_tmp10 + _tmp0)*p.rho*_tmp9*_tmp11;
-    const T crank_inertial_x = crank_mass*com_crank_x_dd;
-    const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
-    const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp9;
-    const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9*_tmp11;
-    const T coupler_inertial_x = coupler_mass*com_coupler_x_dd;
-    const T coupler_inertial_y = coupler_mass*(com_coupler_y_dd + T(9.81));
-    const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp9;
-    const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9;
-    const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
-    const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
+    out[30 * stride + i] = com_rocker_y_dd;
     const T ne1 = _tmp3;
     const T ne2 = -ne1;
-    const T ne3 = (P_y - com_coupler_y)*coupler_inertial_x + coupler_inertia*w_coupler_d - (P_x - com_coupler_x)*coupler_inertial_y - ne1*rocker_inertial_x;
+    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183810));
+    const T _tmp9 = T(1)/ne2;
+    const T ne7 = M_y*_tmp9;
     const T ne4 = -_tmp4;
     const T ne5 = -ne4;
-    const T ne6 = ne3 - ne4*rocker_inertial_y;
-    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183810));
-    const T _tmp12 = T(1)/ne2;
-    const T ne7 = M_y*_tmp12;
     const T ne8 = B_x - M_x - ne5*ne7;
-    const T ne9 = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y - ne6*ne7;
     failed = max(failed, (ne8 != T(0)) ? T(0) : T(8179714));
+    const T _tmp10 = sqrt(_tmp0);
+    const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp10;
+    const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
+    const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp10;
+    const T coupler_inertial_y = coupler_mass*(com_coupler_y_dd + T(9.81));
+    const T coupler_inertial_x = coupler_mass*com_coupler_x_dd;
+    const T _tmp11 = p.bar_w*p.bar_w;
+    const T _tmp12 = T(1)/T(12);
+    const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp11)*p.bar_t*p.bar_w*p.rho*_tmp10*_tmp12;
+    const T ne3 = (P_y - com_coupler_y)*coupler_inertial_x + coupler_inertia*w_coupler_d - (P_x - com_coupler_x)*coupler_inertial_y - ne1*rocker_inertial_x;
+    const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
+    const T ne6 = ne3 - ne4*rocker_inertial_y;
+    const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp11)*p.bar_t*p.bar_w*p.rho*_tmp10;
+    const T ne9 = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y - ne6*ne7;
     const T _tmp13 = T(1)/ne8;
     const T B_ground_rocker_fy = ne9*_tmp13;
-    const T B_ground_rocker_fx = -(B_ground_rocker_fy*ne5 - ne6)*_tmp12;
-    const T M_rocker_coupler_fy = B_ground_rocker_fy - rocker_inertial_y;
-    const T M_rocker_coupler_fx = B_ground_rocker_fx - rocker_inertial_x;
-    const T P_crank_coupler_fy = coupler_inertial_y - M_rocker_coupler_fy;
-    const T P_crank_coupler_fx = coupler_inertial_x - M_rocker_coupler_fx;
-    const T crank_angle_effort = P_crank_coupler_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_crank_coupler_fx*P_y - com_crank_y*crank_inertial_x;
-    const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
-    const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
-    out[0 * stride + i] = in.t;
-    out[1 * stride + i] = in.crank_angle;
-    out[2 * stride + i] = in.crank_angle_d;
-    out[3 * stride + i] = in.crank_angle_dd;
-    out[5 * stride + i] = com_crank_x;
-    out[6 * stride + i] = com_crank_y;
-    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
-    out[8 * stride + i] = com_crank_x_d;
-    out[9 * stride + i] = com_crank_y_d;
-    out[10 * stride + i] = in.crank_angle_d;
-    out[11 * stride + i] = com_crank_x_dd;
-    out[12 * stride + i] = com_crank_y_dd;
-    out[13 * stride + i] = in.crank_angle_dd;
-    out[14 * stride + i] = com_coupler_x;
-    out[15 * stride + i] = com_coupler_y;
-    out[16 * stride + i] = atan2(s_coupler, c_coupler);
-    out[17 * stride + i] = com_coupler_x_d;
-    out[18 * stride + i] = com_coupler_y_d;
-    out[19 * stride + i] = w_coupler;
-    out[20 * stride + i] = com_coupler_x_dd;
-    out[21 * stride + i] = com_coupler_y_dd;
-    out[22 * stride + i] = w_coupler_d;
-    out[23 * stride + i] = com_rocker_x;
-    out[24 * stride + i] = com_rocker_y;
-    out[25 * stride + i] = atan2(s_rocker, c_rocker);
-    out[26 * stride + i] = com_rocker_x_d;
-    out[27 * stride + i] = com_rocker_y_d;
-    out[28 * stride + i] = w_rocker;
-    out[29 * stride + i] = com_rocker_x_dd;
-    out[30 * stride + i] = com_rocker_y_dd;
-    out[31 * stride + i] = w_rocker_d;
-    out[32 * stride + i] = T(0);
-    out[33 * stride + i] = T(0);
-    out[34 * stride + i] = B_x;
-    out[35 * stride + i] = T(0);
-    out[36 * stride + i] = P_x;
-    out[37 * stride + i] = P_y;
-    out[38 * stride + i] = x_coupler;
-    out[39 * stride + i] = y_coupler;
-    out[40 * stride + i] = M_x;
-    out[41 * stride + i] = M_y;
-    out[42 * stride + i] = A_ground_crank_fx;
-    out[43 * stride + i] = A_ground_crank_fy;
-    out[44 * stride + i] = P_crank_coupler_fx;
-    out[45 * stride + i] = P_crank_coupler_fy;
-    out[46 * stride + i] = M_rocker_coupler_fx;
-    out[47 * stride + i] = M_rocker_coupler_fy;
-    out[48 * stride + i] = B_ground_rocker_fx;
     out[49 * stride + i] = B_ground_rocker_fy;
+    const T B_ground_rocker_fx = -(B_ground_rocker_fy*ne5 - ne6)*_tmp9;
+    out[48 * stride + i] = B_ground_rocker_fx;
+    const T M_rocker_coupler_fy = B_ground_rocker_fy - rocker_inertial_y;
+    out[47 * stride + i] = M_rocker_coupler_fy;
+    const T M_rocker_coupler_fx = B_ground_rocker_fx - rocker_inertial_x;
+    out[46 * stride + i] = M_rocker_coupler_fx;
+    const T P_crank_coupler_fy = coupler_inertial_y - M_rocker_coupler_fy;
+    out[45 * stride + i] = P_crank_coupler_fy;
+    const T P_crank_coupler_fx = coupler_inertial_x - M_rocker_coupler_fx;
+    out[44 * stride + i] = P_crank_coupler_fx;
+    const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp10;
+    const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+    const T crank_inertial_x = crank_mass*com_crank_x_dd;
+    const T crank_inertia = p.bar_t*p.bar_w*(_tmp11 + _tmp0)*p.rho*_tmp10*_tmp12;
+    const T crank_angle_effort = P_crank_coupler_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_crank_coupler_fx*P_y - com_crank_y*crank_inertial_x;
     out[4 * stride + i] = crank_angle_effort;
+    const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
+    out[43 * stride + i] = A_ground_crank_fy;
+    const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
+    out[42 * stride + i] = A_ground_crank_fx;
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -750,13 +759,28 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 212
+  A[0] = T(1);
+  A[2] = -T(1);
+  A[10] = T(1);
+  A[12] = -T(1);
+  A[26] = T(1);
+  A[29] = T(1);
+  A[31] = T(1);
+  A[39] = T(1);
+  A[41] = T(1);
+  A[58] = -T(1);
+  A[60] = T(1);
+  A[68] = -T(1);
+  A[70] = T(1);
   const T c_crank_rel = cos(in.crank_angle);
-  const T s_crank_rel = sin(in.crank_angle);
   const T P_x = p.l*c_crank_rel;
-  const T B_x = T(2)*p.l;
+  A[21] = -P_x;
+  const T s_crank_rel = sin(in.crank_angle);
   const T P_y = p.l*s_crank_rel;
-  const T g2_coupler_rocker_d_x = B_x - P_x;
+  A[20] = P_y;
   const T g2_coupler_rocker_d_y = -P_y;
+  const T B_x = T(2)*p.l;
+  const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
@@ -764,106 +788,91 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp1 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
+  const T _tmp2 = M_x - P_x;
+  A[50] = _tmp2;
+  const T _tmp3 = B_x - M_x;
+  A[79] = _tmp3;
   const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1;
-  const T _tmp2 = B_x - M_x;
-  const T _tmp3 = M_y - P_y;
-  const T _tmp4 = M_x - P_x;
-  const T _tmp5 = T(1)/(_tmp2*_tmp3 + _tmp4*M_y);
-  const T g2_coupler_rocker_inv = _tmp5;
+  const T _tmp4 = M_y - P_y;
+  A[49] = -_tmp4;
+  A[78] = M_y;
+  const T _tmp5 = sqrt(_tmp0);
+  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp5;
   const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_x_d = p.l*c_crank_rel_d;
-  const T P_y_d = p.l*s_crank_rel_d;
-  const T w_coupler = (_tmp2*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
-  const T w_rocker = -(_tmp4*P_x_d + _tmp3*P_y_d)*g2_coupler_rocker_inv;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
   const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.l*c_crank_rel_dd;
-  const T P_y_dd = p.l*s_crank_rel_dd;
-  const T _tmp6 = w_rocker*w_rocker;
-  const T _tmp7 = w_coupler*w_coupler;
-  const T g2_coupler_rocker_acc_x = _tmp2*_tmp6 + _tmp4*_tmp7 - P_x_dd;
-  const T g2_coupler_rocker_acc_y = _tmp3*_tmp7 - M_y*_tmp6 - P_y_dd;
-  const T _tmp8 = T(1)/p.l;
-  const T s_coupler = -T(0.4)*_tmp8*_tmp3;
-  const T c_coupler = -T(0.4)*_tmp8*_tmp4;
-  const T s_rocker = -T(0.4)*_tmp8*M_y;
-  const T c_rocker = T(0.4)*_tmp8*_tmp2;
-  const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
-  const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
-  const T _tmp9 = sqrt(_tmp0);
-  const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp9;
-  const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp9;
+  const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
+  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+  b[1] = crank_inertial_y;
+  const T coupler_mass = T(5)*p.bar_t*p.bar_w*p.rho*_tmp5;
+  const T _tmp6 = T(1)/p.l;
+  const T s_coupler = -T(0.4)*_tmp6*_tmp4;
+  const T _tmp7 = T(1)/(_tmp3*_tmp4 + _tmp2*M_y);
+  const T g2_coupler_rocker_inv = _tmp7;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.l*s_crank_rel_d;
+  const T P_x_d = p.l*c_crank_rel_d;
+  const T w_coupler = (_tmp3*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
   const T c_coupler_d = -s_coupler*w_coupler;
-  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp9;
+  const T c_coupler = -T(0.4)*_tmp6*_tmp2;
+  const T w_rocker = -(_tmp2*P_x_d + _tmp4*P_y_d)*g2_coupler_rocker_inv;
+  const T P_y_dd = p.l*s_crank_rel_dd;
+  const T _tmp8 = w_coupler*w_coupler;
+  const T _tmp9 = w_rocker*w_rocker;
+  const T g2_coupler_rocker_acc_y = _tmp4*_tmp8 - M_y*_tmp9 - P_y_dd;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
+  const T g2_coupler_rocker_acc_x = _tmp3*_tmp9 + _tmp2*_tmp8 - P_x_dd;
+  const T w_coupler_d = -(_tmp3*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
+  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+  const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
+  const T coupler_inertial_y = coupler_mass*(com_coupler_y_dd + T(9.81));
+  b[4] = coupler_inertial_y;
+  const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp5;
+  const T s_rocker = -T(0.4)*_tmp6*M_y;
+  const T c_rocker_d = -s_rocker*w_rocker;
+  const T c_rocker = T(0.4)*_tmp6*_tmp3;
+  const T w_rocker_d = (_tmp2*g2_coupler_rocker_acc_x + _tmp4*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
+  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
+  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
+  const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
+  const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
+  b[7] = rocker_inertial_y;
+  const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
+  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  b[0] = crank_inertial_x;
   const T _tmp10 = p.bar_w*p.bar_w;
   const T _tmp11 = T(1)/T(12);
-  const T crank_inertia = p.bar_t*p.bar_w*(_tmp10 + _tmp0)*p.rho*_tmp9*_tmp11;
-  const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9*_tmp11;
-  const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9;
-  const T s_coupler_d = c_coupler*w_coupler;
-  const T c_rocker_d = -s_rocker*w_rocker;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
-  const T s_rocker_d = c_rocker*w_rocker;
-  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
-  const T s_rocker_dd = c_rocker*w_rocker_d + c_rocker_d*w_rocker;
-  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
-  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
-  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
-  const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
-  const T x_coupler = P_x - T(5)*p.l*c_coupler;
-  const T y_coupler = P_y - T(5)*p.l*s_coupler;
-  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
-  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
-  const T y_rocker = -T(2.5)*p.l*s_rocker;
-  const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
-  const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
-  const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
-  const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
-  const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
-  const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
-  const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
-  const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
-  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
-  const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
-  const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+  const T crank_inertia = p.bar_t*p.bar_w*(_tmp10 + _tmp0)*p.rho*_tmp5*_tmp11;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
-  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
-  const T coupler_inertial_y = coupler_mass*(com_coupler_y_dd + T(9.81));
-  const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
-  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  const T com_crank_x = T(0.5)*p.l*c_crank_rel;
+  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - com_crank_y*crank_inertial_x;
+  const T s_coupler_d = c_coupler*w_coupler;
+  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
   const T coupler_inertial_x = coupler_mass*com_coupler_x_dd;
+  b[3] = coupler_inertial_x;
+  const T coupler_inertia = T(5)*(T(25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp5*_tmp11;
+  const T y_coupler = P_y - T(5)*p.l*s_coupler;
+  const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
+  const T x_coupler = P_x - T(5)*p.l*c_coupler;
+  const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
+  b[5] = (P_y - com_coupler_y)*coupler_inertial_x + coupler_inertia*w_coupler_d - (P_x - com_coupler_x)*coupler_inertial_y;
+  const T s_rocker_d = c_rocker*w_rocker;
+  const T c_rocker_dd = -s_rocker*w_rocker_d - s_rocker_d*w_rocker;
+  const T x_rocker_dd = -T(2.5)*p.l*c_rocker_dd;
+  const T com_rocker_x_dd = T(1.25)*p.l*c_rocker_dd + x_rocker_dd;
   const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
+  b[6] = rocker_inertial_x;
+  const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp5;
+  const T y_rocker = -T(2.5)*p.l*s_rocker;
+  const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
+  const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
+  const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
+  b[8] = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y;
   if (!(g2_coupler_rocker_d2 > T(0))) return Status::singular;
   if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
-  A[0] = T(1);
-  A[2] = -T(1);
-  b[0] = crank_inertial_x;
-  A[10] = T(1);
-  A[12] = -T(1);
-  b[1] = crank_inertial_y;
-  A[20] = P_y;
-  A[21] = -P_x;
-  A[26] = T(1);
-  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - com_crank_y*crank_inertial_x;
-  A[29] = T(1);
-  A[31] = T(1);
-  b[3] = coupler_inertial_x;
-  A[39] = T(1);
-  A[41] = T(1);
-  b[4] = coupler_inertial_y;
-  A[49] = -_tmp3;
-  A[50] = _tmp4;
-  b[5] = (P_y - com_coupler_y)*coupler_inertial_x + coupler_inertia*w_coupler_d - (P_x - com_coupler_x)*coupler_inertial_y;
-  A[58] = -T(1);
-  A[60] = T(1);
-  b[6] = rocker_inertial_x;
-  A[68] = -T(1);
-  A[70] = T(1);
-  b[7] = rocker_inertial_y;
-  A[78] = M_y;
-  A[79] = _tmp2;
-  b[8] = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y;
 
   return Status::ok;
 }
@@ -921,7 +930,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[4] = s.drivers.crank_angle.effort;
   row[5] = s.bodies.crank.x;
   row[6] = s.bodies.crank.y;
-  row[7] = s.bodies.crank.th;
+  row[7] = s.bodies.crank.th();
   row[8] = s.bodies.crank.vx;
   row[9] = s.bodies.crank.vy;
   row[10] = s.bodies.crank.w;
@@ -930,7 +939,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[13] = s.bodies.crank.al;
   row[14] = s.bodies.coupler.x;
   row[15] = s.bodies.coupler.y;
-  row[16] = s.bodies.coupler.th;
+  row[16] = s.bodies.coupler.th();
   row[17] = s.bodies.coupler.vx;
   row[18] = s.bodies.coupler.vy;
   row[19] = s.bodies.coupler.w;
@@ -939,7 +948,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[22] = s.bodies.coupler.al;
   row[23] = s.bodies.rocker.x;
   row[24] = s.bodies.rocker.y;
-  row[25] = s.bodies.rocker.th;
+  row[25] = s.bodies.rocker.th();
   row[26] = s.bodies.rocker.vx;
   row[27] = s.bodies.rocker.vy;
   row[28] = s.bodies.rocker.w;

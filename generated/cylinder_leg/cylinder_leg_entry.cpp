@@ -55,13 +55,14 @@ static int evaluate_driven_row(const double* parameters, double t, const double*
 }
 
 // n samples at times t[0..n) through evaluate_batch: column c of sample i to out[c * n + i],
-// status[i] and group[i] as evaluate_row gives them. Compiled twice, for AVX2 and for the
-// baseline, and chosen at load time (GCC's target_clones), so the vectorised loop uses 4 lanes on
-// machines that have them; AVX2 without FMA, so results are those of the scalar entry. `flatten`
-// inlines evaluate_batch into each clone: called out of line, the one instantiation (compiled
-// for the baseline) would serve both clones and the AVX2 clone would run 2-lane SSE2 code.
+// status[i] and group[i] as evaluate_row gives them. Compiled three times, for AVX-512F, AVX2 and
+// the baseline, and chosen at load time (GCC's target_clones), so the vectorised loop uses the
+// widest vectors the machine has (AVX-512F halves a PASIBOT sample against AVX2); neither clone
+// has FMA, so results are those of the scalar entry. `flatten` inlines evaluate_batch into each
+// clone: called out of line, the one instantiation (compiled for the baseline) would serve every
+// clone and the wide ones would run 2-lane SSE2 code.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("avx2", "default"), flatten))
+__attribute__((target_clones("avx512f", "avx2", "default"), flatten))
 #endif
 static void evaluate_batch_rows(const double* parameters, const double* t, long n, double* out,
                                 int* status, int* group) {

@@ -6,9 +6,10 @@
 //
 // Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'pelvis'. Body
-// outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
-// second time derivatives; joint outputs are the force (and moment) of the joint's first body on
-// its second, at the joint point; a driver's effort acts on its joint's second body.
+// outputs are the centre of mass (x, y), the orientation (cos_th, sin_th), its angle th() (in
+// (-pi, pi], computed on demand) and their first and second time derivatives; joint outputs are
+// the force (and moment) of the joint's first body on its second, at the joint point; a driver's
+// effort acts on its joint's second body.
 //
 // Solve plan, in the frame of body 'pelvis':
 //   g1_thigh: driven revolute, bodies thigh, joints hip, driver q1
@@ -63,67 +64,6 @@ struct BatchInputs {
   const T* q3_d = nullptr;
   const T* q3_dd = nullptr;
 };
-
-template <class T>
-struct BodyState {
-  T x, y, th, vx, vy, w, ax, ay, al;
-};
-template <class T>
-struct PointState {
-  T x, y;
-};
-template <class T>
-struct JointForce {
-  T fx, fy;
-};
-template <class T>
-struct JointForceMoment {
-  T fx, fy, m;
-};
-template <class T>
-struct DriverState {
-  T q, qd, qdd, effort;
-};
-
-template <class T>
-struct State {
-  struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> foot;
-  } bodies;
-  struct Points {
-    PointState<T> H;
-    PointState<T> K;
-    PointState<T> Ank;
-    PointState<T> Toe;
-    PointState<T> Heel;
-  } points;
-  struct Joints {
-    JointForce<T> hip;  // revolute
-    JointForce<T> knee;  // revolute
-    JointForce<T> ankle;  // revolute
-  } joints;
-  struct Drivers {
-    DriverState<T> q1;
-    DriverState<T> q2;
-    DriverState<T> q3;
-  } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
-};
-
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
-
-inline constexpr int group_count = 3;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot" };
-
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
-template <class T>
-bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.q1) && isfinite(in.q1_d) && isfinite(in.q1_dd) && isfinite(in.q2) && isfinite(in.q2_d) && isfinite(in.q2_dd) && isfinite(in.q3) && isfinite(in.q3_d) && isfinite(in.q3_dd);
-}
 
 namespace detail {
 #if defined(__GNUC__)
@@ -219,86 +159,79 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+template <class T>
+struct BodyState {
+  // The orientation is kept as its cosine and sine, exact from the closed form, which is what a
+  // rotation needs; the angle costs an atan2, so it is computed only when asked for.
+  T x, y, cos_th, sin_th, vx, vy, w, ax, ay, al;
+  T th() const noexcept { return detail::atan2(sin_th, cos_th); }
+};
+template <class T>
+struct PointState {
+  T x, y;
+};
+template <class T>
+struct JointForce {
+  T fx, fy;
+};
+template <class T>
+struct JointForceMoment {
+  T fx, fy, m;
+};
+template <class T>
+struct DriverState {
+  T q, qd, qdd, effort;
+};
+
+template <class T>
+struct State {
+  struct Bodies {
+    BodyState<T> thigh;
+    BodyState<T> shank;
+    BodyState<T> foot;
+  } bodies;
+  struct Points {
+    PointState<T> H;
+    PointState<T> K;
+    PointState<T> Ank;
+    PointState<T> Toe;
+    PointState<T> Heel;
+  } points;
+  struct Joints {
+    JointForce<T> hip;  // revolute
+    JointForce<T> knee;  // revolute
+    JointForce<T> ankle;  // revolute
+  } joints;
+  struct Drivers {
+    DriverState<T> q1;
+    DriverState<T> q2;
+    DriverState<T> q3;
+  } drivers;
+  int failed_group = -1;  // the solve group that failed, when the status is not ok
+};
+
+enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+
+inline constexpr int group_count = 3;
+// Solve groups in order; State::failed_group indexes this table.
+inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot" };
+
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.q1) && isfinite(in.q1_d) && isfinite(in.q1_dd) && isfinite(in.q2) && isfinite(in.q2_d) && isfinite(in.q2_dd) && isfinite(in.q3) && isfinite(in.q3_d) && isfinite(in.q3_dd);
+}
+
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 228
-  const T c_thigh_rel = cos(in.q1);
-  const T s_thigh_rel = sin(in.q1);
-  const T c_shank_rel = cos(in.q2);
-  const T s_shank_rel = sin(in.q2);
-  const T c_foot_rel = cos(in.q3);
-  const T s_foot_rel = sin(in.q3);
-  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-  const T s_shank_rel_d = c_shank_rel*in.q2_d;
-  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
-  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
-  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
-  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
-  const T s_foot_rel_d = c_foot_rel*in.q3_d;
-  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
-  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
-  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
-  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
-  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
-  const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -p.l_th*c_thigh_rel;
-  const T K_x_d = p.l_th*s_thigh_rel_d;
-  const T K_y_d = -p.l_th*c_thigh_rel_d;
-  const T K_x_dd = p.l_th*s_thigh_rel_dd;
-  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-  const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - p.l_sh*c_shank;
-  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
-  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
-  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
-  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
-  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
-  const T _tmp0 = p.l_heel - p.l_toe;
-  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
-  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
-  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
-  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
-  const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
-  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
-  const T _tmp1 = p.h_ft*s_foot;
-  const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
-  const T _tmp2 = p.h_ft*c_foot;
-  const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
-  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
-  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
-  const T w_shank = in.q1_d + in.q2_d;
-  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
-  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
-  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
-  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
-  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
-  const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T w_foot = in.q3_d + w_shank;
-  const T w_foot_d = in.q3_dd + w_shank_d;
+  // Total ops: 225
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -308,43 +241,117 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.drivers.q3.q = in.q3;
   s.drivers.q3.qd = in.q3_d;
   s.drivers.q3.qdd = in.q3_dd;
-  s.bodies.thigh.x = com_thigh_x;
-  s.bodies.thigh.y = com_thigh_y;
-  s.bodies.thigh.th = atan2(s_thigh_rel, c_thigh_rel);
-  s.bodies.thigh.vx = com_thigh_x_d;
-  s.bodies.thigh.vy = com_thigh_y_d;
   s.bodies.thigh.w = in.q1_d;
-  s.bodies.thigh.ax = com_thigh_x_dd;
-  s.bodies.thigh.ay = com_thigh_y_dd;
   s.bodies.thigh.al = in.q1_dd;
-  s.bodies.shank.x = com_shank_x;
-  s.bodies.shank.y = com_shank_y;
-  s.bodies.shank.th = atan2(s_shank, c_shank);
-  s.bodies.shank.vx = com_shank_x_d;
-  s.bodies.shank.vy = com_shank_y_d;
-  s.bodies.shank.w = w_shank;
-  s.bodies.shank.ax = com_shank_x_dd;
-  s.bodies.shank.ay = com_shank_y_dd;
-  s.bodies.shank.al = w_shank_d;
-  s.bodies.foot.x = com_foot_x;
-  s.bodies.foot.y = com_foot_y;
-  s.bodies.foot.th = atan2(s_foot, c_foot);
-  s.bodies.foot.vx = com_foot_x_d;
-  s.bodies.foot.vy = com_foot_y_d;
-  s.bodies.foot.w = w_foot;
-  s.bodies.foot.ax = com_foot_x_dd;
-  s.bodies.foot.ay = com_foot_y_dd;
-  s.bodies.foot.al = w_foot_d;
   s.points.H.x = T(0);
   s.points.H.y = T(0);
+  const T c_thigh_rel = cos(in.q1);
+  s.bodies.thigh.cos_th = c_thigh_rel;
+  const T s_thigh_rel = sin(in.q1);
+  s.bodies.thigh.sin_th = s_thigh_rel;
+  const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel = cos(in.q2);
+  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
+  s.bodies.shank.cos_th = c_shank;
+  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
+  s.bodies.shank.sin_th = s_shank;
+  const T K_x = p.l_th*s_thigh_rel;
   s.points.K.x = K_x;
+  const T K_y = -p.l_th*c_thigh_rel;
   s.points.K.y = K_y;
+  const T Ank_x = K_x + p.l_sh*s_shank;
   s.points.Ank.x = Ank_x;
+  const T Ank_y = K_y - p.l_sh*c_shank;
   s.points.Ank.y = Ank_y;
+  const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel = cos(in.q3);
+  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
+  s.bodies.foot.cos_th = c_foot;
+  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
+  s.bodies.foot.sin_th = s_foot;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+  s.bodies.foot.x = com_foot_x;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
+  s.bodies.foot.y = com_foot_y;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+  s.bodies.foot.vx = com_foot_x_d;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
+  s.bodies.foot.vy = com_foot_y_d;
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  s.bodies.foot.ax = com_foot_x_dd;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
+  s.bodies.foot.ay = com_foot_y_dd;
+  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+  s.bodies.shank.x = com_shank_x;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  s.bodies.shank.y = com_shank_y;
+  const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
+  s.bodies.shank.vx = com_shank_x_d;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+  s.bodies.shank.vy = com_shank_y_d;
+  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+  s.bodies.shank.ax = com_shank_x_dd;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+  s.bodies.shank.ay = com_shank_y_dd;
+  const T _tmp1 = p.h_ft*s_foot;
+  const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
   s.points.Toe.x = Toe_x;
+  const T _tmp2 = p.h_ft*c_foot;
+  const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
   s.points.Toe.y = Toe_y;
+  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
   s.points.Heel.x = Heel_x;
+  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
   s.points.Heel.y = Heel_y;
+  const T w_shank = in.q1_d + in.q2_d;
+  s.bodies.shank.w = w_shank;
+  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
+  s.bodies.thigh.x = com_thigh_x;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  s.bodies.thigh.y = com_thigh_y;
+  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+  s.bodies.thigh.vx = com_thigh_x_d;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+  s.bodies.thigh.vy = com_thigh_y_d;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  s.bodies.thigh.ax = com_thigh_x_dd;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
+  s.bodies.thigh.ay = com_thigh_y_dd;
+  const T w_shank_d = in.q1_dd + in.q2_dd;
+  s.bodies.shank.al = w_shank_d;
+  const T w_foot = in.q3_d + w_shank;
+  s.bodies.foot.w = w_foot;
+  const T w_foot_d = in.q3_dd + w_shank_d;
+  s.bodies.foot.al = w_foot_d;
 
   return Status::ok;
 }
@@ -352,100 +359,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 284
-  const T c_thigh_rel = cos(in.q1);
-  const T s_thigh_rel = sin(in.q1);
-  const T c_shank_rel = cos(in.q2);
-  const T s_shank_rel = sin(in.q2);
-  const T c_foot_rel = cos(in.q3);
-  const T s_foot_rel = sin(in.q3);
-  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-  const T s_shank_rel_d = c_shank_rel*in.q2_d;
-  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
-  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
-  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
-  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
-  const T s_foot_rel_d = c_foot_rel*in.q3_d;
-  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
-  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
-  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
-  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
-  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-  const T K_x_dd = p.l_th*s_thigh_rel_dd;
-  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
-  const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -p.l_th*c_thigh_rel;
-  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - p.l_sh*c_shank;
-  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
-  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
-  const T _tmp0 = p.l_heel - p.l_toe;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
-  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
-  const T _tmp1 = p.l_heel + p.l_toe;
-  const T _tmp2 = T(1)/T(12);
-  const T foot_inertia = (_tmp1*_tmp1 + p.h_ft*p.h_ft)*p.m_ft*_tmp2;
-  const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
-  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
-  const T w_foot_d = in.q3_dd + w_shank_d;
-  const T foot_inertial_x = p.m_ft*com_foot_x_dd;
-  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T q3_effort = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
-  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
-  const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp2;
-  const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
-  const T shank_inertial_x = p.m_sh*com_shank_x_dd;
-  const T q2_effort = (Ank_x - K_x)*foot_inertial_y + (K_y - com_shank_y)*shank_inertial_x + q3_effort + shank_inertia*w_shank_d - (Ank_y - K_y)*foot_inertial_x - (K_x - com_shank_x)*shank_inertial_y;
-  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
-  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
-  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
-  const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp2;
-  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
-  const T K_x_d = p.l_th*s_thigh_rel_d;
-  const T K_y_d = -p.l_th*c_thigh_rel_d;
-  const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
-  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
-  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
-  const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
-  const T knee_fy = foot_inertial_y + shank_inertial_y;
-  const T knee_fx = foot_inertial_x + shank_inertial_x;
-  const T q1_effort = K_x*knee_fy + com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd + q2_effort - K_y*knee_fx - com_thigh_y*thigh_inertial_x;
-  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
-  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
-  const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
-  const T _tmp3 = p.h_ft*s_foot;
-  const T Toe_x = Ank_x + _tmp3 - p.l_toe*c_foot;
-  const T _tmp4 = p.h_ft*c_foot;
-  const T Toe_y = Ank_y - _tmp4 - p.l_toe*s_foot;
-  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp3;
-  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp4;
-  const T w_shank = in.q1_d + in.q2_d;
-  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
-  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
-  const T w_foot = in.q3_d + w_shank;
-  const T hip_fy = knee_fy + thigh_inertial_y;
-  const T hip_fx = knee_fx + thigh_inertial_x;
+  // Total ops: 281
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -455,52 +372,144 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.drivers.q3.q = in.q3;
   s.drivers.q3.qd = in.q3_d;
   s.drivers.q3.qdd = in.q3_dd;
-  s.bodies.thigh.x = com_thigh_x;
-  s.bodies.thigh.y = com_thigh_y;
-  s.bodies.thigh.th = atan2(s_thigh_rel, c_thigh_rel);
-  s.bodies.thigh.vx = com_thigh_x_d;
-  s.bodies.thigh.vy = com_thigh_y_d;
   s.bodies.thigh.w = in.q1_d;
-  s.bodies.thigh.ax = com_thigh_x_dd;
-  s.bodies.thigh.ay = com_thigh_y_dd;
   s.bodies.thigh.al = in.q1_dd;
-  s.bodies.shank.x = com_shank_x;
-  s.bodies.shank.y = com_shank_y;
-  s.bodies.shank.th = atan2(s_shank, c_shank);
-  s.bodies.shank.vx = com_shank_x_d;
-  s.bodies.shank.vy = com_shank_y_d;
-  s.bodies.shank.w = w_shank;
-  s.bodies.shank.ax = com_shank_x_dd;
-  s.bodies.shank.ay = com_shank_y_dd;
-  s.bodies.shank.al = w_shank_d;
-  s.bodies.foot.x = com_foot_x;
-  s.bodies.foot.y = com_foot_y;
-  s.bodies.foot.th = atan2(s_foot, c_foot);
-  s.bodies.foot.vx = com_foot_x_d;
-  s.bodies.foot.vy = com_foot_y_d;
-  s.bodies.foot.w = w_foot;
-  s.bodies.foot.ax = com_foot_x_dd;
-  s.bodies.foot.ay = com_foot_y_dd;
-  s.bodies.foot.al = w_foot_d;
   s.points.H.x = T(0);
   s.points.H.y = T(0);
+  const T c_thigh_rel = cos(in.q1);
+  s.bodies.thigh.cos_th = c_thigh_rel;
+  const T s_thigh_rel = sin(in.q1);
+  s.bodies.thigh.sin_th = s_thigh_rel;
+  const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel = cos(in.q2);
+  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
+  s.bodies.shank.cos_th = c_shank;
+  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
+  s.bodies.shank.sin_th = s_shank;
+  const T K_x = p.l_th*s_thigh_rel;
   s.points.K.x = K_x;
+  const T K_y = -p.l_th*c_thigh_rel;
   s.points.K.y = K_y;
+  const T Ank_x = K_x + p.l_sh*s_shank;
   s.points.Ank.x = Ank_x;
+  const T Ank_y = K_y - p.l_sh*c_shank;
   s.points.Ank.y = Ank_y;
-  s.points.Toe.x = Toe_x;
-  s.points.Toe.y = Toe_y;
-  s.points.Heel.x = Heel_x;
-  s.points.Heel.y = Heel_y;
-  s.joints.hip.fx = hip_fx;
-  s.joints.hip.fy = hip_fy;
-  s.joints.knee.fx = knee_fx;
-  s.joints.knee.fy = knee_fy;
-  s.joints.ankle.fx = foot_inertial_x;
+  const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel = cos(in.q3);
+  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
+  s.bodies.foot.cos_th = c_foot;
+  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
+  s.bodies.foot.sin_th = s_foot;
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
+  s.bodies.foot.ay = com_foot_y_dd;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  s.bodies.foot.ax = com_foot_x_dd;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+  s.bodies.foot.x = com_foot_x;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
+  s.bodies.foot.y = com_foot_y;
+  const T w_shank_d = in.q1_dd + in.q2_dd;
+  s.bodies.shank.al = w_shank_d;
+  const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
   s.joints.ankle.fy = foot_inertial_y;
-  s.drivers.q1.effort = q1_effort;
-  s.drivers.q2.effort = q2_effort;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+  s.bodies.shank.ay = com_shank_y_dd;
+  const T w_foot_d = in.q3_dd + w_shank_d;
+  s.bodies.foot.al = w_foot_d;
+  const T foot_inertial_x = p.m_ft*com_foot_x_dd;
+  s.joints.ankle.fx = foot_inertial_x;
+  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+  s.bodies.shank.ax = com_shank_x_dd;
+  const T _tmp1 = p.l_heel + p.l_toe;
+  const T _tmp2 = T(1)/T(12);
+  const T foot_inertia = (_tmp1*_tmp1 + p.h_ft*p.h_ft)*p.m_ft*_tmp2;
+  const T q3_effort = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
   s.drivers.q3.effort = q3_effort;
+  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+  s.bodies.shank.x = com_shank_x;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  s.bodies.shank.y = com_shank_y;
+  const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
+  const T shank_inertial_x = p.m_sh*com_shank_x_dd;
+  const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp2;
+  const T q2_effort = (Ank_x - K_x)*foot_inertial_y + (K_y - com_shank_y)*shank_inertial_x + q3_effort + shank_inertia*w_shank_d - (Ank_y - K_y)*foot_inertial_x - (K_x - com_shank_x)*shank_inertial_y;
+  s.drivers.q2.effort = q2_effort;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
+  s.bodies.thigh.ay = com_thigh_y_dd;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  s.bodies.thigh.ax = com_thigh_x_dd;
+  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
+  s.bodies.thigh.x = com_thigh_x;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  s.bodies.thigh.y = com_thigh_y;
+  const T knee_fy = foot_inertial_y + shank_inertial_y;
+  s.joints.knee.fy = knee_fy;
+  const T knee_fx = foot_inertial_x + shank_inertial_x;
+  s.joints.knee.fx = knee_fx;
+  const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
+  const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
+  const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp2;
+  const T q1_effort = K_x*knee_fy + com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd + q2_effort - K_y*knee_fx - com_thigh_y*thigh_inertial_x;
+  s.drivers.q1.effort = q1_effort;
+  const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+  const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+  const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+  s.bodies.foot.vx = com_foot_x_d;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
+  s.bodies.foot.vy = com_foot_y_d;
+  const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
+  s.bodies.shank.vx = com_shank_x_d;
+  const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+  s.bodies.shank.vy = com_shank_y_d;
+  const T _tmp3 = p.h_ft*s_foot;
+  const T Toe_x = Ank_x + _tmp3 - p.l_toe*c_foot;
+  s.points.Toe.x = Toe_x;
+  const T _tmp4 = p.h_ft*c_foot;
+  const T Toe_y = Ank_y - _tmp4 - p.l_toe*s_foot;
+  s.points.Toe.y = Toe_y;
+  const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp3;
+  s.points.Heel.x = Heel_x;
+  const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp4;
+  s.points.Heel.y = Heel_y;
+  const T w_shank = in.q1_d + in.q2_d;
+  s.bodies.shank.w = w_shank;
+  const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+  s.bodies.thigh.vx = com_thigh_x_d;
+  const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+  s.bodies.thigh.vy = com_thigh_y_d;
+  const T w_foot = in.q3_d + w_shank;
+  s.bodies.foot.w = w_foot;
+  const T hip_fy = knee_fy + thigh_inertial_y;
+  s.joints.hip.fy = hip_fy;
+  const T hip_fx = knee_fx + thigh_inertial_x;
+  s.joints.hip.fx = hip_fx;
 
   return Status::ok;
 }
@@ -564,95 +573,6 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.q1 - in.q1) + (in.q1_d - in.q1_d) + (in.q1_dd - in.q1_dd) + (in.q2 - in.q2) + (in.q2_d - in.q2_d) + (in.q2_dd - in.q2_dd) + (in.q3 - in.q3) + (in.q3_d - in.q3_d) + (in.q3_dd - in.q3_dd)) == T(0) ? T(0) : T(8196097);
     // Total ops: 284
-    const T c_thigh_rel = cos(in.q1);
-    const T s_thigh_rel = sin(in.q1);
-    const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-    const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-    const T K_x = p.l_th*s_thigh_rel;
-    const T K_y = -p.l_th*c_thigh_rel;
-    const T c_shank_rel = cos(in.q2);
-    const T s_shank_rel = sin(in.q2);
-    const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-    const T s_shank_rel_d = c_shank_rel*in.q2_d;
-    const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
-    const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
-    const T w_shank = in.q1_d + in.q2_d;
-    const T Ank_x = K_x + p.l_sh*s_shank;
-    const T Ank_y = K_y - p.l_sh*c_shank;
-    const T c_foot_rel = cos(in.q3);
-    const T s_foot_rel = sin(in.q3);
-    const T c_foot_rel_d = -in.q3_d*s_foot_rel;
-    const T s_foot_rel_d = c_foot_rel*in.q3_d;
-    const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
-    const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
-    const T w_foot = in.q3_d + w_shank;
-    const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-    const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
-    const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
-    const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
-    const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-    const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
-    const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-    const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
-    const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-    const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
-    const T K_x_d = p.l_th*s_thigh_rel_d;
-    const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
-    const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
-    const T K_y_d = -p.l_th*c_thigh_rel_d;
-    const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
-    const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
-    const T K_x_dd = p.l_th*s_thigh_rel_dd;
-    const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-    const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-    const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
-    const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-    const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-    const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-    const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
-    const T w_shank_d = in.q1_dd + in.q2_dd;
-    const T _tmp0 = p.l_heel - p.l_toe;
-    const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
-    const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
-    const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
-    const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-    const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
-    const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
-    const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
-    const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
-    const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-    const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-    const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
-    const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-    const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
-    const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
-    const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
-    const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
-    const T w_foot_d = in.q3_dd + w_shank_d;
-    const T _tmp1 = p.h_ft*s_foot;
-    const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
-    const T _tmp2 = p.h_ft*c_foot;
-    const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
-    const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
-    const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
-    const T _tmp3 = T(1)/T(12);
-    const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp3;
-    const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
-    const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
-    const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp3;
-    const T shank_inertial_x = p.m_sh*com_shank_x_dd;
-    const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
-    const T _tmp4 = p.l_heel + p.l_toe;
-    const T foot_inertia = (_tmp4*_tmp4 + p.h_ft*p.h_ft)*p.m_ft*_tmp3;
-    const T foot_inertial_x = p.m_ft*com_foot_x_dd;
-    const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
-    const T q3_effort = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
-    const T q2_effort = (Ank_x - K_x)*foot_inertial_y + (K_y - com_shank_y)*shank_inertial_x + q3_effort + shank_inertia*w_shank_d - (Ank_y - K_y)*foot_inertial_x - (K_x - com_shank_x)*shank_inertial_y;
-    const T knee_fy = foot_inertial_y + shank_inertial_y;
-    const T knee_fx = foot_inertial_x + shank_inertial_x;
-    const T q1_effort = K_x*knee_fy + com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd + q2_effort - K_y*knee_fx - com_thigh_y*thigh_inertial_x;
-    const T hip_fy = knee_fy + thigh_inertial_y;
-    const T hip_fx = knee_fx + thigh_inertial_x;
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.q1;
     out[2 * stride + i] = in.q1_d;
@@ -663,52 +583,141 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[9 * stride + i] = in.q3;
     out[10 * stride + i] = in.q3_d;
     out[11 * stride + i] = in.q3_dd;
-    out[13 * stride + i] = com_thigh_x;
-    out[14 * stride + i] = com_thigh_y;
-    out[15 * stride + i] = atan2(s_thigh_rel, c_thigh_rel);
-    out[16 * stride + i] = com_thigh_x_d;
-    out[17 * stride + i] = com_thigh_y_d;
     out[18 * stride + i] = in.q1_d;
-    out[19 * stride + i] = com_thigh_x_dd;
-    out[20 * stride + i] = com_thigh_y_dd;
     out[21 * stride + i] = in.q1_dd;
-    out[22 * stride + i] = com_shank_x;
-    out[23 * stride + i] = com_shank_y;
-    out[24 * stride + i] = atan2(s_shank, c_shank);
-    out[25 * stride + i] = com_shank_x_d;
-    out[26 * stride + i] = com_shank_y_d;
-    out[27 * stride + i] = w_shank;
-    out[28 * stride + i] = com_shank_x_dd;
-    out[29 * stride + i] = com_shank_y_dd;
-    out[30 * stride + i] = w_shank_d;
-    out[31 * stride + i] = com_foot_x;
-    out[32 * stride + i] = com_foot_y;
-    out[33 * stride + i] = atan2(s_foot, c_foot);
-    out[34 * stride + i] = com_foot_x_d;
-    out[35 * stride + i] = com_foot_y_d;
-    out[36 * stride + i] = w_foot;
-    out[37 * stride + i] = com_foot_x_dd;
-    out[38 * stride + i] = com_foot_y_dd;
-    out[39 * stride + i] = w_foot_d;
     out[40 * stride + i] = T(0);
     out[41 * stride + i] = T(0);
+    const T s_thigh_rel = sin(in.q1);
+    const T c_thigh_rel = cos(in.q1);
+    out[15 * stride + i] = atan2(s_thigh_rel, c_thigh_rel);
+    const T K_x = p.l_th*s_thigh_rel;
     out[42 * stride + i] = K_x;
+    const T K_y = -p.l_th*c_thigh_rel;
     out[43 * stride + i] = K_y;
+    const T s_shank_rel = sin(in.q2);
+    const T c_shank_rel = cos(in.q2);
+    const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
+    const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
+    out[24 * stride + i] = atan2(s_shank, c_shank);
+    const T w_shank = in.q1_d + in.q2_d;
+    out[27 * stride + i] = w_shank;
+    const T Ank_x = K_x + p.l_sh*s_shank;
     out[44 * stride + i] = Ank_x;
+    const T Ank_y = K_y - p.l_sh*c_shank;
     out[45 * stride + i] = Ank_y;
+    const T s_foot_rel = sin(in.q3);
+    const T c_foot_rel = cos(in.q3);
+    const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
+    const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
+    out[33 * stride + i] = atan2(s_foot, c_foot);
+    const T w_foot = in.q3_d + w_shank;
+    out[36 * stride + i] = w_foot;
+    const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
+    out[13 * stride + i] = com_thigh_x;
+    const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+    out[14 * stride + i] = com_thigh_y;
+    const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+    const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
+    out[16 * stride + i] = com_thigh_x_d;
+    const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+    const T com_thigh_y_d = -T(0.5)*p.l_th*c_thigh_rel_d;
+    out[17 * stride + i] = com_thigh_y_d;
+    const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+    const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+    out[19 * stride + i] = com_thigh_x_dd;
+    const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+    const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
+    out[20 * stride + i] = com_thigh_y_dd;
+    const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+    out[22 * stride + i] = com_shank_x;
+    const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+    out[23 * stride + i] = com_shank_y;
+    const T s_shank_rel_d = c_shank_rel*in.q2_d;
+    const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+    const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+    const T K_x_d = p.l_th*s_thigh_rel_d;
+    const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
+    out[25 * stride + i] = com_shank_x_d;
+    const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+    const T K_y_d = -p.l_th*c_thigh_rel_d;
+    const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
+    out[26 * stride + i] = com_shank_y_d;
+    const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+    const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+    const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+    const T K_x_dd = p.l_th*s_thigh_rel_dd;
+    const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+    out[28 * stride + i] = com_shank_x_dd;
+    const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+    const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+    const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+    out[29 * stride + i] = com_shank_y_dd;
+    const T w_shank_d = in.q1_dd + in.q2_dd;
+    out[30 * stride + i] = w_shank_d;
+    const T _tmp0 = p.l_heel - p.l_toe;
+    const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
+    out[31 * stride + i] = com_foot_x;
+    const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
+    out[32 * stride + i] = com_foot_y;
+    const T s_foot_rel_d = c_foot_rel*in.q3_d;
+    const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+    const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
+    const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
+    const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+    const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
+    out[34 * stride + i] = com_foot_x_d;
+    const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+    const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
+    out[35 * stride + i] = com_foot_y_d;
+    const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+    const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+    const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+    const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+    const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+    const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+    out[37 * stride + i] = com_foot_x_dd;
+    const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+    const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
+    out[38 * stride + i] = com_foot_y_dd;
+    const T w_foot_d = in.q3_dd + w_shank_d;
+    out[39 * stride + i] = w_foot_d;
+    const T _tmp1 = p.h_ft*s_foot;
+    const T Toe_x = Ank_x + _tmp1 - p.l_toe*c_foot;
     out[46 * stride + i] = Toe_x;
+    const T _tmp2 = p.h_ft*c_foot;
+    const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
     out[47 * stride + i] = Toe_y;
+    const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
     out[48 * stride + i] = Heel_x;
+    const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
     out[49 * stride + i] = Heel_y;
-    out[50 * stride + i] = hip_fx;
-    out[51 * stride + i] = hip_fy;
-    out[52 * stride + i] = knee_fx;
-    out[53 * stride + i] = knee_fy;
+    const T foot_inertial_x = p.m_ft*com_foot_x_dd;
     out[54 * stride + i] = foot_inertial_x;
+    const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
     out[55 * stride + i] = foot_inertial_y;
-    out[4 * stride + i] = q1_effort;
-    out[8 * stride + i] = q2_effort;
+    const T _tmp3 = p.l_heel + p.l_toe;
+    const T _tmp4 = T(1)/T(12);
+    const T foot_inertia = (_tmp3*_tmp3 + p.h_ft*p.h_ft)*p.m_ft*_tmp4;
+    const T q3_effort = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
     out[12 * stride + i] = q3_effort;
+    const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
+    const T shank_inertial_x = p.m_sh*com_shank_x_dd;
+    const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp4;
+    const T q2_effort = (Ank_x - K_x)*foot_inertial_y + (K_y - com_shank_y)*shank_inertial_x + q3_effort + shank_inertia*w_shank_d - (Ank_y - K_y)*foot_inertial_x - (K_x - com_shank_x)*shank_inertial_y;
+    out[8 * stride + i] = q2_effort;
+    const T knee_fy = foot_inertial_y + shank_inertial_y;
+    out[53 * stride + i] = knee_fy;
+    const T knee_fx = foot_inertial_x + shank_inertial_x;
+    out[52 * stride + i] = knee_fx;
+    const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
+    const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
+    const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp4;
+    const T q1_effort = K_x*knee_fy + com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd + q2_effort - K_y*knee_fx - com_thigh_y*thigh_inertial_x;
+    out[4 * stride + i] = q1_effort;
+    const T hip_fy = knee_fy + thigh_inertial_y;
+    out[51 * stride + i] = hip_fy;
+    const T hip_fx = knee_fx + thigh_inertial_x;
+    out[50 * stride + i] = hip_fx;
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -727,95 +736,95 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 209
-  const T c_thigh_rel = cos(in.q1);
-  const T s_thigh_rel = sin(in.q1);
-  const T c_shank_rel = cos(in.q2);
-  const T s_shank_rel = sin(in.q2);
-  const T c_foot_rel = cos(in.q3);
-  const T s_foot_rel = sin(in.q3);
-  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-  const T s_shank_rel_d = c_shank_rel*in.q2_d;
-  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
-  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
-  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
-  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
-  const T s_foot_rel_d = c_foot_rel*in.q3_d;
-  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
-  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
-  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
-  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
-  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-  const T K_x_dd = p.l_th*s_thigh_rel_dd;
-  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
-  const T K_x = p.l_th*s_thigh_rel;
-  const T K_y = -p.l_th*c_thigh_rel;
-  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
-  const T Ank_x = K_x + p.l_sh*s_shank;
-  const T Ank_y = K_y - p.l_sh*c_shank;
-  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
-  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
-  const T _tmp0 = p.l_heel - p.l_toe;
-  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
-  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
-  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
-  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
-  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
-  const T _tmp1 = p.l_heel + p.l_toe;
-  const T _tmp2 = T(1)/T(12);
-  const T foot_inertia = (_tmp1*_tmp1 + p.h_ft*p.h_ft)*p.m_ft*_tmp2;
-  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
-  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
-  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
-  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
-  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
-  const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp2;
-  const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp2;
-  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
-  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
-  const T w_shank_d = in.q1_dd + in.q2_dd;
-  const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
-  const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
-  const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
-  const T w_foot_d = in.q3_dd + w_shank_d;
-  const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
-  const T shank_inertial_x = p.m_sh*com_shank_x_dd;
-  const T foot_inertial_x = p.m_ft*com_foot_x_dd;
   A[0] = T(1);
   A[2] = -T(1);
-  b[0] = thigh_inertial_x;
   A[10] = T(1);
   A[12] = -T(1);
-  b[1] = thigh_inertial_y;
-  A[20] = K_y;
-  A[21] = -K_x;
   A[24] = T(1);
   A[25] = -T(1);
-  b[2] = com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd - com_thigh_y*thigh_inertial_x;
   A[29] = T(1);
   A[31] = -T(1);
-  b[3] = shank_inertial_x;
   A[39] = T(1);
   A[41] = -T(1);
-  b[4] = shank_inertial_y;
-  A[49] = Ank_y - K_y;
-  A[50] = K_x - Ank_x;
   A[52] = T(1);
   A[53] = -T(1);
-  b[5] = (K_y - com_shank_y)*shank_inertial_x + shank_inertia*w_shank_d - (K_x - com_shank_x)*shank_inertial_y;
   A[58] = T(1);
-  b[6] = foot_inertial_x;
   A[68] = T(1);
-  b[7] = foot_inertial_y;
   A[80] = T(1);
+  const T s_thigh_rel = sin(in.q1);
+  const T K_x = p.l_th*s_thigh_rel;
+  A[21] = -K_x;
+  const T c_thigh_rel = cos(in.q1);
+  const T K_y = -p.l_th*c_thigh_rel;
+  A[20] = K_y;
+  const T s_shank_rel = sin(in.q2);
+  const T c_shank_rel = cos(in.q2);
+  const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
+  const T Ank_x = K_x + p.l_sh*s_shank;
+  A[50] = K_x - Ank_x;
+  const T c_shank = c_shank_rel*c_thigh_rel - s_shank_rel*s_thigh_rel;
+  const T Ank_y = K_y - p.l_sh*c_shank;
+  A[49] = Ank_y - K_y;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T com_thigh_y_dd = -T(0.5)*p.l_th*c_thigh_rel_dd;
+  const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
+  b[1] = thigh_inertial_y;
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
+  const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
+  b[4] = shank_inertial_y;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  const T s_foot_rel = sin(in.q3);
+  const T c_foot_rel_d = -in.q3_d*s_foot_rel;
+  const T c_foot_rel = cos(in.q3);
+  const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
+  const T s_foot_rel_d = c_foot_rel*in.q3_d;
+  const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+  const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
+  const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
+  const T _tmp0 = p.l_heel - p.l_toe;
+  const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
+  const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
+  b[7] = foot_inertial_y;
+  const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_rel_dd;
+  const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
+  b[0] = thigh_inertial_x;
+  const T _tmp1 = T(1)/T(12);
+  const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp1;
+  const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
+  const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
+  b[2] = com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd - com_thigh_y*thigh_inertial_x;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
+  const T shank_inertial_x = p.m_sh*com_shank_x_dd;
+  b[3] = shank_inertial_x;
+  const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp1;
+  const T w_shank_d = in.q1_dd + in.q2_dd;
+  const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
+  const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
+  b[5] = (K_y - com_shank_y)*shank_inertial_x + shank_inertia*w_shank_d - (K_x - com_shank_x)*shank_inertial_y;
+  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+  const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
+  const T foot_inertial_x = p.m_ft*com_foot_x_dd;
+  b[6] = foot_inertial_x;
+  const T _tmp2 = p.l_heel + p.l_toe;
+  const T foot_inertia = (_tmp2*_tmp2 + p.h_ft*p.h_ft)*p.m_ft*_tmp1;
+  const T w_foot_d = in.q3_dd + w_shank_d;
+  const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
+  const T c_foot = c_foot_rel*c_shank - s_foot_rel*s_shank;
+  const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
+  const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
   b[8] = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
 
   return Status::ok;
@@ -932,7 +941,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[12] = s.drivers.q3.effort;
   row[13] = s.bodies.thigh.x;
   row[14] = s.bodies.thigh.y;
-  row[15] = s.bodies.thigh.th;
+  row[15] = s.bodies.thigh.th();
   row[16] = s.bodies.thigh.vx;
   row[17] = s.bodies.thigh.vy;
   row[18] = s.bodies.thigh.w;
@@ -941,7 +950,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[21] = s.bodies.thigh.al;
   row[22] = s.bodies.shank.x;
   row[23] = s.bodies.shank.y;
-  row[24] = s.bodies.shank.th;
+  row[24] = s.bodies.shank.th();
   row[25] = s.bodies.shank.vx;
   row[26] = s.bodies.shank.vy;
   row[27] = s.bodies.shank.w;
@@ -950,7 +959,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[30] = s.bodies.shank.al;
   row[31] = s.bodies.foot.x;
   row[32] = s.bodies.foot.y;
-  row[33] = s.bodies.foot.th;
+  row[33] = s.bodies.foot.th();
   row[34] = s.bodies.foot.vx;
   row[35] = s.bodies.foot.vy;
   row[36] = s.bodies.foot.w;

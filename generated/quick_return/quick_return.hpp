@@ -6,9 +6,10 @@
 //
 // Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
-// outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
-// second time derivatives; joint outputs are the force (and moment) of the joint's first body on
-// its second, at the joint point; a driver's effort acts on its joint's second body.
+// outputs are the centre of mass (x, y), the orientation (cos_th, sin_th), its angle th() (in
+// (-pi, pi], computed on demand) and their first and second time derivatives; joint outputs are
+// the force (and moment) of the joint's first body on its second, at the joint point; a driver's
+// effort acts on its joint's second body.
 //
 // Solve plan, in the frame of body 'ground':
 //   g1_crank: driven revolute, bodies crank, joints crank_pivot, driver crank_angle
@@ -52,70 +53,6 @@ struct BatchInputs {
   const T* crank_angle_d = nullptr;
   const T* crank_angle_dd = nullptr;
 };
-
-template <class T>
-struct BodyState {
-  T x, y, th, vx, vy, w, ax, ay, al;
-};
-template <class T>
-struct PointState {
-  T x, y;
-};
-template <class T>
-struct JointForce {
-  T fx, fy;
-};
-template <class T>
-struct JointForceMoment {
-  T fx, fy, m;
-};
-template <class T>
-struct DriverState {
-  T q, qd, qdd, effort;
-};
-
-template <class T>
-struct State {
-  struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> lever;
-    BodyState<T> block;
-    BodyState<T> ram;
-  } bodies;
-  struct Points {
-    PointState<T> Q;
-    PointState<T> O;
-    PointState<T> P;
-    PointState<T> E;
-    PointState<T> C;
-    PointState<T> Tool;
-  } points;
-  struct Joints {
-    JointForce<T> crank_pivot;  // revolute
-    JointForce<T> lever_pivot;  // revolute
-    JointForce<T> crank_pin;  // pin_in_slot
-    JointForceMoment<T> block_slide;  // prismatic
-    JointForce<T> ram_pin;  // revolute
-    JointForceMoment<T> ram_slide;  // prismatic
-  } joints;
-  struct Drivers {
-    DriverState<T> crank_angle;
-  } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
-};
-
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
-
-inline constexpr int group_count = 3;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram" };
-
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
-template <class T>
-bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
-}
 
 namespace detail {
 #if defined(__GNUC__)
@@ -211,127 +148,197 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+template <class T>
+struct BodyState {
+  // The orientation is kept as its cosine and sine, exact from the closed form, which is what a
+  // rotation needs; the angle costs an atan2, so it is computed only when asked for.
+  T x, y, cos_th, sin_th, vx, vy, w, ax, ay, al;
+  T th() const noexcept { return detail::atan2(sin_th, cos_th); }
+};
+template <class T>
+struct PointState {
+  T x, y;
+};
+template <class T>
+struct JointForce {
+  T fx, fy;
+};
+template <class T>
+struct JointForceMoment {
+  T fx, fy, m;
+};
+template <class T>
+struct DriverState {
+  T q, qd, qdd, effort;
+};
+
+template <class T>
+struct State {
+  struct Bodies {
+    BodyState<T> crank;
+    BodyState<T> lever;
+    BodyState<T> block;
+    BodyState<T> ram;
+  } bodies;
+  struct Points {
+    PointState<T> Q;
+    PointState<T> O;
+    PointState<T> P;
+    PointState<T> E;
+    PointState<T> C;
+    PointState<T> Tool;
+  } points;
+  struct Joints {
+    JointForce<T> crank_pivot;  // revolute
+    JointForce<T> lever_pivot;  // revolute
+    JointForce<T> crank_pin;  // pin_in_slot
+    JointForceMoment<T> block_slide;  // prismatic
+    JointForce<T> ram_pin;  // revolute
+    JointForceMoment<T> ram_slide;  // prismatic
+  } joints;
+  struct Drivers {
+    DriverState<T> crank_angle;
+  } drivers;
+  int failed_group = -1;  // the solve group that failed, when the status is not ok
+};
+
+enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+
+inline constexpr int group_count = 3;
+// Solve groups in order; State::failed_group indexes this table.
+inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram" };
+
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
+}
+
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 132
-  const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
-  const T P_y = p.d + p.r*s_crank_rel;
-  const T P_x = p.r*c_crank_rel;
-  const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = p.r*c_crank_rel_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T _tmp0 = T(1)/g2_lever_root;
-  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
-  const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T s_lever = P_y*_tmp0;
-  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
-  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
-  const T g3_block_ram_cross = -s_lever;
-  const T _tmp1 = T(1)/g3_block_ram_cross;
-  const T g3_block_ram_lambda = -p.h*_tmp1;
-  const T c_lever = P_x*_tmp0;
-  const T g3_block_ram_cross_d = -s_lever_d;
-  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
-  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
-  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
-  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
-  const T g3_block_ram_cross_dd = -s_lever_dd;
-  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
-  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
-  const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
-  const T C_x = c_lever*g3_block_ram_lambda;
-  const T C_y = g3_block_ram_lambda*s_lever;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
-  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T com_lever_x = T(0.5)*p.L*c_lever;
-  const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
-  const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
-  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
-  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
-  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
-  const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
-  const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
-  const T com_ram_x = C_x + T(0.05);
-  const T E_x = p.L*c_lever;
-  const T E_y = p.L*s_lever;
-  const T Tool_x = C_x + T(0.1);
-  const T Tool_y = C_y - T(0.02);
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
+  // Total ops: 130
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
   s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
   s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.lever.x = com_lever_x;
-  s.bodies.lever.y = com_lever_y;
-  const T _tmp2 = atan2(s_lever, c_lever);
-  s.bodies.lever.th = _tmp2;
-  s.bodies.lever.vx = com_lever_x_d;
-  s.bodies.lever.vy = com_lever_y_d;
-  s.bodies.lever.w = w_lever;
-  s.bodies.lever.ax = com_lever_x_dd;
-  s.bodies.lever.ay = com_lever_y_dd;
-  s.bodies.lever.al = w_lever_d;
-  s.bodies.block.x = C_x;
-  s.bodies.block.y = C_y;
-  s.bodies.block.th = _tmp2;
-  s.bodies.block.vx = C_x_d;
-  s.bodies.block.vy = C_y_d;
-  s.bodies.block.w = w_lever;
-  s.bodies.block.ax = C_x_dd;
-  s.bodies.block.ay = C_y_dd;
-  s.bodies.block.al = w_lever_d;
-  s.bodies.ram.x = com_ram_x;
-  s.bodies.ram.y = C_y;
-  s.bodies.ram.th = T(0);
-  s.bodies.ram.vx = C_x_d;
-  s.bodies.ram.vy = C_y_d;
+  s.bodies.ram.cos_th = T(1);
+  s.bodies.ram.sin_th = T(0);
   s.bodies.ram.w = T(0);
-  s.bodies.ram.ax = C_x_dd;
-  s.bodies.ram.ay = C_y_dd;
   s.bodies.ram.al = T(0);
   s.points.Q.x = T(0);
   s.points.Q.y = T(0);
   s.points.O.x = T(0);
   s.points.O.y = p.d;
-  s.points.P.x = P_x;
+  const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
+  const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
+  const T P_y = p.d + p.r*s_crank_rel;
   s.points.P.y = P_y;
-  s.points.E.x = E_x;
-  s.points.E.y = E_y;
+  const T P_x = p.r*c_crank_rel;
+  s.points.P.x = P_x;
+  const T g2_lever_disc = P_x*P_x + P_y*P_y;
+  const T g2_lever_root = sqrt(g2_lever_disc);
+  const T _tmp0 = T(1)/g2_lever_root;
+  const T s_lever = P_y*_tmp0;
+  s.bodies.lever.sin_th = s_lever;
+  s.bodies.block.sin_th = s_lever;
+  const T c_lever = P_x*_tmp0;
+  s.bodies.lever.cos_th = c_lever;
+  s.bodies.block.cos_th = c_lever;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
+  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
+  const T g3_block_ram_cross_dd = -s_lever_dd;
+  const T g3_block_ram_cross_d = -s_lever_d;
+  const T g3_block_ram_cross = -s_lever;
+  const T _tmp1 = T(1)/g3_block_ram_cross;
+  const T g3_block_ram_lambda = -p.h*_tmp1;
+  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
+  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
+  s.bodies.block.ax = C_x_dd;
+  s.bodies.ram.ax = C_x_dd;
+  const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
+  s.bodies.block.ay = C_y_dd;
+  s.bodies.ram.ay = C_y_dd;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
+  s.bodies.crank.y = com_crank_y;
+  const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
+  s.bodies.lever.w = w_lever;
+  s.bodies.block.w = w_lever;
+  const T C_x = c_lever*g3_block_ram_lambda;
+  s.bodies.block.x = C_x;
   s.points.C.x = C_x;
+  const T C_y = g3_block_ram_lambda*s_lever;
+  s.bodies.block.y = C_y;
+  s.bodies.ram.y = C_y;
   s.points.C.y = C_y;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
+  s.bodies.lever.x = com_lever_x;
+  const T com_lever_y = T(0.5)*p.L*s_lever;
+  s.bodies.lever.y = com_lever_y;
+  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
+  s.bodies.lever.vx = com_lever_x_d;
+  const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
+  s.bodies.lever.vy = com_lever_y_d;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+  s.bodies.lever.ax = com_lever_x_dd;
+  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
+  s.bodies.lever.ay = com_lever_y_dd;
+  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
+  s.bodies.lever.al = w_lever_d;
+  s.bodies.block.al = w_lever_d;
+  const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
+  s.bodies.block.vx = C_x_d;
+  s.bodies.ram.vx = C_x_d;
+  const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
+  s.bodies.block.vy = C_y_d;
+  s.bodies.ram.vy = C_y_d;
+  const T com_ram_x = C_x + T(0.05);
+  s.bodies.ram.x = com_ram_x;
+  const T E_x = p.L*c_lever;
+  s.points.E.x = E_x;
+  const T E_y = p.L*s_lever;
+  s.points.E.y = E_y;
+  const T Tool_x = C_x + T(0.1);
   s.points.Tool.x = Tool_x;
+  const T Tool_y = C_y - T(0.02);
   s.points.Tool.y = Tool_y;
+  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
 
   return Status::ok;
 }
@@ -339,177 +346,179 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 199
-  const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
-  const T P_y = p.d + p.r*s_crank_rel;
-  const T P_x = p.r*c_crank_rel;
-  const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = p.r*c_crank_rel_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T _tmp0 = T(1)/g2_lever_root;
-  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
-  const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T s_lever = P_y*_tmp0;
-  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
-  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
-  const T g3_block_ram_cross = -s_lever;
-  const T _tmp1 = T(1)/g3_block_ram_cross;
-  const T g3_block_ram_lambda = -p.h*_tmp1;
-  const T c_lever = P_x*_tmp0;
-  const T g3_block_ram_cross_d = -s_lever_d;
-  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
-  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
-  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
-  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
-  const T g3_block_ram_cross_dd = -s_lever_dd;
-  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
-  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
-  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
-  const T block_inertial_x = p.m_b*C_x_dd;
-  const T ram_inertial_x = p.m_r*C_x_dd;
-  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
-  const T _tmp2 = T(1)/T(12);
-  const T lever_inertia = (p.L*p.L)*p.m_l*_tmp2;
-  const T ne4 = block_inertial_x + p.F_cut + ram_inertial_x;
-  const T com_lever_x = T(0.5)*p.L*c_lever;
-  const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
-  const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
-  const T lever_inertial_x = p.m_l*com_lever_x_dd;
-  const T block_slide_normal_x = -s_lever;
-  const T _tmp3 = T(1)/block_slide_normal_x;
-  const T block_slide_n = ne4*_tmp3;
-  const T _tmp4 = T(1e-04)*w_lever_d;
-  const T ne2 = _tmp4 + com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
-  const T crank_pin_normal_x = -s_lever;
-  const T _tmp5 = P_x*c_lever;
-  const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp5;
-  const T C_x = c_lever*g3_block_ram_lambda;
-  const T C_y = g3_block_ram_lambda*s_lever;
-  const T _tmp6 = T(1)/ne_pivot11;
-  const T crank_pin_n = ((C_x*c_lever - C_y*block_slide_normal_x)*block_slide_n + ne2)*_tmp6;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T crank_inertia = p.m_c*(p.r*p.r)*_tmp2;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
-  const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
-  const T crank_inertial_x = p.m_c*com_crank_x_dd;
-  const T crank_angle_effort = ((P_y - p.d)*crank_pin_normal_x - _tmp5)*crank_pin_n + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
-  const T _tmp7 = C_y_dd + T(9.81);
-  const T block_inertial_y = p.m_b*_tmp7;
-  const T ram_inertial_y = p.m_r*_tmp7;
-  const T com_ram_x = C_x + T(0.05);
-  const T Tool_y = C_y - T(0.02);
-  const T ram_slide_m = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
-  const T _tmp8 = block_slide_n*c_lever;
-  const T ram_pin_fy = _tmp8 - block_inertial_y;
-  const T _tmp9 = c_lever*crank_pin_n;
-  const T lever_pivot_fy = _tmp8 + _tmp9 + lever_inertial_y;
-  const T _tmp10 = block_slide_n*block_slide_normal_x;
-  const T _tmp11 = crank_pin_n*crank_pin_normal_x;
-  const T lever_pivot_fx = _tmp10 + _tmp11 + lever_inertial_x;
-  const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
-  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
-  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
-  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
-  const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
-  const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
-  const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
-  const T crank_pivot_fy = crank_inertial_y - _tmp9;
-  const T crank_pivot_fx = crank_inertial_x - _tmp11;
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  const T E_x = p.L*c_lever;
-  const T E_y = p.L*s_lever;
-  const T Tool_x = C_x + T(0.1);
-  const T ram_slide_n = ram_inertial_y - ram_pin_fy;
-  const T ram_pin_fx = p.F_cut + ram_inertial_x;
-  const T block_slide_m = _tmp4;
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
-  if (!(ne_pivot11 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
+  // Total ops: 197
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
   s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
   s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.lever.x = com_lever_x;
-  s.bodies.lever.y = com_lever_y;
-  const T _tmp12 = atan2(s_lever, c_lever);
-  s.bodies.lever.th = _tmp12;
-  s.bodies.lever.vx = com_lever_x_d;
-  s.bodies.lever.vy = com_lever_y_d;
-  s.bodies.lever.w = w_lever;
-  s.bodies.lever.ax = com_lever_x_dd;
-  s.bodies.lever.ay = com_lever_y_dd;
-  s.bodies.lever.al = w_lever_d;
-  s.bodies.block.x = C_x;
-  s.bodies.block.y = C_y;
-  s.bodies.block.th = _tmp12;
-  s.bodies.block.vx = C_x_d;
-  s.bodies.block.vy = C_y_d;
-  s.bodies.block.w = w_lever;
-  s.bodies.block.ax = C_x_dd;
-  s.bodies.block.ay = C_y_dd;
-  s.bodies.block.al = w_lever_d;
-  s.bodies.ram.x = com_ram_x;
-  s.bodies.ram.y = C_y;
-  s.bodies.ram.th = T(0);
-  s.bodies.ram.vx = C_x_d;
-  s.bodies.ram.vy = C_y_d;
+  s.bodies.ram.cos_th = T(1);
+  s.bodies.ram.sin_th = T(0);
   s.bodies.ram.w = T(0);
-  s.bodies.ram.ax = C_x_dd;
-  s.bodies.ram.ay = C_y_dd;
   s.bodies.ram.al = T(0);
   s.points.Q.x = T(0);
   s.points.Q.y = T(0);
   s.points.O.x = T(0);
   s.points.O.y = p.d;
-  s.points.P.x = P_x;
-  s.points.P.y = P_y;
-  s.points.E.x = E_x;
-  s.points.E.y = E_y;
-  s.points.C.x = C_x;
-  s.points.C.y = C_y;
-  s.points.Tool.x = Tool_x;
-  s.points.Tool.y = Tool_y;
-  s.joints.crank_pivot.fx = crank_pivot_fx;
-  s.joints.crank_pivot.fy = crank_pivot_fy;
-  s.joints.lever_pivot.fx = lever_pivot_fx;
-  s.joints.lever_pivot.fy = lever_pivot_fy;
-  s.joints.crank_pin.fx = _tmp11;
-  s.joints.crank_pin.fy = _tmp9;
-  s.joints.block_slide.fx = _tmp10;
-  s.joints.block_slide.fy = _tmp8;
-  s.joints.block_slide.m = block_slide_m;
-  s.joints.ram_pin.fx = ram_pin_fx;
-  s.joints.ram_pin.fy = ram_pin_fy;
   s.joints.ram_slide.fx = T(0);
-  s.joints.ram_slide.fy = ram_slide_n;
-  s.joints.ram_slide.m = ram_slide_m;
+  const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
+  const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
+  const T P_y = p.d + p.r*s_crank_rel;
+  s.points.P.y = P_y;
+  const T P_x = p.r*c_crank_rel;
+  s.points.P.x = P_x;
+  const T g2_lever_disc = P_x*P_x + P_y*P_y;
+  const T g2_lever_root = sqrt(g2_lever_disc);
+  const T _tmp0 = T(1)/g2_lever_root;
+  const T s_lever = P_y*_tmp0;
+  s.bodies.lever.sin_th = s_lever;
+  s.bodies.block.sin_th = s_lever;
+  const T c_lever = P_x*_tmp0;
+  s.bodies.lever.cos_th = c_lever;
+  s.bodies.block.cos_th = c_lever;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
+  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
+  const T g3_block_ram_cross_dd = -s_lever_dd;
+  const T g3_block_ram_cross_d = -s_lever_d;
+  const T g3_block_ram_cross = -s_lever;
+  const T _tmp1 = T(1)/g3_block_ram_cross;
+  const T g3_block_ram_lambda = -p.h*_tmp1;
+  const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
+  const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
+  s.bodies.block.ax = C_x_dd;
+  s.bodies.ram.ax = C_x_dd;
+  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
+  s.bodies.lever.ay = com_lever_y_dd;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+  s.bodies.lever.ax = com_lever_x_dd;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
+  s.bodies.lever.x = com_lever_x;
+  const T com_lever_y = T(0.5)*p.L*s_lever;
+  s.bodies.lever.y = com_lever_y;
+  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
+  s.bodies.lever.al = w_lever_d;
+  s.bodies.block.al = w_lever_d;
+  const T ram_inertial_x = p.m_r*C_x_dd;
+  const T block_inertial_x = p.m_b*C_x_dd;
+  const T ne4 = block_inertial_x + p.F_cut + ram_inertial_x;
+  const T block_slide_normal_x = -s_lever;
+  const T _tmp2 = T(1)/block_slide_normal_x;
+  const T block_slide_n = ne4*_tmp2;
+  const T _tmp3 = block_slide_n*block_slide_normal_x;
+  s.joints.block_slide.fx = _tmp3;
+  const T _tmp4 = block_slide_n*c_lever;
+  s.joints.block_slide.fy = _tmp4;
+  const T C_x = c_lever*g3_block_ram_lambda;
+  s.bodies.block.x = C_x;
+  s.points.C.x = C_x;
+  const T C_y = g3_block_ram_lambda*s_lever;
+  s.bodies.block.y = C_y;
+  s.bodies.ram.y = C_y;
+  s.points.C.y = C_y;
+  const T crank_pin_normal_x = -s_lever;
+  const T _tmp5 = P_x*c_lever;
+  const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp5;
+  const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
+  const T lever_inertial_x = p.m_l*com_lever_x_dd;
+  const T _tmp6 = T(1)/T(12);
+  const T lever_inertia = (p.L*p.L)*p.m_l*_tmp6;
+  const T _tmp7 = T(1e-04)*w_lever_d;
+  const T ne2 = _tmp7 + com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
+  const T _tmp8 = T(1)/ne_pivot11;
+  const T crank_pin_n = ((C_x*c_lever - C_y*block_slide_normal_x)*block_slide_n + ne2)*_tmp8;
+  const T _tmp9 = crank_pin_n*crank_pin_normal_x;
+  s.joints.crank_pin.fx = _tmp9;
+  const T _tmp10 = c_lever*crank_pin_n;
+  s.joints.crank_pin.fy = _tmp10;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
+  s.bodies.crank.y = com_crank_y;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
+  const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
+  s.bodies.block.ay = C_y_dd;
+  s.bodies.ram.ay = C_y_dd;
+  const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
+  const T crank_inertial_x = p.m_c*com_crank_x_dd;
+  const T crank_inertia = p.m_c*(p.r*p.r)*_tmp6;
+  const T crank_angle_effort = ((P_y - p.d)*crank_pin_normal_x - _tmp5)*crank_pin_n + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
+  const T com_ram_x = C_x + T(0.05);
+  s.bodies.ram.x = com_ram_x;
+  const T Tool_y = C_y - T(0.02);
+  s.points.Tool.y = Tool_y;
+  const T _tmp11 = C_y_dd + T(9.81);
+  const T ram_inertial_y = p.m_r*_tmp11;
+  const T ram_slide_m = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
+  s.joints.ram_slide.m = ram_slide_m;
+  const T block_inertial_y = p.m_b*_tmp11;
+  const T ram_pin_fy = _tmp4 - block_inertial_y;
+  s.joints.ram_pin.fy = ram_pin_fy;
+  const T lever_pivot_fy = _tmp4 + _tmp10 + lever_inertial_y;
+  s.joints.lever_pivot.fy = lever_pivot_fy;
+  const T lever_pivot_fx = _tmp3 + _tmp9 + lever_inertial_x;
+  s.joints.lever_pivot.fx = lever_pivot_fx;
+  const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
+  s.bodies.lever.w = w_lever;
+  s.bodies.block.w = w_lever;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
+  const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
+  s.bodies.lever.vx = com_lever_x_d;
+  const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
+  s.bodies.lever.vy = com_lever_y_d;
+  const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
+  s.bodies.block.vx = C_x_d;
+  s.bodies.ram.vx = C_x_d;
+  const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
+  s.bodies.block.vy = C_y_d;
+  s.bodies.ram.vy = C_y_d;
+  const T crank_pivot_fy = crank_inertial_y - _tmp10;
+  s.joints.crank_pivot.fy = crank_pivot_fy;
+  const T crank_pivot_fx = crank_inertial_x - _tmp9;
+  s.joints.crank_pivot.fx = crank_pivot_fx;
+  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  const T E_x = p.L*c_lever;
+  s.points.E.x = E_x;
+  const T E_y = p.L*s_lever;
+  s.points.E.y = E_y;
+  const T Tool_x = C_x + T(0.1);
+  s.points.Tool.x = Tool_x;
+  const T ram_slide_n = ram_inertial_y - ram_pin_fy;
+  s.joints.ram_slide.fy = ram_slide_n;
+  const T ram_pin_fx = p.F_cut + ram_inertial_x;
+  s.joints.ram_pin.fx = ram_pin_fx;
+  const T block_slide_m = _tmp7;
+  s.joints.block_slide.m = block_slide_m;
+  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
+  if (!(ne_pivot11 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -562,172 +571,172 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
     // Total ops: 199
-    const T c_crank_rel = cos(in.crank_angle);
-    const T s_crank_rel = sin(in.crank_angle);
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T P_x = p.r*c_crank_rel;
-    const T P_y = p.d + p.r*s_crank_rel;
-    const T g2_lever_disc = P_x*P_x + P_y*P_y;
-    failed = max(failed, (g2_lever_disc > T(0)) ? T(0) : T(8192009));
-    const T g2_lever_root = sqrt(g2_lever_disc);
-    const T P_x_d = p.r*c_crank_rel_d;
-    const T P_y_d = p.r*s_crank_rel_d;
-    const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-    const T _tmp0 = T(1)/g2_lever_root;
-    const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
-    const T c_lever = P_x*_tmp0;
-    const T s_lever = P_y*_tmp0;
-    const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
-    const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
-    const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
-    const T g3_block_ram_cross = -s_lever;
-    failed = max(failed, (g3_block_ram_cross != T(0)) ? T(0) : T(8187918));
-    const T _tmp1 = T(1)/g3_block_ram_cross;
-    const T g3_block_ram_lambda = -p.h*_tmp1;
-    const T C_x = c_lever*g3_block_ram_lambda;
-    const T C_y = g3_block_ram_lambda*s_lever;
-    const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-    const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-    const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
-    const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
-    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-    const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-    const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-    const T com_lever_x = T(0.5)*p.L*c_lever;
-    const T com_lever_y = T(0.5)*p.L*s_lever;
-    const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
-    const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
-    const T P_x_dd = p.r*c_crank_rel_dd;
-    const T P_y_dd = p.r*s_crank_rel_dd;
-    const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-    const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
-    const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
-    const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
-    const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
-    const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
-    const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
-    const T g3_block_ram_cross_d = -s_lever_d;
-    const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
-    const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
-    const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
-    const T g3_block_ram_cross_dd = -s_lever_dd;
-    const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
-    const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
-    const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
-    const T com_ram_x = C_x + T(0.05);
-    const T E_x = p.L*c_lever;
-    const T E_y = p.L*s_lever;
-    const T Tool_x = C_x + T(0.1);
-    const T Tool_y = C_y - T(0.02);
-    const T _tmp2 = T(1)/T(12);
-    const T crank_inertia = p.m_c*(p.r*p.r)*_tmp2;
-    const T crank_inertial_x = p.m_c*com_crank_x_dd;
-    const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
-    const T lever_inertia = (p.L*p.L)*p.m_l*_tmp2;
-    const T lever_inertial_x = p.m_l*com_lever_x_dd;
-    const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
-    const T block_inertial_x = p.m_b*C_x_dd;
-    const T _tmp3 = C_y_dd + T(9.81);
-    const T block_inertial_y = p.m_b*_tmp3;
-    const T ram_inertial_x = p.m_r*C_x_dd;
-    const T ram_inertial_y = p.m_r*_tmp3;
-    const T crank_pin_normal_x = -s_lever;
-    const T block_slide_normal_x = -s_lever;
-    const T _tmp4 = T(1e-04)*w_lever_d;
-    const T ne2 = _tmp4 + com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
-    const T ne4 = block_inertial_x + p.F_cut + ram_inertial_x;
-    const T _tmp5 = P_x*c_lever;
-    const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp5;
-    failed = max(failed, (ne_pivot11 != T(0)) ? T(0) : T(8183810));
-    failed = max(failed, (block_slide_normal_x != T(0)) ? T(0) : T(8179714));
-    const T _tmp6 = T(1)/block_slide_normal_x;
-    const T block_slide_n = ne4*_tmp6;
-    const T _tmp7 = T(1)/ne_pivot11;
-    const T crank_pin_n = ((C_x*c_lever - C_y*block_slide_normal_x)*block_slide_n + ne2)*_tmp7;
-    const T ram_slide_m = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
-    const T _tmp8 = block_slide_n*c_lever;
-    const T ram_pin_fy = _tmp8 - block_inertial_y;
-    const T ram_slide_n = ram_inertial_y - ram_pin_fy;
-    const T ram_pin_fx = p.F_cut + ram_inertial_x;
-    const T block_slide_m = _tmp4;
-    const T _tmp9 = c_lever*crank_pin_n;
-    const T lever_pivot_fy = _tmp8 + _tmp9 + lever_inertial_y;
-    const T _tmp10 = block_slide_n*block_slide_normal_x;
-    const T _tmp11 = crank_pin_n*crank_pin_normal_x;
-    const T lever_pivot_fx = _tmp10 + _tmp11 + lever_inertial_x;
-    const T crank_angle_effort = ((P_y - p.d)*crank_pin_normal_x - _tmp5)*crank_pin_n + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
-    const T crank_pivot_fy = crank_inertial_y - _tmp9;
-    const T crank_pivot_fx = crank_inertial_x - _tmp11;
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;
     out[3 * stride + i] = in.crank_angle_dd;
-    out[5 * stride + i] = com_crank_x;
-    out[6 * stride + i] = com_crank_y;
-    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
-    out[8 * stride + i] = com_crank_x_d;
-    out[9 * stride + i] = com_crank_y_d;
     out[10 * stride + i] = in.crank_angle_d;
-    out[11 * stride + i] = com_crank_x_dd;
-    out[12 * stride + i] = com_crank_y_dd;
     out[13 * stride + i] = in.crank_angle_dd;
-    out[14 * stride + i] = com_lever_x;
-    out[15 * stride + i] = com_lever_y;
-    const T _tmp12 = atan2(s_lever, c_lever);
-    out[16 * stride + i] = _tmp12;
-    out[17 * stride + i] = com_lever_x_d;
-    out[18 * stride + i] = com_lever_y_d;
-    out[19 * stride + i] = w_lever;
-    out[20 * stride + i] = com_lever_x_dd;
-    out[21 * stride + i] = com_lever_y_dd;
-    out[22 * stride + i] = w_lever_d;
-    out[23 * stride + i] = C_x;
-    out[24 * stride + i] = C_y;
-    out[25 * stride + i] = _tmp12;
-    out[26 * stride + i] = C_x_d;
-    out[27 * stride + i] = C_y_d;
-    out[28 * stride + i] = w_lever;
-    out[29 * stride + i] = C_x_dd;
-    out[30 * stride + i] = C_y_dd;
-    out[31 * stride + i] = w_lever_d;
-    out[32 * stride + i] = com_ram_x;
-    out[33 * stride + i] = C_y;
     out[34 * stride + i] = T(0);
-    out[35 * stride + i] = C_x_d;
-    out[36 * stride + i] = C_y_d;
     out[37 * stride + i] = T(0);
-    out[38 * stride + i] = C_x_dd;
-    out[39 * stride + i] = C_y_dd;
     out[40 * stride + i] = T(0);
     out[41 * stride + i] = T(0);
     out[42 * stride + i] = T(0);
     out[43 * stride + i] = T(0);
     out[44 * stride + i] = p.d;
-    out[45 * stride + i] = P_x;
-    out[46 * stride + i] = P_y;
-    out[47 * stride + i] = E_x;
-    out[48 * stride + i] = E_y;
-    out[49 * stride + i] = C_x;
-    out[50 * stride + i] = C_y;
-    out[51 * stride + i] = Tool_x;
-    out[52 * stride + i] = Tool_y;
-    out[53 * stride + i] = crank_pivot_fx;
-    out[54 * stride + i] = crank_pivot_fy;
-    out[55 * stride + i] = lever_pivot_fx;
-    out[56 * stride + i] = lever_pivot_fy;
-    out[57 * stride + i] = _tmp11;
-    out[58 * stride + i] = _tmp9;
-    out[59 * stride + i] = _tmp10;
-    out[60 * stride + i] = _tmp8;
-    out[61 * stride + i] = block_slide_m;
-    out[62 * stride + i] = ram_pin_fx;
-    out[63 * stride + i] = ram_pin_fy;
     out[64 * stride + i] = T(0);
-    out[65 * stride + i] = ram_slide_n;
+    const T s_crank_rel = sin(in.crank_angle);
+    const T c_crank_rel = cos(in.crank_angle);
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
+    const T P_x = p.r*c_crank_rel;
+    out[45 * stride + i] = P_x;
+    const T P_y = p.d + p.r*s_crank_rel;
+    out[46 * stride + i] = P_y;
+    const T g2_lever_disc = P_x*P_x + P_y*P_y;
+    failed = max(failed, (g2_lever_disc > T(0)) ? T(0) : T(8192009));
+    const T g2_lever_root = sqrt(g2_lever_disc);
+    const T _tmp0 = T(1)/g2_lever_root;
+    const T s_lever = P_y*_tmp0;
+    const T c_lever = P_x*_tmp0;
+    const T _tmp1 = atan2(s_lever, c_lever);
+    out[16 * stride + i] = _tmp1;
+    out[25 * stride + i] = _tmp1;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.r*s_crank_rel_d;
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.r*c_crank_rel_d;
+    const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
+    const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+    const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
+    const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+    const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
+    out[19 * stride + i] = w_lever;
+    out[28 * stride + i] = w_lever;
+    const T g3_block_ram_cross = -s_lever;
+    failed = max(failed, (g3_block_ram_cross != T(0)) ? T(0) : T(8187918));
+    const T _tmp2 = T(1)/g3_block_ram_cross;
+    const T g3_block_ram_lambda = -p.h*_tmp2;
+    const T C_x = c_lever*g3_block_ram_lambda;
+    out[23 * stride + i] = C_x;
+    out[49 * stride + i] = C_x;
+    const T C_y = g3_block_ram_lambda*s_lever;
+    out[24 * stride + i] = C_y;
+    out[33 * stride + i] = C_y;
+    out[50 * stride + i] = C_y;
+    const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+    out[5 * stride + i] = com_crank_x;
+    const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
+    out[6 * stride + i] = com_crank_y;
+    const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+    out[8 * stride + i] = com_crank_x_d;
+    const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+    out[9 * stride + i] = com_crank_y_d;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+    out[11 * stride + i] = com_crank_x_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+    out[12 * stride + i] = com_crank_y_dd;
+    const T com_lever_x = T(0.5)*p.L*c_lever;
+    out[14 * stride + i] = com_lever_x;
+    const T com_lever_y = T(0.5)*p.L*s_lever;
+    out[15 * stride + i] = com_lever_y;
+    const T com_lever_x_d = T(0.5)*p.L*c_lever_d;
+    out[17 * stride + i] = com_lever_x_d;
+    const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
+    out[18 * stride + i] = com_lever_y_d;
+    const T P_y_dd = p.r*s_crank_rel_dd;
+    const T P_x_dd = p.r*c_crank_rel_dd;
+    const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
+    const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+    const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+    const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
+    out[20 * stride + i] = com_lever_x_dd;
+    const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
+    const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
+    out[21 * stride + i] = com_lever_y_dd;
+    const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
+    out[22 * stride + i] = w_lever_d;
+    out[31 * stride + i] = w_lever_d;
+    const T g3_block_ram_cross_d = -s_lever_d;
+    const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp2;
+    const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
+    out[26 * stride + i] = C_x_d;
+    out[35 * stride + i] = C_x_d;
+    const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
+    out[27 * stride + i] = C_y_d;
+    out[36 * stride + i] = C_y_d;
+    const T g3_block_ram_cross_dd = -s_lever_dd;
+    const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp2;
+    const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
+    out[29 * stride + i] = C_x_dd;
+    out[38 * stride + i] = C_x_dd;
+    const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
+    out[30 * stride + i] = C_y_dd;
+    out[39 * stride + i] = C_y_dd;
+    const T com_ram_x = C_x + T(0.05);
+    out[32 * stride + i] = com_ram_x;
+    const T E_x = p.L*c_lever;
+    out[47 * stride + i] = E_x;
+    const T E_y = p.L*s_lever;
+    out[48 * stride + i] = E_y;
+    const T Tool_x = C_x + T(0.1);
+    out[51 * stride + i] = Tool_x;
+    const T Tool_y = C_y - T(0.02);
+    out[52 * stride + i] = Tool_y;
+    const T crank_pin_normal_x = -s_lever;
+    const T _tmp3 = P_x*c_lever;
+    const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp3;
+    failed = max(failed, (ne_pivot11 != T(0)) ? T(0) : T(8183810));
+    const T block_slide_normal_x = -s_lever;
+    failed = max(failed, (block_slide_normal_x != T(0)) ? T(0) : T(8179714));
+    const T ram_inertial_x = p.m_r*C_x_dd;
+    const T block_inertial_x = p.m_b*C_x_dd;
+    const T ne4 = block_inertial_x + p.F_cut + ram_inertial_x;
+    const T _tmp4 = T(1)/block_slide_normal_x;
+    const T block_slide_n = ne4*_tmp4;
+    const T _tmp5 = block_slide_n*block_slide_normal_x;
+    out[59 * stride + i] = _tmp5;
+    const T _tmp6 = block_slide_n*c_lever;
+    out[60 * stride + i] = _tmp6;
+    const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
+    const T lever_inertial_x = p.m_l*com_lever_x_dd;
+    const T _tmp7 = T(1)/T(12);
+    const T lever_inertia = (p.L*p.L)*p.m_l*_tmp7;
+    const T _tmp8 = T(1e-04)*w_lever_d;
+    const T ne2 = _tmp8 + com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
+    const T _tmp9 = T(1)/ne_pivot11;
+    const T crank_pin_n = ((C_x*c_lever - C_y*block_slide_normal_x)*block_slide_n + ne2)*_tmp9;
+    const T _tmp10 = crank_pin_n*crank_pin_normal_x;
+    out[57 * stride + i] = _tmp10;
+    const T _tmp11 = c_lever*crank_pin_n;
+    out[58 * stride + i] = _tmp11;
+    const T _tmp12 = C_y_dd + T(9.81);
+    const T ram_inertial_y = p.m_r*_tmp12;
+    const T ram_slide_m = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
     out[66 * stride + i] = ram_slide_m;
+    const T block_inertial_y = p.m_b*_tmp12;
+    const T ram_pin_fy = _tmp6 - block_inertial_y;
+    out[63 * stride + i] = ram_pin_fy;
+    const T ram_slide_n = ram_inertial_y - ram_pin_fy;
+    out[65 * stride + i] = ram_slide_n;
+    const T ram_pin_fx = p.F_cut + ram_inertial_x;
+    out[62 * stride + i] = ram_pin_fx;
+    const T block_slide_m = _tmp8;
+    out[61 * stride + i] = block_slide_m;
+    const T lever_pivot_fy = _tmp6 + _tmp11 + lever_inertial_y;
+    out[56 * stride + i] = lever_pivot_fy;
+    const T lever_pivot_fx = _tmp5 + _tmp10 + lever_inertial_x;
+    out[55 * stride + i] = lever_pivot_fx;
+    const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
+    const T crank_inertial_x = p.m_c*com_crank_x_dd;
+    const T crank_inertia = p.m_c*(p.r*p.r)*_tmp7;
+    const T crank_angle_effort = ((P_y - p.d)*crank_pin_normal_x - _tmp3)*crank_pin_n + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
     out[4 * stride + i] = crank_angle_effort;
+    const T crank_pivot_fy = crank_inertial_y - _tmp11;
+    out[54 * stride + i] = crank_pivot_fy;
+    const T crank_pivot_fx = crank_inertial_x - _tmp10;
+    out[53 * stride + i] = crank_pivot_fx;
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -747,107 +756,107 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 154
+  A[0] = T(1);
+  A[13] = T(1);
+  A[35] = T(1);
+  A[38] = T(1);
+  A[51] = T(1);
+  A[66] = -T(1);
+  A[79] = -T(1);
+  A[92] = -T(1);
+  A[102] = T(1);
+  A[115] = T(1);
+  A[128] = T(1);
+  A[129] = T(1);
+  A[142] = T(1);
   const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
   const T P_y = p.d + p.r*s_crank_rel;
+  const T c_crank_rel = cos(in.crank_angle);
   const T P_x = p.r*c_crank_rel;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
   const T g2_lever_root = sqrt(g2_lever_disc);
-  const T P_x_d = p.r*c_crank_rel_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T P_y_dd = p.r*s_crank_rel_dd;
   const T _tmp0 = T(1)/g2_lever_root;
-  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
+  const T c_lever = P_x*_tmp0;
+  A[16] = c_lever;
+  A[52] = -c_lever;
+  A[53] = -c_lever;
+  A[89] = c_lever;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
-  const T s_lever = P_y*_tmp0;
+  const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
+  const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
   const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T s_lever = P_y*_tmp0;
   const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
+  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
+  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
+  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
+  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
+  b[8] = T(1e-04)*w_lever_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
+  b[1] = crank_inertial_y;
+  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
+  const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
+  b[4] = lever_inertial_y;
+  const T g3_block_ram_cross_dd = -s_lever_dd;
+  const T g3_block_ram_cross_d = -s_lever_d;
   const T g3_block_ram_cross = -s_lever;
   const T _tmp1 = T(1)/g3_block_ram_cross;
   const T g3_block_ram_lambda = -p.h*_tmp1;
-  const T c_lever = P_x*_tmp0;
-  const T g3_block_ram_cross_d = -s_lever_d;
   const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
-  const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
-  const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
-  const T g3_block_ram_cross_dd = -s_lever_dd;
   const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp1;
-  const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
-  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
-  const T _tmp2 = T(1)/T(12);
-  const T crank_inertia = p.m_c*(p.r*p.r)*_tmp2;
-  const T lever_inertia = (p.L*p.L)*p.m_l*_tmp2;
-  const T C_x = c_lever*g3_block_ram_lambda;
+  const T _tmp2 = C_y_dd + T(9.81);
+  const T block_inertial_y = p.m_b*_tmp2;
+  b[7] = block_inertial_y;
+  const T ram_inertial_y = p.m_r*_tmp2;
+  b[10] = ram_inertial_y;
   const T C_y = g3_block_ram_lambda*s_lever;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T com_lever_x = T(0.5)*p.L*c_lever;
-  const T com_lever_y = T(0.5)*p.L*s_lever;
-  const T w_lever_d = c_lever*s_lever_dd - c_lever_dd*s_lever;
-  const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
-  const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
-  const T _tmp3 = C_y_dd + T(9.81);
-  const T block_inertial_y = p.m_b*_tmp3;
-  const T ram_inertial_y = p.m_r*_tmp3;
-  const T com_ram_x = C_x + T(0.05);
   const T Tool_y = C_y - T(0.02);
+  const T C_x = c_lever*g3_block_ram_lambda;
+  const T com_ram_x = C_x + T(0.05);
+  b[11] = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
   const T crank_inertial_x = p.m_c*com_crank_x_dd;
+  b[0] = crank_inertial_x;
+  const T _tmp3 = T(1)/T(12);
+  const T crank_inertia = p.m_c*(p.r*p.r)*_tmp3;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
+  const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
   const T lever_inertial_x = p.m_l*com_lever_x_dd;
+  b[3] = lever_inertial_x;
+  const T lever_inertia = (p.L*p.L)*p.m_l*_tmp3;
+  const T com_lever_y = T(0.5)*p.L*s_lever;
+  const T com_lever_x = T(0.5)*p.L*c_lever;
+  b[5] = com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
+  const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   const T block_inertial_x = p.m_b*C_x_dd;
+  b[6] = block_inertial_x;
   const T ram_inertial_x = p.m_r*C_x_dd;
+  b[9] = p.F_cut + ram_inertial_x;
   if (!(g2_lever_disc > T(0))) return Status::unreachable;
   if (!(g3_block_ram_cross != T(0))) return Status::singular;
   const T block_slide_normal_x = -s_lever;
+  A[41] = -block_slide_normal_x;
+  A[65] = C_y*block_slide_normal_x - C_x*c_lever;
+  A[77] = block_slide_normal_x;
   const T crank_pin_normal_x = -s_lever;
-  if (!(block_slide_normal_x != T(0))) return Status::singular;
-  A[0] = T(1);
   A[4] = crank_pin_normal_x;
-  b[0] = crank_inertial_x;
-  A[13] = T(1);
-  A[16] = c_lever;
-  b[1] = crank_inertial_y;
   const T _tmp4 = P_x*c_lever;
   A[28] = _tmp4 - (P_y - p.d)*crank_pin_normal_x;
-  A[35] = T(1);
-  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - (com_crank_y - p.d)*crank_inertial_x;
-  A[38] = T(1);
   A[40] = -crank_pin_normal_x;
-  A[41] = -block_slide_normal_x;
-  b[3] = lever_inertial_x;
-  A[51] = T(1);
-  A[52] = -c_lever;
-  A[53] = -c_lever;
-  b[4] = lever_inertial_y;
   A[64] = P_y*crank_pin_normal_x - _tmp4;
-  A[65] = C_y*block_slide_normal_x - C_x*c_lever;
-  A[66] = -T(1);
-  b[5] = com_lever_x*lever_inertial_y + lever_inertia*w_lever_d - com_lever_y*lever_inertial_x;
-  A[77] = block_slide_normal_x;
-  A[79] = -T(1);
-  b[6] = block_inertial_x;
-  A[89] = c_lever;
-  A[92] = -T(1);
-  b[7] = block_inertial_y;
-  A[102] = T(1);
-  b[8] = T(1e-04)*w_lever_d;
-  A[115] = T(1);
-  b[9] = p.F_cut + ram_inertial_x;
-  A[128] = T(1);
-  A[129] = T(1);
-  b[10] = ram_inertial_y;
-  A[142] = T(1);
-  b[11] = p.F_cut*(C_y - Tool_y) - (C_x - com_ram_x)*ram_inertial_y;
+  if (!(block_slide_normal_x != T(0))) return Status::singular;
 
   return Status::ok;
 }
@@ -910,7 +919,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[4] = s.drivers.crank_angle.effort;
   row[5] = s.bodies.crank.x;
   row[6] = s.bodies.crank.y;
-  row[7] = s.bodies.crank.th;
+  row[7] = s.bodies.crank.th();
   row[8] = s.bodies.crank.vx;
   row[9] = s.bodies.crank.vy;
   row[10] = s.bodies.crank.w;
@@ -919,7 +928,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[13] = s.bodies.crank.al;
   row[14] = s.bodies.lever.x;
   row[15] = s.bodies.lever.y;
-  row[16] = s.bodies.lever.th;
+  row[16] = s.bodies.lever.th();
   row[17] = s.bodies.lever.vx;
   row[18] = s.bodies.lever.vy;
   row[19] = s.bodies.lever.w;
@@ -928,7 +937,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[22] = s.bodies.lever.al;
   row[23] = s.bodies.block.x;
   row[24] = s.bodies.block.y;
-  row[25] = s.bodies.block.th;
+  row[25] = s.bodies.block.th();
   row[26] = s.bodies.block.vx;
   row[27] = s.bodies.block.vy;
   row[28] = s.bodies.block.w;
@@ -937,7 +946,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[31] = s.bodies.block.al;
   row[32] = s.bodies.ram.x;
   row[33] = s.bodies.ram.y;
-  row[34] = s.bodies.ram.th;
+  row[34] = s.bodies.ram.th();
   row[35] = s.bodies.ram.vx;
   row[36] = s.bodies.ram.vy;
   row[37] = s.bodies.ram.w;

@@ -6,9 +6,10 @@
 //
 // Plain C++17 with <cmath> and <limits> only: no heap, no exceptions, the scalar type a template parameter.
 // Units are SI and radians; positions are in the frame of the ground body 'ground'. Body
-// outputs are the centre of mass (x, y), the body angle th (in (-pi, pi]) and their first and
-// second time derivatives; joint outputs are the force (and moment) of the joint's first body on
-// its second, at the joint point; a driver's effort acts on its joint's second body.
+// outputs are the centre of mass (x, y), the orientation (cos_th, sin_th), its angle th() (in
+// (-pi, pi], computed on demand) and their first and second time derivatives; joint outputs are
+// the force (and moment) of the joint's first body on its second, at the joint point; a driver's
+// effort acts on its joint's second body.
 //
 // Solve plan, in the frame of body 'ground':
 //   g1_crank: driven revolute, bodies crank, joints O_ground_crank, driver crank_angle
@@ -54,65 +55,6 @@ struct BatchInputs {
   const T* crank_angle_d = nullptr;
   const T* crank_angle_dd = nullptr;
 };
-
-template <class T>
-struct BodyState {
-  T x, y, th, vx, vy, w, ax, ay, al;
-};
-template <class T>
-struct PointState {
-  T x, y;
-};
-template <class T>
-struct JointForce {
-  T fx, fy;
-};
-template <class T>
-struct JointForceMoment {
-  T fx, fy, m;
-};
-template <class T>
-struct DriverState {
-  T q, qd, qdd, effort;
-};
-
-template <class T>
-struct State {
-  struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> rod;
-    BodyState<T> slider;
-  } bodies;
-  struct Points {
-    PointState<T> O;
-    PointState<T> G;
-    PointState<T> P;
-    PointState<T> Q;
-  } points;
-  struct Joints {
-    JointForce<T> O_ground_crank;  // revolute
-    JointForce<T> P_crank_rod;  // revolute
-    JointForce<T> Q_rod_slider;  // revolute
-    JointForceMoment<T> slide;  // prismatic
-  } joints;
-  struct Drivers {
-    DriverState<T> crank_angle;
-  } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
-};
-
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
-
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider" };
-
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
-template <class T>
-bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
-}
 
 namespace detail {
 #if defined(__GNUC__)
@@ -208,105 +150,170 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+template <class T>
+struct BodyState {
+  // The orientation is kept as its cosine and sine, exact from the closed form, which is what a
+  // rotation needs; the angle costs an atan2, so it is computed only when asked for.
+  T x, y, cos_th, sin_th, vx, vy, w, ax, ay, al;
+  T th() const noexcept { return detail::atan2(sin_th, cos_th); }
+};
+template <class T>
+struct PointState {
+  T x, y;
+};
+template <class T>
+struct JointForce {
+  T fx, fy;
+};
+template <class T>
+struct JointForceMoment {
+  T fx, fy, m;
+};
+template <class T>
+struct DriverState {
+  T q, qd, qdd, effort;
+};
+
+template <class T>
+struct State {
+  struct Bodies {
+    BodyState<T> crank;
+    BodyState<T> rod;
+    BodyState<T> slider;
+  } bodies;
+  struct Points {
+    PointState<T> O;
+    PointState<T> G;
+    PointState<T> P;
+    PointState<T> Q;
+  } points;
+  struct Joints {
+    JointForce<T> O_ground_crank;  // revolute
+    JointForce<T> P_crank_rod;  // revolute
+    JointForce<T> Q_rod_slider;  // revolute
+    JointForceMoment<T> slide;  // prismatic
+  } joints;
+  struct Drivers {
+    DriverState<T> crank_angle;
+  } drivers;
+  int failed_group = -1;  // the solve group that failed, when the status is not ok
+};
+
+enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+
+inline constexpr int group_count = 2;
+// Solve groups in order; State::failed_group indexes this table.
+inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider" };
+
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+template <class T>
+bool inputs_finite(const Inputs<T>& in) noexcept {
+  using std::isfinite;
+  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
+}
+
+
 // Positions, velocities and accelerations of every body, point and driver; joint forces and
 // driver efforts are left untouched.
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 88
-  const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
-  const T P_y = p.r*s_crank_rel;
-  const T g2_rod_slider_w_y = -P_y;
-  const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
-  const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_rod_slider_w_y_d = -P_y_d;
-  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T _tmp0 = T(1)/g2_rod_slider_root;
-  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp0;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T g2_rod_slider_w_y_dd = -P_y_dd;
-  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp0;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x = p.r*c_crank_rel;
-  const T P_x_d = p.r*c_crank_rel_d;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T g2_rod_slider_w_x = -P_x;
-  const T g2_rod_slider_w_x_d = -P_x_d;
-  const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T _tmp1 = T(1)/p.L;
-  const T c_rod = -_tmp1*(P_x - g2_rod_slider_lambda);
-  const T s_rod = -_tmp1*P_y;
-  const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
-  const T s_rod_d = -_tmp1*P_y_d;
-  const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
-  const T s_rod_dd = -_tmp1*P_y_dd;
-  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
-  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
-  const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
-  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
-  const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
-  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
-  const T G_x = T(3)*p.r + p.L;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  // Total ops: 86
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
   s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
   s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.rod.x = com_rod_x;
-  s.bodies.rod.y = com_rod_y;
-  s.bodies.rod.th = atan2(s_rod, c_rod);
-  s.bodies.rod.vx = com_rod_x_d;
-  s.bodies.rod.vy = com_rod_y_d;
-  s.bodies.rod.w = w_rod;
-  s.bodies.rod.ax = com_rod_x_dd;
-  s.bodies.rod.ay = com_rod_y_dd;
-  s.bodies.rod.al = w_rod_d;
-  s.bodies.slider.x = g2_rod_slider_lambda;
   s.bodies.slider.y = T(0);
-  s.bodies.slider.th = T(0);
-  s.bodies.slider.vx = g2_rod_slider_lambda_d;
+  s.bodies.slider.cos_th = T(1);
+  s.bodies.slider.sin_th = T(0);
   s.bodies.slider.vy = T(0);
   s.bodies.slider.w = T(0);
-  s.bodies.slider.ax = g2_rod_slider_lambda_dd;
   s.bodies.slider.ay = T(0);
   s.bodies.slider.al = T(0);
   s.points.O.x = T(0);
   s.points.O.y = T(0);
-  s.points.G.x = G_x;
   s.points.G.y = T(0);
-  s.points.P.x = P_x;
-  s.points.P.y = P_y;
-  s.points.Q.x = g2_rod_slider_lambda;
   s.points.Q.y = T(0);
+  const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
+  const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
+  const T P_y = p.r*s_crank_rel;
+  s.points.P.y = P_y;
+  const T P_x = p.r*c_crank_rel;
+  s.points.P.x = P_x;
+  const T g2_rod_slider_w_y = -P_y;
+  const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
+  const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
+  const T g2_rod_slider_w_x = -P_x;
+  const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
+  s.bodies.slider.x = g2_rod_slider_lambda;
+  s.points.Q.x = g2_rod_slider_lambda;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T g2_rod_slider_w_x_d = -P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T g2_rod_slider_w_y_d = -P_y_d;
+  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp0 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp0;
+  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+  s.bodies.slider.vx = g2_rod_slider_lambda_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T g2_rod_slider_w_x_dd = -P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T g2_rod_slider_w_y_dd = -P_y_dd;
+  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp0;
+  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+  s.bodies.slider.ax = g2_rod_slider_lambda_dd;
+  const T _tmp1 = T(1)/p.L;
+  const T c_rod = -_tmp1*(P_x - g2_rod_slider_lambda);
+  s.bodies.rod.cos_th = c_rod;
+  const T s_rod = -_tmp1*P_y;
+  s.bodies.rod.sin_th = s_rod;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
+  s.bodies.rod.x = com_rod_x;
+  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+  s.bodies.rod.y = com_rod_y;
+  const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
+  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
+  s.bodies.rod.vx = com_rod_x_d;
+  const T s_rod_d = -_tmp1*P_y_d;
+  const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+  s.bodies.rod.vy = com_rod_y_d;
+  const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  s.bodies.rod.ax = com_rod_x_dd;
+  const T s_rod_dd = -_tmp1*P_y_dd;
+  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
+  s.bodies.rod.ay = com_rod_y_dd;
+  const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
+  s.bodies.rod.w = w_rod;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
+  s.bodies.crank.y = com_crank_y;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
+  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
+  s.bodies.rod.al = w_rod_d;
+  const T G_x = T(3)*p.r + p.L;
+  s.points.G.x = G_x;
+  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
 
   return Status::ok;
 }
@@ -314,146 +321,148 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
-  using detail::atan2;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 171
-  const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
-  const T P_y = p.r*s_crank_rel;
-  const T g2_rod_slider_w_y = -P_y;
-  const T _tmp0 = p.L*p.L;
-  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
-  const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_rod_slider_w_y_d = -P_y_d;
-  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T _tmp1 = T(1)/g2_rod_slider_root;
-  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T g2_rod_slider_w_y_dd = -P_y_dd;
-  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T P_x = p.r*c_crank_rel;
-  const T G_x = T(3)*p.r + p.L;
-  const T g2_rod_slider_w_x = -P_x;
-  const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
-  const T spring_d_x = g2_rod_slider_lambda - G_x;
-  const T spring_length = sqrt(spring_d_x*spring_d_x);
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T _tmp2 = sqrt(_tmp0);
-  const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp2;
-  const T _tmp3 = p.bar_w*p.bar_w;
-  const T _tmp4 = T(1)/T(12);
-  const T rod_inertia = (_tmp0 + _tmp3)*p.bar_t*p.bar_w*p.rho*_tmp2*_tmp4;
-  const T P_x_d = p.r*c_crank_rel_d;
-  const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T _tmp5 = T(1)/p.L;
-  const T s_rod_dd = -_tmp5*P_y_dd;
-  const T g2_rod_slider_w_x_d = -P_x_d;
-  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-  const T c_rod_dd = -_tmp5*(P_x_dd - g2_rod_slider_lambda_dd);
-  const T _tmp6 = P_x - g2_rod_slider_lambda;
-  const T c_rod = -_tmp5*_tmp6;
-  const T s_rod = -_tmp5*P_y;
-  const T _tmp7 = T(1)/spring_length;
-  const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp7 - p.k_s*(p.s0 - spring_length);
-  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
-  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
-  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
-  const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
-  const T rod_inertial_x = rod_mass*com_rod_x_dd;
-  const T slider_inertial_x = p.m_s*g2_rod_slider_lambda_dd;
-  const T ne1 = -P_y;
-  const T _tmp8 = cos(p.w*in.t) + T(1);
-  const T ne2 = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y - T(0.5)*(p.F0*_tmp8 + T(2)*slider_inertial_x + T(2)*spring_d_x*spring_tension*_tmp7)*ne1;
-  const T Q_rod_slider_fx = T(0.5)*p.F0*_tmp8 + slider_inertial_x + spring_d_x*spring_tension*_tmp7;
-  const T _tmp9 = p.r*p.r;
-  const T _tmp10 = sqrt(_tmp9);
-  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp10;
-  const T crank_inertia = p.bar_t*p.bar_w*(_tmp3 + _tmp9)*p.rho*_tmp10*_tmp4;
-  const T ne_pivot9 = _tmp6;
-  const T _tmp11 = T(1)/ne_pivot9;
-  const T Q_rod_slider_fy = ne2*_tmp11;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
-  const T c_rod_d = -_tmp5*(P_x_d - g2_rod_slider_lambda_d);
-  const T s_rod_d = -_tmp5*P_y_d;
-  const T crank_inertial_x = crank_mass*com_crank_x_dd;
-  const T P_crank_rod_fy = Q_rod_slider_fy + rod_inertial_y;
-  const T P_crank_rod_fx = Q_rod_slider_fx + rod_inertial_x;
-  const T crank_angle_effort = P_crank_rod_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - P_crank_rod_fx*P_y - com_crank_y*crank_inertial_x;
-  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
-  const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
-  const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
-  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
-  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
-  const T slider_inertial_y = T(9.81)*p.m_s;
-  const T slide_n = slider_inertial_y - Q_rod_slider_fy;
-  const T O_ground_crank_fy = P_crank_rod_fy + crank_inertial_y;
-  const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(ne_pivot9 != T(0))) { s.failed_group = -1; return Status::singular; }
+  // Total ops: 169
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
-  s.bodies.crank.x = com_crank_x;
-  s.bodies.crank.y = com_crank_y;
-  s.bodies.crank.th = atan2(s_crank_rel, c_crank_rel);
-  s.bodies.crank.vx = com_crank_x_d;
-  s.bodies.crank.vy = com_crank_y_d;
   s.bodies.crank.w = in.crank_angle_d;
-  s.bodies.crank.ax = com_crank_x_dd;
-  s.bodies.crank.ay = com_crank_y_dd;
   s.bodies.crank.al = in.crank_angle_dd;
-  s.bodies.rod.x = com_rod_x;
-  s.bodies.rod.y = com_rod_y;
-  s.bodies.rod.th = atan2(s_rod, c_rod);
-  s.bodies.rod.vx = com_rod_x_d;
-  s.bodies.rod.vy = com_rod_y_d;
-  s.bodies.rod.w = w_rod;
-  s.bodies.rod.ax = com_rod_x_dd;
-  s.bodies.rod.ay = com_rod_y_dd;
-  s.bodies.rod.al = w_rod_d;
-  s.bodies.slider.x = g2_rod_slider_lambda;
   s.bodies.slider.y = T(0);
-  s.bodies.slider.th = T(0);
-  s.bodies.slider.vx = g2_rod_slider_lambda_d;
+  s.bodies.slider.cos_th = T(1);
+  s.bodies.slider.sin_th = T(0);
   s.bodies.slider.vy = T(0);
   s.bodies.slider.w = T(0);
-  s.bodies.slider.ax = g2_rod_slider_lambda_dd;
   s.bodies.slider.ay = T(0);
   s.bodies.slider.al = T(0);
   s.points.O.x = T(0);
   s.points.O.y = T(0);
-  s.points.G.x = G_x;
   s.points.G.y = T(0);
-  s.points.P.x = P_x;
-  s.points.P.y = P_y;
-  s.points.Q.x = g2_rod_slider_lambda;
   s.points.Q.y = T(0);
-  s.joints.O_ground_crank.fx = O_ground_crank_fx;
-  s.joints.O_ground_crank.fy = O_ground_crank_fy;
-  s.joints.P_crank_rod.fx = P_crank_rod_fx;
-  s.joints.P_crank_rod.fy = P_crank_rod_fy;
-  s.joints.Q_rod_slider.fx = Q_rod_slider_fx;
-  s.joints.Q_rod_slider.fy = Q_rod_slider_fy;
   s.joints.slide.fx = T(0);
-  s.joints.slide.fy = slide_n;
   s.joints.slide.m = T(0);
+  const T s_crank_rel = sin(in.crank_angle);
+  s.bodies.crank.sin_th = s_crank_rel;
+  const T c_crank_rel = cos(in.crank_angle);
+  s.bodies.crank.cos_th = c_crank_rel;
+  const T P_y = p.r*s_crank_rel;
+  s.points.P.y = P_y;
+  const T P_x = p.r*c_crank_rel;
+  s.points.P.x = P_x;
+  const T G_x = T(3)*p.r + p.L;
+  s.points.G.x = G_x;
+  const T g2_rod_slider_w_y = -P_y;
+  const T _tmp0 = p.L*p.L;
+  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
+  const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
+  const T g2_rod_slider_w_x = -P_x;
+  const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
+  s.bodies.slider.x = g2_rod_slider_lambda;
+  s.points.Q.x = g2_rod_slider_lambda;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T g2_rod_slider_w_x_dd = -P_x_dd;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T g2_rod_slider_w_y_dd = -P_y_dd;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T g2_rod_slider_w_y_d = -P_y_d;
+  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp1 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
+  const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
+  s.bodies.slider.ax = g2_rod_slider_lambda_dd;
+  const T P_x_d = p.r*c_crank_rel_d;
+  const T g2_rod_slider_w_x_d = -P_x_d;
+  const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
+  s.bodies.slider.vx = g2_rod_slider_lambda_d;
+  const T _tmp2 = P_x - g2_rod_slider_lambda;
+  const T _tmp3 = T(1)/p.L;
+  const T c_rod = -_tmp3*_tmp2;
+  s.bodies.rod.cos_th = c_rod;
+  const T s_rod = -_tmp3*P_y;
+  s.bodies.rod.sin_th = s_rod;
+  const T s_rod_dd = -_tmp3*P_y_dd;
+  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
+  s.bodies.rod.ay = com_rod_y_dd;
+  const T c_rod_dd = -_tmp3*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  s.bodies.rod.ax = com_rod_x_dd;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
+  s.bodies.rod.x = com_rod_x;
+  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+  s.bodies.rod.y = com_rod_y;
+  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
+  s.bodies.rod.al = w_rod_d;
+  const T spring_d_x = g2_rod_slider_lambda - G_x;
+  const T spring_length = sqrt(spring_d_x*spring_d_x);
+  const T _tmp4 = T(1)/spring_length;
+  const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp4 - p.k_s*(p.s0 - spring_length);
+  const T slider_inertial_x = p.m_s*g2_rod_slider_lambda_dd;
+  const T _tmp5 = cos(p.w*in.t) + T(1);
+  const T Q_rod_slider_fx = T(0.5)*p.F0*_tmp5 + slider_inertial_x + spring_d_x*spring_tension*_tmp4;
+  s.joints.Q_rod_slider.fx = Q_rod_slider_fx;
+  const T ne_pivot9 = _tmp2;
+  const T ne1 = -P_y;
+  const T _tmp6 = sqrt(_tmp0);
+  const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp6;
+  const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
+  const T rod_inertial_x = rod_mass*com_rod_x_dd;
+  const T _tmp7 = p.bar_w*p.bar_w;
+  const T _tmp8 = T(1)/T(12);
+  const T rod_inertia = (_tmp0 + _tmp7)*p.bar_t*p.bar_w*p.rho*_tmp6*_tmp8;
+  const T ne2 = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y - T(0.5)*(p.F0*_tmp5 + T(2)*slider_inertial_x + T(2)*spring_d_x*spring_tension*_tmp4)*ne1;
+  const T _tmp9 = T(1)/ne_pivot9;
+  const T Q_rod_slider_fy = ne2*_tmp9;
+  s.joints.Q_rod_slider.fy = Q_rod_slider_fy;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  s.bodies.crank.ay = com_crank_y_dd;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  s.bodies.crank.ax = com_crank_x_dd;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  s.bodies.crank.x = com_crank_x;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
+  s.bodies.crank.y = com_crank_y;
+  const T P_crank_rod_fy = Q_rod_slider_fy + rod_inertial_y;
+  s.joints.P_crank_rod.fy = P_crank_rod_fy;
+  const T P_crank_rod_fx = Q_rod_slider_fx + rod_inertial_x;
+  s.joints.P_crank_rod.fx = P_crank_rod_fx;
+  const T _tmp10 = p.r*p.r;
+  const T _tmp11 = sqrt(_tmp10);
+  const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp11;
+  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  const T crank_inertia = p.bar_t*p.bar_w*(_tmp7 + _tmp10)*p.rho*_tmp11*_tmp8;
+  const T crank_angle_effort = P_crank_rod_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - P_crank_rod_fx*P_y - com_crank_y*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
+  const T c_rod_d = -_tmp3*(P_x_d - g2_rod_slider_lambda_d);
+  const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
+  s.bodies.rod.vx = com_rod_x_d;
+  const T s_rod_d = -_tmp3*P_y_d;
+  const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+  s.bodies.rod.vy = com_rod_y_d;
+  const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
+  s.bodies.rod.w = w_rod;
+  const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+  s.bodies.crank.vx = com_crank_x_d;
+  const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+  s.bodies.crank.vy = com_crank_y_d;
+  const T slider_inertial_y = T(9.81)*p.m_s;
+  const T slide_n = slider_inertial_y - Q_rod_slider_fy;
+  s.joints.slide.fy = slide_n;
+  const T O_ground_crank_fy = P_crank_rod_fy + crank_inertial_y;
+  s.joints.O_ground_crank.fy = O_ground_crank_fy;
+  const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
+  s.joints.O_ground_crank.fx = O_ground_crank_fx;
+  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(ne_pivot9 != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -506,141 +515,141 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
     // Total ops: 171
-    const T c_crank_rel = cos(in.crank_angle);
+    out[0 * stride + i] = in.t;
+    out[1 * stride + i] = in.crank_angle;
+    out[2 * stride + i] = in.crank_angle_d;
+    out[3 * stride + i] = in.crank_angle_dd;
+    out[10 * stride + i] = in.crank_angle_d;
+    out[13 * stride + i] = in.crank_angle_dd;
+    out[24 * stride + i] = T(0);
+    out[25 * stride + i] = T(0);
+    out[27 * stride + i] = T(0);
+    out[28 * stride + i] = T(0);
+    out[30 * stride + i] = T(0);
+    out[31 * stride + i] = T(0);
+    out[32 * stride + i] = T(0);
+    out[33 * stride + i] = T(0);
+    out[35 * stride + i] = T(0);
+    out[39 * stride + i] = T(0);
+    out[46 * stride + i] = T(0);
+    out[48 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T c_crank_rel = cos(in.crank_angle);
+    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
     const T P_x = p.r*c_crank_rel;
+    out[36 * stride + i] = P_x;
     const T P_y = p.r*s_crank_rel;
-    const T g2_rod_slider_w_x = -P_x;
+    out[37 * stride + i] = P_y;
     const T g2_rod_slider_w_y = -P_y;
     const T _tmp0 = p.L*p.L;
     const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
     failed = max(failed, (g2_rod_slider_disc > T(0)) ? T(0) : T(8192009));
     const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
+    const T g2_rod_slider_w_x = -P_x;
+    const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
+    out[23 * stride + i] = g2_rod_slider_lambda;
+    out[38 * stride + i] = g2_rod_slider_lambda;
+    const T _tmp1 = T(1)/p.L;
+    const T s_rod = -_tmp1*P_y;
+    const T _tmp2 = P_x - g2_rod_slider_lambda;
+    const T c_rod = -_tmp1*_tmp2;
+    out[16 * stride + i] = atan2(s_rod, c_rod);
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.r*c_crank_rel_d;
+    const T g2_rod_slider_w_x_d = -P_x_d;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
     const T P_y_d = p.r*s_crank_rel_d;
     const T g2_rod_slider_w_y_d = -P_y_d;
     const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
-    const T _tmp1 = T(1)/g2_rod_slider_root;
-    const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
-    const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-    const T _tmp2 = P_x - g2_rod_slider_lambda;
-    const T _tmp3 = T(1)/p.L;
-    const T c_rod = -_tmp3*_tmp2;
-    const T s_rod = -_tmp3*P_y;
-    const T P_x_d = p.r*c_crank_rel_d;
-    const T g2_rod_slider_w_x_d = -P_x_d;
+    const T _tmp3 = T(1)/g2_rod_slider_root;
+    const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp3;
     const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-    const T c_rod_d = -_tmp3*(P_x_d - g2_rod_slider_lambda_d);
-    const T s_rod_d = -_tmp3*P_y_d;
+    out[26 * stride + i] = g2_rod_slider_lambda_d;
+    const T s_rod_d = -_tmp1*P_y_d;
+    const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
     const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
+    out[19 * stride + i] = w_rod;
     const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+    out[5 * stride + i] = com_crank_x;
     const T com_crank_y = T(0.5)*p.r*s_crank_rel;
+    out[6 * stride + i] = com_crank_y;
     const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
+    out[8 * stride + i] = com_crank_x_d;
     const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
+    out[9 * stride + i] = com_crank_y_d;
     const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
     const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+    out[11 * stride + i] = com_crank_x_dd;
     const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
     const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+    out[12 * stride + i] = com_crank_y_dd;
     const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
+    out[14 * stride + i] = com_rod_x;
     const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+    out[15 * stride + i] = com_rod_y;
     const T com_rod_x_d = P_x_d + T(0.5)*p.L*c_rod_d;
+    out[17 * stride + i] = com_rod_x_d;
     const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
+    out[18 * stride + i] = com_rod_y_d;
     const T P_x_dd = p.r*c_crank_rel_dd;
+    const T g2_rod_slider_w_x_dd = -P_x_dd;
     const T P_y_dd = p.r*s_crank_rel_dd;
     const T g2_rod_slider_w_y_dd = -P_y_dd;
     const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-    const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
-    const T g2_rod_slider_w_x_dd = -P_x_dd;
+    const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp3;
     const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-    const T c_rod_dd = -_tmp3*(P_x_dd - g2_rod_slider_lambda_dd);
+    out[29 * stride + i] = g2_rod_slider_lambda_dd;
+    const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
     const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
-    const T s_rod_dd = -_tmp3*P_y_dd;
+    out[20 * stride + i] = com_rod_x_dd;
+    const T s_rod_dd = -_tmp1*P_y_dd;
     const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
+    out[21 * stride + i] = com_rod_y_dd;
     const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
+    out[22 * stride + i] = w_rod_d;
     const T G_x = T(3)*p.r + p.L;
-    const T _tmp4 = p.r*p.r;
-    const T _tmp5 = sqrt(_tmp4);
-    const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp5;
-    const T _tmp6 = p.bar_w*p.bar_w;
-    const T _tmp7 = T(1)/T(12);
-    const T crank_inertia = p.bar_t*p.bar_w*(_tmp6 + _tmp4)*p.rho*_tmp5*_tmp7;
-    const T crank_inertial_x = crank_mass*com_crank_x_dd;
-    const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
-    const T _tmp8 = sqrt(_tmp0);
-    const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp8;
-    const T rod_inertia = (_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp8*_tmp7;
-    const T rod_inertial_x = rod_mass*com_rod_x_dd;
-    const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
-    const T slider_inertial_x = p.m_s*g2_rod_slider_lambda_dd;
-    const T slider_inertial_y = T(9.81)*p.m_s;
-    const T spring_d_x = g2_rod_slider_lambda - G_x;
-    const T spring_length = sqrt(spring_d_x*spring_d_x);
-    const T _tmp9 = T(1)/spring_length;
-    const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp9 - p.k_s*(p.s0 - spring_length);
-    const T ne1 = -P_y;
-    const T _tmp10 = cos(p.w*in.t) + T(1);
-    const T ne2 = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y - T(0.5)*(p.F0*_tmp10 + T(2)*slider_inertial_x + T(2)*spring_d_x*spring_tension*_tmp9)*ne1;
+    out[34 * stride + i] = G_x;
     const T ne_pivot9 = _tmp2;
     failed = max(failed, (ne_pivot9 != T(0)) ? T(0) : T(8187906));
-    const T _tmp11 = T(1)/ne_pivot9;
-    const T Q_rod_slider_fy = ne2*_tmp11;
-    const T slide_n = slider_inertial_y - Q_rod_slider_fy;
-    const T Q_rod_slider_fx = T(0.5)*p.F0*_tmp10 + slider_inertial_x + spring_d_x*spring_tension*_tmp9;
-    const T P_crank_rod_fy = Q_rod_slider_fy + rod_inertial_y;
-    const T P_crank_rod_fx = Q_rod_slider_fx + rod_inertial_x;
-    const T crank_angle_effort = P_crank_rod_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - P_crank_rod_fx*P_y - com_crank_y*crank_inertial_x;
-    const T O_ground_crank_fy = P_crank_rod_fy + crank_inertial_y;
-    const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
-    out[0 * stride + i] = in.t;
-    out[1 * stride + i] = in.crank_angle;
-    out[2 * stride + i] = in.crank_angle_d;
-    out[3 * stride + i] = in.crank_angle_dd;
-    out[5 * stride + i] = com_crank_x;
-    out[6 * stride + i] = com_crank_y;
-    out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
-    out[8 * stride + i] = com_crank_x_d;
-    out[9 * stride + i] = com_crank_y_d;
-    out[10 * stride + i] = in.crank_angle_d;
-    out[11 * stride + i] = com_crank_x_dd;
-    out[12 * stride + i] = com_crank_y_dd;
-    out[13 * stride + i] = in.crank_angle_dd;
-    out[14 * stride + i] = com_rod_x;
-    out[15 * stride + i] = com_rod_y;
-    out[16 * stride + i] = atan2(s_rod, c_rod);
-    out[17 * stride + i] = com_rod_x_d;
-    out[18 * stride + i] = com_rod_y_d;
-    out[19 * stride + i] = w_rod;
-    out[20 * stride + i] = com_rod_x_dd;
-    out[21 * stride + i] = com_rod_y_dd;
-    out[22 * stride + i] = w_rod_d;
-    out[23 * stride + i] = g2_rod_slider_lambda;
-    out[24 * stride + i] = T(0);
-    out[25 * stride + i] = T(0);
-    out[26 * stride + i] = g2_rod_slider_lambda_d;
-    out[27 * stride + i] = T(0);
-    out[28 * stride + i] = T(0);
-    out[29 * stride + i] = g2_rod_slider_lambda_dd;
-    out[30 * stride + i] = T(0);
-    out[31 * stride + i] = T(0);
-    out[32 * stride + i] = T(0);
-    out[33 * stride + i] = T(0);
-    out[34 * stride + i] = G_x;
-    out[35 * stride + i] = T(0);
-    out[36 * stride + i] = P_x;
-    out[37 * stride + i] = P_y;
-    out[38 * stride + i] = g2_rod_slider_lambda;
-    out[39 * stride + i] = T(0);
-    out[40 * stride + i] = O_ground_crank_fx;
-    out[41 * stride + i] = O_ground_crank_fy;
-    out[42 * stride + i] = P_crank_rod_fx;
-    out[43 * stride + i] = P_crank_rod_fy;
-    out[44 * stride + i] = Q_rod_slider_fx;
+    const T ne1 = -P_y;
+    const T spring_d_x = g2_rod_slider_lambda - G_x;
+    const T spring_length = sqrt(spring_d_x*spring_d_x);
+    const T _tmp4 = T(1)/spring_length;
+    const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp4 - p.k_s*(p.s0 - spring_length);
+    const T slider_inertial_x = p.m_s*g2_rod_slider_lambda_dd;
+    const T _tmp5 = sqrt(_tmp0);
+    const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp5;
+    const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
+    const T rod_inertial_x = rod_mass*com_rod_x_dd;
+    const T _tmp6 = p.bar_w*p.bar_w;
+    const T _tmp7 = T(1)/T(12);
+    const T rod_inertia = (_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp5*_tmp7;
+    const T _tmp8 = cos(p.w*in.t) + T(1);
+    const T ne2 = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y - T(0.5)*(p.F0*_tmp8 + T(2)*slider_inertial_x + T(2)*spring_d_x*spring_tension*_tmp4)*ne1;
+    const T _tmp9 = T(1)/ne_pivot9;
+    const T Q_rod_slider_fy = ne2*_tmp9;
     out[45 * stride + i] = Q_rod_slider_fy;
-    out[46 * stride + i] = T(0);
+    const T slider_inertial_y = T(9.81)*p.m_s;
+    const T slide_n = slider_inertial_y - Q_rod_slider_fy;
     out[47 * stride + i] = slide_n;
-    out[48 * stride + i] = T(0);
+    const T Q_rod_slider_fx = T(0.5)*p.F0*_tmp8 + slider_inertial_x + spring_d_x*spring_tension*_tmp4;
+    out[44 * stride + i] = Q_rod_slider_fx;
+    const T P_crank_rod_fy = Q_rod_slider_fy + rod_inertial_y;
+    out[43 * stride + i] = P_crank_rod_fy;
+    const T P_crank_rod_fx = Q_rod_slider_fx + rod_inertial_x;
+    out[42 * stride + i] = P_crank_rod_fx;
+    const T _tmp10 = p.r*p.r;
+    const T _tmp11 = sqrt(_tmp10);
+    const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp11;
+    const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+    const T crank_inertial_x = crank_mass*com_crank_x_dd;
+    const T crank_inertia = p.bar_t*p.bar_w*(_tmp6 + _tmp10)*p.rho*_tmp11*_tmp7;
+    const T crank_angle_effort = P_crank_rod_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - P_crank_rod_fx*P_y - com_crank_y*crank_inertial_x;
     out[4 * stride + i] = crank_angle_effort;
+    const T O_ground_crank_fy = P_crank_rod_fy + crank_inertial_y;
+    out[41 * stride + i] = O_ground_crank_fy;
+    const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
+    out[40 * stride + i] = O_ground_crank_fx;
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -660,97 +669,97 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   for (int i = 0; i < ne_size * ne_size; ++i) A[i] = T(0);
   if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 132
+  A[0] = T(1);
+  A[2] = -T(1);
+  A[10] = T(1);
+  A[12] = -T(1);
+  A[26] = T(1);
+  A[29] = T(1);
+  A[31] = -T(1);
+  A[39] = T(1);
+  A[41] = -T(1);
+  A[58] = T(1);
+  A[68] = T(1);
+  A[69] = T(1);
+  A[79] = T(1);
+  b[8] = T(0);
   const T s_crank_rel = sin(in.crank_angle);
-  const T c_crank_rel = cos(in.crank_angle);
   const T P_y = p.r*s_crank_rel;
+  A[20] = P_y;
+  A[49] = -P_y;
+  const T c_crank_rel = cos(in.crank_angle);
+  const T P_x = p.r*c_crank_rel;
+  A[21] = -P_x;
   const T g2_rod_slider_w_y = -P_y;
   const T _tmp0 = p.L*p.L;
   const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T g2_rod_slider_w_y_d = -P_y_d;
-  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T _tmp1 = T(1)/g2_rod_slider_root;
-  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp1;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T g2_rod_slider_w_y_dd = -P_y_dd;
-  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
-  const T P_x = p.r*c_crank_rel;
-  const T G_x = T(3)*p.r + p.L;
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
-  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
-  const T spring_d_x = g2_rod_slider_lambda - G_x;
-  const T spring_length = sqrt(spring_d_x*spring_d_x);
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.r*c_crank_rel_dd;
+  const T _tmp1 = P_x - g2_rod_slider_lambda;
+  A[50] = _tmp1;
   const T _tmp2 = p.r*p.r;
   const T _tmp3 = sqrt(_tmp2);
   const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp3;
-  const T _tmp4 = p.bar_w*p.bar_w;
-  const T _tmp5 = T(1)/T(12);
-  const T crank_inertia = p.bar_t*p.bar_w*(_tmp4 + _tmp2)*p.rho*_tmp3*_tmp5;
-  const T _tmp6 = sqrt(_tmp0);
-  const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp6;
-  const T rod_inertia = (_tmp0 + _tmp4)*p.bar_t*p.bar_w*p.rho*_tmp6*_tmp5;
-  const T P_x_d = p.r*c_crank_rel_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
+  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
+  b[1] = crank_inertial_y;
+  const T _tmp4 = sqrt(_tmp0);
+  const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp4;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  const T _tmp5 = T(1)/p.L;
+  const T s_rod_dd = -_tmp5*P_y_dd;
+  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
+  const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
+  b[4] = rod_inertial_y;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
+  const T crank_inertial_x = crank_mass*com_crank_x_dd;
+  b[0] = crank_inertial_x;
+  const T _tmp6 = p.bar_w*p.bar_w;
+  const T _tmp7 = T(1)/T(12);
+  const T crank_inertia = p.bar_t*p.bar_w*(_tmp6 + _tmp2)*p.rho*_tmp3*_tmp7;
+  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
+  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
+  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - com_crank_y*crank_inertial_x;
+  const T P_x_dd = p.r*c_crank_rel_dd;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
+  const T g2_rod_slider_w_y_dd = -P_y_dd;
+  const T P_y_d = p.r*s_crank_rel_d;
+  const T g2_rod_slider_w_y_d = -P_y_d;
+  const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
+  const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
+  const T _tmp8 = T(1)/g2_rod_slider_root;
+  const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp8;
+  const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp8;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
-  const T _tmp7 = T(1)/p.L;
-  const T s_rod_dd = -_tmp7*P_y_dd;
+  const T c_rod_dd = -_tmp5*(P_x_dd - g2_rod_slider_lambda_dd);
+  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
+  const T rod_inertial_x = rod_mass*com_rod_x_dd;
+  b[3] = rod_inertial_x;
+  const T rod_inertia = (_tmp0 + _tmp6)*p.bar_t*p.bar_w*p.rho*_tmp4*_tmp7;
+  const T s_rod = -_tmp5*P_y;
+  const T c_rod = -_tmp5*_tmp1;
+  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
+  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
+  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
+  b[5] = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y;
+  const T G_x = T(3)*p.r + p.L;
+  const T spring_d_x = g2_rod_slider_lambda - G_x;
+  const T spring_length = sqrt(spring_d_x*spring_d_x);
+  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
   const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
-  const T c_rod_dd = -_tmp7*(P_x_dd - g2_rod_slider_lambda_dd);
-  const T _tmp8 = P_x - g2_rod_slider_lambda;
-  const T c_rod = -_tmp7*_tmp8;
-  const T s_rod = -_tmp7*P_y;
   const T _tmp9 = T(1)/spring_length;
   const T spring_tension = p.c_s*g2_rod_slider_lambda_d*spring_d_x*_tmp9 - p.k_s*(p.s0 - spring_length);
-  const T com_rod_y_dd = P_y_dd + T(0.5)*p.L*s_rod_dd;
-  const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
-  const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
-  const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
-  const T com_rod_x = P_x + T(0.5)*p.L*c_rod;
-  const T com_rod_y = P_y + T(0.5)*p.L*s_rod;
-  const T com_crank_x = T(0.5)*p.r*c_crank_rel;
-  const T com_crank_y = T(0.5)*p.r*s_crank_rel;
-  const T w_rod_d = c_rod*s_rod_dd - c_rod_dd*s_rod;
-  const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
-  const T rod_inertial_y = rod_mass*(com_rod_y_dd + T(9.81));
-  const T crank_inertial_x = crank_mass*com_crank_x_dd;
-  const T rod_inertial_x = rod_mass*com_rod_x_dd;
   const T slider_inertial_x = p.m_s*g2_rod_slider_lambda_dd;
-  const T slider_inertial_y = T(9.81)*p.m_s;
-  if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
-  A[0] = T(1);
-  A[2] = -T(1);
-  b[0] = crank_inertial_x;
-  A[10] = T(1);
-  A[12] = -T(1);
-  b[1] = crank_inertial_y;
-  A[20] = P_y;
-  A[21] = -P_x;
-  A[26] = T(1);
-  b[2] = com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd + p.T_f - com_crank_y*crank_inertial_x;
-  A[29] = T(1);
-  A[31] = -T(1);
-  b[3] = rod_inertial_x;
-  A[39] = T(1);
-  A[41] = -T(1);
-  b[4] = rod_inertial_y;
-  A[49] = -P_y;
-  A[50] = _tmp8;
-  b[5] = (P_y - com_rod_y)*rod_inertial_x + rod_inertia*w_rod_d - (P_x - com_rod_x)*rod_inertial_y;
-  A[58] = T(1);
   b[6] = T(0.5)*p.F0*(cos(p.w*in.t) + T(1)) + slider_inertial_x + spring_d_x*spring_tension*_tmp9;
-  A[68] = T(1);
-  A[69] = T(1);
+  const T slider_inertial_y = T(9.81)*p.m_s;
   b[7] = slider_inertial_y;
-  A[79] = T(1);
-  b[8] = T(0);
+  if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
 
   return Status::ok;
 }
@@ -816,7 +825,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[4] = s.drivers.crank_angle.effort;
   row[5] = s.bodies.crank.x;
   row[6] = s.bodies.crank.y;
-  row[7] = s.bodies.crank.th;
+  row[7] = s.bodies.crank.th();
   row[8] = s.bodies.crank.vx;
   row[9] = s.bodies.crank.vy;
   row[10] = s.bodies.crank.w;
@@ -825,7 +834,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[13] = s.bodies.crank.al;
   row[14] = s.bodies.rod.x;
   row[15] = s.bodies.rod.y;
-  row[16] = s.bodies.rod.th;
+  row[16] = s.bodies.rod.th();
   row[17] = s.bodies.rod.vx;
   row[18] = s.bodies.rod.vy;
   row[19] = s.bodies.rod.w;
@@ -834,7 +843,7 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[22] = s.bodies.rod.al;
   row[23] = s.bodies.slider.x;
   row[24] = s.bodies.slider.y;
-  row[25] = s.bodies.slider.th;
+  row[25] = s.bodies.slider.th();
   row[26] = s.bodies.slider.vx;
   row[27] = s.bodies.slider.vy;
   row[28] = s.bodies.slider.w;

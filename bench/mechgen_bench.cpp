@@ -179,8 +179,9 @@ class Generated {
 };
 
 // The batch entry the sweeps use (CompiledKernel::evaluate_batch_double: evaluate_batch in its
-// AVX2 or baseline clone, driver inputs included): blocks of kBatch consecutive samples of the
-// step, one block every kBatch calls of next(), so that the time per call is the time per sample.
+// AVX-512F, AVX2 or baseline clone, driver inputs included): blocks of kBatch consecutive
+// samples of the step, one block every kBatch calls of next(), so that the time per call is the
+// time per sample.
 template <class K>
 class GeneratedBatch {
  public:

@@ -86,6 +86,51 @@ TEST(Walking, SteadyTorqueOfEveryStepEqualsTheOneStepSweepShifted) {
   for (int k = 1; k < 5; ++k) EXPECT_GE(steps_seen[static_cast<size_t>(k)], 180) << k;
 }
 
+// The joint forces too: in an even step every joint carries what it carries in the one-step
+// sweep of the numeric solver at the same phase; in an odd step (legs swapped) what its mirror
+// carries there. The pairs are PASIBOT's names, written out by hand (support leg, flying leg).
+TEST(Walking, SteadyJointForcesAreTheOneStepSweepsWithTheLegsSwappedEveryOtherStep) {
+  WalkOptions options;
+  options.steps = 4;
+  const double step_time = std::numbers::pi / 2;
+  options.ramp = step_time;
+  const WalkResult w = walk(pasibot(), options);
+  const auto& s = numeric_step();
+  auto sweep_col = [&](const std::string& name) {
+    const auto it = std::find(s.columns.begin(), s.columns.end(), name);
+    EXPECT_NE(it, s.columns.end()) << name;
+    return static_cast<size_t>(it - s.columns.begin());
+  };
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"A_13_8", "A_13_8"},     {"B_13_9", "B_13_9p"},     {"P_8_7", "Pp_8_7p"},
+      {"M_9_7", "Mp_9p_7p"},    {"C_7_3", "Cp_7p_3p"},     {"D_13_6", "D_13_6p"},
+      {"S_13_10", "Sp_13_10p"}, {"R_12_11", "Rp_12p_11p"}, {"E_2_1", "Ep_2p_1p"},
+      {"F_11_1", "Fp_11p_1p"}};
+  double scale = 0;
+  for (const auto& row : s.rows)
+    for (const auto& [a, b] : pairs) scale = std::max(scale, std::abs(row[sweep_col(a + ".fx")]));
+  const size_t t = col(w, "t"), q = col(w, "theta8.q");
+  const double samples = static_cast<double>(s.rows.size() - 1);
+  int compared = 0;
+  for (const auto& row : w.rows) {
+    if (row[t] < options.ramp) continue;
+    const int k = static_cast<int>(row[col(w, "step")]);
+    const long j =
+        std::lround((row[q] - std::numbers::pi / 2 - k * w.step_angle) / w.step_angle * samples);
+    const auto& expected = s.rows[static_cast<size_t>(j)];
+    for (const auto& [support, flying] : pairs)
+      for (int side = 0; side < 2; ++side) {
+        const std::string& name = side == 0 ? support : flying;
+        const std::string& source = k % 2 == 0 ? name : (side == 0 ? flying : support);
+        for (const char* c : {".fx", ".fy"})
+          EXPECT_NEAR(row[col(w, name + c)], expected[sweep_col(source + c)], 1e-9 * scale)
+              << name << c << " at t = " << row[t] << ", step " << k;
+      }
+    ++compared;
+  }
+  EXPECT_GT(compared, 3 * 180);
+}
+
 // During the ramp the kernel, fed (q, qd, qdd) directly, agrees with the numeric reference
 // solver driven by the same ramp written as the model's own driver expression.
 TEST(Walking, RampTorqueEqualsTheNumericSolverDrivenByTheSameRamp) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 #include <tuple>
+#include <utility>
 
 #include "model/columns.hpp"
 #include "sweep/compiled_kernel.hpp"
@@ -108,6 +109,32 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
         mirror_of(body.name, suffix, [&](const std::string& n) { return model.body_index(n); }));
   for (const auto& [name, body] : points)
     point_mirror.push_back(mirror_of(name, suffix, find_point));
+  // A joint's mirror joins its bodies' mirrors at its point's mirror; listed the other way round
+  // (second, first), its force is the opposite.
+  auto mirrored_body = [&](int b) {
+    return body_mirror[static_cast<size_t>(b)] >= 0 ? body_mirror[static_cast<size_t>(b)] : b;
+  };
+  std::vector<std::pair<int, double>> joint_mirror;  // (joint, sign)
+  for (const Joint& j : model.joints) {
+    const int point = find_point(j.point);
+    const int mirror_point = point >= 0 ? point_mirror[static_cast<size_t>(point)] : -1;
+    const std::string& at =
+        mirror_point >= 0 ? points[static_cast<size_t>(mirror_point)].first : j.point;
+    const int first = mirrored_body(j.first), second = mirrored_body(j.second);
+    std::pair<int, double> found{-1, 0.0};
+    for (size_t m = 0; m < model.joints.size(); ++m) {
+      const Joint& c = model.joints[m];
+      if (c.point != at || c.type != j.type) continue;
+      if (c.first == first && c.second == second) found = {static_cast<int>(m), 1.0};
+      if (c.first == second && c.second == first) found = {static_cast<int>(m), -1.0};
+    }
+    if (found.first < 0)
+      throw ModelError(j.loc, "walk: joint '" + j.name + "' has no mirror joint between '" +
+                                  model.bodies[static_cast<size_t>(first)].name + "' and '" +
+                                  model.bodies[static_cast<size_t>(second)].name + "' at '" + at +
+                                  "'");
+    joint_mirror.push_back(found);
+  }
   const Body& ground = model.bodies[static_cast<size_t>(model.ground)];
   const int swing = body_mirror[static_cast<size_t>(model.ground)];
   if (swing < 0)
@@ -179,6 +206,11 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
     result.columns.push_back(name + ".x");
     result.columns.push_back(name + ".y");
   }
+  for (const Joint& j : model.joints) {
+    result.columns.push_back(j.name + ".fx");
+    result.columns.push_back(j.name + ".fy");
+    if (j.type == JointType::prismatic) result.columns.push_back(j.name + ".m");
+  }
 
   // Sample times: uniform at the model's resolution, plus every support change twice.
   const int per_step = options.samples_per_step > 0 ? options.samples_per_step : model.step.samples;
@@ -238,6 +270,13 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
       const size_t c = static_cast<size_t>(layout.point[static_cast<size_t>(source)]);
       row.push_back(kernel_row[c] + offset);
       row.push_back(kernel_row[c + 1]);
+    }
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+      const auto [source, sign] =
+          swapped ? joint_mirror[j] : std::pair<int, double>{static_cast<int>(j), 1.0};
+      const size_t c = static_cast<size_t>(layout.joint[static_cast<size_t>(source)]);
+      const size_t width = model.joints[j].type == JointType::prismatic ? 3 : 2;
+      for (size_t i = 0; i < width; ++i) row.push_back(sign * kernel_row[c + i]);
     }
     result.rows.push_back(std::move(row));
   }

@@ -10,7 +10,8 @@
 //    leg is named X + mirror_suffix (PASIBOT: l1p, Ep, ...), and at driver q + dq it stands where X
 //    stands at q (tests/kernel_test.cpp checks PASIBOT's flying leg against its support leg phased
 //    by pi). A body without a mirror keeps its own columns; the driver's second body (the crank),
-//    whose pins swap, is turned by the driver's advance.
+//    whose pins swap, is turned by the driver's advance. A joint's mirror joins the mirrors of its
+//    bodies (a body without one stands for itself) at the mirror of its point (or its own point).
 //  - The support foot lies flat where it stands: the world frame is the ground body's frame of
 //    the first step, and each later support foot's frame is that frame moved along the floor to
 //    where the foot landed (translation only: the landing foot is level at the double support).
@@ -46,8 +47,9 @@ struct WalkResult {
   // t, step (0-based), support (0: the model's ground body, 1: its mirror), support.x (world x
   // of the support foot's frame origin); per driver q, qd, qdd, effort; per body of the model,
   // the ground body and its mirror included, x, y, th, vx, vy, w, ax, ay, al (world frame, centre
-  // of mass); per named point x, y (world). At each support change two rows share t: the last of
-  // the old support, the first of the new.
+  // of mass); per named point x, y (world); per joint fx, fy (and m for a prismatic joint), the
+  // force of its first body on its second (world axes: the support frames are only translated). At
+  // each support change two rows share t: the last of the old support, the first of the new.
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
   std::string support_body, swing_body;  // the model's ground body and its mirror

@@ -187,6 +187,26 @@ class Deriver {
     return wu;
   }
 
+  // Body b turns about its located pin `hinge` so that the located point `target` lies on the
+  // line (origin, unit) of b's own frame, at the located distance |target - hinge| from the
+  // hinge: circle-line in b's frame, the branch picked from the assembly.
+  void turn_about_pin_to_line(const std::string& gn, int gi, int b, const std::string& hinge,
+                              const std::string& target, const Vec& origin, const Vec& unit) {
+    const Vec pa = point(hinge);
+    const Vec ref_vector = name(gn + "_ap", point(target) - pa);
+    const Vec center = local(b, hinge);
+    ex root;
+    const ex wu = circle_line(gn, gi, center, dot(ref_vector, ref_vector), origin, unit, root);
+    auto rot = [&](int sign) {
+      const Vec v = origin + (-wu + sign * root) * unit - center;
+      return std::pair<ex, ex>{dot(ref_vector, v), cross(v, ref_vector)};
+    };
+    const int sign = choose_branch({b}, {rot(1)}, {rot(-1)}, gn);
+    const ex lambda = name(gn + "_lambda", -wu + sign * root);
+    orient(b, ref_vector, origin + lambda * unit - center);
+    locate(b, hinge, pa);
+  }
+
   // Two bodies turning about located pins p1 (b1's point at1) and p2 (b2's point at2) meet at a
   // common point `meet_name`: v1, v2 are the vectors from each pin to it in each body's frame.
   void circle_circle(const std::string& gn, int gi, int b1, const std::string& at1, const Vec& v1,
@@ -331,22 +351,30 @@ class Deriver {
         // the located distance |P - A| from A (circle-line in the body frame).
         const int b = g.bodies[0];
         const Joint &pin = joint(g.joints[0]), &slot = joint(g.joints[1]);
-        const Vec pa = point(pin.point), pp = point(slot.point);
-        const Vec ref_vector = name(gn + "_ap", pp - pa);
         const Vec dir{slot.line.direction.x.ex, slot.line.direction.y.ex};
-        const Vec unit = (1 / sqrt(dot(dir, dir))) * dir;
-        const Vec origin{slot.line.through.x.ex, slot.line.through.y.ex};
-        const Vec center = local(b, pin.point);
-        ex root;
-        const ex wu = circle_line(gn, gi, center, dot(ref_vector, ref_vector), origin, unit, root);
-        auto rot = [&](int sign) {
-          const Vec v = origin + (-wu + sign * root) * unit - center;
-          return std::pair<ex, ex>{dot(ref_vector, v), cross(v, ref_vector)};
-        };
-        const int sign = choose_branch({b}, {rot(1)}, {rot(-1)}, gn);
-        const ex lambda = name(gn + "_lambda", -wu + sign * root);
-        orient(b, ref_vector, origin + lambda * unit - center);
-        locate(b, pin.point, pa);
+        turn_about_pin_to_line(gn, gi, b, pin.point, slot.point,
+                               {slot.line.through.x.ex, slot.line.through.y.ex},
+                               (1 / sqrt(dot(dir, dir))) * dir);
+        break;
+      }
+      case GroupKind::passive_rpr: {
+        // In the link's frame (the link carries the slide's line) the block's pin P runs on a
+        // line, the slide shifted by P's offset from the slider point, and the link's hinge A is
+        // fixed: circle-line at the located distance |P - A|, as for a slot on the body. The
+        // block keeps the joint's angle to the link.
+        const int link = g.bodies[0], block = g.bodies[1];
+        const Joint &hinge = joint(g.joints[0]), &jp = joint(g.joints[1]),
+                    &pin = joint(g.joints[2]);
+        const Vec dir{jp.line.direction.x.ex, jp.line.direction.y.ex};
+        Frame relative;  // the block's frame in the link's frame
+        relative.c = cos(jp.angle.ex);
+        relative.s = sin(jp.angle.ex);
+        const Vec origin = Vec{jp.line.through.x.ex, jp.line.through.y.ex} +
+                           relative.rotate(local(block, pin.point) - local(block, jp.point));
+        turn_about_pin_to_line(gn, gi, link, hinge.point, pin.point, origin,
+                               (1 / sqrt(dot(dir, dir))) * dir);
+        turn(frame(block), frame(link), jp.angle.ex, 0, body(block).name);
+        locate(block, pin.point, point(pin.point));
         break;
       }
       case GroupKind::prp: {

@@ -137,7 +137,8 @@ TEST_P(Equivalence, RandomPerturbations) {
 
 INSTANTIATE_TEST_SUITE_P(ShippedModels, Equivalence,
                          ::testing::Values("chebyshev", "slider_crank", "leg3", "pasibot",
-                                           "cylinder_leg", "quick_return", "assur_triad"));
+                                           "cylinder_leg", "quick_return", "assur_triad",
+                                           "inverted_slider"));
 
 }  // namespace
 }  // namespace mechgen

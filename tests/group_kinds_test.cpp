@@ -1,13 +1,15 @@
 // The solve groups beyond the dyads, each against an independent expectation: the RPR cylinder
 // leg's foot-end against a hand closed form (law of cosines), the quick-return's slot-on-lever and
-// PRP ram against the textbook formula and its derivative, and the Assur triad's iterative solve
-// against its own loop constraints (residual ~1e-12), with a warm start giving the same answer.
+// PRP ram against the textbook formula and its derivative, the inverted slider-crank's passive RPR
+// against the rocker angle worked by hand, and the Assur triad's iterative solve against its own
+// loop constraints (residual ~1e-12), with a warm start giving the same answer.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "assur_triad/assur_triad.hpp"
 #include "cylinder_leg/cylinder_leg.hpp"
+#include "inverted_slider/inverted_slider.hpp"
 #include "quick_return/quick_return.hpp"
 
 namespace {
@@ -94,6 +96,33 @@ TEST(SlotOnLeverAndPrp, RamFollowsTextbookFormulaAndItsDerivative) {
 Xy body_point(double x, double y, double th, Xy com, Xy local) {
   const Xy arm = rotate(th, {local.x - com.x, local.y - com.y});
   return {x + arm.x, y + arm.y};
+}
+
+// Inverted slider-crank: in the rocker's frame (origin at its pivot B, x along the slide) the
+// block's slider point is S = (s, 0) and its pin A = S + R(alpha) (0, -h) = (s + h sin(alpha),
+// -h cos(alpha)). With A - B = R(phi) A_r and rho = |A - B|: s + h sin(alpha) = +sqrt(rho^2 -
+// h^2 cos(alpha)^2) on the assembled branch (the rocker points from B towards A), so phi = atan2(A
+// - B) - atan2(-h cos(alpha), sqrt(rho^2 - h^2 cos(alpha)^2)); the block turns with it, at alpha.
+TEST(PassiveRpr, InvertedSliderRockerFollowsTheHandFormula) {
+  namespace k = mechgen::gen::inverted_slider;
+  k::Params<double> p;
+  auto wrap = [](double a) { return std::remainder(a, 2 * M_PI); };
+  int samples = 0;
+  for (double t = 0; t < 2 * M_PI / p.w; t += 0.011, ++samples) {
+    k::Inputs<double> in;
+    k::driver_inputs(p, t, in);
+    k::State<double> s{};
+    ASSERT_EQ(k::evaluate(p, in, s), k::Status::ok) << "t=" << t;
+    const double ax = p.r * cos(in.crank_angle), ay = p.r * sin(in.crank_angle);
+    const double dx = ax - p.d, dy = ay, rho2 = dx * dx + dy * dy;
+    const double normal = p.h * cos(p.alpha);
+    const double phi = std::atan2(dy, dx) - std::atan2(-normal, std::sqrt(rho2 - normal * normal));
+    EXPECT_NEAR(wrap(s.bodies.rocker.th() - phi), 0, 1e-12) << "t=" << t;
+    EXPECT_NEAR(wrap(s.bodies.block.th() - phi - p.alpha), 0, 1e-12) << "t=" << t;
+    EXPECT_NEAR(s.points.A.x, ax, 1e-14) << "t=" << t;
+    EXPECT_NEAR(s.points.A.y, ay, 1e-14) << "t=" << t;
+  }
+  EXPECT_GT(samples, 100);
 }
 
 template <class T>

@@ -39,6 +39,16 @@ TEST(SolvePlan, QuickReturnHasSlotOnTheLeverAndAPrpDyad) {
   EXPECT_FALSE(has_branch(GroupKind::prp));
 }
 
+TEST(SolvePlan, InvertedSliderIsOnePassiveRprDyad) {
+  const SolvePlan plan = plan_of("inverted_slider");
+  ASSERT_TRUE(plan.complete());
+  EXPECT_EQ(kinds(plan),
+            (std::vector<GroupKind>{GroupKind::driven_revolute, GroupKind::passive_rpr}));
+  EXPECT_EQ(plan.groups[1].name, "g2_rocker_block");  // the slide's first body is the link
+  EXPECT_TRUE(has_branch(GroupKind::passive_rpr));
+  EXPECT_FALSE(is_iterative(GroupKind::passive_rpr));
+}
+
 TEST(SolvePlan, TriadFallsBackToOneIterativeGroupOfFourBodies) {
   const SolvePlan plan = plan_of("assur_triad");
   ASSERT_TRUE(plan.complete());

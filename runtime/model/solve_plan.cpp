@@ -22,6 +22,8 @@ const char* to_string(GroupKind kind) {
       return "PRP dyad (line-line)";
     case GroupKind::rpr:
       return "RPR driven-length cylinder (triangle)";
+    case GroupKind::passive_rpr:
+      return "RPR dyad with a passive slider (circle-line)";
     case GroupKind::iterative:
       return "no closed form (Newton-Raphson)";
   }
@@ -201,6 +203,20 @@ class Planner {
                  true;
         }
       }
+    }
+    // Two bodies sliding along each other (an undriven prismatic), each pinned to a located
+    // body: the link (the joint's first body, which carries the line) and the block of an
+    // inverted slider-crank, or the barrel and the rod of a passive strut.
+    for (size_t j = 0; j < model_.joints.size(); ++j) {
+      const int jp = static_cast<int>(j);
+      if (used_[j] || joint(jp).type != JointType::prismatic || driver_of(jp) >= 0) continue;
+      const int link = joint(jp).first, block = joint(jp).second;
+      if (known(link) || known(block)) continue;
+      const std::vector<int> hinge = links_to_known(link, JointType::revolute);
+      const std::vector<int> pin = links_to_known(block, JointType::revolute);
+      if (hinge.empty() || pin.empty()) continue;
+      return add(plan, GroupKind::passive_rpr, {link, block}, {hinge.front(), jp, pin.front()}),
+             true;
     }
     return false;
   }

@@ -1,6 +1,6 @@
 // The order in which a mechanism's bodies can be located: a sequence of small groups (a driven
-// joint, a dyad, a body on a circle and a line, a driven-length cylinder; as a last resort a group
-// with no closed form, solved iteratively), found from the joint graph alone. The symbolic
+// joint, a dyad, a body on a circle and a line, a cylinder driven or passive; as a last resort a
+// group with no closed form, solved iteratively), found from the joint graph alone. The symbolic
 // generator follows it; `mechgen check` prints it (docs/solve_groups.md).
 #pragma once
 
@@ -21,6 +21,9 @@ enum class GroupKind {
   prp,           // two bodies pinned together, each on a located prismatic line (line-line)
   rpr,           // three bodies: a link pinned to a located body, and a driven-length cylinder (two
                  // bodies, prismatic between them) from another located pin to the link (triangle)
+  passive_rpr,   // two bodies: a link pinned to a located point and a block pinned to another,
+                 // sliding along each other (undriven prismatic: an inverted slider-crank, a
+                 // passive strut); circle-line in the link's frame
   iterative,     // bodies with no closed form (e.g. an Assur triad): fixed-iteration Newton
 };
 

@@ -991,17 +991,10 @@ std::vector<Derivation::DriverInputs> make_driver_inputs(const Model& model) {
 
 std::vector<GiNaC::exmap> make_samples(const Model& model,
                                        const std::vector<Derivation::DriverInputs>& inputs,
-                                       int count) {
-  const std::vector<double> defaults = model.default_parameters();
-  const GiNaC::exmap params = model.substitutions(defaults);
-  const double t0 = model.evaluate(model.step.t0, params);
-  const double t1 = model.evaluate(model.step.t1, params);
+                                       const std::vector<double>& times) {
+  const GiNaC::exmap params = model.substitutions(model.default_parameters());
   std::vector<GiNaC::exmap> samples;
-  for (int i = 0; i < count; ++i) {
-    // The first sample is the assembly at t0; the others spread inside the step (not on its end,
-    // where a model may sit on a dead point).
-    const double t =
-        t0 + (t1 - t0) * (i == 0 ? 0.0 : (0.13 + 0.74 * (i - 1) / std::max(1, count - 2)));
+  for (const double t : times) {
     GiNaC::exmap sample = params;
     sample[model.t] = t;
     GiNaC::exmap with_t = params;

@@ -45,11 +45,12 @@ struct Derivation {
 
 std::vector<Derivation::DriverInputs> make_driver_inputs(const Model& model);
 
-// Numeric samples for the staged program: default parameters, the model's driver values at
-// `count` times spread over its step (the first at t0, the assembly).
+// Numeric samples for the staged program: default parameters and the model's driver values at
+// each of `times` (the first should be t0, the assembly; every one a configuration the mechanism
+// reaches, or the derivation meets square roots of negative numbers).
 std::vector<GiNaC::exmap> make_samples(const Model& model,
                                        const std::vector<Derivation::DriverInputs>& inputs,
-                                       int count);
+                                       const std::vector<double>& times);
 
 // Derives everything; `pose` is the assembled configuration at the model's t0 with default
 // parameters (from the numeric solver), used only to pick each group's branch. Throws

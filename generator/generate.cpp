@@ -27,10 +27,35 @@ std::vector<BodyPose> assembled_pose(const Model& model) {
   return pose;
 }
 
+// The instants of the staged program's sample configurations: the assembly at t0 and four more
+// spread inside the part of the step that the mechanism reaches from it (not on the step's end,
+// where a model may sit on a dead point). A model may reach only part of its step (its kernel
+// then says `unreachable` beyond), but the derivation's numeric checks need real configurations:
+// the numeric solver walks the step on a fine grid until it fails.
+std::vector<double> reachable_sample_times(const Model& model) {
+  const std::vector<double> defaults = model.default_parameters();
+  const GiNaC::exmap params = model.substitutions(defaults);
+  const double t0 = model.evaluate(model.step.t0, params);
+  const double t1 = model.evaluate(model.step.t1, params);
+  constexpr int kGrid = 200;
+  numeric::ReferenceSolver solver(model, defaults);
+  solver.assemble(t0);
+  std::vector<double> row;
+  double reached = t0;
+  for (int i = 1; i <= kGrid; ++i) {
+    const double t = t0 + (t1 - t0) * i / kGrid;
+    if (solver.solve(t, row) != numeric::Status::ok) break;
+    reached = t;
+  }
+  std::vector<double> times{t0};
+  for (int i = 0; i < 4; ++i) times.push_back(t0 + (reached - t0) * (0.13 + 0.74 * i / 3));
+  return times;
+}
+
 // The staged program's sample configurations, shared by generate() and branch_notes().
 StagedProgram make_program(const Model& model,
                            const std::vector<Derivation::DriverInputs>& inputs) {
-  return StagedProgram(make_samples(model, inputs, 5));
+  return StagedProgram(make_samples(model, inputs, reachable_sample_times(model)));
 }
 }  // namespace
 

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,13 @@ constexpr double kG = 9.81;
 
 std::string model_path(const std::string& name) {
   return std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml";
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 SweepResult sweep(const Model& model, const std::string& solver, int samples = 0) {
@@ -207,6 +216,44 @@ TEST(LinkLoads, SliderCrankBodiesWithEveryKindOfLoadAreInEquilibrium) {
       link_loads(model, model.default_parameters(), result.columns, result.rows);
   EXPECT_FALSE(report.links.empty());
   EXPECT_LT(report.largest_end_residual, 1e-9 * expect_every_body_in_equilibrium(model, result));
+}
+
+// Euler buckling of the slider-crank's rod. At t = 0 (outer dead centre, rod on the x axis, slider
+// at rest) the slider holds the gas load F0 = 100 N, the compressed spring k (0.1 - s0) = -25 N
+// and its inertia m_s (-r w^2 (1 + r/L)) = -3.125 N, so the rod pushes it with 121.875 N: the
+// rod's N just before the slider pin is -121.875 N. Its Euler load, pinned-pinned over L = 0.2 m,
+// out of the plane (20 x 8 mm: I = 0.02 0.008^3 / 12), with E = 200 GPa, is pi^2 E I / L^2.
+TEST(LinkLoads, CompressedRodGetsEulersBucklingLoad) {
+  const std::string text =
+      read_text(model_path("slider_crank")) + "material: {youngs_modulus: 200e9}\n";
+  const Model model = read_model_text(text, "models/slider_crank.yaml");
+  const SweepResult result = sweep(model, "numeric");
+  ASSERT_EQ(result.rows.front()[0], 0.0);
+  const BeamLoads rod =
+      link_diagram(model, model.default_parameters(), result.columns, result.rows.front(), "rod");
+  EXPECT_NEAR(rod.stations.back().s, 0.2, 1e-12);
+  EXPECT_NEAR(rod.stations.back().n_before, -121.875, 1e-9);
+
+  const LinkLoadReport report =
+      link_loads(model, model.default_parameters(), result.columns, result.rows);
+  const auto link = std::find_if(report.links.begin(), report.links.end(),
+                                 [](const LinkResult& l) { return l.name == "rod"; });
+  ASSERT_NE(link, report.links.end());
+  const double inertia = 0.02 * 0.008 * 0.008 * 0.008 / 12;
+  const double euler = M_PI * M_PI * 200e9 * inertia / (0.2 * 0.2);
+  EXPECT_NEAR(link->section.buckling_inertia, inertia, 1e-24);
+  EXPECT_NEAR(link->buckling_load, euler, 1e-9 * euler);
+  EXPECT_LE(link->compression.value, -121.875 + 1e-9);  // the largest compression over the turn
+  EXPECT_NEAR(link->buckling_safety, euler / -link->compression.value, 1e-12 * euler);
+  EXPECT_TRUE(std::isnan(link->safety));  // no yield strength given
+
+  // Without Young's modulus there is no buckling figure.
+  const LinkLoadReport plain = link_loads(read_model(model_path("slider_crank")),
+                                          model.default_parameters(), result.columns, result.rows);
+  for (const LinkResult& l : plain.links) EXPECT_TRUE(std::isnan(l.buckling_load)) << l.name;
+  // A material needs at least one of its values.
+  EXPECT_THROW(read_model_text(read_text(model_path("slider_crank")) + "material: {}\n", "m.yaml"),
+               ModelError);
 }
 
 // A carriage on a rail (prismatic joint) pushed back and forth by a length driver, its centre of

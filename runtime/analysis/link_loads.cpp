@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -89,9 +90,12 @@ std::optional<SectionProperties> section_properties(const Model& model, int body
   p.yield = yield_override         ? *yield_override
             : model.yield_strength ? model.evaluate(*model.yield_strength, subs)
                                    : std::numeric_limits<double>::quiet_NaN();
+  p.modulus = model.youngs_modulus ? model.evaluate(*model.youngs_modulus, subs)
+                                   : std::numeric_limits<double>::quiet_NaN();
   const auto rectangle = [&](double width, double thickness, const std::string& origin) {
     p.area = width * thickness;
     p.inertia = thickness * width * width * width / 12;
+    p.buckling_inertia = std::min(p.inertia, width * thickness * thickness * thickness / 12);
     p.fibre = width / 2;
     p.shear_peak = 1.5;
     p.text = "rectangle " + millimetres(width) + " x " + millimetres(thickness) + " mm" + origin;
@@ -104,6 +108,7 @@ std::optional<SectionProperties> section_properties(const Model& model, int body
       p.area = model.evaluate(s.area, subs);
       p.inertia = model.evaluate(s.inertia, subs);
       p.fibre = model.evaluate(s.fibre, subs);
+      p.buckling_inertia = p.inertia;
       p.shear_peak = 1;
       std::ostringstream text;
       text << "A " << p.area * 1e6 << " mm^2, I " << p.inertia * 1e12 << " mm^4, c "
@@ -111,6 +116,7 @@ std::optional<SectionProperties> section_properties(const Model& model, int body
       p.text = text.str();
     }
     if (s.yield_strength) p.yield = model.evaluate(*s.yield_strength, subs);
+    if (s.youngs_modulus) p.modulus = model.evaluate(*s.youngs_modulus, subs);
     return p;
   }
   if (b.mass.source == MassProperties::Source::bar) {
@@ -240,7 +246,10 @@ LinkLoadReport link_loads(const Model& model, const std::vector<double>& paramet
       const SectionProperties& sec = link.section;
       double n_max = 0, v_max = 0, m_max = 0, sigma_max = 0;
       for (const BeamStation& st : beam.stations) {
-        for (const double n : {st.n, st.n_before}) keep(link.n, n, t, st.s);
+        for (const double n : {st.n, st.n_before}) {
+          keep(link.n, n, t, st.s);
+          if (n < link.compression.value) link.compression = {n, t, st.s};
+        }
         for (const double v : {st.v, st.v_before}) keep(link.v, v, t, st.s);
         keep(link.m, st.m, t, st.s);
         const double n_abs = std::max(std::abs(st.n), std::abs(st.n_before));
@@ -264,6 +273,15 @@ LinkLoadReport link_loads(const Model& model, const std::vector<double>& paramet
     LinkResult& link = report.links[i];
     const double equivalent = std::max(link.sigma.value, std::sqrt(3.0) * link.tau.value);
     link.safety = link.section.yield / equivalent;
+    link.buckling_load = std::numbers::pi * std::numbers::pi * link.section.modulus *
+                         link.section.buckling_inertia / (link.length * link.length);
+    // A compression at round-off level (a bar in tension whose far end balances to 1e-14 N)
+    // is none.
+    const bool compressed = -link.compression.value > 1e-9 * std::abs(link.n.value);
+    if (!compressed) link.compression = {};
+    link.buckling_safety = std::isnan(link.buckling_load) ? link.buckling_load
+                           : compressed ? link.buckling_load / -link.compression.value
+                                        : std::numeric_limits<double>::infinity();
     const auto worse = [&](const LinkResult& a, const LinkResult& b) {
       if (!std::isnan(a.safety) && !std::isnan(b.safety)) return a.safety < b.safety;
       return a.sigma.value > b.sigma.value;

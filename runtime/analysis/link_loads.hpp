@@ -19,7 +19,13 @@
 //  - Stresses. sigma = |N| / A + |M| c / I at the extreme fibre; tau = k |V| / A with k = 1.5 at
 //    the neutral axis of a rectangle, 1 (the mean) for a general section. The safety factor is
 //    yield / max(sigma, sqrt(3) tau) (von Mises with the larger of the two alone, as they peak
-//    at different fibres). Buckling of compressed bars is not checked.
+//    at different fibres).
+//  - Buckling. Euler's load of a pinned-pinned bar over its axis length L (the end pins; a
+//    ternary link's middle pin is not counted as a support), P_cr = pi^2 E I_min / L^2 with the
+//    smaller second moment of the section (a rectangle w x t: min(t w^3, w t^3) / 12, out of the
+//    plane for a thin bar; a general section: its given I, the only one known). Its safety factor
+//    is P_cr over the largest compression anywhere along the bar over the run (conservative:
+//    the axial force varies along a bar under its weight and inertia).
 #pragma once
 
 #include <Eigen/Core>
@@ -34,12 +40,14 @@
 namespace mechgen::analysis {
 
 struct SectionProperties {
-  std::string text;       // "rectangle 20 x 5 mm (bar mass)", for reports
-  double area = 0;        // m^2
-  double inertia = 0;     // m^4, about the axis normal to the plane
-  double fibre = 0;       // m, neutral axis to the extreme fibre
-  double shear_peak = 1;  // tau_max = shear_peak * V / A
-  double yield = 0;       // Pa; NaN when the model gives none
+  std::string text;             // "rectangle 20 x 5 mm (bar mass)", for reports
+  double area = 0;              // m^2
+  double inertia = 0;           // m^4, about the axis normal to the plane
+  double fibre = 0;             // m, neutral axis to the extreme fibre
+  double shear_peak = 1;        // tau_max = shear_peak * V / A
+  double yield = 0;             // Pa; NaN when the model gives none
+  double buckling_inertia = 0;  // m^4, the smaller second moment (see Buckling above)
+  double modulus = 0;           // Pa, Young's modulus; NaN when the model gives none
 };
 
 // One bar's axis and how its mass is treated.
@@ -54,6 +62,7 @@ std::optional<BarAxis> bar_axis(const Model& model, int body, const GiNaC::exmap
 
 // The section of a body: its `section:`, else its bar mass's width x thickness; nullopt when it
 // has neither. `yield_override` (Pa, when given) replaces the model's material yield strength.
+// Young's modulus: the section's own, else the model's material's, else NaN.
 std::optional<SectionProperties> section_properties(const Model& model, int body,
                                                     const GiNaC::exmap& subs,
                                                     std::optional<double> yield_override = {});
@@ -90,7 +99,10 @@ struct LinkResult {
   SectionProperties section;
   double length = 0;
   Peak n, v, m, sigma, tau;
-  double safety = 0;  // yield / max(sigma, sqrt(3) tau); NaN without a yield strength
+  double safety = 0;           // yield / max(sigma, sqrt(3) tau); NaN without a yield strength
+  Peak compression;            // the largest compression (N <= 0) along the bar over the run
+  double buckling_load = 0;    // N, Euler's P_cr; NaN without Young's modulus
+  double buckling_safety = 0;  // P_cr / |compression|; infinite when never compressed
   // Per sample: the largest |N|, |V|, |M| and sigma over the bar (for plots over time).
   std::vector<double> n_t, v_t, m_t, sigma_t;
 };

@@ -27,7 +27,9 @@ forces, driver efforts, applied loads, gravity and d'Alembert inertia; the stres
 sigma = |N|/A + |M| c/I and tau (1.5 V/A for a rectangle); their maxima over the bar and the run
 (with when and where: s from the bar's first axis point); the safety factor
 yield / max(sigma, sqrt(3) tau) against the model's `material: {yield_strength}` (or --yield);
-and the critical link (lowest safety factor). Rules: docs/link_loads.md.
+the critical link (lowest safety factor); and, with `material: {youngs_modulus}`, each bar's
+Euler buckling load (pinned-pinned over its axis length, the section's smaller second moment)
+against its largest compression. Rules: docs/link_loads.md.
 )") +
     kSweepSourceHelp + R"(  --yield PA          yield strength for every bar without its own (Pa)
   --out FILE.csv      per-link maxima, one row per link
@@ -47,14 +49,19 @@ void write_maxima(const std::string& path, const analysis::LinkLoadReport& repor
   g_current_file = path;
   std::ofstream file(path, std::ios::binary);
   file << "link,section,length,area,inertia,fibre,N,N_t,N_s,V,V_t,V_s,M,M_t,M_s,sigma,sigma_t,"
-          "sigma_s,tau,tau_t,tau_s,yield,safety\n";
+          "sigma_s,tau,tau_t,tau_s,yield,safety,compression,compression_t,compression_s,"
+          "youngs_modulus,buckling_inertia,buckling_load,buckling_safety\n";
   const auto num = [](double v) { return fixed(v, 17); };
   for (const analysis::LinkResult& l : report.links) {
     file << l.name << ",\"" << l.section.text << "\"," << num(l.length) << ","
          << num(l.section.area) << "," << num(l.section.inertia) << "," << num(l.section.fibre);
     for (const analysis::Peak* p : {&l.n, &l.v, &l.m, &l.sigma, &l.tau})
       file << "," << num(p->value) << "," << num(p->t) << "," << num(p->s);
-    file << "," << num(l.section.yield) << "," << num(l.safety) << "\n";
+    file << "," << num(l.section.yield) << "," << num(l.safety);
+    for (const double v : {l.compression.value, l.compression.t, l.compression.s, l.section.modulus,
+                           l.section.buckling_inertia, l.buckling_load, l.buckling_safety})
+      file << "," << num(v);
+    file << "\n";
   }
   file.close();
   if (!file) throw std::runtime_error("cannot write '" + path + "'");
@@ -104,12 +111,18 @@ int run_loads(const Args& args) {
             << " samples (" << sweep.label << ")\n";
   std::vector<std::vector<std::string>> rows{{"link", "section", "L [m]", "|N| max [N]",
                                               "|V| max [N]", "|M| max [N m]", "sigma max [MPa]",
-                                              "at t [s]", "s [m]", "tau max [MPa]", "safety"}};
+                                              "at t [s]", "s [m]", "tau max [MPa]", "safety",
+                                              "compression [N]", "buckling [N]", "buckling SF"}};
+  const auto factor = [](double v) {
+    return std::isnan(v) ? std::string("-") : std::isinf(v) ? std::string("inf") : fixed(v, 4);
+  };
   for (const analysis::LinkResult& l : report.links)
     rows.push_back({l.name, l.section.text, fixed(l.length, 4), fixed(std::abs(l.n.value), 4),
                     fixed(std::abs(l.v.value), 4), fixed(std::abs(l.m.value), 4),
                     mpa(l.sigma.value), fixed(l.sigma.t, 4), fixed(l.sigma.s, 4), mpa(l.tau.value),
-                    std::isnan(l.safety) ? "-" : fixed(l.safety, 4)});
+                    factor(l.safety), fixed(std::abs(l.compression.value), 4),
+                    std::isnan(l.buckling_load) ? "-" : fixed(l.buckling_load, 4),
+                    factor(l.buckling_safety)});
   std::cout << table(rows, "  ");
   for (const std::string& s : report.skipped) std::cout << "  not a bar: " << s << "\n";
   if (report.critical >= 0) {
@@ -123,6 +136,17 @@ int run_loads(const Args& args) {
       std::cout << "yield " << mpa(c.section.yield) << " MPa, safety factor " << fixed(c.safety, 4)
                 << "\n";
   }
+  const analysis::LinkResult* buckling = nullptr;
+  for (const analysis::LinkResult& l : report.links)
+    if (!std::isnan(l.buckling_safety) &&
+        (!buckling || l.buckling_safety < buckling->buckling_safety))
+      buckling = &l;
+  if (buckling)
+    std::cout << "lowest buckling safety: " << buckling->name << ", compression "
+              << fixed(-buckling->compression.value, 4)
+              << " N at t = " << fixed(buckling->compression.t, 4) << " s against Euler's "
+              << fixed(buckling->buckling_load, 4) << " N, safety factor "
+              << factor(buckling->buckling_safety) << "\n";
   std::cout << "equilibrium check: largest force left past a bar's last load "
             << fixed(report.largest_end_residual, 3) << " N\n";
   if (args.has("--out")) {

@@ -72,6 +72,7 @@ struct Section {
   Expr width, thickness;      // rectangle: width in the plane (the bending depth), thickness normal
   Expr area, inertia, fibre;  // general: A (m^2), I about the normal axis (m^4), extreme fibre (m)
   std::optional<Expr> yield_strength;  // Pa; overrides the model's material
+  std::optional<Expr> youngs_modulus;  // Pa; overrides the model's material
   SourceLoc loc;
 };
 
@@ -152,6 +153,7 @@ struct Model {
   std::vector<ForceElement> forces;
   Step step;
   std::optional<Expr> yield_strength;  // Pa, `material: {yield_strength: ...}`; loads analysis only
+  std::optional<Expr> youngs_modulus;  // Pa, `material: {youngs_modulus: ...}`; buckling only
   double assembly_tolerance = 0.35;    // rad: how far a converged assembly may be from the hint
   GiNaC::symbol t{"t"};
   int ground = -1;

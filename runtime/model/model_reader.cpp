@@ -239,12 +239,14 @@ void Reader::read_section(const YAML::Node& node, Body& body) {
   Section s;
   s.loc = loc(node);
   if (node["width"] || node["thickness"]) {
-    expect_keys(node, what + " (rectangle)", {"width", "thickness", "yield_strength"});
+    expect_keys(node, what + " (rectangle)",
+                {"width", "thickness", "yield_strength", "youngs_modulus"});
     s.shape = Section::Shape::rectangle;
     s.width = expression(required(node, "width", what), what + " width", false);
     s.thickness = expression(required(node, "thickness", what), what + " thickness", false);
   } else {
-    expect_keys(node, what + " (general)", {"area", "inertia", "fibre", "yield_strength"});
+    expect_keys(node, what + " (general)",
+                {"area", "inertia", "fibre", "yield_strength", "youngs_modulus"});
     s.shape = Section::Shape::general;
     s.area = expression(required(node, "area", what), what + " area", false);
     s.inertia = expression(required(node, "inertia", what), what + " inertia", false);
@@ -252,6 +254,8 @@ void Reader::read_section(const YAML::Node& node, Body& body) {
   }
   if (node["yield_strength"])
     s.yield_strength = expression(node["yield_strength"], what + " yield_strength", false);
+  if (node["youngs_modulus"])
+    s.youngs_modulus = expression(node["youngs_modulus"], what + " youngs_modulus", false);
   body.section = s;
 }
 
@@ -462,16 +466,16 @@ void Reader::check_values() {
       else
         sizes = {&s.area, &s.inertia, &s.fibre};
       if (s.yield_strength) sizes.push_back(&*s.yield_strength);
+      if (s.youngs_modulus) sizes.push_back(&*s.youngs_modulus);
       for (const Expr* e : sizes)
         if (model_.evaluate(*e, subs) <= 0)
           throw ModelError(
               e->loc, "body '" + b.name + "': section value '" + e->text + "' must be positive");
     }
   }
-  if (model_.yield_strength && model_.evaluate(*model_.yield_strength, subs) <= 0)
-    throw ModelError(
-        model_.yield_strength->loc,
-        "material yield_strength '" + model_.yield_strength->text + "' must be positive");
+  for (const std::optional<Expr>* value : {&model_.yield_strength, &model_.youngs_modulus})
+    if (*value && model_.evaluate(**value, subs) <= 0)
+      throw ModelError((*value)->loc, "material value '" + (*value)->text + "' must be positive");
   for (const Joint& j : model_.joints) {
     if (j.type == JointType::revolute) continue;
     const double dx = model_.evaluate(j.line.direction.x, subs);
@@ -557,9 +561,15 @@ Model Reader::read(const YAML::Node& root) {
   }
   if (const YAML::Node material = root["material"]) {
     expect_map(material, "material");
-    expect_keys(material, "material", {"yield_strength"});
-    model_.yield_strength = expression(required(material, "yield_strength", "material"),
-                                       "material yield_strength", false);
+    expect_keys(material, "material", {"yield_strength", "youngs_modulus"});
+    if (!material["yield_strength"] && !material["youngs_modulus"])
+      fail(material, "material needs yield_strength or youngs_modulus (Pa)");
+    if (material["yield_strength"])
+      model_.yield_strength =
+          expression(material["yield_strength"], "material yield_strength", false);
+    if (material["youngs_modulus"])
+      model_.youngs_modulus =
+          expression(material["youngs_modulus"], "material youngs_modulus", false);
   }
   const YAML::Node step = required(root, "step", "the model");
   expect_map(step, "step");

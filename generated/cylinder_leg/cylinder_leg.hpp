@@ -255,15 +255,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T G_x = -p.gx;
   s.points.G.x = G_x;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
-  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T _tmp0 = p.ty*p.ty;
   const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
-  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
   const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_d2;
   const T T1_x = G_x*_tmp1*g1_thigh_barrel1_rod1_e;
   s.points.T1.x = T1_x;
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T T1_y = G_x*_tmp1*g1_thigh_barrel1_rod1_root;
   s.points.T1.y = T1_y;
@@ -283,14 +281,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
-  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T _tmp3 = p.sx*p.sx;
   const T _tmp4 = p.sy*p.sy;
   const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp3 + T(0.5)*_tmp4 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp5 = _tmp3 + _tmp4;
   const T g2_shank_rod2_barrel2_disc = _tmp5*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
-  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
   const T _tmp6 = T(1)/g2_shank_rod2_barrel2_d2;
   const T _tmp7 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_e - g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_root)*_tmp6;
@@ -486,6 +482,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.D.x = D_x;
   const T D_y = K_y - p.l_sh*c_shank;
   s.points.D.y = D_y;
+  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
   const T com_barrel1_y = T(0.08)*s_barrel1;
   s.bodies.barrel1.y = com_barrel1_y;
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
@@ -496,6 +493,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.barrel1.ax = com_barrel1_x_dd;
   const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
   s.bodies.barrel1.ay = com_barrel1_y_dd;
+  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
+  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
 
   return Status::ok;
 }
@@ -518,15 +518,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T G_x = -p.gx;
   s.points.G.x = G_x;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
-  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T _tmp0 = p.ty*p.ty;
   const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
-  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
   const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_d2;
   const T T1_x = G_x*_tmp1*g1_thigh_barrel1_rod1_e;
   s.points.T1.x = T1_x;
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T T1_y = G_x*_tmp1*g1_thigh_barrel1_rod1_root;
   s.points.T1.y = T1_y;
@@ -546,14 +544,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
-  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T _tmp3 = p.sx*p.sx;
   const T _tmp4 = p.sy*p.sy;
   const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp3 + T(0.5)*_tmp4 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp5 = _tmp3 + _tmp4;
   const T g2_shank_rod2_barrel2_disc = _tmp5*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
-  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
   const T _tmp6 = T(1)/g2_shank_rod2_barrel2_d2;
   const T _tmp7 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp6;
@@ -747,14 +743,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.stroke2.fx = _tmp32;
   const T _tmp33 = c_rod2*stroke2_n;
   s.joints.stroke2.fy = _tmp33;
-  const T stroke1_normal_x = -s_barrel1;
-  const T _tmp34 = G_x - x_rod1;
-  const T _tmp35 = _tmp34*c_barrel1;
-  const T _tmp36 = T1_y - y_rod1;
-  const T _tmp37 = stroke1_normal_x*y_rod1;
-  const T _tmp38 = T1_x - x_rod1;
-  const T ne8 = _tmp35 + _tmp36*stroke1_normal_x + _tmp37 - _tmp38*c_barrel1;
-  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T com_barrel1_x = G_x + T(0.08)*c_barrel1;
   s.bodies.barrel1.x = com_barrel1_x;
   const T com_barrel1_x_dd = T(0.08)*c_barrel1_dd;
@@ -766,30 +754,28 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.barrel1.y = com_barrel1_y;
   const T l2_effort = -(ne27*stroke2_n - ne29)*_tmp24;
   s.drivers.l2.effort = l2_effort;
-  const T _tmp39 = l2_effort*s_rod2;
-  const T base2_fy = barrel2_inertial_y + _tmp33 + _tmp39;
+  const T _tmp34 = l2_effort*s_rod2;
+  const T base2_fy = barrel2_inertial_y + _tmp33 + _tmp34;
   s.joints.base2.fy = base2_fy;
-  const T _tmp40 = c_rod2*l2_effort;
-  const T base2_fx = barrel2_inertial_x + _tmp40 + _tmp32;
+  const T _tmp35 = c_rod2*l2_effort;
+  const T base2_fx = barrel2_inertial_x + _tmp35 + _tmp32;
   s.joints.base2.fx = base2_fx;
-  const T tip2_fy = _tmp33 + _tmp39 - rod2_inertial_y;
+  const T tip2_fy = _tmp33 + _tmp34 - rod2_inertial_y;
   s.joints.tip2.fy = tip2_fy;
-  const T tip2_fx = _tmp40 + _tmp32 - rod2_inertial_x;
+  const T tip2_fx = _tmp35 + _tmp32 - rod2_inertial_x;
   s.joints.tip2.fx = tip2_fx;
   const T ne15 = -T1_x;
+  const T stroke1_normal_x = -s_barrel1;
   const T ne12 = -T1_y*stroke1_normal_x;
   const T ne16 = ne12 - c_barrel1*ne15;
+  const T _tmp36 = G_x - x_rod1;
+  const T _tmp37 = _tmp36*c_barrel1;
+  const T _tmp38 = T1_y - y_rod1;
+  const T _tmp39 = stroke1_normal_x*y_rod1;
+  const T _tmp40 = T1_x - x_rod1;
+  const T ne8 = _tmp37 + _tmp38*stroke1_normal_x + _tmp39 - _tmp40*c_barrel1;
   const T _tmp41 = T(1)/ne8;
   const T ne19 = ne16*_tmp41;
-  const T ne13 = -T1_y*c_barrel1;
-  const T ne17 = ne13 - ne15*s_barrel1;
-  const T _tmp42 = _tmp34*s_barrel1;
-  const T _tmp43 = c_barrel1*y_rod1;
-  const T ne9 = _tmp42 + _tmp36*c_barrel1 + _tmp43 - _tmp38*s_barrel1;
-  const T ne20 = ne17 - ne19*ne9;
-  if (!(ne20 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne28 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne35 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T ne4 = -K_x;
   const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
   const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
@@ -804,11 +790,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T barrel1_inertial_y = p.m_b*(com_barrel1_y_dd + T(9.81));
   const T barrel1_inertial_x = p.m_b*com_barrel1_x_dd;
   const T barrel1_inertia = barrel2_inertia;
-  const T _tmp44 = (G_x - com_barrel1_x)*barrel1_inertial_y;
-  const T _tmp45 = barrel1_inertial_x*com_barrel1_y;
-  const T _tmp46 = barrel1_inertia*w_barrel1_d;
-  const T ne10 = (T1_y - com_rod1_y)*rod1_inertial_x + _tmp46 + rod1_inertia*w_barrel1_d - _tmp44 - (T1_x - com_rod1_x)*rod1_inertial_y - _tmp45;
+  const T _tmp42 = (G_x - com_barrel1_x)*barrel1_inertial_y;
+  const T _tmp43 = barrel1_inertial_x*com_barrel1_y;
+  const T _tmp44 = barrel1_inertia*w_barrel1_d;
+  const T ne10 = (T1_y - com_rod1_y)*rod1_inertial_x + _tmp44 + rod1_inertia*w_barrel1_d - _tmp42 - (T1_x - com_rod1_x)*rod1_inertial_y - _tmp43;
   const T ne21 = ne18 - ne10*ne19;
+  const T ne13 = -T1_y*c_barrel1;
+  const T ne17 = ne13 - ne15*s_barrel1;
+  const T _tmp45 = _tmp36*s_barrel1;
+  const T _tmp46 = c_barrel1*y_rod1;
+  const T ne9 = _tmp45 + _tmp38*c_barrel1 + _tmp46 - _tmp40*s_barrel1;
+  const T ne20 = ne17 - ne19*ne9;
   const T _tmp47 = T(1)/ne20;
   const T l1_effort = -(F_x*tip2_fy + K_y*base2_fx + base2_fy*ne4 - F_y*tip2_fx - ne21)*_tmp47;
   s.drivers.l1.effort = l1_effort;
@@ -819,7 +811,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.stroke1.fy = _tmp49;
   const T stroke2_m = (_tmp30 - _tmp29)*stroke2_n + (_tmp23 - _tmp20)*l2_effort + _tmp26 - _tmp27 - _tmp28;
   s.joints.stroke2.m = stroke2_m;
-  const T stroke1_m = (_tmp35 + _tmp37)*stroke1_n + (_tmp42 + _tmp43)*l1_effort + _tmp44 + _tmp45 - _tmp46;
+  const T stroke1_m = (_tmp37 + _tmp39)*stroke1_n + (_tmp45 + _tmp46)*l1_effort + _tmp42 + _tmp43 - _tmp44;
   s.joints.stroke1.m = stroke1_m;
   const T _tmp50 = l1_effort*s_barrel1;
   const T tip1_fy = _tmp49 + _tmp50 - rod1_inertial_y;
@@ -859,6 +851,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.hip.fy = hip_fy;
   const T hip_fx = knee_fx + thigh_inertial_x - tip1_fx - tip2_fx;
   s.joints.hip.fx = hip_fx;
+  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
   const T w_thigh = c_thigh*s_thigh_d - c_thigh_d*s_thigh;
   s.bodies.thigh.w = w_thigh;
   const T w_barrel1 = c_barrel1*s_barrel1_d - c_barrel1_d*s_barrel1;
@@ -881,10 +874,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.D.x = D_x;
   const T D_y = K_y - p.l_sh*c_shank;
   s.points.D.y = D_y;
+  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
+  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
   s.bodies.barrel1.vx = com_barrel1_x_d;
   const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
   s.bodies.barrel1.vy = com_barrel1_y_d;
+  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne20 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne28 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne35 != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -1360,15 +1360,13 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[319] = T(1);
   const T G_x = -p.gx;
   const T g1_thigh_barrel1_rod1_d2 = G_x*G_x;
-  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) return Status::singular;
   const T g1_thigh_barrel1_rod1_v_x = in.l1 + p.r1;
   const T _tmp0 = p.ty*p.ty;
   const T g1_thigh_barrel1_rod1_e = T(0.5)*_tmp0 + T(0.5)*g1_thigh_barrel1_rod1_d2 - T(0.5)*(g1_thigh_barrel1_rod1_v_x*g1_thigh_barrel1_rod1_v_x);
-  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
-  if (!(g1_thigh_barrel1_rod1_disc > T(0))) return Status::unreachable;
   const T _tmp1 = T(1)/g1_thigh_barrel1_rod1_d2;
   const T T1_x = G_x*_tmp1*g1_thigh_barrel1_rod1_e;
   A[45] = T1_x;
+  const T g1_thigh_barrel1_rod1_disc = g1_thigh_barrel1_rod1_d2*_tmp0 - g1_thigh_barrel1_rod1_e*g1_thigh_barrel1_rod1_e;
   const T g1_thigh_barrel1_rod1_root = sqrt(g1_thigh_barrel1_rod1_disc);
   const T T1_y = G_x*_tmp1*g1_thigh_barrel1_rod1_root;
   A[44] = -T1_y;
@@ -1386,14 +1384,12 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_shank_rod2_barrel2_d_y = F_y - K_y;
   const T g2_shank_rod2_barrel2_d_x = F_x - K_x;
   const T g2_shank_rod2_barrel2_d2 = g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_d_x + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_d_y;
-  if (!(g2_shank_rod2_barrel2_d2 > T(0))) return Status::singular;
   const T g2_shank_rod2_barrel2_v_x = -in.l2 - p.r2;
   const T _tmp3 = p.sx*p.sx;
   const T _tmp4 = p.sy*p.sy;
   const T g2_shank_rod2_barrel2_e = T(0.5)*_tmp3 + T(0.5)*_tmp4 + T(0.5)*g2_shank_rod2_barrel2_d2 - T(0.5)*(g2_shank_rod2_barrel2_v_x*g2_shank_rod2_barrel2_v_x);
   const T _tmp5 = _tmp3 + _tmp4;
   const T g2_shank_rod2_barrel2_disc = _tmp5*g2_shank_rod2_barrel2_d2 - g2_shank_rod2_barrel2_e*g2_shank_rod2_barrel2_e;
-  if (!(g2_shank_rod2_barrel2_disc > T(0))) return Status::unreachable;
   const T g2_shank_rod2_barrel2_root = sqrt(g2_shank_rod2_barrel2_disc);
   const T _tmp6 = T(1)/g2_shank_rod2_barrel2_d2;
   const T _tmp7 = (g2_shank_rod2_barrel2_d_x*g2_shank_rod2_barrel2_root + g2_shank_rod2_barrel2_d_y*g2_shank_rod2_barrel2_e)*_tmp6;
@@ -1512,6 +1508,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T com_rod2_y_dd = T(0.5)*p.r2*s_rod2_dd + y_rod2_dd;
   const T rod2_inertial_y = p.m_r*(com_rod2_y_dd + T(9.81));
   b[16] = rod2_inertial_y;
+  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) return Status::singular;
   const T com_thigh_x_dd = T(0.5)*p.l_th*s_thigh_dd;
   const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
   b[0] = thigh_inertial_x;
@@ -1569,6 +1566,9 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T com_rod2_y = T(0.5)*p.r2*s_rod2 + y_rod2;
   const T com_rod2_x = T(0.5)*p.r2*c_rod2 + x_rod2;
   b[17] = (F_y - com_rod2_y)*rod2_inertial_x + rod2_inertia*w_rod2_d - (F_x - com_rod2_x)*rod2_inertial_y;
+  if (!(g1_thigh_barrel1_rod1_disc > T(0))) return Status::unreachable;
+  if (!(g2_shank_rod2_barrel2_d2 > T(0))) return Status::singular;
+  if (!(g2_shank_rod2_barrel2_disc > T(0))) return Status::unreachable;
   const T stroke1_normal_x = -s_barrel1;
   A[114] = -stroke1_normal_x;
   A[150] = _tmp13*c_barrel1 + stroke1_normal_x*y_rod1;

@@ -242,7 +242,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_rocker_block_w_y = -_tmp0*p.h;
   const T g2_rocker_block_ap_x = A_x - p.d;
   const T g2_rocker_block_disc = A_y*A_y + g2_rocker_block_ap_x*g2_rocker_block_ap_x - g2_rocker_block_w_y*g2_rocker_block_w_y;
-  if (!(g2_rocker_block_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_rocker_block_root = sqrt(g2_rocker_block_disc);
   const T _tmp1 = sin(p.alpha);
   const T g2_rocker_block_w_x = p.h*_tmp1;
@@ -331,6 +330,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.S.y = S_y;
   const T E_y = p.L*s_rocker;
   s.points.E.y = E_y;
+  if (!(g2_rocker_block_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
 
   return Status::ok;
 }
@@ -364,7 +364,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_rocker_block_w_y = -_tmp0*p.h;
   const T g2_rocker_block_ap_x = A_x - p.d;
   const T g2_rocker_block_disc = A_y*A_y + g2_rocker_block_ap_x*g2_rocker_block_ap_x - g2_rocker_block_w_y*g2_rocker_block_w_y;
-  if (!(g2_rocker_block_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_rocker_block_root = sqrt(g2_rocker_block_disc);
   const T _tmp1 = sin(p.alpha);
   const T g2_rocker_block_w_x = p.h*_tmp1;
@@ -424,26 +423,25 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.S.x = S_x;
   const T S_y = A_y + p.h*c_block;
   s.points.S.y = S_y;
-  const T slide_normal_x = -s_rocker;
-  const T _tmp6 = (S_x - p.d)*c_rocker;
-  const T _tmp7 = S_y*slide_normal_x;
-  const T ne2 = (A_y - S_y)*slide_normal_x + _tmp7 - (A_x - S_x)*c_rocker - _tmp6;
-  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T block_inertial_y = p.m_b*(com_block_y_dd + T(9.81));
   const T block_inertial_x = p.m_b*com_block_x_dd;
   const T block_inertia = T(0.00010833333333333333)*p.m_b;
-  const T _tmp8 = p.L*p.L;
-  const T _tmp9 = sqrt(_tmp8);
-  const T rocker_mass = p.bar_t*p.bar_w*p.rho*_tmp9;
+  const T _tmp6 = p.L*p.L;
+  const T _tmp7 = sqrt(_tmp6);
+  const T rocker_mass = p.bar_t*p.bar_w*p.rho*_tmp7;
   const T rocker_inertial_y = rocker_mass*(com_rocker_y_dd + T(9.81));
   const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
-  const T _tmp10 = p.bar_w*p.bar_w;
-  const T _tmp11 = T(1)/T(12);
-  const T rocker_inertia = (_tmp8 + _tmp10)*p.bar_t*p.bar_w*p.rho*_tmp9*_tmp11;
-  const T _tmp12 = com_rocker_y*rocker_inertial_x;
-  const T _tmp13 = (com_rocker_x - p.d)*rocker_inertial_y;
-  const T _tmp14 = rocker_inertia*w_rocker_d;
-  const T ne3 = (A_y - com_block_y)*block_inertial_x + _tmp13 + block_inertia*w_rocker_d + p.T_r + _tmp14 - (A_x - com_block_x)*block_inertial_y - _tmp12;
+  const T _tmp8 = p.bar_w*p.bar_w;
+  const T _tmp9 = T(1)/T(12);
+  const T rocker_inertia = (_tmp6 + _tmp8)*p.bar_t*p.bar_w*p.rho*_tmp7*_tmp9;
+  const T _tmp10 = com_rocker_y*rocker_inertial_x;
+  const T _tmp11 = (com_rocker_x - p.d)*rocker_inertial_y;
+  const T _tmp12 = rocker_inertia*w_rocker_d;
+  const T ne3 = (A_y - com_block_y)*block_inertial_x + _tmp11 + block_inertia*w_rocker_d + p.T_r + _tmp12 - (A_x - com_block_x)*block_inertial_y - _tmp10;
+  const T slide_normal_x = -s_rocker;
+  const T _tmp13 = (S_x - p.d)*c_rocker;
+  const T _tmp14 = S_y*slide_normal_x;
+  const T ne2 = (A_y - S_y)*slide_normal_x + _tmp14 - (A_x - S_x)*c_rocker - _tmp13;
   const T _tmp15 = T(1)/ne2;
   const T slide_n = ne3*_tmp15;
   const T _tmp16 = slide_n*slide_normal_x;
@@ -454,7 +452,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.ay = com_crank_y_dd;
   const T com_crank_x_dd = T(0.5)*p.r*c_crank_rel_dd;
   s.bodies.crank.ax = com_crank_x_dd;
-  const T slide_m = _tmp12 - (_tmp6 - _tmp7)*slide_n - _tmp13 - p.T_r - _tmp14;
+  const T slide_m = _tmp10 - (_tmp13 - _tmp14)*slide_n - _tmp11 - p.T_r - _tmp12;
   s.joints.slide.m = slide_m;
   const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   s.bodies.crank.x = com_crank_x;
@@ -469,7 +467,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T crank_mass = p.bar_t*p.bar_w*p.rho*_tmp19;
   const T crank_inertial_y = crank_mass*(com_crank_y_dd + T(9.81));
   const T crank_inertial_x = crank_mass*com_crank_x_dd;
-  const T crank_inertia = p.bar_t*p.bar_w*(_tmp10 + _tmp18)*p.rho*_tmp19*_tmp11;
+  const T crank_inertia = p.bar_t*p.bar_w*(_tmp8 + _tmp18)*p.rho*_tmp19*_tmp9;
   const T crank_angle_effort = A_block_fy*A_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - A_block_fx*A_y - com_crank_y*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
   const T s_block_d = c_block_rel*s_rocker_d + s_block_rel*c_rocker_d;
@@ -501,6 +499,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.O_crank.fy = O_crank_fy;
   const T O_crank_fx = A_block_fx + crank_inertial_x;
   s.joints.O_crank.fx = O_crank_fx;
+  if (!(g2_rocker_block_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -749,7 +749,6 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_rocker_block_w_y = -_tmp0*p.h;
   const T g2_rocker_block_ap_x = A_x - p.d;
   const T g2_rocker_block_disc = A_y*A_y + g2_rocker_block_ap_x*g2_rocker_block_ap_x - g2_rocker_block_w_y*g2_rocker_block_w_y;
-  if (!(g2_rocker_block_disc > T(0))) return Status::unreachable;
   const T g2_rocker_block_root = sqrt(g2_rocker_block_disc);
   const T _tmp1 = sin(p.alpha);
   const T g2_rocker_block_w_x = p.h*_tmp1;
@@ -823,6 +822,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T s_block = c_block_rel*s_rocker + s_block_rel*c_rocker;
   const T com_block_x = A_x - T(0.5)*p.h*s_block;
   b[8] = (A_y - com_block_y)*block_inertial_x + block_inertia*w_rocker_d - (A_x - com_block_x)*block_inertial_y;
+  if (!(g2_rocker_block_disc > T(0))) return Status::unreachable;
   const T slide_normal_x = -s_rocker;
   A[33] = -slide_normal_x;
   const T S_y = A_y + p.h*c_block;

@@ -247,14 +247,11 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_lever_root = sqrt(g2_lever_disc);
   const T _tmp0 = T(1)/g2_lever_root;
   const T s_lever = P_y*_tmp0;
   s.bodies.lever.sin_th = s_lever;
   s.bodies.block.sin_th = s_lever;
-  const T g3_block_ram_cross = -s_lever;
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
   const T c_lever = P_x*_tmp0;
   s.bodies.lever.cos_th = c_lever;
   s.bodies.block.cos_th = c_lever;
@@ -274,6 +271,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T g3_block_ram_cross_dd = -s_lever_dd;
   const T g3_block_ram_cross_d = -s_lever_d;
+  const T g3_block_ram_cross = -s_lever;
   const T _tmp1 = T(1)/g3_block_ram_cross;
   const T g3_block_ram_lambda = -p.h*_tmp1;
   const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
@@ -339,6 +337,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.Tool.x = Tool_x;
   const T Tool_y = C_y - T(0.02);
   s.points.Tool.y = Tool_y;
+  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
 
   return Status::ok;
 }
@@ -374,14 +374,11 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T g2_lever_root = sqrt(g2_lever_disc);
   const T _tmp0 = T(1)/g2_lever_root;
   const T s_lever = P_y*_tmp0;
   s.bodies.lever.sin_th = s_lever;
   s.bodies.block.sin_th = s_lever;
-  const T g3_block_ram_cross = -s_lever;
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
   const T c_lever = P_x*_tmp0;
   s.bodies.lever.cos_th = c_lever;
   s.bodies.block.cos_th = c_lever;
@@ -401,6 +398,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T g3_block_ram_cross_dd = -s_lever_dd;
   const T g3_block_ram_cross_d = -s_lever_d;
+  const T g3_block_ram_cross = -s_lever;
   const T _tmp1 = T(1)/g3_block_ram_cross;
   const T g3_block_ram_lambda = -p.h*_tmp1;
   const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
@@ -431,11 +429,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.block_slide.fx = _tmp3;
   const T _tmp4 = block_slide_n*c_lever;
   s.joints.block_slide.fy = _tmp4;
-  const T crank_pin_normal_x = -s_lever;
-  const T _tmp5 = P_x*c_lever;
-  const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp5;
-  if (!(ne_pivot11 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
   const T C_x = c_lever*g3_block_ram_lambda;
   s.bodies.block.x = C_x;
   s.points.C.x = C_x;
@@ -443,6 +436,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.block.y = C_y;
   s.bodies.ram.y = C_y;
   s.points.C.y = C_y;
+  const T crank_pin_normal_x = -s_lever;
+  const T _tmp5 = P_x*c_lever;
+  const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp5;
   const T lever_inertial_y = p.m_l*(com_lever_y_dd + T(9.81));
   const T lever_inertial_x = p.m_l*com_lever_x_dd;
   const T _tmp6 = T(1)/T(12);
@@ -507,6 +503,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.crank_pivot.fy = crank_pivot_fy;
   const T crank_pivot_fx = crank_inertial_x - _tmp9;
   s.joints.crank_pivot.fx = crank_pivot_fx;
+  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T E_x = p.L*c_lever;
   s.points.E.x = E_x;
   const T E_y = p.L*s_lever;
@@ -519,6 +516,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.ram_pin.fx = ram_pin_fx;
   const T block_slide_m = _tmp7;
   s.joints.block_slide.m = block_slide_m;
+  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
+  if (!(ne_pivot11 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -774,12 +774,8 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T c_crank_rel = cos(in.crank_angle);
   const T P_x = p.r*c_crank_rel;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
-  if (!(g2_lever_disc > T(0))) return Status::unreachable;
   const T g2_lever_root = sqrt(g2_lever_disc);
   const T _tmp0 = T(1)/g2_lever_root;
-  const T s_lever = P_y*_tmp0;
-  const T g3_block_ram_cross = -s_lever;
-  if (!(g3_block_ram_cross != T(0))) return Status::singular;
   const T c_lever = P_x*_tmp0;
   A[16] = c_lever;
   A[52] = -c_lever;
@@ -797,6 +793,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
   const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
   const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
+  const T s_lever = P_y*_tmp0;
   const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
   const T s_lever_dd = (P_y_dd - T(2)*g2_lever_root_d*s_lever_d - g2_lever_root_dd*s_lever)*_tmp0;
   const T c_lever_d = (P_x_d - c_lever*g2_lever_root_d)*_tmp0;
@@ -811,6 +808,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[4] = lever_inertial_y;
   const T g3_block_ram_cross_dd = -s_lever_dd;
   const T g3_block_ram_cross_d = -s_lever_d;
+  const T g3_block_ram_cross = -s_lever;
   const T _tmp1 = T(1)/g3_block_ram_cross;
   const T g3_block_ram_lambda = -p.h*_tmp1;
   const T g3_block_ram_lambda_d = -g3_block_ram_cross_d*g3_block_ram_lambda*_tmp1;
@@ -846,8 +844,9 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[6] = block_inertial_x;
   const T ram_inertial_x = p.m_r*C_x_dd;
   b[9] = p.F_cut + ram_inertial_x;
+  if (!(g2_lever_disc > T(0))) return Status::unreachable;
+  if (!(g3_block_ram_cross != T(0))) return Status::singular;
   const T block_slide_normal_x = -s_lever;
-  if (!(block_slide_normal_x != T(0))) return Status::singular;
   A[41] = -block_slide_normal_x;
   A[65] = C_y*block_slide_normal_x - C_x*c_lever;
   A[77] = block_slide_normal_x;
@@ -857,6 +856,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[28] = _tmp4 - (P_y - p.d)*crank_pin_normal_x;
   A[40] = -crank_pin_normal_x;
   A[64] = P_y*crank_pin_normal_x - _tmp4;
+  if (!(block_slide_normal_x != T(0))) return Status::singular;
 
   return Status::ok;
 }

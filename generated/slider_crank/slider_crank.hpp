@@ -244,11 +244,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.cos_th = c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   s.points.P.y = P_y;
-  const T g2_rod_slider_w_y = -P_y;
-  const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
+  const T g2_rod_slider_w_y = -P_y;
+  const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
@@ -314,6 +313,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rod.al = w_rod_d;
   const T G_x = T(3)*p.r + p.L;
   s.points.G.x = G_x;
+  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
 
   return Status::ok;
 }
@@ -350,14 +350,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.cos_th = c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   s.points.P.y = P_y;
-  const T g2_rod_slider_w_y = -P_y;
-  const T _tmp0 = p.L*p.L;
-  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
   const T G_x = T(3)*p.r + p.L;
   s.points.G.x = G_x;
+  const T g2_rod_slider_w_y = -P_y;
+  const T _tmp0 = p.L*p.L;
+  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
@@ -411,7 +410,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T Q_rod_slider_fx = T(0.5)*p.F0*_tmp5 + slider_inertial_x + spring_d_x*spring_tension*_tmp4;
   s.joints.Q_rod_slider.fx = Q_rod_slider_fx;
   const T ne_pivot9 = _tmp2;
-  if (!(ne_pivot9 != T(0))) { s.failed_group = -1; return Status::singular; }
   const T ne1 = -P_y;
   const T _tmp6 = sqrt(_tmp0);
   const T rod_mass = p.bar_t*p.bar_w*p.rho*_tmp6;
@@ -463,6 +461,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.O_ground_crank.fy = O_ground_crank_fy;
   const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
   s.joints.O_ground_crank.fx = O_ground_crank_fx;
+  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(ne_pivot9 != T(0))) { s.failed_group = -1; return Status::singular; }
 
   return Status::ok;
 }
@@ -687,13 +687,12 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T P_y = p.r*s_crank_rel;
   A[20] = P_y;
   A[49] = -P_y;
-  const T g2_rod_slider_w_y = -P_y;
-  const T _tmp0 = p.L*p.L;
-  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
-  if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
   const T c_crank_rel = cos(in.crank_angle);
   const T P_x = p.r*c_crank_rel;
   A[21] = -P_x;
+  const T g2_rod_slider_w_y = -P_y;
+  const T _tmp0 = p.L*p.L;
+  const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
   const T g2_rod_slider_w_x = -P_x;
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
@@ -760,6 +759,7 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[6] = T(0.5)*p.F0*(cos(p.w*in.t) + T(1)) + slider_inertial_x + spring_d_x*spring_tension*_tmp9;
   const T slider_inertial_y = T(9.81)*p.m_s;
   b[7] = slider_inertial_y;
+  if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
 
   return Status::ok;
 }

@@ -143,7 +143,7 @@ int run_loads(const Args& args) {
       buckling = &l;
   if (buckling)
     std::cout << "lowest buckling safety: " << buckling->name << ", compression "
-              << fixed(-buckling->compression.value, 4)
+              << fixed(std::abs(buckling->compression.value), 4)
               << " N at t = " << fixed(buckling->compression.t, 4) << " s against Euler's "
               << fixed(buckling->buckling_load, 4) << " N, safety factor "
               << factor(buckling->buckling_safety) << "\n";

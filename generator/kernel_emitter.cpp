@@ -212,6 +212,15 @@ class Emitter {
       warm += "  } warm;\n";
     }
     v["warm_fields"] = warm;
+    v["failed_note"] = warm.empty() ? "" : "; the iterative groups' warm start is kept";
+    v["failed_body"] = warm.empty() ? "  s = State<T>{};\n"
+                                      "  s.failed_group = group;\n"
+                                      "  return status;"
+                                    : "  const auto warm = s.warm;\n"
+                                      "  s = State<T>{};\n"
+                                      "  s.warm = warm;\n"
+                                      "  s.failed_group = group;\n"
+                                      "  return status;";
     v["ne_state"] =
         warm.empty() ? "" : "  State<T> s;  // iterative groups start from the assembly\n";
     // Samples of a batch are independent: each starts its iterative groups from the assembly.
@@ -224,7 +233,7 @@ class Emitter {
     v["group_names"] = quoted_list(d_.group_names);
 
     auto state_fail = [](const std::string& status, int group) {
-      return "{ s.failed_group = " + std::to_string(group) + "; return Status::" + status + "; }";
+      return "return detail::failed(s, " + std::to_string(group) + ", Status::" + status + ");";
     };
     auto plain_fail = [](const std::string& status, int) {
       return "return Status::" + status + ";";

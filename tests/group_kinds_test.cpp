@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "assur_triad/assur_triad.hpp"
 #include "cylinder_leg/cylinder_leg.hpp"
@@ -186,10 +187,16 @@ TEST(IterativeTriad, FloatConvergesAndAFarStartFailsCleanly) {
   k::Params<double> p;
   k::Inputs<double> in;
   k::driver_inputs(p, 0.0, in);
-  p.r = 0.8;
   k::State<double> s;
+  ASSERT_EQ(k::kinematics(p, in, s), k::Status::ok);
+  const auto warm = s.warm;  // the solution just found: the next call's start
+  p.r = 0.8;
   EXPECT_NE(k::kinematics(p, in, s), k::Status::ok);
   EXPECT_STREQ(k::group_names[s.failed_group], "g2_link1_plate_link2_link3");
+  // The failed call cleared the State but kept the warm start of the last success.
+  EXPECT_EQ(std::memcmp(&warm, &s.warm, sizeof warm), 0);
+  EXPECT_EQ(s.bodies.plate.x, 0.0);
+  EXPECT_EQ(s.bodies.plate.cos_th, 0.0);
 }
 
 }  // namespace

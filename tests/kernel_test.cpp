@@ -173,6 +173,12 @@ TEST(SliderCrankKernel, UnreachableIsAStatusNotNaN) {
   EXPECT_EQ(sc::evaluate(p, in, s), sc::Status::unreachable);
   ASSERT_GE(s.failed_group, 0);
   EXPECT_EQ(std::string(sc::group_names[s.failed_group]).rfind("g2_", 0), 0u);
+  // The State of a failed evaluation is cleared: no part of a configuration, no NaN of the
+  // failed square root (the entries write each output as soon as it is known).
+  double row[sc::column_count];
+  sc::to_columns(in, s, row);
+  for (int c = 1; c < sc::column_count; ++c)  // column 0 is the input time
+    EXPECT_EQ(row[c], 0.0) << sc::column_names[c];
   in.crank_angle = std::nan("");
   EXPECT_EQ(sc::evaluate(p, in, s), sc::Status::unreachable);
 }

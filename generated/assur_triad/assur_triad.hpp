@@ -214,6 +214,23 @@ inline constexpr int group_count = 2;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_crank", "g2_link1_plate_link2_link3" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded; the iterative groups' warm start is kept. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  const auto warm = s.warm;
+  s = State<T>{};
+  s.warm = warm;
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -851,7 +868,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T y_link1 = P_y - T(0.05)*s_link1;
   const T C1_y = T(0.146)*c_link1 + T(0.205)*s_link1 + y_link1;
   s.points.C1.y = C1_y;
-  if (!(g2_link1_plate_link2_link3_n1_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_n1_det != T(0))) return detail::failed(s, 1, Status::singular);
   const T com_link1_x = T(0.1275)*c_link1 + x_link1 - T(0.073)*s_link1;
   s.bodies.link1.x = com_link1_x;
   const T com_link1_y = T(0.073)*c_link1 + T(0.1275)*s_link1 + y_link1;
@@ -954,10 +971,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.Tip.x = Tip_x;
   const T Tip_y = T(0.2)*c_plate + T(0.3)*s_plate + y_plate;
   s.points.Tip.y = Tip_y;
-  if (!(g2_link1_plate_link2_link3_n2_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n3_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n4_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n5_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_n2_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n3_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n4_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n5_det != T(0))) return detail::failed(s, 1, Status::singular);
   const T com_crank_x = T(0.5)*p.r*c_crank_rel;
   s.bodies.crank.x = com_crank_x;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel;
@@ -970,18 +987,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.ax = com_crank_x_dd;
   const T com_crank_y_dd = T(0.5)*p.r*s_crank_rel_dd;
   s.bodies.crank.ay = com_crank_y_dd;
-  if (!(g2_link1_plate_link2_link3_n6_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n7_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n8_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n9_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n10_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_n6_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n7_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n8_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n9_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n10_det != T(0))) return detail::failed(s, 1, Status::singular);
   const T _tmp320 = P_x + _tmp291 + _tmp293 + _tmp301 + _tmp297 - _tmp299 - _tmp295 - T(0.438);
   const T _tmp321 = P_x + _tmp301 + _tmp313 + _tmp309 + _tmp311 - _tmp312 - _tmp299 - T(0.32);
   const T _tmp322 = P_y + _tmp302 + _tmp306 + _tmp307 + _tmp304 + _tmp305 - _tmp303 - T(0.18);
   const T _tmp323 = P_y + _tmp306 + _tmp307 + _tmp314 - _tmp316 - _tmp317 - _tmp315 + T(0.273);
   const T g2_link1_plate_link2_link3_converged = T(7.34734e-11) - _tmp320*_tmp320 - _tmp321*_tmp321 - _tmp322*_tmp322 - _tmp323*_tmp323;
-  if (!(g2_link1_plate_link2_link3_converged > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(g2_link1_plate_link2_link3_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_converged > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(g2_link1_plate_link2_link3_det != T(0))) return detail::failed(s, 1, Status::singular);
   s.warm.g2_link1_plate_link2_link3_link1 = g2_link1_plate_link2_link3_link1_n10;
   s.warm.g2_link1_plate_link2_link3_plate = g2_link1_plate_link2_link3_plate_n10;
   s.warm.g2_link1_plate_link2_link3_link2 = g2_link1_plate_link2_link3_link2_n10;
@@ -1775,12 +1792,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T crank_inertia = p.bt*p.bw*(_tmp326 + _tmp335)*p.rho*_tmp336/T(12);
   const T crank_angle_effort = P_x*jP_fy + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_y*jP_fx - com_crank_y*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
-  if (!(g2_link1_plate_link2_link3_n1_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n2_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n3_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n4_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n5_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n6_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_n1_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n2_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n3_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n4_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n5_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n6_det != T(0))) return detail::failed(s, 1, Status::singular);
   const T x_link1_d = P_x_d - T(0.05)*c_link1_d;
   const T com_link1_x_d = T(0.1275)*c_link1_d + x_link1_d - T(0.073)*s_link1_d;
   s.bodies.link1.vx = com_link1_x_d;
@@ -1809,10 +1826,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.plate.vy = com_plate_y_d;
   const T Tip_y = T(0.2)*c_plate + T(0.3)*s_plate + y_plate;
   s.points.Tip.y = Tip_y;
-  if (!(g2_link1_plate_link2_link3_n7_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n8_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n9_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_link1_plate_link2_link3_n10_det != T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_n7_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n8_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n9_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_link1_plate_link2_link3_n10_det != T(0))) return detail::failed(s, 1, Status::singular);
   const T com_crank_x_d = T(0.5)*p.r*c_crank_rel_d;
   s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.r*s_crank_rel_d;
@@ -1822,10 +1839,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _tmp339 = P_y + _tmp302 + _tmp306 + _tmp307 + _tmp304 + _tmp305 - _tmp303 - T(0.18);
   const T _tmp340 = P_y + _tmp306 + _tmp307 + _tmp314 - _tmp316 - _tmp317 - _tmp315 + T(0.273);
   const T g2_link1_plate_link2_link3_converged = T(7.34734e-11) - _tmp337*_tmp337 - _tmp338*_tmp338 - _tmp339*_tmp339 - _tmp340*_tmp340;
-  if (!(g2_link1_plate_link2_link3_converged > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(g2_link1_plate_link2_link3_det != T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(ne_pivot10 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot12 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(g2_link1_plate_link2_link3_converged > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(g2_link1_plate_link2_link3_det != T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(ne_pivot10 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot12 != T(0))) return detail::failed(s, -1, Status::singular);
   const T jD_fy = jC3_fy + link3_inertial_y;
   s.joints.jD.fy = jD_fy;
   const T jD_fx = jC3_fx + link3_inertial_x;
@@ -1838,9 +1855,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.jA.fy = jA_fy;
   const T jA_fx = crank_inertial_x + jP_fx;
   s.joints.jA.fx = jA_fx;
-  if (!(ne9 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne15 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne19 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne9 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne15 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne19 != T(0))) return detail::failed(s, -1, Status::singular);
   s.warm.g2_link1_plate_link2_link3_link1 = g2_link1_plate_link2_link3_link1_n10;
   s.warm.g2_link1_plate_link2_link3_plate = g2_link1_plate_link2_link3_plate_n10;
   s.warm.g2_link1_plate_link2_link3_link2 = g2_link1_plate_link2_link3_link2_n10;

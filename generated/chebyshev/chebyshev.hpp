@@ -198,6 +198,21 @@ inline constexpr int group_count = 2;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -336,8 +351,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.ax = com_crank_x_dd;
   const T com_crank_y_dd = T(0.5)*p.l*s_crank_rel_dd;
   s.bodies.crank.ay = com_crank_y_dd;
-  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g2_coupler_rocker_d2 > T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
 
   return Status::ok;
 }
@@ -512,14 +527,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.l*s_crank_rel_d;
   s.bodies.crank.vy = com_crank_y_d;
-  if (!(g2_coupler_rocker_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
+  if (!(g2_coupler_rocker_d2 > T(0))) return detail::failed(s, 1, Status::singular);
   const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
   s.joints.A_ground_crank.fy = A_ground_crank_fy;
   const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
   s.joints.A_ground_crank.fx = A_ground_crank_fx;
-  if (!(g2_coupler_rocker_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
 
   return Status::ok;
 }

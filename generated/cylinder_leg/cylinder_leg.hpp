@@ -228,6 +228,21 @@ inline constexpr int group_count = 2;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_thigh_barrel1_rod1", "g2_shank_rod2_barrel2" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -482,7 +497,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.D.x = D_x;
   const T D_y = K_y - p.l_sh*c_shank;
   s.points.D.y = D_y;
-  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
+  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) return detail::failed(s, 0, Status::singular);
   const T com_barrel1_y = T(0.08)*s_barrel1;
   s.bodies.barrel1.y = com_barrel1_y;
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
@@ -493,9 +508,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.barrel1.ax = com_barrel1_x_dd;
   const T com_barrel1_y_dd = T(0.08)*s_barrel1_dd;
   s.bodies.barrel1.ay = com_barrel1_y_dd;
-  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
-  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g1_thigh_barrel1_rod1_disc > T(0))) return detail::failed(s, 0, Status::unreachable);
+  if (!(g2_shank_rod2_barrel2_d2 > T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_shank_rod2_barrel2_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
 
   return Status::ok;
 }
@@ -851,7 +866,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.hip.fy = hip_fy;
   const T hip_fx = knee_fx + thigh_inertial_x - tip1_fx - tip2_fx;
   s.joints.hip.fx = hip_fx;
-  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) { s.failed_group = 0; return Status::singular; }
+  if (!(g1_thigh_barrel1_rod1_d2 > T(0))) return detail::failed(s, 0, Status::singular);
   const T w_thigh = c_thigh*s_thigh_d - c_thigh_d*s_thigh;
   s.bodies.thigh.w = w_thigh;
   const T w_barrel1 = c_barrel1*s_barrel1_d - c_barrel1_d*s_barrel1;
@@ -874,17 +889,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.D.x = D_x;
   const T D_y = K_y - p.l_sh*c_shank;
   s.points.D.y = D_y;
-  if (!(g1_thigh_barrel1_rod1_disc > T(0))) { s.failed_group = 0; return Status::unreachable; }
-  if (!(g2_shank_rod2_barrel2_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_shank_rod2_barrel2_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g1_thigh_barrel1_rod1_disc > T(0))) return detail::failed(s, 0, Status::unreachable);
+  if (!(g2_shank_rod2_barrel2_d2 > T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_shank_rod2_barrel2_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   const T com_barrel1_x_d = T(0.08)*c_barrel1_d;
   s.bodies.barrel1.vx = com_barrel1_x_d;
   const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
   s.bodies.barrel1.vy = com_barrel1_y_d;
-  if (!(ne8 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne20 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne28 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne35 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne20 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne28 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne35 != T(0))) return detail::failed(s, -1, Status::singular);
 
   return Status::ok;
 }

@@ -216,6 +216,21 @@ inline constexpr int group_count = 3;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {

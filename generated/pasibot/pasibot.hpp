@@ -283,6 +283,21 @@ inline constexpr int group_count = 13;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_l8", "g2_l7_l9", "g3_l6_l3", "g4_l10", "g5_l5_l12", "g6_l4_l2", "g7_l1_l11", "g8_l7p_l9p", "g9_l6p_l3p", "g10_l10p", "g11_l5p_l12p", "g12_l4p_l2p", "g13_l11p_l1p" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -688,9 +703,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _tmp118 = _tmp117 - s_l1*x_l2;
   const T com_l8_y = -_tmp118;
   s.bodies.l8.y = com_l8_y;
-  if (!(g2_l7_l9_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_l7_l9_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(g3_l6_l3_d2 > T(0))) { s.failed_group = 2; return Status::singular; }
+  if (!(g2_l7_l9_d2 > T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_l7_l9_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(g3_l6_l3_d2 > T(0))) return detail::failed(s, 2, Status::singular);
   const T _tmp119 = T(1)/(_tmp74*_tmp15 - _tmp73*_tmp21);
   const T g6_l4_l2_inv = -_tmp119;
   const T _tmp120 = T(1)/(_tmp64*_tmp9 - _tmp63*_tmp12);
@@ -1023,14 +1038,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_l1p_vr_y = _tmp192*c_l1 - _tmp191*s_l1;
   const T com_l1p_y_d = com_l1p_vr_y - com_l1p_x*w_l1;
   s.bodies.l1p.vy = com_l1p_y_d;
-  if (!(g3_l6_l3_disc > T(0))) { s.failed_group = 2; return Status::unreachable; }
-  if (!(g4_l10_disc > T(0))) { s.failed_group = 3; return Status::unreachable; }
-  if (!(g5_l5_l12_d2 > T(0))) { s.failed_group = 4; return Status::singular; }
-  if (!(g5_l5_l12_disc > T(0))) { s.failed_group = 4; return Status::unreachable; }
-  if (!(g6_l4_l2_d2 > T(0))) { s.failed_group = 5; return Status::singular; }
-  if (!(g6_l4_l2_disc > T(0))) { s.failed_group = 5; return Status::unreachable; }
-  if (!(g7_l1_l11_d2 > T(0))) { s.failed_group = 6; return Status::singular; }
-  if (!(g7_l1_l11_disc > T(0))) { s.failed_group = 6; return Status::unreachable; }
+  if (!(g3_l6_l3_disc > T(0))) return detail::failed(s, 2, Status::unreachable);
+  if (!(g4_l10_disc > T(0))) return detail::failed(s, 3, Status::unreachable);
+  if (!(g5_l5_l12_d2 > T(0))) return detail::failed(s, 4, Status::singular);
+  if (!(g5_l5_l12_disc > T(0))) return detail::failed(s, 4, Status::unreachable);
+  if (!(g6_l4_l2_d2 > T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(g6_l4_l2_disc > T(0))) return detail::failed(s, 5, Status::unreachable);
+  if (!(g7_l1_l11_d2 > T(0))) return detail::failed(s, 6, Status::singular);
+  if (!(g7_l1_l11_disc > T(0))) return detail::failed(s, 6, Status::unreachable);
   const T s_l8_rel_dd = c_l8_rel*in.theta8_dd + c_l8_rel_d*in.theta8_d;
   const T l13_P_y_dd = p.l8*s_l8_rel_dd;
   const T _tmp193 = w_l7*w_l7;
@@ -1498,10 +1513,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.Fp.x = Fp_x;
   const T Fp_y = c_l1*_tmp306 - _tmp307*s_l1;
   s.points.Fp.y = Fp_y;
-  if (!(g8_l7p_l9p_d2 > T(0))) { s.failed_group = 7; return Status::singular; }
-  if (!(g8_l7p_l9p_disc > T(0))) { s.failed_group = 7; return Status::unreachable; }
-  if (!(g9_l6p_l3p_d2 > T(0))) { s.failed_group = 8; return Status::singular; }
-  if (!(g9_l6p_l3p_disc > T(0))) { s.failed_group = 8; return Status::unreachable; }
+  if (!(g8_l7p_l9p_d2 > T(0))) return detail::failed(s, 7, Status::singular);
+  if (!(g8_l7p_l9p_disc > T(0))) return detail::failed(s, 7, Status::unreachable);
+  if (!(g9_l6p_l3p_d2 > T(0))) return detail::failed(s, 8, Status::singular);
+  if (!(g9_l6p_l3p_disc > T(0))) return detail::failed(s, 8, Status::unreachable);
   const T cw_l8 = c_l1*c_l8_rel + s_l1*s_l8_rel;
   s.bodies.l8.cos_th = cw_l8;
   const T sw_l8 = c_l1*s_l8_rel - c_l8_rel*s_l1;
@@ -1594,10 +1609,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.A.x = A_x;
   const T A_y = -_tmp118;
   s.points.A.y = A_y;
-  if (!(g10_l10p_disc > T(0))) { s.failed_group = 9; return Status::unreachable; }
-  if (!(g11_l5p_l12p_d2 > T(0))) { s.failed_group = 10; return Status::singular; }
-  if (!(g11_l5p_l12p_disc > T(0))) { s.failed_group = 10; return Status::unreachable; }
-  if (!(g12_l4p_l2p_d2 > T(0))) { s.failed_group = 11; return Status::singular; }
+  if (!(g10_l10p_disc > T(0))) return detail::failed(s, 9, Status::unreachable);
+  if (!(g11_l5p_l12p_d2 > T(0))) return detail::failed(s, 10, Status::singular);
+  if (!(g11_l5p_l12p_disc > T(0))) return detail::failed(s, 10, Status::unreachable);
+  if (!(g12_l4p_l2p_d2 > T(0))) return detail::failed(s, 11, Status::singular);
   const T ww_l8 = in.theta8_d - w_l1;
   s.bodies.l8.w = ww_l8;
   const T ww_l8_d = in.theta8_dd - w_l1_d;
@@ -1690,9 +1705,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.l1p.w = ww_l1p;
   const T ww_l1p_d = w_l1p_d - w_l1_d;
   s.bodies.l1p.al = ww_l1p_d;
-  if (!(g12_l4p_l2p_disc > T(0))) { s.failed_group = 11; return Status::unreachable; }
-  if (!(g13_l11p_l1p_d2 > T(0))) { s.failed_group = 12; return Status::singular; }
-  if (!(g13_l11p_l1p_disc > T(0))) { s.failed_group = 12; return Status::unreachable; }
+  if (!(g12_l4p_l2p_disc > T(0))) return detail::failed(s, 11, Status::unreachable);
+  if (!(g13_l11p_l1p_d2 > T(0))) return detail::failed(s, 12, Status::singular);
+  if (!(g13_l11p_l1p_disc > T(0))) return detail::failed(s, 12, Status::unreachable);
   const T sw_l13 = -s_l1;
   s.bodies.l13.sin_th = sw_l13;
   const T ww_l13 = -w_l1;
@@ -3511,16 +3526,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.Rp_12p_5p.fx = Rp_12p_5p_fx;
   const T R_12_5_fx = -(R_12_11_fy*ne163 - ne226)*_tmp313;
   s.joints.R_12_5.fx = R_12_5_fx;
-  if (!(g2_l7_l9_d2 > T(0))) { s.failed_group = 1; return Status::singular; }
-  if (!(g2_l7_l9_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g2_l7_l9_d2 > T(0))) return detail::failed(s, 1, Status::singular);
+  if (!(g2_l7_l9_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   const T Rp_12p_5p_fy = -(_tmp349 + _tmp346*Rp_12p_5p_fx - _tmp350 - _tmp351)*_tmp345;
   s.joints.Rp_12p_5p.fy = Rp_12p_5p_fy;
   const T R_12_5_fy = -(_tmp353 + _tmp311*R_12_5_fx - _tmp354 - _tmp355)*_tmp310;
   s.joints.R_12_5.fy = R_12_5_fy;
-  if (!(g3_l6_l3_d2 > T(0))) { s.failed_group = 2; return Status::singular; }
-  if (!(g3_l6_l3_disc > T(0))) { s.failed_group = 2; return Status::unreachable; }
-  if (!(g4_l10_disc > T(0))) { s.failed_group = 3; return Status::unreachable; }
-  if (!(g5_l5_l12_d2 > T(0))) { s.failed_group = 4; return Status::singular; }
+  if (!(g3_l6_l3_d2 > T(0))) return detail::failed(s, 2, Status::singular);
+  if (!(g3_l6_l3_disc > T(0))) return detail::failed(s, 2, Status::unreachable);
+  if (!(g4_l10_disc > T(0))) return detail::failed(s, 3, Status::unreachable);
+  if (!(g5_l5_l12_d2 > T(0))) return detail::failed(s, 4, Status::singular);
   const T Pp_8_7p_fy = Cp_7p_3p_fy + l7p_inertial_y - Mp_9p_7p_fy;
   s.joints.Pp_8_7p.fy = Pp_8_7p_fy;
   const T Pp_8_7p_fx = Cp_7p_3p_fx + l7p_inertial_x - Mp_9p_7p_fx;
@@ -3529,59 +3544,59 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.P_8_7.fy = P_8_7_fy;
   const T P_8_7_fx = C_7_3_fx + l7_inertial_x - M_9_7_fx;
   s.joints.P_8_7.fx = P_8_7_fx;
-  if (!(g5_l5_l12_disc > T(0))) { s.failed_group = 4; return Status::unreachable; }
-  if (!(g6_l4_l2_d2 > T(0))) { s.failed_group = 5; return Status::singular; }
+  if (!(g5_l5_l12_disc > T(0))) return detail::failed(s, 4, Status::unreachable);
+  if (!(g6_l4_l2_d2 > T(0))) return detail::failed(s, 5, Status::singular);
   const T J_3_2_fy = S_13_10_n*ne412 - L_4_2_fy - ne413;
   s.joints.J_3_2.fy = J_3_2_fy;
-  if (!(g6_l4_l2_disc > T(0))) { s.failed_group = 5; return Status::unreachable; }
-  if (!(g7_l1_l11_d2 > T(0))) { s.failed_group = 6; return Status::singular; }
-  if (!(g7_l1_l11_disc > T(0))) { s.failed_group = 6; return Status::unreachable; }
-  if (!(g8_l7p_l9p_d2 > T(0))) { s.failed_group = 7; return Status::singular; }
-  if (!(g8_l7p_l9p_disc > T(0))) { s.failed_group = 7; return Status::unreachable; }
-  if (!(g9_l6p_l3p_d2 > T(0))) { s.failed_group = 8; return Status::singular; }
+  if (!(g6_l4_l2_disc > T(0))) return detail::failed(s, 5, Status::unreachable);
+  if (!(g7_l1_l11_d2 > T(0))) return detail::failed(s, 6, Status::singular);
+  if (!(g7_l1_l11_disc > T(0))) return detail::failed(s, 6, Status::unreachable);
+  if (!(g8_l7p_l9p_d2 > T(0))) return detail::failed(s, 7, Status::singular);
+  if (!(g8_l7p_l9p_disc > T(0))) return detail::failed(s, 7, Status::unreachable);
+  if (!(g9_l6p_l3p_d2 > T(0))) return detail::failed(s, 8, Status::singular);
   const T theta8_effort = _tmp317*P_8_7_fx + _tmp366*Pp_8_7p_fx + _tmp376 + _tmp377 - ne176*P_8_7_fy - ne178*Pp_8_7p_fy - _tmp375;
   s.drivers.theta8.effort = theta8_effort;
   const T L_4_2_fx = -(_tmp326*L_4_2_fy + _tmp358 - _tmp359 - _tmp360)*_tmp325;
   s.joints.L_4_2.fx = L_4_2_fx;
-  if (!(g9_l6p_l3p_disc > T(0))) { s.failed_group = 8; return Status::unreachable; }
-  if (!(g10_l10p_disc > T(0))) { s.failed_group = 9; return Status::unreachable; }
+  if (!(g9_l6p_l3p_disc > T(0))) return detail::failed(s, 8, Status::unreachable);
+  if (!(g10_l10p_disc > T(0))) return detail::failed(s, 9, Status::unreachable);
   const T Sp_13_10p_n = ne326*_tmp343;
   const T _tmp396 = Sp_13_10p_n*Sp_13_10p_normal_x;
   s.joints.Sp_13_10p.fx = _tmp396;
   const T _tmp397 = Sp_13_10p_n*c_l1;
   s.joints.Sp_13_10p.fy = _tmp397;
-  if (!(g11_l5p_l12p_d2 > T(0))) { s.failed_group = 10; return Status::singular; }
-  if (!(g11_l5p_l12p_disc > T(0))) { s.failed_group = 10; return Status::unreachable; }
+  if (!(g11_l5p_l12p_d2 > T(0))) return detail::failed(s, 10, Status::singular);
+  if (!(g11_l5p_l12p_disc > T(0))) return detail::failed(s, 10, Status::unreachable);
   const T K_6_3_fx = -(_tmp392*K_6_3_fy + _tmp362 - _tmp363 - _tmp364)*_tmp357;
   s.joints.K_6_3.fx = K_6_3_fx;
-  if (!(g12_l4p_l2p_d2 > T(0))) { s.failed_group = 11; return Status::singular; }
-  if (!(g12_l4p_l2p_disc > T(0))) { s.failed_group = 11; return Status::unreachable; }
+  if (!(g12_l4p_l2p_d2 > T(0))) return detail::failed(s, 11, Status::singular);
+  if (!(g12_l4p_l2p_disc > T(0))) return detail::failed(s, 11, Status::unreachable);
   const T J_3_2_fx = -(J_3_2_fy*ne76 + L_4_2_fy*ne172 - ne173)*_tmp309;
   s.joints.J_3_2.fx = J_3_2_fx;
-  if (!(g13_l11p_l1p_d2 > T(0))) { s.failed_group = 12; return Status::singular; }
-  if (!(g13_l11p_l1p_disc > T(0))) { s.failed_group = 12; return Status::unreachable; }
+  if (!(g13_l11p_l1p_d2 > T(0))) return detail::failed(s, 12, Status::singular);
+  if (!(g13_l11p_l1p_disc > T(0))) return detail::failed(s, 12, Status::unreachable);
   const T S_10_12_fx = R_12_5_fx + ne161 - R_12_11_fy*ne160;
   s.joints.S_10_12.fx = S_10_12_fx;
-  if (!(ne2 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot32 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot32 != T(0))) return detail::failed(s, -1, Status::singular);
   const T R_12_11_fx = -(R_12_11_fy*ne5 - ne6)*_tmp314;
   s.joints.R_12_11.fx = R_12_11_fx;
-  if (!(ne_pivot35 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne191 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne_pivot35 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne191 != T(0))) return detail::failed(s, -1, Status::singular);
   const T Sp_10p_12p_fy = Fp_11p_1p_fy + Rp_12p_5p_fy + ne143;
   s.joints.Sp_10p_12p.fy = Sp_10p_12p_fy;
   const T Sp_10p_12p_fx = Fp_11p_1p_fx + Rp_12p_5p_fx + ne137;
   s.joints.Sp_10p_12p.fx = Sp_10p_12p_fx;
   const T S_10_12_fy = R_12_11_fy + R_12_5_fy + l12_inertial_y;
   s.joints.S_10_12.fy = S_10_12_fy;
-  if (!(ne_pivot40 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne225 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne231 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot44 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne253 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot49 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne287 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot53 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne_pivot40 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne225 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne231 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot44 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne253 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot49 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne287 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot53 != T(0))) return detail::failed(s, -1, Status::singular);
   const T Cp_3p_10p_fy = Sp_10p_12p_fy + l10p_inertial_y - _tmp397;
   s.joints.Cp_3p_10p.fy = Cp_3p_10p_fy;
   const T Cp_3p_10p_fx = Sp_10p_12p_fx + l10p_inertial_x - _tmp396;
@@ -3590,9 +3605,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.C_3_10.fy = C_3_10_fy;
   const T C_3_10_fx = S_10_12_fx + l10_inertial_x - _tmp394;
   s.joints.C_3_10.fx = C_3_10_fx;
-  if (!(ne321 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot55 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne_pivot57 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne321 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot55 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot57 != T(0))) return detail::failed(s, -1, Status::singular);
   const T cw_l8 = c_l1*c_l8_rel + s_l1*s_l8_rel;
   s.bodies.l8.cos_th = cw_l8;
   const T sw_l8 = c_l1*s_l8_rel - c_l8_rel*s_l1;
@@ -3681,7 +3696,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.l1p.cos_th = cw_l1p;
   const T sw_l1p = c_l1*s_l1p - c_l1p*s_l1;
   s.bodies.l1p.sin_th = sw_l1p;
-  if (!(ne_pivot58 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne_pivot58 != T(0))) return detail::failed(s, -1, Status::singular);
   const T Jp_3p_2p_fy = ne155 - Fp_11p_1p_fy - Lp_4p_2p_fy;
   s.joints.Jp_3p_2p.fy = Jp_3p_2p_fy;
   const T Jp_3p_2p_fx = ne149 - Fp_11p_1p_fx - Lp_4p_2p_fx;
@@ -3694,9 +3709,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.A_13_8.fy = A_13_8_fy;
   const T A_13_8_fx = P_8_7_fx + Pp_8_7p_fx + l8_inertial_x;
   s.joints.A_13_8.fx = A_13_8_fx;
-  if (!(ne358 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne349 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne72 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne358 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne349 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne72 != T(0))) return detail::failed(s, -1, Status::singular);
   const T ww_l8 = in.theta8_d - w_l1;
   s.bodies.l8.w = ww_l8;
   const T ww_l7 = w_l7 - w_l1;
@@ -3743,7 +3758,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.l11p.w = ww_l11p;
   const T ww_l1p = w_l1p - w_l1;
   s.bodies.l1p.w = ww_l1p;
-  if (!(ne_pivot63 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne_pivot63 != T(0))) return detail::failed(s, -1, Status::singular);
   const T Ep_2p_1p_fy = l1p_inertial_y - Fp_11p_1p_fy;
   s.joints.Ep_2p_1p.fy = Ep_2p_1p_fy;
   const T Ep_2p_1p_fx = l1p_inertial_x - Fp_11p_1p_fx;
@@ -3788,11 +3803,11 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.F_11_1.fy = F_11_1_fy;
   const T F_11_1_fx = R_12_11_fx - l11_inertial_x;
   s.joints.F_11_1.fx = F_11_1_fx;
-  if (!(ne408 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(ne424 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne408 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne424 != T(0))) return detail::failed(s, -1, Status::singular);
   const T ww_l13 = -w_l1;
   s.bodies.l13.w = ww_l13;
-  if (!(ne431 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(ne431 != T(0))) return detail::failed(s, -1, Status::singular);
 
   return Status::ok;
 }

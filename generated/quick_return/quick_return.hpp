@@ -208,6 +208,21 @@ inline constexpr int group_count = 3;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -337,8 +352,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.Tool.x = Tool_x;
   const T Tool_y = C_y - T(0.02);
   s.points.Tool.y = Tool_y;
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
+  if (!(g2_lever_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(g3_block_ram_cross != T(0))) return detail::failed(s, 2, Status::singular);
 
   return Status::ok;
 }
@@ -503,7 +518,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.crank_pivot.fy = crank_pivot_fy;
   const T crank_pivot_fx = crank_inertial_x - _tmp9;
   s.joints.crank_pivot.fx = crank_pivot_fx;
-  if (!(g2_lever_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g2_lever_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   const T E_x = p.L*c_lever;
   s.points.E.x = E_x;
   const T E_y = p.L*s_lever;
@@ -516,9 +531,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.ram_pin.fx = ram_pin_fx;
   const T block_slide_m = _tmp7;
   s.joints.block_slide.m = block_slide_m;
-  if (!(g3_block_ram_cross != T(0))) { s.failed_group = 2; return Status::singular; }
-  if (!(ne_pivot11 != T(0))) { s.failed_group = -1; return Status::singular; }
-  if (!(block_slide_normal_x != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(g3_block_ram_cross != T(0))) return detail::failed(s, 2, Status::singular);
+  if (!(ne_pivot11 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(block_slide_normal_x != T(0))) return detail::failed(s, -1, Status::singular);
 
   return Status::ok;
 }

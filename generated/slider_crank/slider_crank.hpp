@@ -205,6 +205,21 @@ inline constexpr int group_count = 2;
 // Solve groups in order; State::failed_group indexes this table.
 inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider" };
 
+namespace detail {
+// A failed check: the State is cleared (the entries write each output as soon as it is known, so
+// it would otherwise hold part of a configuration, and NaN from the failing group), the failing
+// group is recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
 // A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
@@ -313,7 +328,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rod.al = w_rod_d;
   const T G_x = T(3)*p.r + p.L;
   s.points.G.x = G_x;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
+  if (!(g2_rod_slider_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
 
   return Status::ok;
 }
@@ -461,8 +476,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.O_ground_crank.fy = O_ground_crank_fy;
   const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
   s.joints.O_ground_crank.fx = O_ground_crank_fx;
-  if (!(g2_rod_slider_disc > T(0))) { s.failed_group = 1; return Status::unreachable; }
-  if (!(ne_pivot9 != T(0))) { s.failed_group = -1; return Status::singular; }
+  if (!(g2_rod_slider_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  if (!(ne_pivot9 != T(0))) return detail::failed(s, -1, Status::singular);
 
   return Status::ok;
 }

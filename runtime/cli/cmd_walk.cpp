@@ -27,9 +27,11 @@ generated kernel, the driver's motion fed directly.
   --mirror SUFFIX     the flying leg's bodies and points are named NAME + SUFFIX (default p)
   --set NAME=VALUE    overrides a model parameter (repeatable)
   --out FILE.csv      columns t, step, support (0: the model's ground body, 1: its mirror),
-                      support.x; driver q, qd, qdd, effort; every body (both feet included) and
-                      point in the world frame. Two rows share t at each support change.
-Prints per step: support foot, where it stands, the hip's travel and height range, motor torque.
+                      support.x; driver q, qd, qdd, effort; every body (both feet included),
+                      point and joint force in the world frame. Two rows share t at each support
+                      change.
+Prints per step: support foot, where it stands, the hip's travel and height range, motor torque,
+the largest joint force and its joint.
 )";
 
 int run_walk(const Args& args) {
@@ -63,11 +65,20 @@ int run_walk(const Args& args) {
   std::cout << "walk " << model.name << ": " << options.steps << " steps of "
             << fixed(walk.step_time, 4) << " s, ramp " << fixed(options.ramp, 4) << " s, "
             << walk.rows.size() << " rows, " << fixed(elapsed * 1e3, 3) << " ms -> " << out << "\n";
-  std::vector<std::vector<std::string>> rows{{"step", "support", "support.x [m]", "t [s]",
-                                              walk.hip_body + ".x [m]", walk.hip_body + ".y [m]",
-                                              "peak |effort|", "rms effort"}};
+  std::vector<std::vector<std::string>> rows{
+      {"step", "support", "support.x [m]", "t [s]", walk.hip_body + ".x [m]",
+       walk.hip_body + ".y [m]", "peak |effort|", "rms effort", "peak |joint force| [N]"}};
+  // Every joint's force columns (fx, then fy), for the largest joint load of each step.
+  std::vector<std::pair<size_t, std::string>> joints;
+  for (size_t c = 0; c + 1 < walk.columns.size(); ++c) {
+    const std::string& name = walk.columns[c];
+    if (name.size() > 3 && name.compare(name.size() - 3, 3, ".fx") == 0)
+      joints.push_back({c, name.substr(0, name.size() - 3)});
+  }
   for (int k = 0; k < options.steps; ++k) {
     double t0 = 0, t1 = 0, x0 = 0, x1 = 0, y_lo = INFINITY, y_hi = -INFINITY, peak = 0, sum = 0;
+    double joint_peak = 0;
+    std::string joint_name = "-";
     int n = 0;
     for (const std::vector<double>& row : walk.rows) {
       if (static_cast<int>(row[step]) != k) continue;
@@ -77,13 +88,17 @@ int run_walk(const Args& args) {
       y_hi = std::max(y_hi, row[hip_y]);
       peak = std::max(peak, std::abs(row[effort]));
       sum += row[effort] * row[effort];
+      for (const auto& [c, name] : joints)
+        if (const double f = std::hypot(row[c], row[c + 1]); f > joint_peak)
+          joint_peak = f, joint_name = name;
       ++n;
     }
     rows.push_back({std::to_string(k), k % 2 ? walk.swing_body : walk.support_body,
                     fixed(walk.support_x[static_cast<size_t>(k)], 5),
                     fixed(t0, 4) + " .. " + fixed(t1, 4), fixed(x0, 5) + " .. " + fixed(x1, 5),
                     fixed(y_lo, 6) + " .. " + fixed(y_hi, 6), fixed(peak, 5),
-                    fixed(std::sqrt(sum / std::max(n, 1)), 5)});
+                    fixed(std::sqrt(sum / std::max(n, 1)), 5),
+                    fixed(joint_peak, 5) + " " + joint_name});
   }
   std::cout << table(rows, "  ");
   return 0;

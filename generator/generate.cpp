@@ -59,11 +59,13 @@ StagedProgram make_program(const Model& model,
 }
 }  // namespace
 
-std::vector<std::string> branch_notes(const Model& model) {
+std::vector<std::string> branch_notes(const Model& model, std::vector<BranchChoice>* branches) {
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
   StagedProgram program = make_program(model, inputs);
-  return derive(model, plan, assembled_pose(model), inputs, program).notes;
+  Derivation d = derive(model, plan, assembled_pose(model), inputs, program);
+  if (branches) *branches = std::move(d.branches);
+  return d.notes;
 }
 
 // Names become fields of kernel templates whose scalar type parameter is T: a field named T would

@@ -170,12 +170,20 @@ class Emitter {
     for (size_t i = 0; i < model_.parameters.size(); ++i) {
       const Parameter& par = model_.parameters[i];
       std::string comment = par.unit.empty() ? "" : par.unit;
+      if (!par.written.empty()) comment += " (" + par.written + " in the model)";
       if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
       params.push_back("  T " + par.name + " = " + literal(defaults[i]) + ";" +
                        (comment.empty() ? "" : "  // " + comment));
       set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
       names.push_back(par.name);
     }
+    if (!model_.derived.empty())
+      params.push_back(
+          "  // Derived parameters, not fields: the kernel computes each from the fields above\n"
+          "  // wherever it is used, so setting a field moves them too.");
+    for (const DerivedParameter& d : model_.derived)
+      params.push_back("  //   " + d.name + " = " + d.value.text +
+                       (d.unit.empty() ? "" : "  [" + d.unit + "]"));
     v["param_fields"] = joined(params);
     v["set_parameters_body"] = joined(set_params);
     v["parameter_count"] = std::to_string(model_.parameters.size());

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "branch_choice.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "generate.hpp"
@@ -66,10 +67,19 @@ int run_check(const Args& args) {
   out += path + ": model '" + model.name + "'" +
          (model.description.empty() ? "" : ": " + model.description) + "\n";
 
-  std::vector<std::vector<std::string>> rows{{"name", "default", "unit", "doc"}};
+  std::vector<std::vector<std::string>> rows{{"name", "default", "unit", "as written", "doc"}};
   for (const Parameter& p : model.parameters)
-    rows.push_back({p.name, number_text(p.value), p.unit, p.doc});
-  out += "\nparameters (" + std::to_string(model.parameters.size()) + ")\n" + table(rows, "  ");
+    rows.push_back({p.name, number_text(p.value), p.unit, p.written, p.doc});
+  const std::vector<double> derived = model.derived_values(defaults);
+  for (size_t i = 0; i < model.derived.size(); ++i) {
+    const DerivedParameter& d = model.derived[i];
+    rows.push_back({d.name, number_text(derived[i]), d.unit, "= " + d.value.text, d.doc});
+  }
+  out += "\nparameters (" + std::to_string(model.parameters.size()) +
+         (model.derived.empty()
+              ? ""
+              : ", and " + std::to_string(model.derived.size()) + " derived from them") +
+         "; SI units)\n" + table(rows, "  ");
 
   rows = {{"name", "mass [kg]", "inertia [kg m^2]", "assembly hint [rad]"}};
   for (const Body& body : model.bodies) {
@@ -159,10 +169,11 @@ int run_check(const Args& args) {
              : " (shape solved in its frame, then placed on the ground body " +
                    model.bodies[static_cast<size_t>(model.ground)].name + ")\n";
   std::vector<std::string> notes;
+  std::vector<gen::BranchChoice> branches;
   std::string derivation_problem;
   if (plan.complete()) {
     try {
-      notes = gen::branch_notes(model);
+      notes = gen::branch_notes(model, &branches);
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& error) {
@@ -178,6 +189,8 @@ int run_check(const Args& args) {
       if (note.rfind(prefix, 0) == 0) line += ";" + note.substr(prefix.size());
     out += line + "\n";
   }
+  const std::vector<std::string> unpinned = gen::unpinned_branch_warnings(model, branches);
+  for (const std::string& warning : unpinned) out += "  warning: " + warning + "\n";
   const auto iterative = std::count_if(plan.groups.begin(), plan.groups.end(),
                                        [](const SolveGroup& g) { return is_iterative(g.kind); });
   if (plan.complete() && iterative > 0) {
@@ -199,7 +212,11 @@ int run_check(const Args& args) {
     std::cerr << path << ": warning: the generator cannot derive this model: " << derivation_problem
               << "\n";
   }
-  std::cout << "\nok: " << path << "\n";
+  std::cout << "\nok: " << path
+            << (unpinned.empty() ? std::string()
+                                 : " (" + std::to_string(unpinned.size()) +
+                                       " branch(es) chosen without a hint: see the warnings)")
+            << "\n";
   return 0;
 }
 
@@ -208,8 +225,8 @@ int run_check(const Args& args) {
 const char* const kInfoHelp =
     R"(usage: mechgen info MODEL.yaml [--json]
 
-Model metadata. With --json, exactly the JSON of DESIGN.md on stdout: name, gravity, parameters
-with their default values, bodies (mass and inertia about the centre of mass at the defaults,
+Model metadata. With --json, JSON on stdout (README.md, "Command line"): name, gravity,
+parameters with their default values (derived ones under derived_parameters), bodies (mass and inertia about the centre of mass at the defaults,
 ground flag), named points, joints (name, type, first, second, point) and drivers (name, joint,
 kind). Numbers are written with as many digits as it takes to read back the same double.
 Without --json, a short text summary.
@@ -278,8 +295,8 @@ const char* const kSweepHelp =
                      [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
 
 One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
-the model's step, evaluated with the --set values), one CSV row per sample (DESIGN.md's columns,
-17 significant digits).
+the model's step, evaluated with the --set values), one CSV row per sample (the columns of README.md's
+"Command line", 17 significant digits).
   --solver generated  the compiled kernel (default); numeric: the reference solver
   --set NAME=VALUE    overrides a model parameter (repeatable); no regeneration needed
   --threads N         threads for the generated solver (default: all, for 20000 samples or more)
@@ -333,11 +350,11 @@ int run_sweep_command(const Args& args) {
 
 const char* const kPlotHelp =
     R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
-                   [--title TEXT] [--xlabel TEXT] [--ylabel TEXT]
+                   [--title TEXT] [--xlabel TEXT] [--ylabel TEXT] [--equal]
 
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
-unless given.
+unless given. --equal: one scale on both axes, so an x-y path (--x C.x --y C.y) keeps its shape.
 )";
 
 int run_plot(const Args& args) {
@@ -360,6 +377,7 @@ int run_plot(const Args& args) {
   options.title = args.get("--title");
   options.x_label = args.get("--xlabel");
   options.y_label = args.get("--ylabel");
+  options.equal_scale = args.has("--equal");
   g_current_file = path;
   const report::CsvTable table = report::read_csv(path);
   const std::string svg = report::render_svg(report::column_plot(table, options));
@@ -382,12 +400,15 @@ const char* const kSummaryHelp =
 The figures of a sweep that size a motor and describe a gait:
   every driver <d> (columns <d>.effort, <d>.qd): peak effort (largest magnitude, signed, and when),
   RMS effort, mean power (effort x qd averaged over time), peak power, work over the run;
-  one body (--body, default l13 when present, else the first body): travel of its centre of mass
-  in x (end minus start) and height variation in y (max minus min, also relative to the mean);
+  one body's centre of mass or one named point (--body NAME): travel in x (end minus start) and
+  height variation in y (max minus min, and relative to the mean when the mean height is larger);
+  without --body, l13 when present, else the first body, and only when the run travels (net x
+  travel above the height variation, as a walking hip): a mechanism turning in place gets none;
   the largest joint force magnitude |(fx, fy)| and its joint.
 Averages are over time (trapezoidal rule in t). The driver kinds (hence the effort units: N m for
 an angle, N for a length) come from --model, else from the model of models/ whose sweep columns
-are exactly the table's.
+are exactly the table's, else from the columns (an angle driver's q is a difference of body
+angles).
 )";
 
 // The model of the source tree whose sweep columns are exactly `header`, if exactly one is.
@@ -441,7 +462,7 @@ const std::vector<Command>& commands() {
        {},
        &run_check},
       {"info",
-       "model metadata (--json: DESIGN.md's JSON)",
+       "model metadata (--json: JSON on stdout)",
        kInfoHelp,
        {{"--json", "", false}},
        &run_info},
@@ -470,7 +491,8 @@ const std::vector<Command>& commands() {
         {"--out", "-o", true},
         {"--title", "", true},
         {"--xlabel", "", true},
-        {"--ylabel", "", true}},
+        {"--ylabel", "", true},
+        {"--equal", "", false}},
        &run_plot},
       {"summary",
        "motor torque, power and gait figures of a sweep CSV",

@@ -36,6 +36,19 @@ int Model::parameter_index(const std::string& parameter_name) const {
   return -1;
 }
 
+int Model::derived_index(const std::string& parameter_name) const {
+  for (size_t i = 0; i < derived.size(); ++i)
+    if (derived[i].name == parameter_name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<double> Model::derived_values(const std::vector<double>& values) const {
+  const GiNaC::exmap subs = substitutions(values);
+  std::vector<double> result;
+  for (const DerivedParameter& d : derived) result.push_back(evaluate(d.value, subs));
+  return result;
+}
+
 std::vector<std::pair<std::string, int>> Model::named_points() const {
   std::vector<std::pair<std::string, int>> result;
   for (size_t b = 0; b < bodies.size(); ++b) {
@@ -86,6 +99,13 @@ void apply_overrides(const Model& model, const std::vector<std::string>& overrid
       throw ModelError(command_line, "--set expects NAME=VALUE, got '" + item + "'");
     const std::string name = item.substr(0, eq);
     const int index = model.parameter_index(name);
+    if (const int derived = model.derived_index(name); index < 0 && derived >= 0) {
+      const DerivedParameter& d = model.derived[static_cast<size_t>(derived)];
+      std::string uses;
+      for (const std::string& u : d.uses) uses += (uses.empty() ? "" : ", ") + u;
+      throw ModelError(command_line, "--set: parameter '" + name + "' is derived (" + name + " = " +
+                                         d.value.text + "); set what it depends on: " + uses);
+    }
     if (index < 0)
       throw ModelError(command_line,
                        "--set: model '" + model.name + "' has no parameter '" + name + "'");

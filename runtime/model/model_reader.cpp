@@ -9,8 +9,10 @@
 #include <set>
 #include <sstream>
 
+#include "model/link_mass.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
+#include "model/parameter_resolver.hpp"
 
 namespace mechgen {
 
@@ -57,6 +59,7 @@ class Reader {
   void read_parameters(const YAML::Node& node);
   void read_body(const YAML::Node& node);
   void read_mass(const YAML::Node& node, Body& body);
+  void read_link_mass(const YAML::Node& node, Body& body, const std::string& what);
   void read_section(const YAML::Node& node, Body& body);
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
@@ -130,6 +133,8 @@ Expr Reader::expression(const YAML::Node& node, const std::string& what, bool ti
         close > open) {
       std::string known;
       for (const Parameter& p : model_.parameters) known += (known.empty() ? "" : ", ") + p.name;
+      for (const DerivedParameter& p : model_.derived)
+        known += (known.empty() ? "" : ", ") + p.name;
       fail(node, what + " '" + text + "': undefined name '" +
                      message.substr(open + 1, close - open - 1) + "' (" +
                      (known.empty() ? "the model has no parameters" : "parameters: " + known) +
@@ -167,34 +172,32 @@ int Reader::body_ref(const YAML::Node& node, const std::string& what) const {
 void Reader::read_parameters(const YAML::Node& node) {
   if (!node) return;
   expect_map(node, "parameters");
+  std::vector<ParameterEntry> entries;
   for (const auto& item : node) {
-    Parameter p;
+    ParameterEntry p;
     p.name = identifier(item.first, "parameter name");
-    p.loc = loc(item.first);
+    p.name_loc = loc(item.first);
     if (p.name == "t" || p.name == "pi")
       fail(item.first, "parameter name '" + p.name + "' is reserved");
-    if (model_.parameter_index(p.name) >= 0)
-      fail(item.first, "duplicate parameter '" + p.name + "'");
+    for (const ParameterEntry& other : entries)
+      if (other.name == p.name) fail(item.first, "duplicate parameter '" + p.name + "'");
     YAML::Node value = item.second;
     if (value.IsMap()) {
       expect_keys(value, "parameter '" + p.name + "'", {"value", "unit", "doc"});
-      if (value["unit"]) p.unit = scalar(value["unit"], "unit");
+      if (value["unit"]) {
+        p.has_unit = true;
+        p.unit = scalar(value["unit"], "unit");
+        p.unit_loc = loc(value["unit"]);
+      }
       if (value["doc"]) p.doc = scalar(value["doc"], "doc");
       value = required(value, "value", "parameter '" + p.name + "'");
     }
-    const std::string text = scalar(value, "parameter '" + p.name + "'");
-    size_t used = 0;
-    try {
-      p.value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(p.value))
-      fail(value, "parameter '" + p.name + "' must be a number, got '" + text + "'");
-    p.symbol = GiNaC::symbol(p.name);
-    symbols_[p.name] = p.symbol;
-    model_.parameters.push_back(p);
+    p.text = scalar(value, "parameter '" + p.name + "'");
+    p.value_loc = loc(value);
+    if (p.text.empty()) fail(value, "parameter '" + p.name + "' is empty");
+    entries.push_back(p);
   }
+  resolve_parameters(entries, model_, symbols_);
 }
 
 void Reader::read_mass(const YAML::Node& node, Body& body) {
@@ -224,6 +227,8 @@ void Reader::read_mass(const YAML::Node& node, Body& body) {
     m.inertia = {mass * (dx * dx + dy * dy + m.width.ex * m.width.ex) / 12, "bar inertia", at};
     m.com = {{(from->local.x.ex + to->local.x.ex) / 2, "bar middle x", at},
              {(from->local.y.ex + to->local.y.ex) / 2, "bar middle y", at}};
+  } else if (node["bars"] || node["plate"]) {
+    read_link_mass(node, body, what);
   } else {
     expect_keys(node, what, {"mass", "com", "inertia"});
     m.source = MassProperties::Source::explicit_values;
@@ -231,6 +236,56 @@ void Reader::read_mass(const YAML::Node& node, Body& body) {
     m.com = vector2(required(node, "com", what), what + " com", false);
     m.inertia = expression(required(node, "inertia", what), what + " inertia", false);
   }
+}
+
+// `bars: [[A, B], [B, C]]` with width, thickness, density, or `plate: [A, B, C]` with thickness,
+// density: runtime/model/link_mass.hpp.
+void Reader::read_link_mass(const YAML::Node& node, Body& body, const std::string& what) {
+  MassProperties& m = body.mass;
+  const bool plate = static_cast<bool>(node["plate"]);
+  const YAML::Node list = plate ? node["plate"] : node["bars"];
+  if (plate)
+    expect_keys(node, what + " (plate)", {"plate", "thickness", "density"});
+  else
+    expect_keys(node, what + " (bars)", {"bars", "width", "thickness", "density"});
+  auto point_of = [&](const YAML::Node& n) {
+    const std::string name = scalar(n, what + " point");
+    const BodyPoint* p = body.find_point(name);
+    if (!p) fail(n, what + ": body has no point '" + name + "'");
+    m.outline.push_back(name);
+    return PointEx{p->local.x.ex, p->local.y.ex};
+  };
+  if (!list.IsSequence() || list.size() < (plate ? 3u : 1u))
+    fail(list, what + (plate ? ": plate must list at least three of the body's points"
+                             : ": bars must list bars [from, to] between the body's points"));
+  m.thickness = expression(required(node, "thickness", what), what + " thickness", false);
+  m.density = expression(required(node, "density", what), what + " density", false);
+  const SourceLoc at = loc(list);
+  PlanarMass mass;
+  if (plate) {
+    m.source = MassProperties::Source::plate;
+    std::vector<PointEx> vertices;
+    for (const auto& n : list) vertices.push_back(point_of(n));
+    const double area = model_.evaluate({signed_area(vertices), "plate area", at},
+                                        model_.substitutions(model_.default_parameters()));
+    if (std::abs(area) < 1e-300) fail(list, what + ": the plate's points enclose no area");
+    mass = plate_mass(vertices, m.thickness.ex, m.density.ex, area > 0 ? 1 : -1);
+  } else {
+    m.source = MassProperties::Source::bars;
+    m.width = expression(required(node, "width", what), what + " width", false);
+    std::vector<std::pair<PointEx, PointEx>> bars;
+    for (const auto& bar : list) {
+      if (!bar.IsSequence() || bar.size() != 2)
+        fail(bar, what + ": each bar must name two of the body's points [from, to]");
+      bars.emplace_back(point_of(bar[0]), point_of(bar[1]));
+    }
+    mass = bars_mass(bars, m.width.ex, m.thickness.ex, m.density.ex);
+  }
+  const std::string kind = plate ? "plate" : "bars";
+  m.mass = {mass.mass, kind + " mass", at};
+  m.inertia = {mass.inertia, kind + " inertia", at};
+  m.com = {{mass.com_x, kind + " centre of mass x", at},
+           {mass.com_y, kind + " centre of mass y", at}};
 }
 
 void Reader::read_section(const YAML::Node& node, Body& body) {
@@ -443,6 +498,13 @@ void Reader::check_values() {
     }
     if (b.ground) continue;
     const MassProperties& m = b.mass;
+    if (m.source == MassProperties::Source::bars || m.source == MassProperties::Source::plate) {
+      std::vector<const Expr*> sizes{&m.thickness, &m.density};
+      if (m.source == MassProperties::Source::bars) sizes.push_back(&m.width);
+      for (const Expr* e : sizes)
+        if (model_.evaluate(*e, subs) <= 0)
+          throw ModelError(e->loc, "body '" + b.name + "': '" + e->text + "' must be positive");
+    }
     if (m.source == MassProperties::Source::bar) {
       const std::pair<const char*, const Expr*> sizes[] = {
           {"width", &m.width}, {"thickness", &m.thickness}, {"density", &m.density}};

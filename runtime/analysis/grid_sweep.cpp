@@ -29,6 +29,14 @@ size_t parameter_index(const Model& model, const std::string& name) {
   for (size_t i = 0; i < model.parameters.size(); ++i)
     if (model.parameters[i].name == name) return i;
   std::string known;
+  if (const int d = model.derived_index(name); d >= 0) {
+    for (const std::string& u : model.derived[static_cast<size_t>(d)].uses)
+      known += (known.empty() ? "" : ", ") + u;
+    throw ModelError({model.file, 0, 0}, "grid: parameter '" + name + "' is derived (" + name +
+                                             " = " +
+                                             model.derived[static_cast<size_t>(d)].value.text +
+                                             "); vary what it depends on: " + known);
+  }
   for (const Parameter& p : model.parameters) known += (known.empty() ? "" : ", ") + p.name;
   throw ModelError({model.file, 0, 0}, "grid: no parameter '" + name + "' in model '" + model.name +
                                            "' (parameters: " + known + ")");

@@ -9,7 +9,7 @@
 
 #include "model/columns.hpp"
 #include "numeric/reference_solver.hpp"
-#include "sweep/compiled_kernel.hpp"
+#include "ondemand/kernel_resolver.hpp"
 
 namespace mechgen {
 
@@ -23,49 +23,6 @@ std::string format_number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text.empty() ? "none" : text;
-}
-
-// The compiled kernel of the model, checked against the description it is used with.
-const CompiledKernel& kernel_for(const Model& model) {
-  const CompiledKernel* kernel = find_compiled_kernel(model.name);
-  if (!kernel)
-    throw ModelError(model_loc(model),
-                     "no generated kernel for model '" + model.name +
-                         "' is compiled into this mechgen (kernel not compiled in; compiled in: " +
-                         joined(compiled_kernel_models()) +
-                         "); run `build/mechgen generate models/" + model.name + ".yaml`, add " +
-                         model.name +
-                         " to MECHGEN_KERNEL_MODELS in generated/CMakeLists.txt and rebuild, or "
-                         "use --solver numeric");
-  const std::string stale =
-      "the compiled kernel of '" + model.name + "' does not match this description (";
-  const std::string advice = "); rebuild mechgen to regenerate it, or use --solver numeric";
-  if (kernel->parameter_count != static_cast<int>(model.parameters.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->parameter_count) +
-                                           " parameters, the description has " +
-                                           std::to_string(model.parameters.size()) + advice);
-  for (size_t i = 0; i < model.parameters.size(); ++i)
-    if (model.parameters[i].name != kernel->parameter_names[i])
-      throw ModelError(model_loc(model), stale + "parameter " + std::to_string(i + 1) + " is '" +
-                                             kernel->parameter_names[i] + "', not '" +
-                                             model.parameters[i].name + "'" + advice);
-  const std::vector<std::string> columns = column_names(model);
-  if (kernel->column_count != static_cast<int>(columns.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->column_count) +
-                                           " columns, the description gives " +
-                                           std::to_string(columns.size()) + advice);
-  for (size_t i = 0; i < columns.size(); ++i)
-    if (columns[i] != kernel->column_names[i])
-      throw ModelError(model_loc(model), stale + "column " + std::to_string(i + 1) + " is '" +
-                                             kernel->column_names[i] + "', not '" + columns[i] +
-                                             "'" + advice);
-  return *kernel;
 }
 
 const char* kernel_status(int status) {
@@ -171,7 +128,7 @@ void in_parallel(int threads, size_t n, Task&& task) {
 
 void sweep_generated(const Model& model, const SweepOptions& options,
                      const std::vector<double>& times, SweepResult& result) {
-  const CompiledKernel& kernel = kernel_for(model);
+  const CompiledKernel& kernel = generated_kernel(model);
   const size_t n = times.size();
   const int threads = sweep_threads(options, n);
   // Contiguous chunks, one per thread; each thread writes only its own rows.
@@ -285,7 +242,7 @@ ColumnRanges column_ranges(const SweepResult& result) {
 ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
   if (options.solver != "generated") return column_ranges(run_sweep(model, options));
-  const CompiledKernel& kernel = kernel_for(model);
+  const CompiledKernel& kernel = generated_kernel(model);
   const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
   const size_t n = times.size(), columns = static_cast<size_t>(kernel.column_count);
   const int threads = sweep_threads(options, n);
@@ -348,6 +305,16 @@ void write_csv(const std::string& path, const SweepResult& result) {
   }
   if (std::ferror(out) || std::fclose(file.release()) != 0)
     throw std::runtime_error("cannot write '" + path + "'");
+}
+
+const CompiledKernel& generated_kernel(const Model& model) {
+  try {
+    return ondemand::kernel_for(model);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw ModelError(model_loc(model), error.what());
+  }
 }
 
 }  // namespace mechgen

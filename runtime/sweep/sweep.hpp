@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen {
 
@@ -26,11 +27,17 @@ struct SweepResult {
   std::vector<std::vector<double>> rows;  // one per sample, each as long as columns
 };
 
+// The generated kernel of the model as it is described now (ondemand/kernel_resolver.hpp): the
+// compiled-in one when its fingerprint is the description's, else one built on demand and cached.
+// Throws ModelError (naming the model file) when there is none: never a kernel of another
+// description, never the numeric solver instead.
+const CompiledKernel& generated_kernel(const Model& model);
+
 // The sweep options a model describes: its step with the given (or default) parameters.
 SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters = {});
 
-// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, a
-// kernel that is not compiled in or does not match the description) and for a sample the solver
+// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, no
+// kernel to be had: see generated_kernel) and for a sample the solver
 // cannot evaluate: the message names t, the status and, for a kernel, the failing group. Never
 // returns a NaN row.
 SweepResult run_sweep(const Model& model, const SweepOptions& options);

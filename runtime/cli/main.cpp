@@ -273,6 +273,7 @@ int run_generate(const Args& args) {
 const char* const kSweepHelp =
     R"(usage: mechgen sweep MODEL.yaml [--solver generated|numeric] [--set NAME=VALUE]...
                      [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
+                     [--shard I/N]
 
 One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
 the model's step, evaluated with the --set values), one CSV row per sample (DESIGN.md's columns,
@@ -285,6 +286,9 @@ the model's step, evaluated with the --set values), one CSV row per sample (DESI
   --out FILE.csv      where to write the table (required unless --summary is given)
   --summary           print each column's minimum and maximum; without --out no table is kept
                       (10^6 PASIBOT samples in about 0.6 s on 2 cores)
+  --shard I/N         only part I of N of the samples (with --out): the parts, joined by
+                      `mechgen merge --out FILE PART...`, give this run's file byte for byte
+A progress line (samples, rate, time left) is drawn on stderr when it is a terminal.
 A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
 )";
 
@@ -298,12 +302,21 @@ int run_sweep_command(const Args& args) {
   SweepOptions options = sweep_options(model, parameters, args);
   options.threads = args.integer("--threads", 0);
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
+  options.shard = shard_option(args);
+  if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
+    throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 
   const auto start = std::chrono::steady_clock::now();
   // Summary only: the ranges are folded as the samples come, no table is kept.
   SweepResult result;
-  const ColumnRanges ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
-                                                : sweep_ranges(model, options);
+  ColumnRanges ranges;
+  {
+    const auto [first, end] = shard_range(options.shard, static_cast<size_t>(options.samples));
+    Progress progress("sweep " + model.name, end - first);
+    options.progress = &progress;
+    ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
+                               : sweep_ranges(model, options);
+  }
   const double elapsed = seconds_since(start);
   std::string line = "sweep " + model.name + ": " + options.solver + " solver, " +
                      std::to_string(options.samples) + " samples, t = " + number_text(options.t0) +
@@ -313,7 +326,11 @@ int run_sweep_command(const Args& args) {
   if (args.has("--out")) {
     const std::string out = args.get("--out");
     g_current_file = out;
-    write_csv(out, result);
+    write_csv(out, result, part_line(options.shard));
+    if (!options.shard.whole())
+      line += ", part " + std::to_string(options.shard.index) + "/" +
+              std::to_string(options.shard.count) + " (" + std::to_string(result.rows.size()) +
+              " rows)";
     line += " -> " + out;
   }
   std::cout << line << "\n";
@@ -459,7 +476,8 @@ const std::vector<Command>& commands() {
         {"--t1", "", true},
         {"--threads", "", true},
         {"--out", "-o", true},
-        {"--summary", "", false}},
+        {"--summary", "", false},
+        {"--shard", "", true}},
        &run_sweep_command},
       {"plot",
        "SVG line plot of CSV columns",
@@ -479,6 +497,7 @@ const std::vector<Command>& commands() {
       loads_command(),
       zmp_command(),
       grid_command(),
+      merge_command(),
       size_motor_command(),
       walk_command(),
       draw_command(),

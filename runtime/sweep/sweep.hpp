@@ -7,6 +7,8 @@
 
 #include "model/model.hpp"
 #include "sweep/compiled_kernel.hpp"
+#include "sweep/progress.hpp"
+#include "sweep/shard.hpp"
 
 namespace mechgen {
 
@@ -20,6 +22,10 @@ struct SweepOptions {
   // from the previous configuration).
   int threads = 0;
   static constexpr int parallel_threshold = 20000;
+  // Told of every sample done (may be shared by several sweeps, e.g. a grid's runs); optional.
+  Progress* progress = nullptr;
+  // Only this shard's samples (sweep/shard.hpp); sweep_ranges takes whole runs only.
+  Shard shard;
 };
 
 struct SweepResult {
@@ -60,7 +66,9 @@ ColumnRanges column_ranges(const SweepResult& result);
 std::vector<double> sample_times(double t0, double t1, int samples);
 
 // Header and rows, comma separated, every number with 17 significant digits ("%.17g"), so
-// reading the file back gives the same doubles. Throws std::runtime_error when it cannot write.
-void write_csv(const std::string& path, const SweepResult& result);
+// reading the file back gives the same doubles; `first_line` (a shard's part_line) before the
+// header. Throws std::runtime_error when it cannot write.
+void write_csv(const std::string& path, const SweepResult& result,
+               const std::string& first_line = "");
 
 }  // namespace mechgen

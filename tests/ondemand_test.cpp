@@ -13,6 +13,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "model/fingerprint.hpp"
 #include "model/model.hpp"
@@ -138,6 +139,33 @@ TEST(OnDemand, SecondRunLoadsFromTheCache) {
   const report::CsvTable numeric = report::read_csv((dir / "numeric.csv").string());
   ASSERT_EQ(generated.header, numeric.header);
   expect_equal_to_numeric(generated.header, generated.rows, numeric.rows);
+  fs::remove_all(dir);
+}
+
+TEST(OnDemand, ConcurrentFirstUsesLeaveOneGoodKernel) {
+  // Two processes find the cache empty and both build the kernel: each renames a complete library
+  // into place, both runs succeed with the same rows, and no build folder is left behind.
+  const fs::path dir = write_model("crank_race");
+  const std::string model = (dir / "crank_race.yaml").string(), cache = (dir / "cache").string();
+  const std::string sweep = std::string(MECHGEN_BINARY) + " sweep " + model + " --cache " + cache;
+  const std::string both = "(" + sweep + " --out " + (dir / "a.csv").string() + " 2>" +
+                           (dir / "a.err").string() + " & " + sweep + " --out " +
+                           (dir / "b.csv").string() + " 2>" + (dir / "b.err").string() +
+                           "; b=$?; wait $!; a=$?; exit $((a | b))) >/dev/null";
+  ASSERT_EQ(std::system(both.c_str()), 0) << file_text(dir / "a.err") << file_text(dir / "b.err");
+  EXPECT_EQ(file_text(dir / "a.csv"), file_text(dir / "b.csv"));
+  EXPECT_GT(file_text(dir / "a.csv").size(), 1000u);
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(cache)) left.push_back(entry.path().filename());
+  ASSERT_EQ(left.size(), 1u) << left.front() << " ...";
+  EXPECT_TRUE(left.front().ends_with(".so")) << left.front();
+  std::string err;
+  ASSERT_EQ(mechgen("sweep " + model + " --cache " + cache + " --out " + (dir / "c.csv").string(),
+                    dir, err),
+            0)
+      << err;
+  EXPECT_EQ(err, "");
+  EXPECT_EQ(file_text(dir / "c.csv"), file_text(dir / "a.csv"));
   fs::remove_all(dir);
 }
 

@@ -30,7 +30,7 @@ const CompiledKernel& kernel_for(const Model& model) {
   const CompiledKernel* compiled_in = find_compiled_kernel(model.name);
   if (compiled_in && compiled_in->fingerprint == fingerprint) return *(kernel = compiled_in);
   const std::string reason =
-      compiled_in ? " (the compiled-in one is of another description of " + model.name + ")" : "";
+      compiled_in ? " (the compiled-in kernel is of another description)" : "";
   return *(kernel = &cached_kernel(model, fingerprint, reason));
 }
 

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -12,7 +13,14 @@
 namespace mechgen::ondemand {
 
 std::uint64_t expected_fingerprint(const Model& model) {
-  return gen::kernel_fingerprint(model, templates_dir(), false);
+  try {
+    return gen::kernel_fingerprint(model, templates_dir(), false);
+  } catch (const std::runtime_error& error) {
+    // A binary copied away from its source tree, not installed with `cmake --install`.
+    throw std::runtime_error(std::string(error.what()) +
+                             ": mechgen needs its templates to check a kernel against the "
+                             "description (an installed mechgen finds them in share/mechgen)");
+  }
 }
 
 const CompiledKernel* current_compiled_kernel(const Model& model) {

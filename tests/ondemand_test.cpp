@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "model/fingerprint.hpp"
 #include "model/model.hpp"
@@ -103,6 +105,33 @@ TEST(OnDemand, ModelInAnyFolderIsBuiltCachedAndEqualsNumeric) {
   fs::remove_all(dir);
 }
 
+TEST(OnDemand, EditedShippedModelGetsItsOwnKernelBesideTheCompiledInOne) {
+  // The case: slider_crank edited (no gravity, the crank law doubled) but not renamed. The
+  // compiled-in slider_crank is stale; the one built on demand has the same namespace and names
+  // (hidden visibility keeps the two apart) and gives the edited model's numbers.
+  const fs::path dir = write_model("slider_crank");
+  const fs::path path = dir / "slider_crank.yaml";
+  std::string text = replaced(file_text(path), "gravity: [0, -9.81]", "gravity: [0, 0]");
+  text = replaced(text, "kind: angle, value: w*t}", "kind: angle, value: 2*w*t}");
+  std::ofstream(path) << text;
+  const ScopedEnv cache("MECHGEN_CACHE", (dir / "cache").string());
+  const Model model = read_model(path.string());
+  const CompiledKernel& kernel = generated_kernel(model);
+  ASSERT_NE(find_compiled_kernel("slider_crank"), nullptr);
+  EXPECT_NE(&kernel, find_compiled_kernel("slider_crank"));
+  EXPECT_NE(kernel.fingerprint, find_compiled_kernel("slider_crank")->fingerprint);
+  SweepOptions options = default_sweep(model);
+  const SweepResult generated = run_sweep(model, options);
+  options.solver = "numeric";
+  const SweepResult numeric = run_sweep(model, options);
+  expect_equal_to_numeric(generated.columns, generated.rows, numeric.rows);
+  // The edit shows: the crank turns at 2 w (40 rad/s with w = 20 here).
+  const auto qd = std::find(generated.columns.begin(), generated.columns.end(), "crank_angle.qd");
+  ASSERT_NE(qd, generated.columns.end());
+  EXPECT_DOUBLE_EQ(generated.rows[5][static_cast<size_t>(qd - generated.columns.begin())], 40.0);
+  fs::remove_all(dir);
+}
+
 // Runs the mechgen binary; returns its exit code, with its stderr in `err`.
 int mechgen(const std::string& arguments, const fs::path& dir, std::string& err) {
   const std::string command = std::string(MECHGEN_BINARY) + " " + arguments + " 2>" +
@@ -138,6 +167,33 @@ TEST(OnDemand, SecondRunLoadsFromTheCache) {
   const report::CsvTable numeric = report::read_csv((dir / "numeric.csv").string());
   ASSERT_EQ(generated.header, numeric.header);
   expect_equal_to_numeric(generated.header, generated.rows, numeric.rows);
+  fs::remove_all(dir);
+}
+
+TEST(OnDemand, ConcurrentFirstUsesLeaveOneGoodKernel) {
+  // Two processes find the cache empty and both build the kernel: each renames a complete library
+  // into place, both runs succeed with the same rows, and no build folder is left behind.
+  const fs::path dir = write_model("crank_race");
+  const std::string model = (dir / "crank_race.yaml").string(), cache = (dir / "cache").string();
+  const std::string sweep = std::string(MECHGEN_BINARY) + " sweep " + model + " --cache " + cache;
+  const std::string both = "(" + sweep + " --out " + (dir / "a.csv").string() + " 2>" +
+                           (dir / "a.err").string() + " & " + sweep + " --out " +
+                           (dir / "b.csv").string() + " 2>" + (dir / "b.err").string() +
+                           "; b=$?; wait $!; a=$?; exit $((a | b))) >/dev/null";
+  ASSERT_EQ(std::system(both.c_str()), 0) << file_text(dir / "a.err") << file_text(dir / "b.err");
+  EXPECT_EQ(file_text(dir / "a.csv"), file_text(dir / "b.csv"));
+  EXPECT_GT(file_text(dir / "a.csv").size(), 1000u);
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(cache)) left.push_back(entry.path().filename());
+  ASSERT_EQ(left.size(), 1u) << left.front() << " ...";
+  EXPECT_TRUE(left.front().ends_with(".so")) << left.front();
+  std::string err;
+  ASSERT_EQ(mechgen("sweep " + model + " --cache " + cache + " --out " + (dir / "c.csv").string(),
+                    dir, err),
+            0)
+      << err;
+  EXPECT_EQ(err, "");
+  EXPECT_EQ(file_text(dir / "c.csv"), file_text(dir / "a.csv"));
   fs::remove_all(dir);
 }
 

@@ -2,8 +2,10 @@
 // at the end.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 #include "sweep/progress.hpp"
 
@@ -30,15 +32,28 @@ TEST(Progress, DrawsWhenEnabledAndClearsAtTheEnd) {
   ASSERT_NE(file, nullptr);
   {
     Progress progress("sweep m", 10, file, true);
-    progress.advance(4);  // within the first 100 ms: not drawn
+    progress.advance(2);  // the first samples start the clock
+    progress.advance(2);  // within the first 0.3 s: not drawn
     EXPECT_EQ(contents(file), "");
-    progress.advance(6);  // done: always drawn
+    std::this_thread::sleep_for(std::chrono::milliseconds(350));
+    progress.advance(6);  // drawn
   }
   const std::string text = contents(file);
   EXPECT_EQ(text.rfind("\rsweep m: 10 / 10 samples (100%), ", 0), 0u) << text;
   // The destructor overwrites the line with spaces and returns to its start.
   const size_t width = text.find('\r', 1) - 1;
   EXPECT_EQ(text.substr(width + 1), "\r" + std::string(width, ' ') + "\r");
+  std::fclose(file);
+}
+
+TEST(Progress, ShortRunDrawsNothing) {
+  std::FILE* file = std::tmpfile();
+  ASSERT_NE(file, nullptr);
+  {
+    Progress progress("sweep m", 3, file, true);
+    for (int i = 0; i < 3; ++i) progress.advance(1);
+  }
+  EXPECT_EQ(contents(file), "");
   std::fclose(file);
 }
 

@@ -92,6 +92,8 @@ int run_grid_command(const Args& args) {
   if (std::find(columns.begin(), columns.end(), plot.column) == columns.end())
     throw UsageError("--y: no column '" + plot.column + "' in the sweep of " + model.name);
 
+  // The kernel first (a model not compiled in is built on its first use): not part of the timing.
+  if (options.solver == "generated") generated_kernel(model);
   const auto start = std::chrono::steady_clock::now();
   GridResult grid;
   {

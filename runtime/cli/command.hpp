@@ -165,6 +165,7 @@ struct Command {
 
 // ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------
 
+Command sweep_command();       // cmd_sweep.cpp
 Command grid_command();        // cmd_grid.cpp
 Command size_motor_command();  // cmd_size_motor.cpp
 Command walk_command();        // cmd_walk.cpp

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -12,7 +13,14 @@
 namespace mechgen::ondemand {
 
 std::uint64_t expected_fingerprint(const Model& model) {
-  return gen::kernel_fingerprint(model, templates_dir(), false);
+  try {
+    return gen::kernel_fingerprint(model, templates_dir(), false);
+  } catch (const std::runtime_error& error) {
+    // A binary copied away from its source tree, not installed with `cmake --install`.
+    throw std::runtime_error(std::string(error.what()) +
+                             ": mechgen needs its templates to check a kernel against the "
+                             "description (an installed mechgen finds them in share/mechgen)");
+  }
 }
 
 const CompiledKernel* current_compiled_kernel(const Model& model) {
@@ -30,7 +38,7 @@ const CompiledKernel& kernel_for(const Model& model) {
   const CompiledKernel* compiled_in = find_compiled_kernel(model.name);
   if (compiled_in && compiled_in->fingerprint == fingerprint) return *(kernel = compiled_in);
   const std::string reason =
-      compiled_in ? " (the compiled-in one is of another description of " + model.name + ")" : "";
+      compiled_in ? " (the compiled-in kernel is of another description)" : "";
   return *(kernel = &cached_kernel(model, fingerprint, reason));
 }
 

@@ -48,7 +48,16 @@ void Progress::advance(size_t n) {
   const std::unique_lock<std::mutex> lock(draw_lock_, std::try_to_lock);
   if (!lock.owns_lock()) return;  // another thread is drawing
   const auto now = std::chrono::steady_clock::now();
-  if (now - last_draw_ < std::chrono::milliseconds(100) && done < total_) return;
+  if (!started_) {  // the rate counts from the first samples, not from the set-up before them
+    started_ = true;
+    start_ = last_draw_ = now;
+    return;
+  }
+  // A short run draws nothing; a long one from 0.3 s on, ten times a second, and its end.
+  const bool finished = done >= total_ && width_ > 0;
+  if (!finished && (now - start_ < std::chrono::milliseconds(300) ||
+                    now - last_draw_ < std::chrono::milliseconds(100)))
+    return;
   last_draw_ = now;
   draw(done);
 }

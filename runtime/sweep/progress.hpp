@@ -1,5 +1,6 @@
 // A progress line for long runs: samples done, rate and time left, redrawn in place on stderr at
-// most ten times a second, and only when stderr is a terminal (silent in pipes, logs and tests).
+// most ten times a second from 0.3 s into the run (a short run draws nothing), and only when
+// stderr is a terminal (silent in pipes, logs and tests).
 #pragma once
 
 #include <atomic>
@@ -34,6 +35,7 @@ class Progress {
   bool enabled_;
   std::atomic<size_t> done_{0};
   std::mutex draw_lock_;
+  bool started_ = false;
   std::chrono::steady_clock::time_point start_, last_draw_;
   size_t width_ = 0;  // of the last line drawn
 };

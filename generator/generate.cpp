@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "kernel_fingerprint.hpp"
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
@@ -87,7 +88,10 @@ static void check_kernel_names(const Model& model, const std::string& path) {
 }
 
 GenerateResult generate(const GenerateOptions& options) {
-  const Model model = read_model(options.model_path);
+  return generate(read_model(options.model_path), options);
+}
+
+GenerateResult generate(const Model& model, const GenerateOptions& options) {
   check_kernel_names(model, options.model_path);
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
@@ -99,6 +103,7 @@ GenerateResult generate(const GenerateOptions& options) {
   emit.source = display_path(options.model_path);
   emit.command = "build/mechgen generate " + emit.source + (options.bake ? " --bake" : "");
   emit.bake = options.bake;
+  emit.fingerprint = kernel_fingerprint(model, options.templates_dir, options.bake);
   const std::vector<EmittedFile> files = emit_kernel(model, plan, derivation, program, emit);
 
   GenerateResult result{model.name, {}, derivation.notes};

@@ -10,6 +10,7 @@
 #include "code_block.hpp"
 #include "latency_schedule.hpp"
 #include "model/columns.hpp"
+#include "model/fingerprint.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
@@ -17,14 +18,6 @@ namespace mechgen::gen {
 using GiNaC::ex;
 
 namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read template " + path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::string literal(double value) {
   char buffer[64];
@@ -153,6 +146,7 @@ class Emitter {
     v["model"] = model_.name;
     v["source"] = options_.source;
     v["command"] = options_.command;
+    v["fingerprint"] = hex64(options_.fingerprint);
     v["description"] = model_.description.empty() ? "(no description)" : model_.description;
     v["ground"] = model_.bodies[static_cast<size_t>(model_.ground)].name;
     v["reference"] = model_.bodies[static_cast<size_t>(plan.reference)].name;
@@ -428,7 +422,7 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
   std::vector<EmittedFile> files;
   const std::string kernel = options.templates_dir + "/kernel.hpp.in";
   files.push_back(
-      {model.name + ".hpp", render_template(read_file(kernel), values, "kernel.hpp.in")});
+      {model.name + ".hpp", render_template(read_template(kernel), values, "kernel.hpp.in")});
   // Driven evaluation (a motion other than the model's own, e.g. a start from rest): the driver
   // inputs are read from a flat array, (q, qd, qdd) per driver in model order.
   std::string driven_inputs;
@@ -448,7 +442,7 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
       {"driven_inputs", driven_inputs}};
   const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
   files.push_back({model.name + "_entry.cpp",
-                   render_template(read_file(entry), entry_values, "kernel_entry.cpp.in")});
+                   render_template(read_template(entry), entry_values, "kernel_entry.cpp.in")});
   return files;
 }
 

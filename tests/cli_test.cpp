@@ -104,28 +104,6 @@ TEST(Sweep, OverridesAndThreadsGiveTheSameRows) {
   expect_columns_agree(run_sweep(model, options), one, 1e-9);
 }
 
-TEST(Sweep, ModelWithoutCompiledKernelSaysHowToAddIt) {
-  std::string text = file_text(model_path("chebyshev"));
-  const auto at = text.find("name: chebyshev");
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, 15, "name: lambda_copy");
-  const Model model = read_model_text(text, "models/lambda_copy.yaml");
-  SweepOptions options = default_sweep(model);
-  try {
-    run_sweep(model, options);
-    FAIL() << "expected an error";
-  } catch (const ModelError& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("not compiled in"), std::string::npos) << message;
-    EXPECT_NE(message.find("mechgen generate models/lambda_copy.yaml"), std::string::npos)
-        << message;
-    EXPECT_NE(message.find("MECHGEN_KERNEL_MODELS"), std::string::npos) << message;
-    EXPECT_NE(message.find("--solver numeric"), std::string::npos) << message;
-  }
-  options.solver = "numeric";
-  EXPECT_EQ(run_sweep(model, options).rows.size(), static_cast<size_t>(model.step.samples));
-}
-
 TEST(Sweep, UnreachableSampleIsAnErrorNamingTimeAndGroup) {
   // A rod shorter than the crank: the slider's line is out of reach once r sin(w t) > L.
   const Model model = read_model(model_path("slider_crank"));

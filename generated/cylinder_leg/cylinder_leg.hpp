@@ -1643,6 +1643,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
   }
 }
 
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xcb473cf5eccfcefeULL;
+
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 19;
 inline constexpr const char* parameter_names[] = { "l_th", "l_sh", "gx", "ty", "fx", "fy", "sx", "sy", "r1", "r2", "s1", "s2", "a1", "a2", "w", "m_th", "m_sh", "m_b", "m_r" };

@@ -917,6 +917,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
   }
 }
 
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x325f25b20673f787ULL;
+
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;
 inline constexpr const char* parameter_names[] = { "l_th", "l_sh", "h_ft", "l_toe", "l_heel", "m_th", "m_sh", "m_ft", "w", "S", "eta0", "a_lift", "th_foot" };

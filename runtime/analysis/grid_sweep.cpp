@@ -76,6 +76,7 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
     run.options.solver = options.solver;
     if (options.samples > 0) run.options.samples = options.samples;
     run.options.threads = 1;  // the runs are the parallel unit
+    run.options.progress = options.progress;
   }
 
   // Runs are independent (each its own solver or a pure kernel call): a pool of threads takes
@@ -175,10 +176,11 @@ int column_of(const std::vector<std::string>& columns, const std::string& name) 
 
 }  // namespace
 
-void write_grid_csv(const std::string& path, const GridResult& grid) {
+void write_grid_csv(const std::string& path, const GridResult& grid,
+                    const std::string& first_line) {
   std::ofstream file(path, std::ios::binary);
   const std::vector<std::string> columns = grid_columns(grid);
-  std::string text;
+  std::string text = first_line;
   for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
   text += "\n";
   for (const GridRun& run : grid.runs) {

@@ -164,7 +164,7 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
     }
   }
 
-  const CompiledKernel& kernel = *find_compiled_kernel(model.name);
+  const CompiledKernel& kernel = generated_kernel(model);
   std::vector<double> kernel_row(static_cast<size_t>(kernel.column_count));
   auto evaluate = [&](double t, const DriverMotion& m) {
     const double drivers[3] = {m.q, m.qd, m.qdd};

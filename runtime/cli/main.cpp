@@ -26,6 +26,7 @@
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
+#include "ondemand/data_paths.hpp"
 #include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
 #include "report/svg_plot.hpp"
@@ -259,32 +260,28 @@ const char* const kGenerateHelp =
     R"(usage: mechgen generate MODEL.yaml [-o DIR] [--bake] [--templates DIR]
 
 Derives the model's kinematics and dynamics symbolically and writes its kernels.
-  -o, --output DIR   where to write (default: generated/<name>/ of the source tree)
+  -o, --output DIR   where to write (default: generated/<name>/ under the current folder)
   --bake             bake the default parameter values into the kernel as constants
-  --templates DIR    the templates to emit through (default: templates/ of the source tree)
-Parameters stay run-time values unless --bake is given: only a change of topology (bodies,
-joints, drivers) needs regeneration. A kernel is compiled into mechgen when its model is listed in
-MECHGEN_KERNEL_MODELS (generated/CMakeLists.txt).
+  --templates DIR    the templates to emit through (default: mechgen's own)
+Parameters stay run-time values unless --bake is given. The kernel carries a fingerprint of the
+description it was generated from. Sweeps need no generate step: `--solver generated` builds and
+caches the kernel of a model that is not compiled into mechgen on its first use.
 )";
 
 int run_generate(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   const Model model = load_model(path);
-  const std::filesystem::path source = MECHGEN_SOURCE_DIR;
   gen::GenerateOptions options;
   options.model_path = path;
-  options.output_dir = args.get("--output", (source / "generated" / model.name).string());
-  options.templates_dir = args.get("--templates", (source / "templates").string());
+  options.output_dir =
+      args.get("--output", (std::filesystem::path("generated") / model.name).string());
+  options.templates_dir = args.get("--templates", ondemand::templates_dir());
   options.bake = args.has("--bake");
   const auto start = std::chrono::steady_clock::now();
   const gen::GenerateResult result = gen::generate(options);
   std::cout << "generated '" << result.model << "' in " << fixed(seconds_since(start), 3) << " s\n";
   for (const std::string& note : result.notes) std::cout << "  " << note << "\n";
   for (const std::string& file : result.written) std::cout << "  wrote " << file << "\n";
-  if (!find_compiled_kernel(model.name))
-    std::cout << "note: '" << model.name
-              << "' is not compiled into this mechgen; add it to MECHGEN_KERNEL_MODELS in "
-                 "generated/CMakeLists.txt and rebuild to sweep it with --solver generated\n";
   return 0;
 }
 
@@ -293,16 +290,22 @@ int run_generate(const Args& args) {
 const char* const kSweepHelp =
     R"(usage: mechgen sweep MODEL.yaml [--solver generated|numeric] [--set NAME=VALUE]...
                      [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
+                     [--shard I/N]
 
 One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
 the model's step, evaluated with the --set values), one CSV row per sample (the columns of README.md's
 "Command line", 17 significant digits).
-  --solver generated  the compiled kernel (default); numeric: the reference solver
+  --solver generated  the model's generated kernel (default): compiled into mechgen when it is
+                      current, else generated, compiled and cached on first use (--cache DIR)
+  --solver numeric    the reference solver
   --set NAME=VALUE    overrides a model parameter (repeatable); no regeneration needed
   --threads N         threads for the generated solver (default: all, for 20000 samples or more)
   --out FILE.csv      where to write the table (required unless --summary is given)
   --summary           print each column's minimum and maximum; without --out no table is kept
                       (10^6 PASIBOT samples in about 0.6 s on 2 cores)
+  --shard I/N         only part I of N of the samples (with --out): the parts, joined by
+                      `mechgen merge --out FILE PART...`, give this run's file byte for byte
+A progress line (samples, rate, time left) is drawn on stderr when it is a terminal.
 A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
 )";
 
@@ -316,12 +319,21 @@ int run_sweep_command(const Args& args) {
   SweepOptions options = sweep_options(model, parameters, args);
   options.threads = args.integer("--threads", 0);
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
+  options.shard = shard_option(args);
+  if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
+    throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 
   const auto start = std::chrono::steady_clock::now();
   // Summary only: the ranges are folded as the samples come, no table is kept.
   SweepResult result;
-  const ColumnRanges ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
-                                                : sweep_ranges(model, options);
+  ColumnRanges ranges;
+  {
+    const auto [first, end] = shard_range(options.shard, static_cast<size_t>(options.samples));
+    Progress progress("sweep " + model.name, end - first);
+    options.progress = &progress;
+    ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
+                               : sweep_ranges(model, options);
+  }
   const double elapsed = seconds_since(start);
   std::string line = "sweep " + model.name + ": " + options.solver + " solver, " +
                      std::to_string(options.samples) + " samples, t = " + number_text(options.t0) +
@@ -331,7 +343,11 @@ int run_sweep_command(const Args& args) {
   if (args.has("--out")) {
     const std::string out = args.get("--out");
     g_current_file = out;
-    write_csv(out, result);
+    write_csv(out, result, part_line(options.shard));
+    if (!options.shard.whole())
+      line += ", part " + std::to_string(options.shard.index) + "/" +
+              std::to_string(options.shard.count) + " (" + std::to_string(result.rows.size()) +
+              " rows)";
     line += " -> " + out;
   }
   std::cout << line << "\n";
@@ -481,7 +497,8 @@ const std::vector<Command>& commands() {
         {"--t1", "", true},
         {"--threads", "", true},
         {"--out", "-o", true},
-        {"--summary", "", false}},
+        {"--summary", "", false},
+        {"--shard", "", true}},
        &run_sweep_command},
       {"plot",
        "SVG line plot of CSV columns",
@@ -502,6 +519,7 @@ const std::vector<Command>& commands() {
       loads_command(),
       zmp_command(),
       grid_command(),
+      merge_command(),
       size_motor_command(),
       walk_command(),
       draw_command(),
@@ -520,6 +538,10 @@ std::string main_help() {
   std::string models;
   for (const std::string& m : compiled_kernel_models()) models += " " + m;
   text += "\ncompiled kernels:" + (models.empty() ? std::string(" none") : models) + "\n";
+  text +=
+      "Any other model (or one edited since the build) gets its kernel generated, compiled and\n"
+      "cached on first use; --cache DIR (any command) or MECHGEN_CACHE moves the cache from\n"
+      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen).\n";
   return text;
 }
 
@@ -529,8 +551,35 @@ void print_error(const std::string& message) {
             << "\n";
 }
 
+// `--cache DIR` (or --cache=DIR), accepted anywhere and by every command: the on-demand kernel
+// cache, passed on as MECHGEN_CACHE. Removes it from `words`.
+void take_cache_option(std::vector<std::string>& words) {
+  for (size_t i = 0; i < words.size(); ++i) {
+    std::string dir;
+    if (words[i] == "--cache") {
+      if (i + 1 == words.size()) throw UsageError("--cache needs a folder");
+      dir = words[i + 1];
+      words.erase(words.begin() + static_cast<long>(i), words.begin() + static_cast<long>(i) + 2);
+    } else if (words[i].rfind("--cache=", 0) == 0) {
+      dir = words[i].substr(8);
+      words.erase(words.begin() + static_cast<long>(i));
+    } else {
+      continue;
+    }
+    if (dir.empty()) throw UsageError("--cache needs a folder");
+    ::setenv("MECHGEN_CACHE", dir.c_str(), 1);
+    --i;
+  }
+}
+
 int dispatch(int argc, char** argv) {
   std::vector<std::string> words(argv + 1, argv + argc);
+  try {
+    take_cache_option(words);
+  } catch (const UsageError& error) {
+    std::cerr << "mechgen: error: " << error.what() << "\n";
+    return 1;
+  }
   if (words.empty()) {
     std::cerr << main_help();
     return 1;

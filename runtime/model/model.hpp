@@ -5,6 +5,7 @@
 
 #include <ginac/ginac.h>
 
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -171,6 +172,10 @@ struct Model {
   double assembly_tolerance = 0.35;    // rad: how far a converged assembly may be from the hint
   GiNaC::symbol t{"t"};
   int ground = -1;
+  // The description's fingerprint (model/fingerprint.hpp): its parsed YAML document, comments
+  // and layout aside. Generated kernels carry it (combined with the generator's) to never be run
+  // for another description.
+  std::uint64_t description_hash = 0;
 
   int body_index(const std::string& name) const;       // -1 when absent
   int parameter_index(const std::string& name) const;  // -1 when absent

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "model/link_mass.hpp"
+#include "model/fingerprint.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/parameter_resolver.hpp"
@@ -583,6 +584,7 @@ Model Reader::read(const YAML::Node& root) {
               {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
                "drivers", "forces", "step", "assembly_tolerance", "material"});
   model_.file = file_;
+  model_.description_hash = description_fingerprint(root);
   model_.name = identifier(required(root, "name", "the model"), "model name");
   if (root["description"]) model_.description = scalar(root["description"], "description");
   if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")

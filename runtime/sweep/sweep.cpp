@@ -9,7 +9,7 @@
 
 #include "model/columns.hpp"
 #include "numeric/reference_solver.hpp"
-#include "sweep/compiled_kernel.hpp"
+#include "ondemand/kernel_resolver.hpp"
 
 namespace mechgen {
 
@@ -23,49 +23,6 @@ std::string format_number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text.empty() ? "none" : text;
-}
-
-// The compiled kernel of the model, checked against the description it is used with.
-const CompiledKernel& kernel_for(const Model& model) {
-  const CompiledKernel* kernel = find_compiled_kernel(model.name);
-  if (!kernel)
-    throw ModelError(model_loc(model),
-                     "no generated kernel for model '" + model.name +
-                         "' is compiled into this mechgen (kernel not compiled in; compiled in: " +
-                         joined(compiled_kernel_models()) +
-                         "); run `build/mechgen generate models/" + model.name + ".yaml`, add " +
-                         model.name +
-                         " to MECHGEN_KERNEL_MODELS in generated/CMakeLists.txt and rebuild, or "
-                         "use --solver numeric");
-  const std::string stale =
-      "the compiled kernel of '" + model.name + "' does not match this description (";
-  const std::string advice = "); rebuild mechgen to regenerate it, or use --solver numeric";
-  if (kernel->parameter_count != static_cast<int>(model.parameters.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->parameter_count) +
-                                           " parameters, the description has " +
-                                           std::to_string(model.parameters.size()) + advice);
-  for (size_t i = 0; i < model.parameters.size(); ++i)
-    if (model.parameters[i].name != kernel->parameter_names[i])
-      throw ModelError(model_loc(model), stale + "parameter " + std::to_string(i + 1) + " is '" +
-                                             kernel->parameter_names[i] + "', not '" +
-                                             model.parameters[i].name + "'" + advice);
-  const std::vector<std::string> columns = column_names(model);
-  if (kernel->column_count != static_cast<int>(columns.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->column_count) +
-                                           " columns, the description gives " +
-                                           std::to_string(columns.size()) + advice);
-  for (size_t i = 0; i < columns.size(); ++i)
-    if (columns[i] != kernel->column_names[i])
-      throw ModelError(model_loc(model), stale + "column " + std::to_string(i + 1) + " is '" +
-                                             kernel->column_names[i] + "', not '" + columns[i] +
-                                             "'" + advice);
-  return *kernel;
 }
 
 const char* kernel_status(int status) {
@@ -104,7 +61,7 @@ struct BlockBuffers {
 template <class Use>
 KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<double>& parameters,
                               const std::vector<double>& times, size_t begin, size_t end,
-                              Use&& use) {
+                              Progress* progress, Use&& use) {
   BlockBuffers buffers(kernel);
   for (size_t first = begin; first < end; first += kBlock) {
     const size_t n = std::min(kBlock, end - first);
@@ -113,6 +70,7 @@ KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<do
     for (size_t k = 0; k < n; ++k)
       if (buffers.status[k] != 0) return {first + k, buffers.status[k], buffers.group[k]};
     use(first, n, buffers.out.data());
+    if (progress) progress->advance(n);
   }
   return {};
 }
@@ -120,9 +78,9 @@ KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<do
 // Evaluates samples [begin, end) into rows; stops at the first failure and returns it.
 KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<double>& parameters,
                              const std::vector<double>& times, size_t begin, size_t end,
-                             std::vector<std::vector<double>>& rows) {
+                             Progress* progress, std::vector<std::vector<double>>& rows) {
   const size_t columns = static_cast<size_t>(kernel.column_count);
-  return evaluate_blocks(kernel, parameters, times, begin, end,
+  return evaluate_blocks(kernel, parameters, times, begin, end, progress,
                          [&](size_t first, size_t n, const double* out) {
                            for (size_t k = 0; k < n; ++k) {
                              std::vector<double>& row = rows[first + k];
@@ -171,13 +129,14 @@ void in_parallel(int threads, size_t n, Task&& task) {
 
 void sweep_generated(const Model& model, const SweepOptions& options,
                      const std::vector<double>& times, SweepResult& result) {
-  const CompiledKernel& kernel = kernel_for(model);
+  const CompiledKernel& kernel = generated_kernel(model);
   const size_t n = times.size();
   const int threads = sweep_threads(options, n);
   // Contiguous chunks, one per thread; each thread writes only its own rows.
   std::vector<KernelFailure> failures(static_cast<size_t>(threads));
   in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
-    failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, result.rows);
+    failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, options.progress,
+                                 result.rows);
   });
   // The earliest failing sample, as a sequential sweep would report it.
   for (const KernelFailure& failure : failures)
@@ -213,6 +172,7 @@ void sweep_numeric(const Model& model, const SweepOptions& options,
       throw ModelError(model_loc(model), "numeric solver: t = " + format_number(times[i]) + ": " +
                                              numeric::to_string(status) +
                                              numeric_status_hint(status));
+    if (options.progress) options.progress->advance(1);
   }
 }
 
@@ -284,8 +244,10 @@ ColumnRanges column_ranges(const SweepResult& result) {
 
 ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
+  if (!options.shard.whole())
+    throw ModelError(model_loc(model), "sweep: the ranges of a shard are not those of the run");
   if (options.solver != "generated") return column_ranges(run_sweep(model, options));
-  const CompiledKernel& kernel = kernel_for(model);
+  const CompiledKernel& kernel = generated_kernel(model);
   const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
   const size_t n = times.size(), columns = static_cast<size_t>(kernel.column_count);
   const int threads = sweep_threads(options, n);
@@ -295,7 +257,7 @@ ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   std::vector<KernelFailure> failures(static_cast<size_t>(threads));
   in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
     ColumnRanges& mine = partial[k];
-    failures[k] = evaluate_blocks(kernel, options.parameters, times, begin, end,
+    failures[k] = evaluate_blocks(kernel, options.parameters, times, begin, end, options.progress,
                                   [&](size_t, size_t n, const double* out) {
                                     // A column's samples are contiguous: this loop vectorises.
                                     for (size_t c = 0; c < columns; ++c) {
@@ -325,20 +287,33 @@ SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
   SweepResult result;
   result.columns = column_names(model);
-  const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  // A shard's samples: a generated sample stands alone, but the numeric solver follows the
+  // mechanism from t0 (each sample starts from the previous configuration), so a numeric shard
+  // runs from the first sample and keeps its own rows: the same bits as the whole run.
+  const auto [begin, end] = shard_range(options.shard, times.size());
+  if (begin == end) return result;
+  times.resize(end);
+  size_t skip = begin;
+  if (options.solver == "generated") {
+    times.erase(times.begin(), times.begin() + static_cast<long>(begin));
+    skip = 0;
+  }
   result.rows.resize(times.size());  // each row is sized by the thread that fills it
   if (options.solver == "generated")
     sweep_generated(model, options, times, result);
   else
     sweep_numeric(model, options, times, result);
+  result.rows.erase(result.rows.begin(), result.rows.begin() + static_cast<long>(skip));
   return result;
 }
 
-void write_csv(const std::string& path, const SweepResult& result) {
+void write_csv(const std::string& path, const SweepResult& result, const std::string& first_line) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
                                                        &std::fclose);
   if (!file) throw std::runtime_error("cannot write '" + path + "'");
   std::FILE* out = file.get();
+  std::fputs(first_line.c_str(), out);
   for (size_t i = 0; i < result.columns.size(); ++i)
     std::fprintf(out, "%s%s", i ? "," : "", result.columns[i].c_str());
   std::fputc('\n', out);
@@ -348,6 +323,16 @@ void write_csv(const std::string& path, const SweepResult& result) {
   }
   if (std::ferror(out) || std::fclose(file.release()) != 0)
     throw std::runtime_error("cannot write '" + path + "'");
+}
+
+const CompiledKernel& generated_kernel(const Model& model) {
+  try {
+    return ondemand::kernel_for(model);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw ModelError(model_loc(model), error.what());
+  }
 }
 
 }  // namespace mechgen

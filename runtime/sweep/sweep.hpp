@@ -6,6 +6,9 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "sweep/compiled_kernel.hpp"
+#include "sweep/progress.hpp"
+#include "sweep/shard.hpp"
 
 namespace mechgen {
 
@@ -19,6 +22,10 @@ struct SweepOptions {
   // from the previous configuration).
   int threads = 0;
   static constexpr int parallel_threshold = 20000;
+  // Told of every sample done (may be shared by several sweeps, e.g. a grid's runs); optional.
+  Progress* progress = nullptr;
+  // Only this shard's samples (sweep/shard.hpp); sweep_ranges takes whole runs only.
+  Shard shard;
 };
 
 struct SweepResult {
@@ -26,11 +33,17 @@ struct SweepResult {
   std::vector<std::vector<double>> rows;  // one per sample, each as long as columns
 };
 
+// The generated kernel of the model as it is described now (ondemand/kernel_resolver.hpp): the
+// compiled-in one when its fingerprint is the description's, else one built on demand and cached.
+// Throws ModelError (naming the model file) when there is none: never a kernel of another
+// description, never the numeric solver instead.
+const CompiledKernel& generated_kernel(const Model& model);
+
 // The sweep options a model describes: its step with the given (or default) parameters.
 SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters = {});
 
-// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, a
-// kernel that is not compiled in or does not match the description) and for a sample the solver
+// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, no
+// kernel to be had: see generated_kernel) and for a sample the solver
 // cannot evaluate: the message names t, the status and, for a kernel, the failing group. Never
 // returns a NaN row.
 SweepResult run_sweep(const Model& model, const SweepOptions& options);
@@ -53,7 +66,9 @@ ColumnRanges column_ranges(const SweepResult& result);
 std::vector<double> sample_times(double t0, double t1, int samples);
 
 // Header and rows, comma separated, every number with 17 significant digits ("%.17g"), so
-// reading the file back gives the same doubles. Throws std::runtime_error when it cannot write.
-void write_csv(const std::string& path, const SweepResult& result);
+// reading the file back gives the same doubles; `first_line` (a shard's part_line) before the
+// header. Throws std::runtime_error when it cannot write.
+void write_csv(const std::string& path, const SweepResult& result,
+               const std::string& first_line = "");
 
 }  // namespace mechgen

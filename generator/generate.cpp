@@ -74,6 +74,7 @@ std::vector<std::string> branch_notes(const Model& model, std::vector<BranchChoi
 static void check_kernel_names(const Model& model, const std::string& path) {
   std::vector<std::string> names;
   for (const Parameter& p : model.parameters) names.push_back(p.name);
+  for (const DerivedParameter& p : model.derived) names.push_back(p.name);
   for (const Body& b : model.bodies) {
     names.push_back(b.name);
     for (const BodyPoint& p : b.points) names.push_back(p.name);

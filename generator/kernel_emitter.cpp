@@ -173,11 +173,19 @@ class Emitter {
     }
     if (!model_.derived.empty())
       params.push_back(
-          "  // Derived parameters, not fields: the kernel computes each from the fields above\n"
-          "  // wherever it is used, so setting a field moves them too.");
-    for (const DerivedParameter& d : model_.derived)
-      params.push_back("  //   " + d.name + " = " + d.value.text +
-                       (d.unit.empty() ? "" : "  [" + d.unit + "]"));
+          "\n  // Derived parameters: not fields but computed from the fields above (the kernel "
+          "uses\n"
+          "  // the same expressions inline), so setting a field moves them too.");
+    for (const DerivedParameter& d : model_.derived) {
+      CodeBlock block("_" + d.name + "_");
+      block.assign("const T value", d.value.ex);
+      std::string function = "  T " + d.name + "() const noexcept {  // " + d.value.text +
+                             (d.unit.empty() ? "" : " [" + d.unit + "]") +
+                             (d.doc.empty() ? "" : ": " + d.doc) + "\n";
+      for (const std::string& f : block.math_functions()) function += "    using std::" + f + ";\n";
+      function += block.render("    ") + "    return value;\n  }";
+      params.push_back(function);
+    }
     v["param_fields"] = joined(params);
     v["set_parameters_body"] = joined(set_params);
     v["parameter_count"] = std::to_string(model_.parameters.size());

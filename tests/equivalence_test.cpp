@@ -13,6 +13,7 @@
 #include "model/columns.hpp"
 #include "model/model.hpp"
 #include "numeric/reference_solver.hpp"
+#include "plate_crank/plate_crank.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen {
@@ -171,6 +172,30 @@ TEST(DerivedParameters, SetOfABaseParameterMovesThemInTheKernel) {
     const double gx = (row[col("P.x")] + row[col("M.x")] + x) / 3;
     EXPECT_NEAR(kernel_row[col("coupler.x")], gx, 1e-12);
   }
+}
+
+// The header a user embeds: Params holds e and phi, and computes cx() = e cos(phi), cy(), r();
+// the kernel places C with the same values.
+TEST(DerivedParameters, KernelParamsComputeThem) {
+  namespace k = mechgen::gen::plate_crank;
+  k::Params<double> p;
+  EXPECT_DOUBLE_EQ(p.cx(), 0.04 * std::cos(M_PI / 3));
+  p.e = 0.05;
+  p.c = 0.06;
+  EXPECT_DOUBLE_EQ(p.cx(), 0.05 * std::cos(M_PI / 3));
+  EXPECT_DOUBLE_EQ(p.cy(), 0.05 * std::sin(M_PI / 3));
+  EXPECT_DOUBLE_EQ(p.r(), 0.03);
+  k::Inputs<double> in;
+  k::driver_inputs(p, 0.2, in);
+  k::State<double> s;
+  ASSERT_EQ(k::evaluate(p, in, s), k::Status::ok);
+  const auto& coupler = s.bodies.coupler;
+  EXPECT_NEAR(s.points.C.x, s.points.P.x + coupler.cos_th * p.cx() - coupler.sin_th * p.cy(),
+              1e-15);
+  EXPECT_NEAR(s.points.C.y, s.points.P.y + coupler.sin_th * p.cx() + coupler.cos_th * p.cy(),
+              1e-15);
+  k::Params<float> f;
+  EXPECT_FLOAT_EQ(f.r(), 0.025f);
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedModels, Equivalence,

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/columns.hpp"
 #include "model/model.hpp"
+#include "model/units.hpp"
 #include "numeric/reference_solver.hpp"
 
 namespace mechgen {
@@ -83,6 +87,39 @@ TEST(Units, UnknownUnitIsALocatedError) {
             0u)
       << e;
   EXPECT_NE(e.find("mm"), std::string::npos) << e;
+}
+
+// docs/model_format.md lists exactly the units the reader knows.
+TEST(Units, TheDocumentedListIsTheReadersList) {
+  std::ifstream in(MECHGEN_SOURCE_DIR "/docs/model_format.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  const size_t from = doc.find("- **Units.**"), to = doc.find("- **Derived parameters.**");
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  std::string documented = doc.substr(from, to - from);
+  for (char& c : documented)
+    if (c == '\n') c = ' ';
+  std::set<std::string> listed;  // every `...` span of the paragraph
+  for (size_t at = documented.find('`'); at != std::string::npos;) {
+    const size_t end = documented.find('`', at + 1);
+    if (end == std::string::npos) break;
+    std::string unit = documented.substr(at + 1, end - at - 1);
+    while (unit.find("  ") != std::string::npos) unit.erase(unit.find("  "), 1);
+    listed.insert(unit);
+    at = documented.find('`', end + 1);
+  }
+  std::set<std::string> known;
+  const std::string all = known_units() + ", ";
+  for (size_t at = 0, comma; (comma = all.find(", ", at)) != std::string::npos; at = comma + 2)
+    known.insert(all.substr(at, comma - at));
+  ASSERT_GE(known.size(), 30u);
+  for (const std::string& unit : known) {
+    EXPECT_TRUE(listed.count(unit)) << "unit '" << unit << "' is not documented";
+    EXPECT_TRUE(find_unit(unit).has_value()) << unit;
+  }
+  EXPECT_FALSE(find_unit("furlong").has_value());
 }
 
 TEST(DerivedParameters, DependencyOrderAndValues) {

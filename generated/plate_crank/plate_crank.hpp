@@ -38,11 +38,23 @@ struct Params {
   T m_tool = T(0.15);  // kg (150 g in the model): tool carried at C
   T k = T(200.0);  // N/m: return spring on the bell crank
   T s0 = T(0.03);  // m (30 mm in the model): spring free length
-  // Derived parameters, not fields: the kernel computes each from the fields above
-  // wherever it is used, so setting a field moves them too.
-  //   cx = e*cos(phi)  [m]
-  //   cy = e*sin(phi)  [m]
-  //   r = c/2  [m]
+
+  // Derived parameters: not fields but computed from the fields above (the kernel uses
+  // the same expressions inline), so setting a field moves them too.
+  T cx() const noexcept {  // e*cos(phi) [m]: C in the coupler frame (derived)
+    using std::cos;
+    const T value = cos(phi)*e;
+    return value;
+  }
+  T cy() const noexcept {  // e*sin(phi) [m]: C in the coupler frame (derived)
+    using std::sin;
+    const T value = e*sin(phi);
+    return value;
+  }
+  T r() const noexcept {  // c/2 [m]: bell-crank arm B-R (derived)
+    const T value = T(0.5)*c;
+    return value;
+  }
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.

@@ -1005,6 +1005,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
   }
 }
 
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x1d302f7b3c852459ULL;
+
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 14;
 inline constexpr const char* parameter_names[] = { "a", "g", "b", "c", "e", "phi", "theta0", "w", "rho", "t_plate", "w_bar", "m_tool", "k", "s0" };

@@ -9,8 +9,8 @@
 #include <set>
 #include <sstream>
 
-#include "model/link_mass.hpp"
 #include "model/fingerprint.hpp"
+#include "model/link_mass.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/parameter_resolver.hpp"

@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include "report/atomic_output.hpp"
+#include "sweep/parallel.hpp"
+
 namespace mechgen {
 
 namespace {
@@ -74,6 +77,10 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
   // them in turn; the first failure, in grid order, is rethrown with the value it belongs to.
   // The numeric solver copies and substitutes the model's GiNaC expressions, whose reference
   // counts are not atomic: its runs share the Model, so they go one at a time.
+  if (options.threads > thread_limit())
+    throw ModelError({model.file, 0, 0},
+                     "grid: " + std::to_string(options.threads) + " threads asked for, at most " +
+                         std::to_string(thread_limit()) + " (4 x the hardware threads)");
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const size_t threads =
       options.solver != "generated"
@@ -98,10 +105,7 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
       }
     }
   };
-  std::vector<std::thread> pool;
-  for (size_t i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  run_parallel(threads, [&](size_t) { worker(); });  // a thread that cannot start: one error
 
   for (size_t k = 0; k < errors.size(); ++k) {
     if (!errors[k]) continue;
@@ -168,7 +172,6 @@ int column_of(const std::vector<std::string>& columns, const std::string& name) 
 }  // namespace
 
 void write_grid_csv(const std::string& path, const GridResult& grid) {
-  std::ofstream file(path, std::ios::binary);
   const std::vector<std::string> columns = grid_columns(grid);
   std::string text;
   for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
@@ -182,9 +185,7 @@ void write_grid_csv(const std::string& path, const GridResult& grid) {
       text += "\n";
     }
   }
-  file << text;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  report::write_file_atomically(path, text);
 }
 
 report::PlotSpec grid_plot(const GridResult& grid, const GridPlotOptions& options) {

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "model/model.hpp"
 #include "model/value_checks.hpp"
+#include "sweep/parallel.hpp"
 #include "sweep/sweep.hpp"
 
 namespace mechgen {
@@ -93,6 +95,32 @@ TEST(NonFiniteResults, SweepNamesSampleTimeAndStage) {
       EXPECT_TRUE(contains(error_of([&] { sweep_ranges(model, options); }), "non-finite"));
     }
   }
+}
+
+// A std::bad_alloc in a worker thread aborted the process (an exception escaping a std::thread);
+// now every task finishes and the first failure is rethrown on the calling thread.
+TEST(Threads, WorkerExceptionIsOneErrorAfterEveryTaskFinished) {
+  std::vector<int> done(6, 0);
+  try {
+    run_parallel(6, [&](size_t k) {
+      if (k == 2 || k == 4) throw std::bad_alloc();
+      done[k] = 1;
+    });
+    FAIL() << "no exception";
+  } catch (const std::bad_alloc&) {
+  }
+  EXPECT_EQ(done, (std::vector<int>{1, 1, 0, 1, 0, 1}));
+}
+
+// --threads 100000 started 100 000 threads (SIGABRT after 40 s and 2.2 GB): now an error.
+TEST(Threads, TooManyThreadsIsAnError) {
+  const Model model = read_model(pasibot_path());
+  SweepOptions options = default_sweep(model);
+  options.threads = thread_limit() + 1;
+  EXPECT_TRUE(contains(error_of([&] { sweep_ranges(model, options); }), "threads asked for"));
+  options.threads = thread_limit();
+  options.samples = 64;
+  EXPECT_EQ(sweep_ranges(model, options).samples, 64u);
 }
 
 // A model with one expression `text` as a point's x.

@@ -7,6 +7,7 @@
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
+#include "report/atomic_output.hpp"
 
 namespace mechgen::gen {
 
@@ -110,9 +111,7 @@ GenerateResult generate(const Model& model, const GenerateOptions& options) {
   std::filesystem::create_directories(options.output_dir);
   for (const EmittedFile& file : files) {
     const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << file.text;
-    if (!out) throw std::runtime_error("cannot write " + path);
+    report::write_file_atomically(path, file.text);  // never a half-written kernel
     result.written.push_back(path);
   }
   return result;

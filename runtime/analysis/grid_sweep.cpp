@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include "report/atomic_output.hpp"
+#include "sweep/parallel.hpp"
+
 namespace mechgen {
 
 namespace {
@@ -83,6 +86,10 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
   // them in turn; the first failure, in grid order, is rethrown with the value it belongs to.
   // The numeric solver copies and substitutes the model's GiNaC expressions, whose reference
   // counts are not atomic: its runs share the Model, so they go one at a time.
+  if (options.threads > thread_limit())
+    throw ModelError({model.file, 0, 0},
+                     "grid: " + std::to_string(options.threads) + " threads asked for, at most " +
+                         std::to_string(thread_limit()) + " (4 x the hardware threads)");
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const size_t threads =
       options.solver != "generated"
@@ -107,10 +114,7 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
       }
     }
   };
-  std::vector<std::thread> pool;
-  for (size_t i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  run_parallel(threads, [&](size_t) { worker(); });  // a thread that cannot start: one error
 
   for (size_t k = 0; k < errors.size(); ++k) {
     if (!errors[k]) continue;
@@ -178,7 +182,6 @@ int column_of(const std::vector<std::string>& columns, const std::string& name) 
 
 void write_grid_csv(const std::string& path, const GridResult& grid,
                     const std::string& first_line) {
-  std::ofstream file(path, std::ios::binary);
   const std::vector<std::string> columns = grid_columns(grid);
   std::string text = first_line;
   for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
@@ -192,9 +195,7 @@ void write_grid_csv(const std::string& path, const GridResult& grid,
       text += "\n";
     }
   }
-  file << text;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  report::write_file_atomically(path, text);
 }
 
 report::PlotSpec grid_plot(const GridResult& grid, const GridPlotOptions& options) {

@@ -6,6 +6,7 @@
 
 #include "analysis/walking.hpp"
 #include "cli/command.hpp"
+#include "report/atomic_output.hpp"
 #include "report/mechanism_drawing.hpp"
 #include "sweep/sweep.hpp"
 
@@ -106,9 +107,7 @@ int run_draw(const Args& args) {
   }
   const std::string out = args.get("--out");
   g_current_file = out;
-  std::ofstream file(out);
-  file << report::draw_mechanism(model, frames, drawing);
-  if (!file) throw std::runtime_error("cannot write " + out);
+  report::write_file_atomically(out, report::draw_mechanism(model, frames, drawing));
   std::cout << "draw " << model.name << ": " << what << ", " << frames.points.size()
             << " frames -> " << out << "\n";
   return 0;

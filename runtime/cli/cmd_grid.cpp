@@ -12,6 +12,7 @@
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "model/columns.hpp"
+#include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "report/svg_plot.hpp"
 #include "sweep/summary.hpp"
@@ -139,10 +140,7 @@ int run_grid_command(const Args& args) {
     plot.y_label = args.get("--ylabel", plot.column + " " + unit_of(model, plot.column));
     const std::string svg_path = args.get("--plot");
     g_current_file = svg_path;
-    std::ofstream file(svg_path, std::ios::binary);
-    file << report::render_svg(grid_plot(grid, plot));
-    file.close();
-    if (!file) throw std::runtime_error("cannot write '" + svg_path + "'");
+    report::write_file_atomically(svg_path, report::render_svg(grid_plot(grid, plot)));
     std::cout << "plot: " << grid.runs.size() << " series of " << plot.column << " -> " << svg_path
               << "\n";
   }

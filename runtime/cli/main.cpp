@@ -27,6 +27,7 @@
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
 #include "ondemand/data_paths.hpp"
+#include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
 #include "report/svg_plot.hpp"
@@ -318,14 +319,11 @@ int run_plot(const Args& args) {
   options.y_label = args.get("--ylabel");
   options.equal_scale = args.has("--equal");
   g_current_file = path;
-  const report::CsvTable table = report::read_csv(path);
+  const report::CsvTable table = report::read_csv(path, report::Cells::any);  // gaps in a plot
   const std::string svg = report::render_svg(report::column_plot(table, options));
   const std::string out = args.get("--out");
   g_current_file = out;
-  std::ofstream file(out, std::ios::binary);
-  file << svg;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + out + "'");
+  report::write_file_atomically(out, svg);
   std::cout << "plot: " << options.y.size() << " series, " << table.rows.size() << " samples -> "
             << out << "\n";
   return 0;
@@ -514,6 +512,9 @@ int dispatch(int argc, char** argv) {
         std::cout << c.help;
         return 0;
       }
+      // Every output path is checked before any computation (the files are written atomically).
+      for (const char* option : {"--out", "--over-time", "--diagram-out", "--plot"})
+        for (const std::string& path : args.all(option)) report::check_output_path(path);
       return c.run(args);
     } catch (const UsageError& error) {
       std::cerr << "mechgen " << c.name << ": error: " << error.what() << " (see mechgen " << c.name

@@ -196,7 +196,8 @@ struct Model {
 Model read_model(const std::string& path);
 Model read_model_text(const std::string& text, const std::string& file_label);
 
-// Applies "NAME=VALUE" overrides to a parameter vector; throws ModelError naming the bad one.
+// Applies "NAME=VALUE" overrides to a parameter vector; throws ModelError naming the bad one, or
+// when the values fail the checks the file's values get (model/value_checks.hpp).
 void apply_overrides(const Model& model, const std::vector<std::string>& overrides,
                      std::vector<double>& values);
 

@@ -14,6 +14,7 @@
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/parameter_resolver.hpp"
+#include "model/value_checks.hpp"
 
 namespace mechgen {
 
@@ -111,9 +112,30 @@ std::string Reader::identifier(const YAML::Node& node, const std::string& what) 
   return s;
 }
 
+// Bounds on an expression's text, checked before GiNaC parses it: its parser recurses once per
+// nesting level (10 000 parentheses overflow the stack), and so does every later walk of the
+// expression tree. Models' expressions are under 120 characters and 5 levels deep.
+constexpr size_t kMaxExpressionLength = 2000;
+constexpr int kMaxExpressionDepth = 64;
+
 Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
+  if (text.size() > kMaxExpressionLength)
+    fail(node, what + " is " + std::to_string(text.size()) + " characters long (at most " +
+                   std::to_string(kMaxExpressionLength) + ")");
+  int depth = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    depth += text[i] == '(' || text[i] == '[' || text[i] == '{';
+    depth -= text[i] == ')' || text[i] == ']' || text[i] == '}';
+    if (depth > kMaxExpressionDepth) {
+      SourceLoc at = loc(node);
+      if (node.Tag() != "!" && at.col > 0) at.col += static_cast<int>(i);  // a plain scalar
+      throw ModelError(at, what + " nests parentheses more than " +
+                               std::to_string(kMaxExpressionDepth) + " deep (at character " +
+                               std::to_string(i + 1) + ")");
+    }
+  }
   Expr result{ex(0), text, loc(node)};
   // GiNaC evaluates while it parses: besides syntax errors it reports poles (1/0, log(0)).
   auto first_line = [](const std::string& message) {
@@ -489,91 +511,9 @@ void Reader::read_force(const YAML::Node& node) {
   model_.forces.push_back(f);
 }
 
-// Numbers that must make physical sense at the default parameters.
+// Numbers that must make physical sense at the default parameters (model/value_checks.hpp).
 void Reader::check_values() {
-  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
-  for (const Body& b : model_.bodies) {
-    for (const BodyPoint& p : b.points) {
-      model_.evaluate(p.local.x, subs);
-      model_.evaluate(p.local.y, subs);
-    }
-    if (b.ground) continue;
-    const MassProperties& m = b.mass;
-    if (m.source == MassProperties::Source::bars || m.source == MassProperties::Source::plate) {
-      std::vector<const Expr*> sizes{&m.thickness, &m.density};
-      if (m.source == MassProperties::Source::bars) sizes.push_back(&m.width);
-      for (const Expr* e : sizes)
-        if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(e->loc, "body '" + b.name + "': '" + e->text + "' must be positive");
-    }
-    if (m.source == MassProperties::Source::bar) {
-      const std::pair<const char*, const Expr*> sizes[] = {
-          {"width", &m.width}, {"thickness", &m.thickness}, {"density", &m.density}};
-      for (const auto& [field, e] : sizes)
-        if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(e->loc, "body '" + b.name + "': bar " + field + " '" + e->text +
-                                       "' must be positive");
-    }
-    if (model_.evaluate(m.mass, subs) <= 0)
-      throw ModelError(m.mass.loc, "body '" + b.name + "' has a non-positive mass");
-    if (model_.evaluate(m.inertia, subs) <= 0)
-      throw ModelError(m.inertia.loc, "body '" + b.name + "' has a non-positive inertia");
-    model_.evaluate(m.com.x, subs);
-    model_.evaluate(m.com.y, subs);
-    if (b.assembly_angle) model_.evaluate(*b.assembly_angle, subs);
-    if (b.section) {
-      const Section& s = *b.section;
-      std::vector<const Expr*> sizes;
-      if (s.shape == Section::Shape::rectangle)
-        sizes = {&s.width, &s.thickness};
-      else
-        sizes = {&s.area, &s.inertia, &s.fibre};
-      if (s.yield_strength) sizes.push_back(&*s.yield_strength);
-      if (s.youngs_modulus) sizes.push_back(&*s.youngs_modulus);
-      for (const Expr* e : sizes)
-        if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(
-              e->loc, "body '" + b.name + "': section value '" + e->text + "' must be positive");
-    }
-  }
-  for (const std::optional<Expr>* value : {&model_.yield_strength, &model_.youngs_modulus})
-    if (*value && model_.evaluate(**value, subs) <= 0)
-      throw ModelError((*value)->loc, "material value '" + (*value)->text + "' must be positive");
-  for (const Joint& j : model_.joints) {
-    if (j.type == JointType::revolute) continue;
-    const double dx = model_.evaluate(j.line.direction.x, subs);
-    const double dy = model_.evaluate(j.line.direction.y, subs);
-    if (dx * dx + dy * dy <= 0)
-      throw ModelError(j.line.direction.x.loc, "joint '" + j.name + "': zero line direction");
-    model_.evaluate(j.line.through.x, subs);
-    model_.evaluate(j.line.through.y, subs);
-    if (j.type == JointType::prismatic) model_.evaluate(j.angle, subs);
-  }
-  GiNaC::exmap at_t0 = subs;
-  at_t0[model_.t] = model_.evaluate(model_.step.t0, subs);
-  for (const Driver& d : model_.drivers) model_.evaluate(d.value, at_t0);
-  for (const ForceElement& f : model_.forces) {
-    if (f.type == ForceType::spring_damper) {
-      if (model_.evaluate(f.stiffness, subs) < 0)
-        throw ModelError(f.stiffness.loc, "force '" + f.name + "': negative stiffness");
-      if (model_.evaluate(f.damping, subs) < 0)
-        throw ModelError(f.damping.loc, "force '" + f.name + "': negative damping");
-      if (model_.evaluate(f.free_length, subs) < 0)
-        throw ModelError(f.free_length.loc, "force '" + f.name + "': negative free length");
-    } else if (f.type == ForceType::force) {
-      model_.evaluate(f.force.x, at_t0);
-      model_.evaluate(f.force.y, at_t0);
-    } else {
-      model_.evaluate(f.torque, at_t0);
-    }
-  }
-  const double t0 = model_.evaluate(model_.step.t0, subs);
-  const double t1 = model_.evaluate(model_.step.t1, subs);
-  if (!(t1 > t0)) {
-    std::ostringstream message;
-    message << "step: t1 (" << t1 << ") must be greater than t0 (" << t0 << ")";
-    throw ModelError(model_.step.t1.loc, message.str());
-  }
+  mechgen::check_values(model_, model_.default_parameters());
 }
 
 Model Reader::read(const YAML::Node& root) {

@@ -81,7 +81,9 @@ ReferenceSolver::TimeFunction::TimeFunction(const GiNaC::ex& e, const GiNaC::exm
     : loc_(std::move(loc)), what_(std::move(what)) {
   GiNaC::ex substituted;
   try {
-    substituted = e.subs(subs);
+    // A map of symbols: exact lookups, linear in the parameter count (see Model::evaluate).
+    substituted =
+        e.subs(subs, GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product);
   } catch (const std::exception& error) {
     throw ModelError(loc_, what_ + " cannot be evaluated: " + error.what());
   }

@@ -14,7 +14,8 @@ inline constexpr int kCompiledKernelAbi = 1;
 
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
-  // returns 0 (ok), 1 (unreachable) or 2 (singular) and the failing group.
+  // returns 0 (ok), 1 (unreachable), 2 (singular) or 3 (a non-finite output) and the failing
+  // group_names[] entry (a solve group, or the stage: inputs, positions, rates, forces).
   using RowFunction = int (*)(const double* parameters, double t, double* row, int* failed_group);
   // The row for a driver motion other than the model's own: `drivers` holds (q, qd, qdd) per
   // driver, in model order (driver_count of them); same return values.

@@ -39,7 +39,8 @@ struct SweepResult {
 // description, never the numeric solver instead.
 const CompiledKernel& generated_kernel(const Model& model);
 
-// The sweep options a model describes: its step with the given (or default) parameters.
+// The sweep options a model describes: its step with the given (or default) parameters. Given
+// parameters go through the model's value checks first (model/value_checks.hpp: ModelError).
 SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters = {});
 
 // Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, no
@@ -61,6 +62,11 @@ struct ColumnRanges {
 ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options);
 // The ranges of a table already computed.
 ColumnRanges column_ranges(const SweepResult& result);
+
+// A table of `samples` rows of `columns` doubles that would not fit in half of this machine's
+// memory is a ModelError up front (naming the size), not a std::bad_alloc or the OOM killer after
+// minutes; run_sweep and walk check their tables with it.
+void check_table_memory(const Model& model, size_t samples, size_t columns);
 
 // The sample times: t0 + (t1 - t0) * i / (samples - 1), the last exactly t1.
 std::vector<double> sample_times(double t0, double t1, int samples);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "generate.hpp"
@@ -58,6 +59,7 @@ Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 
 int run_check(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
+  if (is_spatial_description(path)) return run_spatial_check(args);
   const Model model = load_model(path);
   const std::vector<double> defaults = model.default_parameters();
   const GiNaC::exmap subs = model.substitutions(defaults);
@@ -216,6 +218,7 @@ Without --json, a short text summary.
 )";
 
 int run_info(const Args& args) {
+  if (is_spatial_description(args.single_positional("MODEL.yaml"))) return run_spatial_info(args);
   const Model model = load_model(args.single_positional("MODEL.yaml"));
   if (!args.has("--json")) {
     const StructureReport s = analyze_structure(model);
@@ -291,6 +294,7 @@ A sample the solver cannot evaluate (unreachable, singular, diverged) is an erro
 
 int run_sweep_command(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
+  if (is_spatial_description(path)) return run_spatial_sweep(args);
   if (!args.has("--out") && !args.has("--summary"))
     throw UsageError("missing --out FILE.csv (or --summary)");
   const Model model = load_model(path);

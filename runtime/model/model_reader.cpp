@@ -9,8 +9,10 @@
 #include <set>
 #include <sstream>
 
+#include "model/description_syntax.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
+#include "model/spatial_model.hpp"
 
 namespace mechgen {
 
@@ -25,18 +27,28 @@ bool is_identifier(const std::string& s) {
   return true;
 }
 
-class Reader {
+class Reader : public DescriptionSyntax {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
   Model read(const YAML::Node& root);
+  SpatialModel read_spatial(const YAML::Node& root);
 
- private:
-  SourceLoc loc(const YAML::Node& node) const {
+  SourceLoc loc(const YAML::Node& node) const override {
     const YAML::Mark mark = node.Mark();
     if (mark.is_null()) return {file_, 0, 0};
     return {file_, mark.line + 1, mark.column + 1};
   }
+  void expect_keys(const YAML::Node& node, const std::string& what,
+                   const std::set<std::string>& allowed) const override;
+  YAML::Node required(const YAML::Node& parent, const std::string& key,
+                      const std::string& what) const override;
+  std::string scalar(const YAML::Node& node, const std::string& what) const override;
+  std::string identifier(const YAML::Node& node, const std::string& what) const override;
+  Expr expression(const YAML::Node& node, const std::string& what,
+                  bool time_allowed) const override;
+
+ private:
   [[noreturn]] void fail(const YAML::Node& node, const std::string& message) const {
     throw ModelError(loc(node), message);
   }
@@ -44,13 +56,6 @@ class Reader {
   void expect_map(const YAML::Node& node, const std::string& what) const {
     if (!node.IsMap()) fail(node, what + " must be a mapping");
   }
-  void expect_keys(const YAML::Node& node, const std::string& what,
-                   const std::set<std::string>& allowed) const;
-  YAML::Node required(const YAML::Node& parent, const std::string& key,
-                      const std::string& what) const;
-  std::string scalar(const YAML::Node& node, const std::string& what) const;
-  std::string identifier(const YAML::Node& node, const std::string& what) const;
-  Expr expression(const YAML::Node& node, const std::string& what, bool time_allowed) const;
   Vec2Expr vector2(const YAML::Node& node, const std::string& what, bool time_allowed) const;
   int body_ref(const YAML::Node& node, const std::string& what) const;
 
@@ -62,6 +67,8 @@ class Reader {
   void read_driver(const YAML::Node& node);
   void read_force(const YAML::Node& node);
   void check_values();
+  void read_header(const YAML::Node& root, std::set<std::string> keys);
+  void read_step(const YAML::Node& root);
 
   std::string file_;
   Model model_;
@@ -513,21 +520,27 @@ void Reader::check_values() {
   }
 }
 
-Model Reader::read(const YAML::Node& root) {
+void Reader::read_header(const YAML::Node& root, std::set<std::string> keys) {
   if (!root.IsDefined() || root.IsNull())
     fail(root, "the model description is empty (expected a YAML mapping)");
   if (!root.IsMap()) fail(root, "a model description must be a YAML mapping");
-  expect_keys(root, "model",
-              {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
-               "drivers", "forces", "step", "assembly_tolerance", "material"});
+  keys.insert({"name", "description", "dimension", "parameters", "step", "assembly_tolerance"});
+  expect_keys(root, "model", keys);
   model_.file = file_;
   model_.name = identifier(required(root, "name", "the model"), "model name");
   if (root["description"]) model_.description = scalar(root["description"], "description");
-  if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
-    fail(root["dimension"], "only planar models are supported (spatial chains come later)");
   symbols_["t"] = model_.t;
   symbols_["pi"] = GiNaC::Pi;
   read_parameters(root["parameters"]);
+}
+
+Model Reader::read(const YAML::Node& root) {
+  read_header(root, {"gravity", "bodies", "joints", "drivers", "forces", "material"});
+  if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
+    fail(root["dimension"], scalar(root["dimension"], "dimension") == "spatial"
+                                ? "a spatial model: this command takes planar models only "
+                                  "(spatial ones: check, info, sweep --solver numeric)"
+                                : "dimension must be planar or spatial");
   model_.gravity = root["gravity"]
                        ? vector2(root["gravity"], "gravity", false)
                        : Vec2Expr{{ex(0), "0", loc(root)}, {ex(-9.81), "-9.81", loc(root)}};
@@ -571,6 +584,13 @@ Model Reader::read(const YAML::Node& root) {
       model_.youngs_modulus =
           expression(material["youngs_modulus"], "material youngs_modulus", false);
   }
+  read_step(root);
+  check_values();
+  check_structure(model_);
+  return model_;
+}
+
+void Reader::read_step(const YAML::Node& root) {
   const YAML::Node step = required(root, "step", "the model");
   expect_map(step, "step");
   expect_keys(step, "step", {"t0", "t1", "samples"});
@@ -593,25 +613,41 @@ Model Reader::read(const YAML::Node& root) {
     if (!(model_.assembly_tolerance > 0))
       fail(root["assembly_tolerance"], "assembly_tolerance must be positive");
   }
-  check_values();
-  check_structure(model_);
-  return model_;
 }
 
-}  // namespace
+SpatialModel Reader::read_spatial(const YAML::Node& root) {
+  read_header(root, spatial_description_keys());
+  read_step(root);
+  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
+  if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
+    throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  return read_spatial_elements(root, *this, model_);
+}
 
-Model read_model_text(const std::string& text, const std::string& file_label) {
-  YAML::Node root;
+YAML::Node load_yaml(const std::string& text, const std::string& file_label) {
   try {
-    root = YAML::Load(text);
+    return YAML::Load(text);
   } catch (const YAML::Exception& error) {
     throw ModelError({file_label, error.mark.line + 1, error.mark.column + 1},
                      "invalid YAML: " + error.msg);
   }
-  return Reader(file_label).read(root);
+}
+
+}  // namespace
+
+SpatialModel read_spatial_model_text(const std::string& text, const std::string& file_label) {
+  return Reader(file_label).read_spatial(load_yaml(text, file_label));
+}
+
+Model read_model_text(const std::string& text, const std::string& file_label) {
+  return Reader(file_label).read(load_yaml(text, file_label));
 }
 
 Model read_model(const std::string& path) {
+  return read_model_text(read_description_file(path), path);
+}
+
+std::string read_description_file(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw ModelError({path, 0, 0}, "no such model file");
   if (std::filesystem::is_directory(path, error))
@@ -620,7 +656,7 @@ Model read_model(const std::string& path) {
   if (!in) throw ModelError({path, 0, 0}, "cannot open model file");
   std::stringstream text;
   text << in.rdbuf();
-  return read_model_text(text.str(), path);
+  return text.str();
 }
 
 }  // namespace mechgen

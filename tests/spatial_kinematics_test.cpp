@@ -212,5 +212,34 @@ TEST(SpatialKinematics, PoseDrivenLegReachesItsTarget) {
   }
 }
 
+TEST(SpatialKinematics, ReachingASingularPoseIsALocatedError) {
+  // A two-link planar arm whose tip is pulled out to full stretch at t = 1.
+  const char* const text = R"(name: straight
+dimension: spatial
+bodies:
+  - {name: g, ground: true, points: {O: [0, 0, 0]}}
+  - {name: a, points: {P: [1, 0, 0]}, mass: {mass: 1, com: [0.5, 0, 0], inertia: [0.01, 0.1, 0.1]}}
+  - {name: b, points: {Q: [2, 0, 0]}, mass: {mass: 1, com: [1.5, 0, 0], inertia: [0.01, 0.1, 0.1]}}
+joints:
+  - {name: j1, type: revolute, first: g, second: a, s: [0, 0, 1], s0: O, assembly: 0.5}
+  - {name: j2, type: revolute, first: a, second: b, s: [0, 0, 1], s0: P, assembly: -1}
+drivers:
+  - {name: tip, type: pose, first: g, second: b, at: Q, x: 1.5 + 0.5*t, y: 0}
+step: {t0: 0, t1: 1, samples: 11}
+)";
+  const SpatialModel model = read_spatial_model_text(text, "straight.yaml");
+  const SpatialSolver solver(model, {});
+  SpatialState s;
+  for (int i = 0; i < 10; ++i) solver.solve(0.1 * i, s);  // bent: fine
+  try {
+    solver.solve(1.0, s);
+    FAIL() << "no error at full stretch";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("straight.yaml:", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("N_s is singular at t = 1"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace mechgen::spatial

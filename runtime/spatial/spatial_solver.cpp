@@ -303,6 +303,21 @@ void SpatialSolver::rates(SpatialState& s, const Eigen::VectorXd& qpd,
   const Eigen::MatrixXd N = network(s);
   const bool closed = graph_.circuits() > 0 && !graph_.secondary.empty();
   const auto Ns = factor(closed ? columns(N, graph_.secondary) : Eigen::MatrixXd::Identity(1, 1));
+  // Singular, or so near it (pivot ratio below 1e-7: within about 1e-7 of a singular pose) that
+  // the velocities would be meaningless.
+  const double conditioning =
+      closed ? Ns.matrixR().diagonal().cwiseAbs().minCoeff() /
+                   std::max(1e-300, Ns.matrixR().diagonal().cwiseAbs().maxCoeff())
+             : 1;
+  if (closed &&
+      (Ns.rank() < static_cast<Eigen::Index>(graph_.secondary.size()) || conditioning < 1e-7)) {
+    std::ostringstream m;
+    m << "N_s is singular at t = " << s.t << " (pivot ratio " << conditioning << ", rank "
+      << Ns.rank() << " of " << graph_.secondary.size()
+      << "): the mechanism passes a singular configuration there; change the drivers' motion "
+         "or the geometry";
+    throw ModelError(model_.joints[static_cast<size_t>(graph_.chords[0])].loc, m.str());
+  }
   const Eigen::VectorXd qsd = closed ? Eigen::VectorXd(Ns.solve(-columns(N, graph_.primary) * qpd))
                                      : Eigen::VectorXd::Zero(0);
   for (size_t k = 0; closed && k < graph_.secondary.size(); ++k)

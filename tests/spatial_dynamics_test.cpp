@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "model/spatial_model.hpp"
+#include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
@@ -112,6 +113,37 @@ TEST(SpatialDynamics, PlanarLinkageOfSpatialRevolutesIsRedundantByThree) {
     sv.solve(0.2, st);
     EXPECT_EQ(redundancy(sv, st).degree, 0) << name;
   }
+}
+
+// The two views share one scale and one vertical axis: a joint's pixel height is the same in both,
+// and pixel offsets between joints are the world offsets (x in the sagittal, y in the frontal view)
+// times that scale.
+TEST(SpatialDrawing, SagittalAndFrontalViewsShareOneScale) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  const SpatialSolver solver(model, {});
+  const SpatialFrames frames = spatial_frames(solver, {0.0, 0.2, 0.4});
+  ASSERT_EQ(frames.joints[2].size(), 6u);
+  const std::string svg = draw_spatial(
+      {{0.4}, frames.body_names, {frames.bodies[2]}, {frames.joints[2]}}, SpatialDrawingOptions{});
+  std::vector<std::pair<double, double>> circles;  // (cx, cy) in document order: side, then front
+  for (size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1))
+    circles.emplace_back(std::stod(svg.substr(svg.find("cx=\"", at) + 4)),
+                         std::stod(svg.substr(svg.find("cy=\"", at) + 4)));
+  ASSERT_EQ(circles.size(), 12u);
+  const std::vector<V3>& j = frames.joints[2];
+  const double scale = (circles[4].second - circles[3].second) / (j[3][2] - j[4][2]);
+  EXPECT_GT(scale, 0);
+  for (size_t k = 0; k < 6; ++k) {
+    EXPECT_NEAR(circles[k].second, circles[k + 6].second, 0.011);  // same height in both views
+    EXPECT_NEAR(circles[k].first - circles[0].first, scale * (j[k][0] - j[0][0]), 0.02);
+    EXPECT_NEAR(circles[k + 6].first - circles[6].first, scale * (j[k][1] - j[0][1]), 0.02);
+    EXPECT_NEAR(circles[k].second - circles[0].second, -scale * (j[k][2] - j[0][2]), 0.02);
+  }
+  // Animated: one value per frame.
+  const std::string animated = draw_spatial(frames, SpatialDrawingOptions{});
+  const auto values = animated.find("values=\"", animated.find("id=\"side-calf\""));
+  const std::string list = animated.substr(values, animated.find('"', values + 8) - values);
+  EXPECT_EQ(std::count(list.begin(), list.end(), ';'), 2);
 }
 
 }  // namespace

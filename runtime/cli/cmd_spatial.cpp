@@ -3,12 +3,14 @@
 // assembly and redundancy, the info JSON of DESIGN.md's "Spatial models" and the numeric sweep.
 #include "cli/cmd_spatial.hpp"
 
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "cli/model_info.hpp"
 #include "model/spatial_graph.hpp"
 #include "report/csv_table.hpp"
+#include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
@@ -234,6 +236,47 @@ int run_spatial_sweep(const Args& args) {
   std::cout << "sweep " << model.common.name << ": numeric spatial solver, " << options.samples
             << " samples, " << result.columns.size() << " columns, " << fixed(elapsed * 1e3, 3)
             << " ms -> " << out << "\n";
+  return 0;
+}
+
+int run_spatial_draw(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
+  if (args.has("--at") == args.has("--animate"))
+    throw UsageError("give either --at T or --animate");
+  if (args.has("--steps")) throw UsageError("--steps: walking is for planar bipeds");
+  const SpatialModel model = load_spatial(path);
+  std::vector<double> parameters = model.common.default_parameters();
+  apply_overrides(model.common, args.all("--set"), parameters);
+  const spatial::SpatialSolver solver(model, parameters);
+  const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model, parameters);
+  std::vector<double> times;
+  if (args.has("--at")) {
+    // The solver continues along the step from t0, so the branch is the step's.
+    const double at = args.number("--at", step.t0);
+    for (int i = 0; i <= 20; ++i) times.push_back(step.t0 + (at - step.t0) * i / 20);
+  } else {
+    const int n = std::min(step.samples, 120);
+    for (int i = 0; i < n; ++i) times.push_back(step.t0 + (step.t1 - step.t0) * i / (n - 1));
+  }
+  spatial::SpatialFrames frames = spatial::spatial_frames(solver, times);
+  if (args.has("--at")) {  // the still: the last frame only
+    frames.times = {frames.times.back()};
+    frames.bodies = {frames.bodies.back()};
+    frames.joints = {frames.joints.back()};
+  }
+  spatial::SpatialDrawingOptions options;
+  options.width = args.integer("--width", options.width);
+  if (options.width < 200) throw UsageError("--width must be at least 200");
+  options.title = args.get("--title", "");
+  const std::string out = args.get("--out");
+  g_current_file = out;
+  std::ofstream file(out);
+  file << spatial::draw_spatial(frames, options);
+  if (!file) throw std::runtime_error(out + ": cannot write");
+  std::cout << "drew " << model.common.name << " (" << frames.times.size()
+            << (frames.times.size() == 1 ? " frame" : " frames") << ", sagittal and frontal) -> "
+            << out << "\n";
   return 0;
 }
 

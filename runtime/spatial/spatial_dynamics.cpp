@@ -110,9 +110,22 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
 
 SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s) {
   const System sys = assemble(solver, s);
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(sys.A);
-  cod.setThreshold(1e-10);
-  const Eigen::VectorXd x = cod.solve(sys.b);
+  // Without redundancy A is square and regular: an LU solve. Otherwise (or when LU finds A
+  // nearly singular) the minimum-norm least-squares solution of a complete orthogonal
+  // decomposition, whose rank gives the redundancy.
+  Eigen::VectorXd x;
+  int redundancy = 0;
+  bool solved = false;
+  if (sys.A.rows() == sys.A.cols()) {
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(sys.A);
+    if (lu.rcond() > 1e-12) x = lu.solve(sys.b), solved = true;
+  }
+  if (!solved) {
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(sys.A);
+    cod.setThreshold(1e-10);
+    x = cod.solve(sys.b);
+    redundancy = static_cast<int>(sys.A.cols() - cod.rank());
+  }
   const double residual = (sys.A * x - sys.b).norm();
   if (!(residual <= 1e-8 * (1 + sys.b.norm()))) {
     std::ostringstream m;
@@ -126,7 +139,7 @@ SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s
     out.reaction.push_back({v3(x.segment<3>(6 * j)), v3(x.segment<3>(6 * j + 3))});
   out.effort = x.tail(static_cast<Eigen::Index>(solver.graph().primary.size()));
   out.point = sys.point;
-  out.redundancy = static_cast<int>(sys.A.cols() - cod.rank());
+  out.redundancy = redundancy;
   return out;
 }
 

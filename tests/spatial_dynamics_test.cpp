@@ -11,16 +11,18 @@
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_test_models.hpp"
 #include "sweep/sweep.hpp"
 
 namespace mechgen::spatial {
 namespace {
 
 TEST(SpatialDynamics, DriverPowerIsTheRateOfKineticPlusPotentialEnergy) {
-  for (const char* name : {"leg6", "rsur", "chebyshev_spatial"}) {
+  std::vector<Case> cases = closed_chains();
+  cases.push_back({"leg6", text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml")});
+  for (const auto& [name, text] : cases) {
     SCOPED_TRACE(name);
-    const SpatialModel model =
-        read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml");
+    const SpatialModel model = read_spatial_model_text(text, name + ".yaml");
     const SpatialSolver solver(model, {});
     const SpatialSweepOptions o = default_spatial_sweep(model);
     SpatialState s;

@@ -4,11 +4,9 @@
 #include <ginac/ginac.h>
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial_test_models.hpp"
 
 namespace mechgen::spatial {
 namespace {
@@ -85,41 +83,6 @@ TEST(ScrewGeometry, QuaternionAndRotationLog) {
     const double a = std::remainder(angle, 2 * M_PI);
     for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(w[i], a * s[i], 1e-7);
   }
-}
-
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// leg6 as inverse kinematics: the same leg, its foot pose-driven relative to the waist.
-std::string leg6_inverse_kinematics() {
-  std::string text = text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
-  text = text.substr(0, text.find("drivers:"));
-  const auto hint = [&](const std::string& joint, const std::string& value) {
-    const auto at = text.find("{name: " + joint + ",");
-    text.insert(at + 1, "assembly: " + value + ", ");
-  };
-  hint("hip_pitch", "-0.4");
-  hint("knee", "0.8");
-  hint("ankle_pitch", "-0.4");
-  return text +
-         "drivers:\n  - {name: foot_pose, type: pose, first: waist, second: foot, at: foot,\n"
-         "     x: 0.02*sin(w*t), y: 0.01*sin(w*t), z: -0.16 + 0.01*cos(w*t),\n"
-         "     rotations: [{axis: z, value: 0.1*sin(w*t)}, {axis: y, value: 0.05*sin(2*w*t)},\n"
-         "                 {axis: x, value: -0.05*sin(w*t)}]}\n"
-         "step: {t0: 0, t1: 2*pi/w, samples: 41}\n";
-}
-
-struct Case {
-  std::string name, text;
-};
-std::vector<Case> closed_chains() {
-  return {{"rsur", text_of(MECHGEN_SOURCE_DIR "/models/rsur.yaml")},
-          {"chebyshev_spatial", text_of(MECHGEN_SOURCE_DIR "/models/chebyshev_spatial.yaml")},
-          {"leg6_ik", leg6_inverse_kinematics()}};
 }
 
 Twist twist_difference(const SpatialState& plus, const SpatialState& minus, int body, double h) {

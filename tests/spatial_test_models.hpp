@@ -1,0 +1,74 @@
+// Spatial test mechanisms shared by the kinematics and dynamics suites: the shipped closed chains,
+// leg6 as inverse kinematics (its foot pose-driven) and a helical-spherical-universal-cylindrical
+// loop that exercises the remaining joint types.
+#pragma once
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace mechgen::spatial {
+
+inline std::string text_of(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// leg6 as inverse kinematics: the same leg, its foot pose-driven relative to the waist.
+inline std::string leg6_inverse_kinematics() {
+  std::string text = text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  text = text.substr(0, text.find("drivers:"));
+  const auto hint = [&](const std::string& joint, const std::string& value) {
+    const auto at = text.find("{name: " + joint + ",");
+    text.insert(at + 1, "assembly: " + value + ", ");
+  };
+  hint("hip_pitch", "-0.4");
+  hint("knee", "0.8");
+  hint("ankle_pitch", "-0.4");
+  return text +
+         "drivers:\n  - {name: foot_pose, type: pose, first: waist, second: foot, at: foot,\n"
+         "     x: 0.02*sin(w*t), y: 0.01*sin(w*t), z: -0.16 + 0.01*cos(w*t),\n"
+         "     rotations: [{axis: z, value: 0.1*sin(w*t)}, {axis: y, value: 0.05*sin(2*w*t)},\n"
+         "                 {axis: x, value: -0.05*sin(w*t)}]}\n"
+         "step: {t0: 0, t1: 2*pi/w, samples: 41}\n";
+}
+
+struct Case {
+  std::string name, text;
+};
+// H-S-U-C loop: a crank screwed along z by a helical joint (pitch 10 mm/rad), a rod with a
+// spherical joint at the crank tip and a universal joint at a slider that slides along and turns
+// about a line parallel to x (cylindrical). 1 + 3 + 2 + 2 = 8 coordinates, two drivers (the
+// screw angle and the slider's turn), N_s 6 x 6.
+inline const char* const kHsucLoop = R"(name: hsuc
+dimension: spatial
+gravity: [0, 0, -9.81]
+parameters: {w: 2}
+bodies:
+  - {name: ground, ground: true, points: {O: [0, 0, 0], L: [0, 0.05, 0.02]}}
+  - {name: crank, points: {O: [0, 0, 0], B: [0.04, 0, 0]}, mass: {bar: [O, B], radius: 0.005, density: 7800}}
+  - {name: rod, points: {B: [0.04, 0, 0], C: [0.15, 0.05, 0.02]}, mass: {bar: [B, C], radius: 0.004, density: 2700}}
+  - {name: slider, points: {C: [0.15, 0.05, 0.02], E: [0.15, 0.08, 0.02]},
+     mass: {mass: 0.2, com: [0.15, 0.06, 0.02], inertia: [[2e-5, 1e-6, 0], [1e-6, 3e-5, 2e-6], [0, 2e-6, 2.5e-5]]}}
+joints:
+  - {name: screw, type: helical, first: ground, second: crank, s: [0, 0, 1], s0: O, pitch: 0.01}
+  - {name: ball, type: spherical, first: crank, second: rod, s0: B}
+  - {name: cross, type: universal, first: rod, second: slider, s: [0, 1, 0], s2: [0, 0, 1], s0: C}
+  - {name: sleeve, type: cylindrical, first: ground, second: slider, s: [1, 0, 0], s0: L}
+drivers:
+  - {name: turn, joint: screw, kind: angle, value: w*t}
+  - {name: twist, joint: sleeve, kind: angle, value: 0.3*sin(w*t)}
+step: {t0: 0, t1: pi/w, samples: 31}
+)";
+
+inline std::vector<Case> closed_chains() {
+  return {{"rsur", text_of(MECHGEN_SOURCE_DIR "/models/rsur.yaml")},
+          {"chebyshev_spatial", text_of(MECHGEN_SOURCE_DIR "/models/chebyshev_spatial.yaml")},
+          {"leg6_ik", leg6_inverse_kinematics()},
+          {"hsuc", kHsucLoop}};
+}
+
+}  // namespace mechgen::spatial

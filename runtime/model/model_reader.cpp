@@ -539,7 +539,7 @@ Model Reader::read(const YAML::Node& root) {
   if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
     fail(root["dimension"], scalar(root["dimension"], "dimension") == "spatial"
                                 ? "a spatial model: this command takes planar models only "
-                                  "(spatial ones: check, info, sweep --solver numeric)"
+                                  "(spatial ones: check, info, sweep --solver numeric, draw)"
                                 : "dimension must be planar or spatial");
   model_.gravity = root["gravity"]
                        ? vector2(root["gravity"], "gravity", false)

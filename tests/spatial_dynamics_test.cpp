@@ -34,7 +34,7 @@ TEST(SpatialDynamics, DriverPowerIsTheRateOfKineticPlusPotentialEnergy) {
       const SpatialLoads loads = inverse_dynamics(solver, s);
       Eigen::VectorXd qp, qpd, qpdd;
       solver.primary_motion(t, qp, qpd, qpdd);
-      const double power = loads.effort.dot(qpd);
+      const double power = loads.effort.dot(qpd) + solver.applied_power(s);
       const Energy e = energy(solver, s);
       worst = std::max(worst, std::abs(power - e.kinetic_rate - e.potential_rate));
       scale = std::max(scale, std::abs(power));
@@ -51,6 +51,35 @@ TEST(SpatialDynamics, DriverPowerIsTheRateOfKineticPlusPotentialEnergy) {
     EXPECT_LT(worst_fd, 1e-7);
     std::cout << name << ": peak driver power " << scale << " W, |P - dE/dt| " << worst
               << " (finite differences of T + V: " << worst_fd << ")\n";
+  }
+}
+
+// At rest and without gravity, the driver torques balancing a force F at the foot and a couple M
+// on it are -(J_foot^T F + J_w^T M): the screw Jacobians' transposes (checked against KDL's
+// Jacobian elsewhere) against the Newton-Euler solve.
+TEST(SpatialDynamics, FootLoadsMapToTorquesThroughTheJacobianTranspose) {
+  std::string text = text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  text.replace(text.find("gravity: [0, 0, -9.81]"), 23, "gravity: [0, 0, 0]");
+  text +=
+      "forces:\n  - {name: push, type: force, body: foot, point: toe, value: [3, -2, 40]}\n"
+      "  - {name: twist, type: torque, body: foot, value: [0.1, 0.2, -0.3]}\n";
+  const SpatialModel model = read_spatial_model_text(text, "leg6_loaded.yaml");
+  const SpatialSolver solver(model, {});
+  const int foot = model.body_index("foot");
+  for (const Eigen::VectorXd& q : {Eigen::VectorXd(Eigen::VectorXd::Zero(6)),
+                                   Eigen::VectorXd(Eigen::VectorXd::LinSpaced(6, -0.5, 0.9))}) {
+    SpatialState s;
+    s.q = q;
+    solver.place(s);
+    solver.rates(s, Eigen::VectorXd::Zero(6), Eigen::VectorXd::Zero(6));
+    const V3 toe =
+        solver.point_position(s, foot, solver.instance().points[static_cast<size_t>(foot)][1]);
+    const Eigen::VectorXd expected =
+        -(solver.point_jacobian(s, foot, toe).transpose() * Eigen::Vector3d(3, -2, 40) +
+          solver.body_jacobian(s, foot).topRows(3).transpose() * Eigen::Vector3d(0.1, 0.2, -0.3));
+    const SpatialLoads loads = inverse_dynamics(solver, s);
+    EXPECT_LT((loads.effort - expected).cwiseAbs().maxCoeff(), 1e-13) << loads.effort.transpose();
+    EXPECT_GT(expected.norm(), 1);
   }
 }
 

@@ -42,7 +42,7 @@ struct Case {
 // H-S-U-C loop: a crank screwed along z by a helical joint (pitch 10 mm/rad), a rod with a
 // spherical joint at the crank tip and a universal joint at a slider that slides along and turns
 // about a line parallel to x (cylindrical). 1 + 3 + 2 + 2 = 8 coordinates, two drivers (the
-// screw angle and the slider's turn), N_s 6 x 6.
+// screw angle and the slider's turn), N_s 6 x 6; a force on the slider and a couple on the crank.
 inline const char* const kHsucLoop = R"(name: hsuc
 dimension: spatial
 gravity: [0, 0, -9.81]
@@ -61,6 +61,9 @@ joints:
 drivers:
   - {name: turn, joint: screw, kind: angle, value: w*t}
   - {name: twist, joint: sleeve, kind: angle, value: 0.3*sin(w*t)}
+forces:
+  - {name: load, type: force, body: slider, point: E, value: [-5*cos(w*t), 2, 1 + t]}
+  - {name: drag, type: torque, body: crank, value: [0.01, 0, -0.05*sin(w*t)]}
 step: {t0: 0, t1: pi/w, samples: 31}
 )";
 

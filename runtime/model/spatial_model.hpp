@@ -112,6 +112,17 @@ struct PoseDriver {
   SourceLoc loc;
 };
 
+// An applied load: a force at a named point of a body, or a couple on a body; ground-frame
+// components, functions of the parameters and t.
+struct SpatialLoad {
+  std::string name;
+  bool torque = false;
+  int body = -1;
+  std::string point;  // force: the point it acts at
+  Vec3Expr value;     // N (force) or N m (torque)
+  SourceLoc loc;
+};
+
 struct SpatialModel {
   Model common;  // name, file, description, parameters, step, t, and their evaluation
   Vec3Expr gravity;
@@ -119,6 +130,7 @@ struct SpatialModel {
   std::vector<SpatialJoint> joints;
   std::vector<SpatialDriver> drivers;
   std::vector<PoseDriver> pose_drivers;
+  std::vector<SpatialLoad> loads;  // `forces:`
   int ground = -1;
 
   int body_index(const std::string& name) const;

@@ -61,6 +61,9 @@ class SpatialReader {
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
   void read_pose_driver(const YAML::Node& node);
+  void read_load(const YAML::Node& node);
+  // A list element's name (a mapping with `name`), checked and claimed; its location in `at`.
+  std::string element_name(const YAML::Node& node, const std::string& kind, SourceLoc& at);
 
   const DescriptionSyntax& y_;
   SpatialModel m_;
@@ -290,10 +293,8 @@ SpatialJointType joint_type(const std::string& name, bool& ok) {
 }
 
 void SpatialReader::read_joint(const YAML::Node& node) {
-  if (!node.IsMap()) fail(node, "a joint must be a mapping");
   SpatialJoint j;
-  j.name = y_.identifier(y_.required(node, "name", "a joint"), "joint name");
-  j.loc = y_.loc(node["name"]);
+  j.name = element_name(node, "joint", j.loc);
   const std::string what = "joint '" + j.name + "'";
   bool ok = false;
   const YAML::Node type = y_.required(node, "type", what);
@@ -308,7 +309,6 @@ void SpatialReader::read_joint(const YAML::Node& node) {
   if (j.type == SpatialJointType::universal) keys.insert("s2");
   if (j.type == SpatialJointType::helical) keys.insert("pitch");
   y_.expect_keys(node, what + " (" + std::string(to_string(j.type)) + ")", keys);
-  claim(node["name"], j.name, "joint");
   j.first = body_ref(y_.required(node, "first", what), what + " first");
   j.second = body_ref(y_.required(node, "second", what), what + " second");
   if (j.first == j.second)
@@ -526,6 +526,38 @@ void SpatialReader::read_pose_driver(const YAML::Node& node) {
   m_.pose_drivers.push_back(pd);
 }
 
+std::string SpatialReader::element_name(const YAML::Node& node, const std::string& kind,
+                                        SourceLoc& at) {
+  if (!node.IsMap()) fail(node, "a " + kind + " must be a mapping");
+  const std::string name = y_.identifier(y_.required(node, "name", "a " + kind), kind + " name");
+  at = y_.loc(node["name"]);
+  claim(node["name"], name, kind);
+  return name;
+}
+
+void SpatialReader::read_load(const YAML::Node& node) {
+  SpatialLoad f;
+  f.name = element_name(node, "force", f.loc);
+  const std::string what = "force '" + f.name + "'";
+  const std::string type = y_.scalar(y_.required(node, "type", what), what + " type");
+  if (type != "force" && type != "torque")
+    fail(node["type"],
+         what + ": spatial models take force or torque elements (got '" + type + "')");
+  f.torque = type == "torque";
+  y_.expect_keys(node, what,
+                 f.torque ? std::set<std::string>{"name", "type", "body", "value"}
+                          : std::set<std::string>{"name", "type", "body", "point", "value"});
+  f.body = body_ref(y_.required(node, "body", what), what + " body");
+  if (!f.torque) {
+    f.point = y_.identifier(y_.required(node, "point", what), what + " point");
+    if (!m_.bodies[static_cast<size_t>(f.body)].find_point(f.point))
+      fail(node["point"], what + ": body '" + m_.bodies[static_cast<size_t>(f.body)].name +
+                              "' has no point '" + f.point + "'");
+  }
+  f.value = vector3(y_.required(node, "value", what), what + " value", true);
+  m_.loads.push_back(f);
+}
+
 SpatialModel SpatialReader::read(const YAML::Node& root) {
   m_.gravity = root["gravity"] ? vector3(root["gravity"], "gravity", false)
                                : constant_vec(0, 0, -9.81, y_.loc(root));
@@ -533,7 +565,8 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
   using Read = void (SpatialReader::*)(const YAML::Node&);
   const std::pair<const char*, Read> lists[] = {{"bodies", &SpatialReader::read_body},
                                                 {"joints", &SpatialReader::read_joint},
-                                                {"drivers", &SpatialReader::read_driver}};
+                                                {"drivers", &SpatialReader::read_driver},
+                                                {"forces", &SpatialReader::read_load}};
   for (const auto& [key, read_item] : lists) {
     const YAML::Node list =
         key == std::string("bodies") ? y_.required(root, key, "the model") : root[key];
@@ -549,7 +582,7 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
 }  // namespace
 
 const std::set<std::string>& spatial_description_keys() {
-  static const std::set<std::string> keys{"gravity", "bodies", "joints", "drivers"};
+  static const std::set<std::string> keys{"gravity", "bodies", "joints", "drivers", "forces"};
   return keys;
 }
 

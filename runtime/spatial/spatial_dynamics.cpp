@@ -86,7 +86,8 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
       if (body != model.ground)
         sys.A.block<6, 1>(body_row[static_cast<size_t>(body)], 6 * nj + k) += sign * w;
   }
-  // Right-hand side: rate of momentum minus gravity, about the ground origin.
+  // Right-hand side: rate of momentum minus gravity and applied loads, about the ground origin.
+  const std::vector<Wrench> applied = solver.applied_wrenches(s);
   for (int b = 0; b < nb; ++b) {
     if (b == model.ground) continue;
     const double m = in.mass[static_cast<size_t>(b)];
@@ -100,8 +101,9 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
     const Eigen::Vector3d a = e3(solver.point_acceleration(s, b, com));
     const Eigen::Vector3d F = m * (a - e3(in.gravity));
     const Eigen::Vector3d M = I * al + w.cross(I * w) + c.cross(F);
-    sys.b.segment<3>(body_row[static_cast<size_t>(b)]) = F;
-    sys.b.segment<3>(body_row[static_cast<size_t>(b)] + 3) = M;
+    sys.b.segment<3>(body_row[static_cast<size_t>(b)]) = F - e3(applied[static_cast<size_t>(b)].f);
+    sys.b.segment<3>(body_row[static_cast<size_t>(b)] + 3) =
+        M - e3(applied[static_cast<size_t>(b)].m);
   }
   return sys;
 }

@@ -122,6 +122,18 @@ SpatialSolver::SpatialSolver(const SpatialModel& model, std::vector<double> para
       inst_.hint.push_back(model.evaluate(j.assembly[k], subs));
     }
   }
+  for (const SpatialLoad& f : model.loads) {
+    Load load;
+    load.body = f.body;
+    load.torque = f.torque;
+    const SpatialBody& b = model.bodies[static_cast<size_t>(f.body)];
+    for (size_t k = 0; !f.torque && k < b.points.size(); ++k)
+      if (b.points[k].name == f.point) load.local = inst_.points[static_cast<size_t>(f.body)][k];
+    const Expr* parts[3] = {&f.value.x, &f.value.y, &f.value.z};
+    for (size_t k = 0; k < 3; ++k)
+      load.value[k] = numeric::TimeExpression(parts[k]->ex.subs(subs), model.common.t);
+    loads_.push_back(load);
+  }
   for (const int c : graph_.primary) {
     const SpatialColumn& col = graph_.columns[static_cast<size_t>(c)];
     GiNaC::ex value, value_d, value_dd;
@@ -421,6 +433,38 @@ V3 SpatialSolver::point_acceleration(const SpatialState& s, int body, const V3& 
   return geometry::point_acceleration(s.V[static_cast<size_t>(body)],
                                       s.A[static_cast<size_t>(body)],
                                       point_position(s, body, local));
+}
+
+std::vector<std::pair<V3, V3>> SpatialSolver::load_values(const SpatialState& s) const {
+  std::vector<std::pair<V3, V3>> out;
+  for (const Load& load : loads_)
+    out.push_back({{load.value[0](s.t), load.value[1](s.t), load.value[2](s.t)},
+                   point_position(s, load.body, load.local)});
+  return out;
+}
+
+std::vector<Wrench> SpatialSolver::applied_wrenches(const SpatialState& s) const {
+  std::vector<Wrench> out(model_.bodies.size());
+  const auto values = load_values(s);
+  for (size_t k = 0; k < loads_.size(); ++k) {
+    const auto& [value, x] = values[k];
+    Wrench& w = out[static_cast<size_t>(loads_[k].body)];
+    w = w +
+        (loads_[k].torque ? Wrench{{0, 0, 0}, value} : Wrench{value, geometry::cross(x, value)});
+  }
+  return out;
+}
+
+double SpatialSolver::applied_power(const SpatialState& s) const {
+  double power = 0;
+  const auto values = load_values(s);
+  for (size_t k = 0; k < loads_.size(); ++k) {
+    const Twist& V = s.V[static_cast<size_t>(loads_[k].body)];
+    const auto& [value, x] = values[k];
+    power += loads_[k].torque ? geometry::dot(value, V.w)
+                              : geometry::dot(value, geometry::point_velocity(V, x));
+  }
+  return power;
 }
 
 }  // namespace mechgen::spatial

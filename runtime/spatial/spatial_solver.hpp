@@ -96,6 +96,11 @@ class SpatialSolver {
   V3 point_velocity(const SpatialState& state, int body, const V3& local) const;
   V3 point_acceleration(const SpatialState& state, int body, const V3& local) const;
 
+  // The model's applied loads (`forces:`) at state.t, per body: their resultant wrench about the
+  // ground origin, and their power at state's velocities.
+  std::vector<Wrench> applied_wrenches(const SpatialState& state) const;
+  double applied_power(const SpatialState& state) const;
+
  private:
   Eigen::MatrixXd secondary_map(const SpatialState& state) const;  // q_s' = S q_p'
   void close_circuits(SpatialState& state, bool first) const;
@@ -109,6 +114,15 @@ class SpatialSolver {
   // Per primary column: q(t), q'(t), q''(t) minus the reference value.
   std::vector<numeric::TimeExpression> q_, qd_, qdd_;
   std::vector<double> offset_;
+  struct Load {
+    int body = -1;
+    bool torque = false;
+    V3 local{0, 0, 0};  // force: the point, body frame
+    std::array<numeric::TimeExpression, 3> value;
+  };
+  std::vector<Load> loads_;
+  // Per load: the force (or couple) and where it acts (current, ground frame), at state.t.
+  std::vector<std::pair<V3, V3>> load_values(const SpatialState& state) const;
 };
 
 // The orientation of a rotation matrix as a unit quaternion [qw, qx, qy, qz] with qw >= 0.

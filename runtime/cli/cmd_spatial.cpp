@@ -77,6 +77,15 @@ int run_spatial_check(const Args& args) {
                       c.name[0] == 'r' ? "angle (pose)" : "length (pose)",
                       c.value ? c.value->text : "free (secondary virtual joint)", ""});
   out += "\ndrivers\n" + table(rows, "  ");
+  if (!model.loads.empty()) {
+    rows = {{"name", "type", "on", "value (ground frame)"}};
+    for (const SpatialLoad& f : model.loads)
+      rows.push_back(
+          {f.name, f.torque ? "torque" : "force",
+           model.bodies[static_cast<size_t>(f.body)].name + (f.torque ? "" : " at " + f.point),
+           "[" + f.value.x.text + ", " + f.value.y.text + ", " + f.value.z.text + "]"});
+    out += "\nloads\n" + table(rows, "  ");
+  }
 
   int virtual_primary = 0;
   for (const int c : g.primary)

@@ -617,6 +617,9 @@ void Reader::read_step(const YAML::Node& root) {
 
 SpatialModel Reader::read_spatial(const YAML::Node& root) {
   read_header(root, spatial_description_keys());
+  if (root["assembly_tolerance"])
+    fail(root["assembly_tolerance"],
+         "assembly_tolerance is for planar models (spatial ones take per-joint `assembly:` hints)");
   read_step(root);
   const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
   if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))

@@ -7,6 +7,7 @@
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial_test_models.hpp"
 
 namespace mechgen {
 namespace {
@@ -86,38 +87,7 @@ TEST(SpatialModel, Leg6FollowsSeedTable1) {
 // waist pose-driven by a 3P3R virtual chain from the ground: 4 circuits, N 24 x 54, 30 primary
 // virtual coordinates, 24 secondary real ones.
 TEST(SpatialModel, HumanoidWithFiveVirtualChainsHasTheSeedsNetworkSize) {
-  std::string text =
-      "name: humanoid\ndimension: spatial\nbodies:\n  - {name: ground, ground: true}\n"
-      "  - {name: waist, mass: {mass: 1, com: [0, 0, 0.3], inertia: [0.01, 0.01, 0.01]}}\n";
-  std::string joints = "joints:\n", drivers =
-                                        "drivers:\n  - {name: waist_pose, type: pose, first: "
-                                        "ground, second: waist, at: [0, 0, 0.3], x: 0, y: 0, z: "
-                                        "0.3, rotations: [{axis: z, value: 0}, {axis: y, value: "
-                                        "0}, {axis: x, value: 0}]}\n";
-  const char* limbs[4] = {"rleg", "lleg", "rarm", "larm"};
-  const char* axes[6] = {"[0, 0, 1]", "[1, 0, 0]", "[0, 1, 0]",
-                         "[0, 1, 0]", "[0, 1, 0]", "[1, 0, 0]"};
-  for (int l = 0; l < 4; ++l) {
-    const double y = (l % 2 ? 0.05 : -0.05), z0 = l < 2 ? 0.25 : 0.45, dz = l < 2 ? -0.07 : -0.05;
-    std::string previous = "waist";
-    for (int k = 0; k < 6; ++k) {
-      const std::string body = std::string(limbs[l]) + std::to_string(k + 1);
-      const double z = z0 + dz * (k < 3 ? 0 : k - 2);
-      text += "  - {name: " + body + ", mass: {mass: 0.05, com: [0, " + std::to_string(y) + ", " +
-              std::to_string(z) + "], inertia: [1e-5, 1e-5, 1e-5]}}\n";
-      joints += "  - {name: " + body + "_j, type: revolute, first: " + previous +
-                ", second: " + body + ", s: " + axes[k] + ", s0: [" + (k == 3 ? "0.02" : "0") +
-                ", " + std::to_string(y) + ", " + std::to_string(z) + "]}\n";
-      previous = body;
-    }
-    const double zend = z0 + 3 * dz;
-    drivers += "  - {name: " + std::string(limbs[l]) +
-               "_pose, type: pose, first: ground, second: " + previous + ", at: [0, " +
-               std::to_string(y) + ", " + std::to_string(zend) +
-               "], x: 0, y: " + std::to_string(y) + ", z: " + std::to_string(zend) +
-               ", rotations: [{axis: z, value: 0}, {axis: y, value: 0}, {axis: x, value: 0}]}\n";
-  }
-  text += joints + drivers + "step: {t0: 0, t1: 1}\n";
+  const std::string text = spatial::humanoid();
   const SpatialModel m = read_spatial_model_text(text, "humanoid.yaml");
   const SpatialGraph g = build_spatial_graph(m);
   EXPECT_EQ(g.circuits(), 4);

@@ -67,11 +67,54 @@ forces:
 step: {t0: 0, t1: pi/w, samples: 31}
 )";
 
+// The seed 001 humanoid's structure: a waist and four 6-DOF limbs (Table 1 axes; knees and elbows
+// offset 20 mm forward so no limb is straight), the waist and each limb's end pose-driven from
+// the ground by five 3P3R virtual chains. The waist sways and yaws, the right foot steps, the
+// other ends stay put: 4 circuits, N 24 x 54, 30 primary virtual joints.
+inline std::string humanoid() {
+  std::string text =
+      "name: humanoid\ndimension: spatial\nbodies:\n  - {name: ground, ground: true}\n"
+      "  - {name: waist, mass: {mass: 1, com: [0, 0, 0.3], inertia: [0.01, 0.01, 0.01]}}\n";
+  std::string
+      joints = "joints:\n",
+      drivers =
+          "drivers:\n  - {name: waist_pose, type: pose, first: "
+          "ground, second: waist, at: [0, 0, 0.3], x: 0.005*sin(2*t), y: 0, z: "
+          "0.3 - 0.005*sin(2*t), rotations: [{axis: z, value: 0.05*sin(2*t)}, {axis: y, value: "
+          "0}, {axis: x, value: 0}]}\n";
+  const char* limbs[4] = {"rleg", "lleg", "rarm", "larm"};
+  const char* axes[6] = {"[0, 0, 1]", "[1, 0, 0]", "[0, 1, 0]",
+                         "[0, 1, 0]", "[0, 1, 0]", "[1, 0, 0]"};
+  for (int l = 0; l < 4; ++l) {
+    const double y = (l % 2 ? 0.05 : -0.05), z0 = l < 2 ? 0.25 : 0.45, dz = l < 2 ? -0.07 : -0.05;
+    std::string previous = "waist";
+    for (int k = 0; k < 6; ++k) {
+      const std::string body = std::string(limbs[l]) + std::to_string(k + 1);
+      const double z = z0 + dz * (k < 3 ? 0 : k - 2);
+      text += "  - {name: " + body + ", mass: {mass: 0.05, com: [0, " + std::to_string(y) + ", " +
+              std::to_string(z) + "], inertia: [1e-5, 1e-5, 1e-5]}}\n";
+      joints += "  - {name: " + body + "_j, type: revolute, first: " + previous +
+                ", second: " + body + ", s: " + axes[k] + ", s0: [" + (k == 3 ? "0.02" : "0") +
+                ", " + std::to_string(y) + ", " + std::to_string(z) + "]}\n";
+      previous = body;
+    }
+    const double zend = z0 + 3 * dz;
+    drivers += "  - {name: " + std::string(limbs[l]) +
+               "_pose, type: pose, first: ground, second: " + previous + ", at: [0, " +
+               std::to_string(y) + ", " + std::to_string(zend) +
+               "], x: " + (l == 0 ? "0.01*sin(2*t)" : "0") + ", y: " + std::to_string(y) +
+               ", z: " + std::to_string(zend) + (l == 0 ? " + 0.005*(1 - cos(2*t))" : "") +
+               ", rotations: [{axis: z, value: 0}, {axis: y, value: 0}, {axis: x, value: 0}]}\n";
+  }
+  return text + joints + drivers + "step: {t0: 0, t1: 1}\n";
+}
+
 inline std::vector<Case> closed_chains() {
   return {{"rsur", text_of(MECHGEN_SOURCE_DIR "/models/rsur.yaml")},
           {"chebyshev_spatial", text_of(MECHGEN_SOURCE_DIR "/models/chebyshev_spatial.yaml")},
           {"leg6_ik", leg6_inverse_kinematics()},
-          {"hsuc", kHsucLoop}};
+          {"hsuc", kHsucLoop},
+          {"humanoid", humanoid()}};
 }
 
 }  // namespace mechgen::spatial

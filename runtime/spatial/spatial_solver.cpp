@@ -2,7 +2,9 @@
 // velocities, exact accelerations and screw Jacobians (spatial_solver.hpp).
 #include "spatial/spatial_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 namespace mechgen::spatial {
@@ -49,7 +51,7 @@ V3 rotation_log(const M3& R) {
   const double angle = std::acos(c);
   const V3 axis2{R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)};  // 2 sin(a) axis
   if (angle < 1e-6) return {axis2[0] / 2, axis2[1] / 2, axis2[2] / 2};
-  if (angle < M_PI - 1e-6) {
+  if (angle < std::numbers::pi - 1e-6) {
     const double k = angle / (2 * std::sin(angle));
     return {k * axis2[0], k * axis2[1], k * axis2[2]};
   }

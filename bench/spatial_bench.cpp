@@ -1,3 +1,5 @@
+// rsur/numeric, chebyshev_spatial/numeric: the spatial reference solver per sample along the
+// model's step (closed chains).
 // leg6/numeric: the spatial reference solver per sample (product of exponentials, twists and
 // their rates, the foot's screw Jacobian, the spatial Newton-Euler solve), beside leg6/kdl: Orocos
 // KDL's ChainFkSolverPos_recursive + ChainJntToJacSolver + ChainIdSolver_RNE on the same chain
@@ -17,6 +19,7 @@
 #include "kdl_model.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
 
 namespace mechgen::bench {
 namespace {
@@ -55,9 +58,35 @@ KDL::JntArray jnt(const Eigen::VectorXd& x) {
   return a;
 }
 
+// <model>/numeric for a closed chain: SpatialSolver::solve (Newton closure from the previous
+// sample, Davies' velocities, exact accelerations) + inverse dynamics, walking the model's default
+// step forth and back so each sample continues from its neighbour.
+void register_closed_chain(const std::string& name) {
+  auto model = std::make_shared<SpatialModel>(
+      read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml"));
+  auto solver = std::make_shared<spatial::SpatialSolver>(*model, std::vector<double>{});
+  const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(*model);
+  std::vector<double> times;
+  for (int i = 0; i < step.samples; ++i)
+    times.push_back(step.t0 + (step.t1 - step.t0) * i / (step.samples - 1));
+  for (int i = step.samples - 2; i > 0; --i) times.push_back(times[static_cast<size_t>(i)]);
+  benchmark::RegisterBenchmark((name + "/numeric").c_str(), [model, solver,
+                                                             times](benchmark::State& state) {
+    spatial::SpatialState s;
+    size_t i = 0;
+    for (auto _ : state) {
+      solver->solve(times[i], s);
+      benchmark::DoNotOptimize(spatial::inverse_dynamics(*solver, s).effort.data());
+      i = (i + 1) % times.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+}
+
 }  // namespace
 
 void register_spatial_benchmarks() {
+  register_closed_chain("rsur");
+  register_closed_chain("chebyshev_spatial");
   auto leg = std::make_shared<Leg6>();
   {  // The two must agree before either is timed.
     KDL::ChainIdSolver_RNE id(leg->chain, kdl_model::vec(leg->solver.instance().gravity));

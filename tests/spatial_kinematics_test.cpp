@@ -175,6 +175,53 @@ TEST(SpatialKinematics, PoseDrivenLegReachesItsTarget) {
   }
 }
 
+// Seed 003's leg (hip, knee, ankle, links of length l, foot vector v3 = (f, 0) at the zero pose)
+// in the x-z plane, its inverse kinematics written as a pose driver on the foot (x, z and the foot
+// angle), against the lecture's closed forms: a = v1 - |v3| (cos th, sin th),
+// q2 = -2 acos(|a| / 2l), q1 = asin(a_x / |a|) - q2 / 2, and q3 = th - q1 - q2 (the foot angle is
+// q1 + q2 + q3; the lecture prints q3 = th - q1 - q2/2, which does not return th through its own
+// forward kinematics T1 T2 T3 v3 unless q2 = 0).
+TEST(SpatialKinematics, TheLecturesLegInverseKinematicsIsAPoseDrivenModel) {
+  const char* const text = R"(name: lecture_leg
+dimension: spatial
+parameters: {l: 0.2, f: 0.08}
+bodies:
+  - {name: hip, ground: true, points: {H: [0, 0, 0]}}
+  - {name: thigh, points: {K: [0, 0, -l]}, mass: {mass: 1, com: [0, 0, -l/2], inertia: [0.01, 0.01, 0.001]}}
+  - {name: shank, points: {A: [0, 0, -2*l]}, mass: {mass: 1, com: [0, 0, -1.5*l], inertia: [0.01, 0.01, 0.001]}}
+  - {name: foot, points: {F: [f, 0, -2*l]}, mass: {mass: 0.5, com: [f/2, 0, -2*l], inertia: [0.001, 0.001, 0.001]}}
+joints:   # s = -y: a positive angle turns x towards z (counter-clockwise, x right, z up)
+  - {name: q1, type: revolute, first: hip, second: thigh, s: [0, -1, 0], s0: H, assembly: 0.3}
+  - {name: q2, type: revolute, first: thigh, second: shank, s: [0, -1, 0], s0: K, assembly: -0.6}
+  - {name: q3, type: revolute, first: shank, second: foot, s: [0, -1, 0], s0: A, assembly: 0.3}
+drivers:  # the foot point v1 and the foot angle th (a rotation about -y is -ry)
+  - {name: v1, type: pose, first: hip, second: foot, at: F, x: 0.1 + 0.05*sin(t), z: -0.33 + 0.03*cos(t),
+     rotations: [{axis: y, value: -0.2*sin(t)}]}
+step: {t0: 0, t1: 6, samples: 61}
+)";
+  const SpatialModel model = read_spatial_model_text(text, "lecture_leg.yaml");
+  const SpatialSolver solver(model, {});
+  const SpatialGraph& g = solver.graph();
+  EXPECT_EQ(g.rows(), 6);
+  EXPECT_EQ(g.primary.size(), 3u);  // x, z, ry; y, rx, rz free virtual joints
+  SpatialState s;
+  const double l = 0.2, f = 0.08;
+  double worst = 0;
+  for (int i = 0; i <= 60; ++i) {
+    const double t = 0.1 * i;
+    solver.solve(t, s);
+    const double th = 0.2 * std::sin(t), vx = 0.1 + 0.05 * std::sin(t),
+                 vz = -0.33 + 0.03 * std::cos(t);
+    const double ax = vx - f * std::cos(th), az = vz - f * std::sin(th);
+    const double norm = std::hypot(ax, az);
+    const double q2 = -2 * std::acos(norm / (2 * l));
+    const double q1 = std::asin(ax / norm) - q2 / 2;
+    const double q3 = th - q1 - q2;
+    worst = std::max({worst, std::abs(s.q[0] - q1), std::abs(s.q[1] - q2), std::abs(s.q[2] - q3)});
+  }
+  EXPECT_LT(worst, 1e-12);
+}
+
 TEST(SpatialKinematics, ReachingASingularPoseIsALocatedError) {
   // A two-link planar arm whose tip is pulled out to full stretch at t = 1.
   const char* const text = R"(name: straight

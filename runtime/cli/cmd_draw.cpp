@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "analysis/walking.hpp"
+#include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "report/atomic_output.hpp"
 #include "report/mechanism_drawing.hpp"
@@ -37,6 +38,7 @@ ground body on a hatched floor (model ground frame).
 
 int run_draw(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
+  if (is_spatial_description(path)) return run_spatial_draw(args);
   if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
   if (args.has("--at") == args.has("--animate"))
     throw UsageError("give either --at T or --animate");

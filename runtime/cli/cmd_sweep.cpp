@@ -5,9 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "model/model.hpp"
+#include "model/spatial_model.hpp"
 #include "report/column_plot.hpp"
 #include "sweep/sweep.hpp"
 
@@ -39,6 +41,7 @@ A sample the solver cannot evaluate (unreachable, singular, diverged) is an erro
 
 int run_sweep_command(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
+  if (is_spatial_description(path)) return run_spatial_sweep(args);
   if (!args.has("--out") && !args.has("--summary"))
     throw UsageError("missing --out FILE.csv (or --summary)");
   const Model model = load_model(path);

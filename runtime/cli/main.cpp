@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "branch_choice.hpp"
+#include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "generate.hpp"
@@ -61,6 +62,7 @@ Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 
 int run_check(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
+  if (is_spatial_description(path)) return run_spatial_check(args);
   const Model model = load_model(path);
   const std::vector<double> defaults = model.default_parameters();
   const GiNaC::exmap subs = model.substitutions(defaults);
@@ -235,6 +237,7 @@ Without --json, a short text summary.
 )";
 
 int run_info(const Args& args) {
+  if (is_spatial_description(args.single_positional("MODEL.yaml"))) return run_spatial_info(args);
   const Model model = load_model(args.single_positional("MODEL.yaml"));
   if (!args.has("--json")) {
     const StructureReport s = analyze_structure(model);

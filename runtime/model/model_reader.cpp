@@ -9,12 +9,14 @@
 #include <set>
 #include <sstream>
 
+#include "model/description_syntax.hpp"
 #include "model/fingerprint.hpp"
 #include "model/link_mass.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/parameter_resolver.hpp"
 #include "model/value_checks.hpp"
+#include "model/spatial_model.hpp"
 
 namespace mechgen {
 
@@ -29,18 +31,28 @@ bool is_identifier(const std::string& s) {
   return true;
 }
 
-class Reader {
+class Reader : public DescriptionSyntax {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
   Model read(const YAML::Node& root);
+  SpatialModel read_spatial(const YAML::Node& root);
 
- private:
-  SourceLoc loc(const YAML::Node& node) const {
+  SourceLoc loc(const YAML::Node& node) const override {
     const YAML::Mark mark = node.Mark();
     if (mark.is_null()) return {file_, 0, 0};
     return {file_, mark.line + 1, mark.column + 1};
   }
+  void expect_keys(const YAML::Node& node, const std::string& what,
+                   const std::set<std::string>& allowed) const override;
+  YAML::Node required(const YAML::Node& parent, const std::string& key,
+                      const std::string& what) const override;
+  std::string scalar(const YAML::Node& node, const std::string& what) const override;
+  std::string identifier(const YAML::Node& node, const std::string& what) const override;
+  Expr expression(const YAML::Node& node, const std::string& what,
+                  bool time_allowed) const override;
+
+ private:
   [[noreturn]] void fail(const YAML::Node& node, const std::string& message) const {
     throw ModelError(loc(node), message);
   }
@@ -48,13 +60,6 @@ class Reader {
   void expect_map(const YAML::Node& node, const std::string& what) const {
     if (!node.IsMap()) fail(node, what + " must be a mapping");
   }
-  void expect_keys(const YAML::Node& node, const std::string& what,
-                   const std::set<std::string>& allowed) const;
-  YAML::Node required(const YAML::Node& parent, const std::string& key,
-                      const std::string& what) const;
-  std::string scalar(const YAML::Node& node, const std::string& what) const;
-  std::string identifier(const YAML::Node& node, const std::string& what) const;
-  Expr expression(const YAML::Node& node, const std::string& what, bool time_allowed) const;
   Vec2Expr vector2(const YAML::Node& node, const std::string& what, bool time_allowed) const;
   int body_ref(const YAML::Node& node, const std::string& what) const;
 
@@ -67,6 +72,8 @@ class Reader {
   void read_driver(const YAML::Node& node);
   void read_force(const YAML::Node& node);
   void check_values();
+  void read_header(const YAML::Node& root, std::set<std::string> keys);
+  void read_step(const YAML::Node& root);
 
   std::string file_;
   Model model_;
@@ -516,22 +523,28 @@ void Reader::check_values() {
   mechgen::check_values(model_, model_.default_parameters());
 }
 
-Model Reader::read(const YAML::Node& root) {
+void Reader::read_header(const YAML::Node& root, std::set<std::string> keys) {
   if (!root.IsDefined() || root.IsNull())
     fail(root, "the model description is empty (expected a YAML mapping)");
   if (!root.IsMap()) fail(root, "a model description must be a YAML mapping");
-  expect_keys(root, "model",
-              {"name", "description", "dimension", "gravity", "parameters", "bodies", "joints",
-               "drivers", "forces", "step", "assembly_tolerance", "material"});
+  keys.insert({"name", "description", "dimension", "parameters", "step", "assembly_tolerance"});
+  expect_keys(root, "model", keys);
   model_.file = file_;
   model_.description_hash = description_fingerprint(root);
   model_.name = identifier(required(root, "name", "the model"), "model name");
   if (root["description"]) model_.description = scalar(root["description"], "description");
-  if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
-    fail(root["dimension"], "only planar models are supported (spatial chains come later)");
   symbols_["t"] = model_.t;
   symbols_["pi"] = GiNaC::Pi;
   read_parameters(root["parameters"]);
+}
+
+Model Reader::read(const YAML::Node& root) {
+  read_header(root, {"gravity", "bodies", "joints", "drivers", "forces", "material"});
+  if (root["dimension"] && scalar(root["dimension"], "dimension") != "planar")
+    fail(root["dimension"], scalar(root["dimension"], "dimension") == "spatial"
+                                ? "a spatial model: this command takes planar models only "
+                                  "(spatial ones: check, info, sweep --solver numeric, draw)"
+                                : "dimension must be planar or spatial");
   model_.gravity = root["gravity"]
                        ? vector2(root["gravity"], "gravity", false)
                        : Vec2Expr{{ex(0), "0", loc(root)}, {ex(-9.81), "-9.81", loc(root)}};
@@ -575,6 +588,13 @@ Model Reader::read(const YAML::Node& root) {
       model_.youngs_modulus =
           expression(material["youngs_modulus"], "material youngs_modulus", false);
   }
+  read_step(root);
+  check_values();
+  check_structure(model_);
+  return model_;
+}
+
+void Reader::read_step(const YAML::Node& root) {
   const YAML::Node step = required(root, "step", "the model");
   expect_map(step, "step");
   expect_keys(step, "step", {"t0", "t1", "samples"});
@@ -597,25 +617,44 @@ Model Reader::read(const YAML::Node& root) {
     if (!(model_.assembly_tolerance > 0))
       fail(root["assembly_tolerance"], "assembly_tolerance must be positive");
   }
-  check_values();
-  check_structure(model_);
-  return model_;
 }
 
-}  // namespace
+SpatialModel Reader::read_spatial(const YAML::Node& root) {
+  read_header(root, spatial_description_keys());
+  if (root["assembly_tolerance"])
+    fail(root["assembly_tolerance"],
+         "assembly_tolerance is for planar models (spatial ones take per-joint `assembly:` hints)");
+  read_step(root);
+  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
+  if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
+    throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  return read_spatial_elements(root, *this, model_);
+}
 
-Model read_model_text(const std::string& text, const std::string& file_label) {
-  YAML::Node root;
+YAML::Node load_yaml(const std::string& text, const std::string& file_label) {
   try {
-    root = YAML::Load(text);
+    return YAML::Load(text);
   } catch (const YAML::Exception& error) {
     throw ModelError({file_label, error.mark.line + 1, error.mark.column + 1},
                      "invalid YAML: " + error.msg);
   }
-  return Reader(file_label).read(root);
+}
+
+}  // namespace
+
+SpatialModel read_spatial_model_text(const std::string& text, const std::string& file_label) {
+  return Reader(file_label).read_spatial(load_yaml(text, file_label));
+}
+
+Model read_model_text(const std::string& text, const std::string& file_label) {
+  return Reader(file_label).read(load_yaml(text, file_label));
 }
 
 Model read_model(const std::string& path) {
+  return read_model_text(read_description_file(path), path);
+}
+
+std::string read_description_file(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw ModelError({path, 0, 0}, "no such model file");
   if (std::filesystem::is_directory(path, error))
@@ -624,7 +663,7 @@ Model read_model(const std::string& path) {
   if (!in) throw ModelError({path, 0, 0}, "cannot open model file");
   std::stringstream text;
   text << in.rdbuf();
-  return read_model_text(text.str(), path);
+  return text.str();
 }
 
 }  // namespace mechgen

@@ -1,0 +1,292 @@
+// `mechgen check`, `info` and `sweep` on a spatial model (dimension: spatial): the structure
+// (spanning tree, circuits, Davies' network matrix and its primary / secondary split), the
+// assembly and redundancy, the info JSON of DESIGN.md's "Spatial models" and the numeric sweep.
+#include "cli/cmd_spatial.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli/model_info.hpp"
+#include "model/spatial_graph.hpp"
+#include "report/csv_table.hpp"
+#include "spatial/spatial_drawing.hpp"
+#include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
+
+namespace mechgen::cli {
+
+namespace {
+
+using spatial::V3;
+
+std::string vec_text(const V3& v) {
+  return "[" + fixed(v[0], 6) + ", " + fixed(v[1], 6) + ", " + fixed(v[2], 6) + "]";
+}
+std::string json_vec(const double* v, int n) {
+  std::string out = "[";
+  for (int i = 0; i < n; ++i) out += (i ? ", " : "") + number_text(v[i]);
+  return out + "]";
+}
+
+SpatialModel load_spatial(const std::string& path) {
+  g_current_file = path;
+  return read_spatial_model(path);
+}
+
+}  // namespace
+
+int run_spatial_check(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  const SpatialModel model = load_spatial(path);
+  const spatial::SpatialSolver solver(model, {});
+  const SpatialGraph& g = solver.graph();
+  const spatial::SpatialInstance& in = solver.instance();
+  std::string out = path + ": spatial model '" + model.common.name + "'" +
+                    (model.common.description.empty() ? "" : ": " + model.common.description) +
+                    "\n";
+  std::vector<std::vector<std::string>> rows{{"name", "mass [kg]", "com (body frame)", "kind"}};
+  for (size_t b = 0; b < model.bodies.size(); ++b)
+    rows.push_back({model.bodies[b].name, model.bodies[b].ground ? "ground" : fixed(in.mass[b]),
+                    model.bodies[b].ground ? "" : vec_text(in.com[b]),
+                    model.bodies[b].is_virtual ? "virtual (massless)" : ""});
+  out += "\nbodies (" + std::to_string(model.bodies.size()) + ")\n" + table(rows, "  ");
+  rows = {{"name", "type", "first", "second", "coordinates", "s", "s0"}};
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    const SpatialJoint& joint = model.joints[j];
+    const int c0 = g.joint_column[j];
+    rows.push_back({joint.name + (joint.is_virtual ? " (virtual)" : ""), to_string(joint.type),
+                    model.bodies[static_cast<size_t>(joint.first)].name,
+                    model.bodies[static_cast<size_t>(joint.second)].name,
+                    std::to_string(joint.columns.size()),
+                    joint.columns.empty() ? "" : vec_text(in.axes[static_cast<size_t>(c0)].s),
+                    vec_text(in.joint_point[j])});
+  }
+  out += "\njoints (" + std::to_string(model.joints.size()) + ")\n" + table(rows, "  ");
+  rows = {{"name", "drives", "kind", "value", "range"}};
+  for (const SpatialDriver& d : model.drivers)
+    rows.push_back({d.name, model.joints[static_cast<size_t>(d.joint)].name, to_string(d.kind),
+                    d.value.text,
+                    d.range ? "[" + d.range->at(0).text + ", " + d.range->at(1).text + "]" : ""});
+  for (const PoseDriver& pd : model.pose_drivers)
+    for (const PoseCoordinate& c : pd.coordinates)
+      rows.push_back({pd.name + "." + c.name,
+                      model.bodies[static_cast<size_t>(pd.second)].name + " relative to " +
+                          model.bodies[static_cast<size_t>(pd.first)].name,
+                      c.name[0] == 'r' ? "angle (pose)" : "length (pose)",
+                      c.value ? c.value->text : "free (secondary virtual joint)", ""});
+  out += "\ndrivers\n" + table(rows, "  ");
+  if (!model.loads.empty()) {
+    rows = {{"name", "type", "on", "value (ground frame)"}};
+    for (const SpatialLoad& f : model.loads)
+      rows.push_back(
+          {f.name, f.torque ? "torque" : "force",
+           model.bodies[static_cast<size_t>(f.body)].name + (f.torque ? "" : " at " + f.point),
+           "[" + f.value.x.text + ", " + f.value.y.text + ", " + f.value.z.text + "]"});
+    out += "\nloads\n" + table(rows, "  ");
+  }
+
+  int virtual_primary = 0;
+  for (const int c : g.primary)
+    virtual_primary += g.columns[static_cast<size_t>(c)].pose_driver >= 0 ? 1 : 0;
+  out += "\nstructure (Davies' method)\n" +
+         table({{"joint coordinates", std::to_string(g.cols())},
+                {"spanning tree", std::to_string(model.bodies.size() - 1) + " joints"},
+                {"independent circuits", std::to_string(g.circuits())},
+                {"network matrix N", std::to_string(g.rows()) + " x " + std::to_string(g.cols())},
+                {"primary (driven)", std::to_string(g.primary.size()) + " (" +
+                                         std::to_string(virtual_primary) + " virtual)"},
+                {"secondary", std::to_string(g.secondary.size())}},
+               "  ");
+  std::string chords;
+  for (const int j : g.chords)
+    chords += (chords.empty() ? "" : ", ") + model.joints[static_cast<size_t>(j)].name;
+  if (!chords.empty()) out += "  circuits closed by: " + chords + "\n";
+
+  spatial::SpatialState state;
+  const spatial::SpatialSweepOptions sweep = spatial::default_spatial_sweep(model);
+  solver.solve(sweep.t0, state);
+  const spatial::Redundancy r = spatial::redundancy(solver, state);
+  const Eigen::MatrixXd N = solver.network(state);
+  out += "\nassembly at t0 = " + fixed(sweep.t0) +
+         ": circuits closed, N q' = " + fixed((N * state.qd).norm(), 3) + "\n";
+  if (r.degree == 0) {
+    out += "Newton-Euler: reactions and efforts unique\n";
+  } else {
+    std::string joints;
+    const char* names[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+      if (r.joint_unique[j]) continue;
+      std::string components;
+      for (size_t k = 0; k < 6; ++k)
+        if (!r.component_unique[j][k])
+          components += (components.empty() ? "" : " ") + std::string(names[k]);
+      joints += (joints.empty() ? "" : ", ") + model.joints[j].name + " (" + components + ")";
+    }
+    out += "redundant constraints: degree " + std::to_string(r.degree) +
+           "; reactions not unique at: " + joints + "\n" +
+           "caveat: those joints' reactions are reported as the minimum-norm solution (statics "
+           "alone does not fix them); driver efforts are " +
+           (r.efforts_unique ? "unique" : "NOT unique") + "\n";
+  }
+  std::cout << out;
+  return 0;
+}
+
+int run_spatial_info(const Args& args) {
+  const SpatialModel model = load_spatial(args.single_positional("MODEL.yaml"));
+  const spatial::SpatialSolver solver(model, {});
+  const spatial::SpatialInstance& in = solver.instance();
+  const SpatialGraph& g = solver.graph();
+  if (!args.has("--json")) {
+    std::cout << model.common.name << " (spatial): " << model.bodies.size() << " bodies, "
+              << model.joints.size() << " joints, " << g.circuits() << " circuits, N " << g.rows()
+              << " x " << g.cols() << ", " << spatial::spatial_column_names(model).size()
+              << " sweep columns\n";
+    return 0;
+  }
+  std::ostringstream o;
+  o << "{\"name\": " << json_string(model.common.name) << ", \"dimension\": \"spatial\""
+    << ", \"gravity\": " << json_vec(in.gravity.data(), 3) << ",\n \"parameters\": {";
+  const std::vector<double> values = solver.parameters();
+  for (size_t p = 0; p < values.size(); ++p)
+    o << (p ? ", " : "") << json_string(model.common.parameters[p].name) << ": "
+      << number_text(values[p]);
+  o << "},\n \"reference_points\": {";
+  bool first = true;
+  for (const auto& [point, body] : model.named_points()) {
+    const SpatialBody& sb = model.bodies[static_cast<size_t>(body)];
+    size_t k = 0;
+    while (sb.points[k].name != point) ++k;
+    const V3 x = geometry::apply(in.body_frame[static_cast<size_t>(body)],
+                                 in.points[static_cast<size_t>(body)][k]);
+    o << (first ? "" : ", ") << json_string(point) << ": " << json_vec(x.data(), 3);
+    first = false;
+  }
+  o << "},\n \"bodies\": [";
+  first = true;
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    if (model.bodies[b].is_virtual) continue;
+    const V3 com = geometry::apply(in.body_frame[b], in.com[b]);
+    const std::array<double, 4> q = spatial::quaternion(in.body_frame[b].R);
+    o << (first ? "" : ",") << "\n  {\"name\": " << json_string(model.bodies[b].name)
+      << ", \"mass\": " << number_text(in.mass[b]) << ", \"com\": " << json_vec(com.data(), 3)
+      << ", \"orientation\": " << json_vec(q.data(), 4)
+      << ", \"inertia\": " << json_vec(in.inertia[b].m.data(), 9)
+      << ", \"ground\": " << (model.bodies[b].ground ? "true" : "false") << "}";
+    first = false;
+  }
+  o << "],\n \"joints\": [";
+  first = true;
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    const SpatialJoint& joint = model.joints[j];
+    if (joint.is_virtual) continue;
+    o << (first ? "" : ",") << "\n  {\"name\": " << json_string(joint.name)
+      << ", \"type\": " << json_string(to_string(joint.type))
+      << ", \"first\": " << json_string(model.bodies[static_cast<size_t>(joint.first)].name)
+      << ", \"second\": " << json_string(model.bodies[static_cast<size_t>(joint.second)].name)
+      << ", \"point\": "
+      << (joint.point.empty() ? json_vec(in.joint_point[j].data(), 3) : json_string(joint.point));
+    if (!joint.columns.empty()) {
+      const auto& axis = in.axes[static_cast<size_t>(g.joint_column[j])];
+      o << ", \"axis\": " << json_vec(axis.s.data(), 3)
+        << ", \"pitch\": " << number_text(axis.pitch);
+    }
+    o << "}";
+    first = false;
+  }
+  o << "],\n \"drivers\": [";
+  first = true;
+  for (const SpatialDriver& d : model.drivers) {
+    o << (first ? "" : ",") << "\n  {\"name\": " << json_string(d.name)
+      << ", \"joint\": " << json_string(model.joints[static_cast<size_t>(d.joint)].name)
+      << ", \"kind\": " << json_string(to_string(d.kind)) << "}";
+    first = false;
+  }
+  for (const PoseDriver& pd : model.pose_drivers) {
+    o << (first ? "" : ",") << "\n  {\"name\": " << json_string(pd.name)
+      << ", \"frame\": {\"first\": "
+      << json_string(model.bodies[static_cast<size_t>(pd.first)].name)
+      << ", \"second\": " << json_string(model.bodies[static_cast<size_t>(pd.second)].name)
+      << "}, \"kind\": \"pose\", \"coordinates\": [";
+    bool f2 = true;
+    for (const PoseCoordinate& c : pd.coordinates)
+      if (c.value) o << (f2 ? "" : ", ") << json_string(c.name), f2 = false;
+    o << "]}";
+    first = false;
+  }
+  o << "]}\n";
+  std::cout << o.str();
+  return 0;
+}
+
+int run_spatial_sweep(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  if (solver_option(args) != "numeric")
+    throw UsageError(
+        "spatial models have no generated kernels yet (issue 11): use --solver numeric");
+  if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
+  const SpatialModel model = load_spatial(path);
+  std::vector<double> parameters = model.common.default_parameters();
+  apply_overrides(model.common, args.all("--set"), parameters);
+  spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);
+  options.samples = args.integer("--samples", options.samples);
+  if (options.samples < 1) throw UsageError("--samples must be at least 1");
+  options.t0 = args.number("--t0", options.t0);
+  options.t1 = args.number("--t1", options.t1);
+  const auto start = std::chrono::steady_clock::now();
+  const spatial::SpatialSweepResult result = spatial::run_spatial_sweep(model, options);
+  const double elapsed = seconds_since(start);
+  const std::string out = args.get("--out");
+  g_current_file = out;
+  report::CsvTable table{out, result.columns, result.rows};
+  report::write_csv(table, out);
+  std::cout << "sweep " << model.common.name << ": numeric spatial solver, " << options.samples
+            << " samples, " << result.columns.size() << " columns, " << fixed(elapsed * 1e3, 3)
+            << " ms -> " << out << "\n";
+  return 0;
+}
+
+int run_spatial_draw(const Args& args) {
+  const std::string path = args.single_positional("MODEL.yaml");
+  if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
+  if (args.has("--at") == args.has("--animate"))
+    throw UsageError("give either --at T or --animate");
+  if (args.has("--steps")) throw UsageError("--steps: walking is for planar bipeds");
+  const SpatialModel model = load_spatial(path);
+  std::vector<double> parameters = model.common.default_parameters();
+  apply_overrides(model.common, args.all("--set"), parameters);
+  const spatial::SpatialSolver solver(model, parameters);
+  const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model, parameters);
+  std::vector<double> times;
+  if (args.has("--at")) {
+    // The solver continues along the step from t0, so the branch is the step's.
+    const double at = args.number("--at", step.t0);
+    for (int i = 0; i <= 20; ++i) times.push_back(step.t0 + (at - step.t0) * i / 20);
+  } else {
+    const int n = std::min(step.samples, 120);
+    for (int i = 0; i < n; ++i) times.push_back(step.t0 + (step.t1 - step.t0) * i / (n - 1));
+  }
+  spatial::SpatialFrames frames = spatial::spatial_frames(solver, times);
+  if (args.has("--at")) {  // the still: the last frame only
+    frames.times = {frames.times.back()};
+    frames.bodies = {frames.bodies.back()};
+    frames.joints = {frames.joints.back()};
+  }
+  spatial::SpatialDrawingOptions options;
+  options.width = args.integer("--width", options.width);
+  if (options.width < 200) throw UsageError("--width must be at least 200");
+  options.title = args.get("--title", "");
+  const std::string out = args.get("--out");
+  g_current_file = out;
+  std::ofstream file(out);
+  file << spatial::draw_spatial(frames, options);
+  if (!file) throw std::runtime_error(out + ": cannot write");
+  std::cout << "drew " << model.common.name << " (" << frames.times.size()
+            << (frames.times.size() == 1 ? " frame" : " frames") << ", sagittal and frontal) -> "
+            << out << "\n";
+  return 0;
+}
+
+}  // namespace mechgen::cli

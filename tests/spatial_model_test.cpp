@@ -1,0 +1,176 @@
+// The spatial description reader and joint graph: shipped models, Davies' network sizes (down to
+// the Bioloid's 24 x 54 with five virtual chains), and located errors for bad input.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "model/spatial_graph.hpp"
+#include "model/spatial_model.hpp"
+#include "spatial/spatial_solver.hpp"
+#include "spatial_test_models.hpp"
+
+namespace mechgen {
+namespace {
+
+std::string error_of(const std::string& text, bool solve = false) {
+  try {
+    const SpatialModel m = read_spatial_model_text(text, "bad.yaml");
+    if (solve) {
+      const spatial::SpatialSolver solver(m, {});
+      spatial::SpatialState s;
+      solver.solve(0, s);
+    }
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "<accepted>";
+}
+
+// A two-link arm on the ground; `extra` is appended to the description.
+std::string arm(const std::string& joints, const std::string& drivers) {
+  return "name: arm\ndimension: spatial\nparameters: {l: 0.5}\nbodies:\n"
+         "  - {name: ground, ground: true, points: {O: [0, 0, 0]}}\n"
+         "  - {name: a, points: {P: [l, 0, 0]}, mass: {mass: 1, com: [l/2, 0, 0], inertia: [0.01, "
+         "0.02, 0.02]}}\n"
+         "  - {name: b, points: {Q: [2*l, 0, 0]}, mass: {mass: 1, com: [1.5*l, 0, 0], inertia: "
+         "[0.01, 0.02, 0.02]}}\n"
+         "joints:\n" +
+         joints + "drivers:\n" + drivers + "step: {t0: 0, t1: 1}\n";
+}
+const std::string kArmJoints =
+    "  - {name: j1, type: revolute, first: ground, second: a, s: [0, 0, 1], s0: O}\n"
+    "  - {name: j2, type: revolute, first: a, second: b, s: [0, 1, 0], s0: P}\n";
+
+TEST(SpatialModel, ShippedModelsReadWithTheirNetworkSizes) {
+  struct Case {
+    const char* model;
+    int circuits, cols, primary;
+  };
+  for (const Case& c :
+       {Case{"leg6", 0, 6, 6}, Case{"rsur", 1, 7, 1}, Case{"chebyshev_spatial", 1, 4, 1}}) {
+    SCOPED_TRACE(c.model);
+    const SpatialModel m =
+        read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/" + c.model + ".yaml");
+    EXPECT_TRUE(
+        is_spatial_description(std::string(MECHGEN_SOURCE_DIR) + "/models/" + c.model + ".yaml"));
+    const SpatialGraph g = build_spatial_graph(m);
+    EXPECT_EQ(g.circuits(), c.circuits);
+    EXPECT_EQ(g.rows(), 6 * c.circuits);
+    EXPECT_EQ(g.cols(), c.cols);
+    EXPECT_EQ(static_cast<int>(g.primary.size()), c.primary);
+    EXPECT_EQ(static_cast<int>(g.secondary.size()), c.cols - c.primary);
+  }
+  EXPECT_FALSE(is_spatial_description(MECHGEN_SOURCE_DIR "/models/chebyshev.yaml"));
+}
+
+TEST(SpatialModel, Leg6FollowsSeedTable1) {
+  const SpatialModel m = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  const spatial::SpatialSolver solver(m, {});
+  const spatial::SpatialInstance& in = solver.instance();
+  // Seed 001 Table 1: yaw z, roll x, pitch y, knee y, ankle pitch y, ankle roll x.
+  const spatial::V3 axes[6] = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {1, 0, 0}};
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(in.axes[static_cast<size_t>(k)].s, axes[k]);
+    EXPECT_EQ(m.drivers[static_cast<size_t>(k)].name, "q" + std::to_string(k + 1));
+    EXPECT_EQ(m.drivers[static_cast<size_t>(k)].joint, k);  // hip to ankle
+  }
+  // The three hip axes intersect at H; the bar mass is rho pi r^2 l1.
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(in.joint_point[static_cast<size_t>(k)], in.joint_point[0]);
+  EXPECT_NEAR(in.mass[3], 1200 * M_PI * 0.008 * 0.008 * 0.075, 1e-15);
+  // Box foot: Izz = m (a^2 + b^2) / 12.
+  const double mf = 400 * 0.1 * 0.06 * 0.01;
+  EXPECT_NEAR(in.inertia[6](2, 2), mf * (0.01 + 0.0036) / 12, 1e-15);
+  EXPECT_NEAR(in.inertia[1](0, 1), 2e-7, 1e-20);
+}
+
+// The seed's humanoid: a floating waist and four 6-DOF limbs, each end (feet, hands) and the
+// waist pose-driven by a 3P3R virtual chain from the ground: 4 circuits, N 24 x 54, 30 primary
+// virtual coordinates, 24 secondary real ones.
+TEST(SpatialModel, HumanoidWithFiveVirtualChainsHasTheSeedsNetworkSize) {
+  const std::string text = spatial::humanoid();
+  const SpatialModel m = read_spatial_model_text(text, "humanoid.yaml");
+  const SpatialGraph g = build_spatial_graph(m);
+  EXPECT_EQ(g.circuits(), 4);
+  EXPECT_EQ(g.rows(), 24);
+  EXPECT_EQ(g.cols(), 54);
+  EXPECT_EQ(g.primary.size(), 30u);
+  EXPECT_EQ(g.secondary.size(), 24u);
+  for (const int c : g.primary) EXPECT_GE(g.columns[static_cast<size_t>(c)].pose_driver, 0);
+  for (const int c : g.secondary) EXPECT_LT(g.columns[static_cast<size_t>(c)].pose_driver, 0);
+  EXPECT_EQ(m.bodies.size(), 1u + 1 + 24 + 25);  // ground, waist, limbs, virtual bodies
+  // It assembles at the reference pose with N_s square and regular (no exception).
+  const spatial::SpatialSolver solver(m, {});
+  spatial::SpatialState s;
+  solver.solve(0, s);
+  EXPECT_LT((solver.network(s) * s.qd).norm(), 1e-12);
+}
+
+TEST(SpatialModel, ErrorsAreLocatedAndSayWhatToChange) {
+  auto is = [](const std::string& error, const std::string& prefix, const std::string& part) {
+    return error.rfind(prefix, 0) == 0 && error.find(part) != std::string::npos
+               ? testing::AssertionSuccess()
+               : testing::AssertionFailure() << error;
+  };
+  const std::string driven =
+      "  - {name: d1, joint: j1, kind: angle, value: t}\n"
+      "  - {name: d2, joint: j2, kind: angle, value: t}\n";
+  EXPECT_EQ(error_of(arm(kArmJoints, driven), true), "<accepted>");
+  // A non-unit and a zero axis, at the axis.
+  EXPECT_TRUE(is(error_of(arm("  - {name: j1, type: revolute, first: ground, second: a, s: [0, 0, "
+                              "2], s0: O}\n" +
+                                  kArmJoints.substr(kArmJoints.find("  - {name: j2")),
+                              driven)),
+                 "bad.yaml:9:", "has length 2 at the default parameters: give a unit vector"));
+  EXPECT_TRUE(is(error_of(arm("  - {name: j1, type: revolute, first: ground, second: a, s: [0, 0, "
+                              "0], s0: O}\n" +
+                                  kArmJoints.substr(kArmJoints.find("  - {name: j2")),
+                              driven)),
+                 "bad.yaml:9:", "is zero"));
+  // A joint of a body to itself: a circuit with no joint.
+  EXPECT_TRUE(is(error_of(arm(kArmJoints + "  - {name: j3, type: fixed, first: b, second: b, s0: "
+                                           "Q}\n",
+                              driven)),
+                 "bad.yaml:11:", "to itself"));
+  // A rigid circuit through the ground: two fixed joints.
+  EXPECT_TRUE(is(error_of("name: m\ndimension: spatial\nbodies:\n  - {name: ground, ground: true}\n"
+                          "  - {name: a, mass: {mass: 1, com: [0, 0, 0], inertia: [1, 1, 1]}}\n"
+                          "joints:\n  - {name: f1, type: fixed, first: ground, second: a, s0: [0, "
+                          "0, 0]}\n  - {name: f2, type: fixed, first: ground, second: a, s0: [1, "
+                          "0, 0]}\nstep: {t0: 0, t1: 1}\n"),
+                 "bad.yaml:8:", "closes a circuit with no joint coordinate"));
+  // Under-determined: j2 not driven (serial chain, no circuit).
+  EXPECT_TRUE(
+      is(error_of(arm(kArmJoints, "  - {name: d1, joint: j1, kind: angle, value: t}\n"), true),
+         "bad.yaml:10:", "under-determined: joint 'j2'"));
+  // A pose driver that over-determines: the tip of a 2-DOF arm given x, y and z.
+  EXPECT_TRUE(is(error_of(arm(kArmJoints,
+                              "  - {name: tip, type: pose, first: ground, second: b, "
+                              "at: Q, x: 1, y: 0, z: 0}\n"),
+                          true),
+                 "bad.yaml:12:", "pose driver 'tip' over-determines the motion"));
+  // A pose driver that under-determines: only x of the tip (the other coordinate stays free).
+  EXPECT_TRUE(is(error_of(arm(kArmJoints,
+                              "  - {name: tip, type: pose, first: ground, second: b, "
+                              "at: Q, x: 1}\n"),
+                          true),
+                 "bad.yaml:", "under-determine"));
+  // Two rotations about one axis; a pose driver that prescribes nothing.
+  EXPECT_TRUE(is(error_of(arm(kArmJoints,
+                              "  - {name: tip, type: pose, first: ground, second: b, "
+                              "at: Q, rotations: [{axis: z, value: 0}, {axis: z, "
+                              "value: 1}]}\n")),
+                 "bad.yaml:12:", "two rotations about z over-determine"));
+  EXPECT_TRUE(is(error_of(arm(kArmJoints,
+                              "  - {name: tip, type: pose, first: ground, second: b, "
+                              "at: Q}\n")),
+                 "bad.yaml:12:", "prescribes nothing"));
+  // A length driver on a revolute; an unknown joint type.
+  EXPECT_TRUE(is(error_of(arm(kArmJoints, "  - {name: d1, joint: j1, kind: length, value: t}\n")),
+                 "bad.yaml:12:", "cannot take a length driver"));
+  EXPECT_TRUE(
+      is(error_of(arm("  - {name: j1, type: ball, first: ground, second: a, s0: O}\n", driven)),
+         "bad.yaml:9:", "unknown type 'ball'"));
+}
+
+}  // namespace
+}  // namespace mechgen

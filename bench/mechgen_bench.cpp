@@ -13,6 +13,8 @@
 //   pasibot/generated_v3     evaluate<double> compiled for x86-64-v3 (AVX2, FMA), when the
 //   pasibot/kinematics_v3    compiler and the processor have it (bench/pasibot_v3.cpp)
 //   pasibot/generated_batch_v3  evaluate_batch<double> compiled the same way
+//   leg6/numeric, leg6/kdl   the spatial reference solver against Orocos KDL: foot FK, Jacobian
+//                            and inverse dynamics per sample (bench/spatial_bench.cpp)
 // One benchmark iteration is one sample, so the reported time is the time per sample. The samples
 // cycle through the model's default step (the numeric solver walks it forth and back, each sample
 // next to the previous one), so successive calls never see the same input.
@@ -45,6 +47,7 @@
 #include "numeric/reference_solver.hpp"
 #include "pasibot/pasibot.hpp"
 #include "pasibot_v3.hpp"
+#include "spatial_bench.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::bench {
@@ -539,6 +542,7 @@ int run(int argc, char** argv) {
   const std::vector<Entry> entries = all_entries();
   for (const Entry& e : entries)
     benchmark::RegisterBenchmark(e.name.c_str(), e.benchmark)->Unit(benchmark::kNanosecond);
+  register_spatial_benchmarks();  // leg6/numeric, leg6/kdl
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return EXIT_FAILURE;
   sanity_check("pasibot");

@@ -6,6 +6,7 @@
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
+#include "spatial_emitter.hpp"
 
 namespace mechgen::gen {
 
@@ -84,6 +85,7 @@ static void check_kernel_names(const Model& model, const std::string& path) {
 }
 
 GenerateResult generate(const GenerateOptions& options) {
+  if (is_spatial_description(options.model_path)) return generate_spatial(options);
   const Model model = read_model(options.model_path);
   check_kernel_names(model, options.model_path);
   const SolvePlan plan = make_solve_plan(model);

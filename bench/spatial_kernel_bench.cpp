@@ -1,6 +1,7 @@
 // leg6/generated: the generated spatial kernel (generated/leg6/leg6.hpp) per sample, evaluate():
 // every body's pose, twist and twist rate, the screw Jacobians of every body and named point, and
-// the inverse dynamics (every driver torque and joint reaction), beside leg6/kdl and leg6/numeric
+// the inverse dynamics (every driver torque and joint reaction); leg6/generated_control: control(),
+// the named points, the Jacobians and the driver torques only; beside leg6/kdl and leg6/numeric
 // (bench/spatial_bench.cpp) on the same 256 random samples. Registered at start-up; checked equal
 // to KDL's torques (1e-12) before timing.
 #include <benchmark/benchmark.h>
@@ -71,6 +72,17 @@ void check_against_kdl(const Leg6Kernel& leg) {
     size_t i = 0;
     for (auto _ : state) {
       benchmark::DoNotOptimize(k::evaluate(leg->params, leg->inputs[i], s));
+      benchmark::DoNotOptimize(&s);
+      i = (i + 1) % leg->inputs.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  // control(): the named points, every screw Jacobian and the driver torques only, the closest
+  // to KDL's FK + Jacobian + RNE (which give one frame, one Jacobian and the torques).
+  benchmark::RegisterBenchmark("leg6/generated_control", [leg](benchmark::State& state) {
+    k::State<double> s;
+    size_t i = 0;
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(k::control(leg->params, leg->inputs[i], s));
       benchmark::DoNotOptimize(&s);
       i = (i + 1) % leg->inputs.size();
     }

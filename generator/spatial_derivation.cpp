@@ -115,9 +115,11 @@ class Builder {
       col.axis.kind = e.kind == ScrewColumnKind::rotation      ? geometry::ScrewKind::rotation
                       : e.kind == ScrewColumnKind::translation ? geometry::ScrewKind::translation
                                                                : geometry::ScrewKind::helical;
-      col.axis.s = vec(e.s);
-      col.axis.s0 = vec(j.s0);
-      col.axis.pitch = param(j.pitch.ex);
+      // Parameter expressions (a joint point at -l1 - l2) are named, so that they multiply as
+      // one number instead of expanding into every product.
+      col.axis.s = named("s_" + col.name, vec(e.s));
+      col.axis.s0 = named("s0_" + col.name, vec(j.s0));
+      col.axis.pitch = named("pitch_" + col.name, param(j.pitch.ex));
       col.q = symbol("in." + d.name);
       col.qd = symbol("in." + d.name + "_d");
       col.qdd = symbol("in." + d.name + "_dd");
@@ -226,15 +228,18 @@ class Builder {
       const SpatialBody& body = m_.bodies[b];
       if (body.ground) continue;
       const Pose& F = frame_[b];
-      com_[b] = named("com_" + body.name, F.R * vec(body.mass.com) + F.p);
-      acc_[b] = named("ac_" + body.name, geometry::point_acceleration(V_[b], A_[b], com_[b]));
+      com_[b] = named("com_" + body.name,
+                      F.R * named("com_local_" + body.name, vec(body.mass.com)) + F.p);
+      // The centre of mass's acceleration dv + dw x c + w x (v + w x c), through its velocity.
+      const V vc = named("vc_" + body.name, geometry::point_velocity(V_[b], com_[b]));
+      acc_[b] = named("ac_" + body.name, geometry::point_velocity(A_[b], com_[b]) +
+                                             geometry::cross(V_[b].w, vc));
       if (body.is_virtual) continue;
       const std::string o = "s.bodies." + body.name + ".";
       output(out_.kinematics, o, {"x", "y", "z"}, com_[b]);
       for (size_t k = 0; k < 9; ++k)
         output(out_.kinematics, o + "R[" + std::to_string(k) + "]", F.R.m[k]);
-      output(out_.kinematics, o, {"vx", "vy", "vz"},
-             named("vc_" + body.name, geometry::point_velocity(V_[b], com_[b])));
+      output(out_.kinematics, o, {"vx", "vy", "vz"}, vc);
       output(out_.kinematics, o, {"ax", "ay", "az"}, acc_[b]);
       output(out_.kinematics, o, {"wx", "wy", "wz"}, V_[b].w);
       output(out_.kinematics, o, {"alx", "aly", "alz"}, A_[b].w);
@@ -244,7 +249,8 @@ class Builder {
       for (const SpatialPoint& sp : body.points)
         if (sp.name == point) {
           const Pose& F = frame_[static_cast<size_t>(b)];
-          point_[point] = named("pt_" + point, F.R * vec(sp.local) + F.p);
+          point_[point] =
+              named("pt_" + point, F.R * named("pt_local_" + point, vec(sp.local)) + F.p);
           output(out_.kinematics, "s.points." + point + ".", {"x", "y", "z"}, point_[point]);
           break;
         }
@@ -309,13 +315,23 @@ class Builder {
   Wrench momentum_rate(size_t b) {
     const SpatialBody& body = m_.bodies[b];
     const std::string& n = body.name;
-    const ex mass = param(body.mass.mass.ex);
+    // Mass and inertia (parameter expressions, e.g. a bar's from its density) named once, so
+    // that they multiply as numbers instead of expanding into every product.
+    const ex mass = named("m_" + n, param(body.mass.mass.ex));
     M I;
-    for (size_t k = 0; k < 9; ++k) I.m[k] = param(body.mass.inertia[k]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const ex e = param(body.mass.inertia[static_cast<size_t>(3 * i + j)]);
+        I(i, j) = j < i && (e - param(body.mass.inertia[static_cast<size_t>(3 * j + i)])).expand()
+                                   .is_zero()
+                      ? I(j, i)
+                      : named("I_" + n + "_" + std::to_string(i) + std::to_string(j), e);
+      }
     const M Rt = geometry::transpose(frame_[b].R);
     // Angular momentum about the centre of mass and its rate, through the body frame.
-    const V h = named("h_" + n, frame_[b].R * (I * named("wb_" + n, Rt * V_[b].w)));
-    const V Ia = frame_[b].R * (I * named("alb_" + n, Rt * A_[b].w));
+    const V h =
+        named("h_" + n, frame_[b].R * named("Iwb_" + n, I * named("wb_" + n, Rt * V_[b].w)));
+    const V Ia = frame_[b].R * named("Ialb_" + n, I * named("alb_" + n, Rt * A_[b].w));
     const V F = named("F_" + n, mass * (acc_[b] - vec(m_.gravity)));
     const V Mo = named("M_" + n, Ia + geometry::cross(V_[b].w, h) + geometry::cross(com_[b], F));
     return {F, Mo};
@@ -342,8 +358,10 @@ class Builder {
     const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     // The wrench of the joint's first body on its second.
     const Wrench W = joint.first == parent ? on_child : Wrench{-on_child.f, -on_child.m};
-    const V P = named("P_" + joint.name,
-                      geometry::apply(D_[static_cast<size_t>(joint.second)], vec(joint.s0)));
+    const V P = named("P_" + joint.name, geometry::apply(D_[static_cast<size_t>(joint.second)],
+                                                         n_columns(j) == 0
+                                                             ? named("s0_" + joint.name, vec(joint.s0))
+                                                             : cols_[c0_of(j)].axis.s0));
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     const size_t n = joint.columns.size();
     std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort
@@ -388,6 +406,9 @@ class Builder {
     output(out_.dynamics, o, {"mx", "my", "mz"},
            named("rm_" + joint.name, R.m - geometry::cross(P, R.f)));
   }
+
+  size_t c0_of(int j) const { return static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]); }
+  size_t n_columns(int j) const { return m_.joints[static_cast<size_t>(j)].columns.size(); }
 
   const SpatialModel& m_;
   const SpatialGraph& g_;

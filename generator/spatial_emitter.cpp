@@ -79,7 +79,10 @@ class SpatialEmitter {
     CodeBlock code;
     for (const auto& [symbol, value] : d_.definitions)
       if (needed.count(symbol)) code.define(symbol.get_name(), value);
-    for (const SpatialOutput& o : outputs) code.assign(o.target, o.value);
+    // A structurally zero Jacobian entry is zero from the State's construction: never written.
+    for (const SpatialOutput& o : outputs)
+      if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
+        code.assign(o.target, o.value);
     const std::vector<std::string> unused = code.unused_definitions();
     if (!unused.empty()) throw std::logic_error("generated code would define unused " + unused[0]);
     return code;
@@ -140,12 +143,12 @@ class SpatialEmitter {
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       bodies.push_back("    BodyState<T> " + b.name + ";");
-      body_jacobians.push_back("    T " + b.name + "[6][primary_count];");
+      body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
     }
     for (const auto& [point, body] : m_.named_points()) {
       points.push_back("    PointState<T> " + point + ";");
       if (!m_.bodies[static_cast<size_t>(body)].ground)
-        point_jacobians.push_back("    T " + point + "[3][primary_count];");
+        point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
     }
     for (const SpatialJoint& j : m_.joints) {
       if (j.is_virtual) continue;
@@ -167,7 +170,18 @@ class SpatialEmitter {
     kinematic.insert(kinematic.end(), d_.jacobians.begin(), d_.jacobians.end());
     std::vector<SpatialOutput> all = kinematic;
     all.insert(all.end(), d_.dynamics.begin(), d_.dynamics.end());
-    const CodeBlock kin = block(kinematic), full = block(all);
+    // What a controller needs each cycle: the named points, their and the bodies' Jacobians and
+    // the driver efforts (no body outputs, no reactions).
+    std::vector<SpatialOutput> control;
+    for (const std::vector<SpatialOutput>* list : {&d_.kinematics, &d_.jacobians, &d_.dynamics})
+      for (const SpatialOutput& o : *list)
+        if (o.target.rfind("s.points.", 0) == 0 || o.target.find("_jacobians.") != std::string::npos ||
+            (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
+          control.push_back(o);
+    const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);
+    v["control_using"] = using_std(lean);
+    v["control_ops"] = std::to_string(lean.op_count());
+    v["control_body"] = lean.render("  ");
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
     v["kinematics_body"] = kin.render("  ");

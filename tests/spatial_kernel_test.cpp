@@ -225,7 +225,8 @@ TEST(SpatialKernel, Leg6EqualsKdl) {
             << ", inverse dynamics " << worst_id << " N m\n";
 }
 
-// float: the same code, single precision; kinematics() alone leaves the loads untouched.
+// float: the same code, single precision; kinematics() alone leaves the loads untouched;
+// control() gives evaluate()'s points, Jacobians and efforts.
 TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
   const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
   std::mt19937 rng(9);
@@ -246,6 +247,20 @@ TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
       k::Status::ok);
   EXPECT_EQ(kin.drivers.q4.effort, 123);
   EXPECT_EQ(kin.points.foot.z, d.points.foot.z);
+  // control(): the same points, Jacobians and efforts as evaluate(); structural zeros stay zero.
+  k::State<double> c;
+  ASSERT_EQ(k::control(params<double>(model.common.default_parameters()), inputs<double>(x), c),
+            k::Status::ok);
+  for (int r = 0; r < 6; ++r)
+    for (int col = 0; col < 6; ++col) {
+      EXPECT_NEAR(c.body_jacobians.foot[r][col], d.body_jacobians.foot[r][col], 1e-14);
+      EXPECT_EQ(c.body_jacobians.hip_yaw_link[r][col], col == 0 ? d.body_jacobians.hip_yaw_link[r][col] : 0.0);
+    }
+  for (int r = 0; r < 3; ++r)
+    for (int col = 0; col < 6; ++col)
+      EXPECT_NEAR(c.point_jacobians.toe[r][col], d.point_jacobians.toe[r][col], 1e-14);
+  EXPECT_NEAR(c.points.toe.x, d.points.toe.x, 1e-15);
+  EXPECT_NEAR(c.drivers.q2.effort, d.drivers.q2.effort, 1e-12 * std::abs(d.drivers.q2.effort));
   Sample bad = x;
   bad.qd[2] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(k::evaluate(params<double>(model.common.default_parameters()), inputs<double>(bad), d),

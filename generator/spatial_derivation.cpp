@@ -232,8 +232,8 @@ class Builder {
                       F.R * named("com_local_" + body.name, vec(body.mass.com)) + F.p);
       // The centre of mass's acceleration dv + dw x c + w x (v + w x c), through its velocity.
       const V vc = named("vc_" + body.name, geometry::point_velocity(V_[b], com_[b]));
-      acc_[b] = named("ac_" + body.name, geometry::point_velocity(A_[b], com_[b]) +
-                                             geometry::cross(V_[b].w, vc));
+      acc_[b] = named("ac_" + body.name,
+                      geometry::point_velocity(A_[b], com_[b]) + geometry::cross(V_[b].w, vc));
       if (body.is_virtual) continue;
       const std::string o = "s.bodies." + body.name + ".";
       output(out_.kinematics, o, {"x", "y", "z"}, com_[b]);
@@ -322,8 +322,9 @@ class Builder {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         const ex e = param(body.mass.inertia[static_cast<size_t>(3 * i + j)]);
-        I(i, j) = j < i && (e - param(body.mass.inertia[static_cast<size_t>(3 * j + i)])).expand()
-                                   .is_zero()
+        I(i, j) = j < i && (e - param(body.mass.inertia[static_cast<size_t>(3 * j + i)]))
+                               .expand()
+                               .is_zero()
                       ? I(j, i)
                       : named("I_" + n + "_" + std::to_string(i) + std::to_string(j), e);
       }
@@ -358,10 +359,10 @@ class Builder {
     const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     // The wrench of the joint's first body on its second.
     const Wrench W = joint.first == parent ? on_child : Wrench{-on_child.f, -on_child.m};
-    const V P = named("P_" + joint.name, geometry::apply(D_[static_cast<size_t>(joint.second)],
-                                                         n_columns(j) == 0
-                                                             ? named("s0_" + joint.name, vec(joint.s0))
-                                                             : cols_[c0_of(j)].axis.s0));
+    const V P = named("P_" + joint.name,
+                      geometry::apply(D_[static_cast<size_t>(joint.second)],
+                                      n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
+                                                        : cols_[c0_of(j)].axis.s0));
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     const size_t n = joint.columns.size();
     std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort

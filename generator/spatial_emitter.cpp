@@ -48,11 +48,27 @@ std::string quoted(const std::vector<std::string>& items) {
   return text;
 }
 
+// sin and cos come from the kernels' own branch-free detail:: versions (Cephes polynomials, within
+// about 2 ulp), taken from the planar template so that both kernels share one copy: after
+// inlining, a coordinate's sin and cos share one range reduction, several times cheaper than
+// the C library's sincos.
 std::string using_std(const CodeBlock& code) {
   std::string text;
   for (const std::string& f : code.math_functions())
-    text += std::string(text.empty() ? "" : "\n") + "  using std::" + f + ";";
+    text += std::string(text.empty() ? "" : "\n") + "  using " +
+            (f == "sin" || f == "cos" ? "detail::" : "std::") + f + ";";
   return text;
+}
+
+std::string kernel_math_functions(const std::string& templates_dir) {
+  const std::string text = read_text(templates_dir + "/kernel.hpp.in");
+  const std::string begin = "namespace detail {\n#if defined(__GNUC__)\n#define MECHGEN_INLINE";
+  const std::string end = "#undef MECHGEN_INLINE\n}  // namespace detail\n";
+  const auto b = text.find(begin), e = text.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b)
+    throw std::runtime_error(
+        "templates/kernel.hpp.in: the detail:: math functions block is missing");
+  return text.substr(b, e + end.size() - b);
 }
 
 class SpatialEmitter {
@@ -90,6 +106,7 @@ class SpatialEmitter {
 
   std::map<std::string, std::string> values(const EmitOptions& options) const {
     std::map<std::string, std::string> v;
+    v["math_functions"] = kernel_math_functions(options.templates_dir);
     v["model"] = m_.common.name;
     v["source"] = options.source;
     v["command"] = options.command;
@@ -175,7 +192,8 @@ class SpatialEmitter {
     std::vector<SpatialOutput> control;
     for (const std::vector<SpatialOutput>* list : {&d_.kinematics, &d_.jacobians, &d_.dynamics})
       for (const SpatialOutput& o : *list)
-        if (o.target.rfind("s.points.", 0) == 0 || o.target.find("_jacobians.") != std::string::npos ||
+        if (o.target.rfind("s.points.", 0) == 0 ||
+            o.target.find("_jacobians.") != std::string::npos ||
             (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
           control.push_back(o);
     const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);

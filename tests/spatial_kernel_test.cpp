@@ -254,7 +254,8 @@ TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
   for (int r = 0; r < 6; ++r)
     for (int col = 0; col < 6; ++col) {
       EXPECT_NEAR(c.body_jacobians.foot[r][col], d.body_jacobians.foot[r][col], 1e-14);
-      EXPECT_EQ(c.body_jacobians.hip_yaw_link[r][col], col == 0 ? d.body_jacobians.hip_yaw_link[r][col] : 0.0);
+      EXPECT_EQ(c.body_jacobians.hip_yaw_link[r][col],
+                col == 0 ? d.body_jacobians.hip_yaw_link[r][col] : 0.0);
     }
   for (int r = 0; r < 3; ++r)
     for (int col = 0; col < 6; ++col)

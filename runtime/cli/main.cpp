@@ -255,11 +255,14 @@ MECHGEN_KERNEL_MODELS (generated/CMakeLists.txt).
 
 int run_generate(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
-  const Model model = load_model(path);
+  g_current_file = path;
+  // A spatial description generates through generator/spatial_emitter (gen::generate dispatches).
+  const std::string name =
+      is_spatial_description(path) ? read_spatial_model(path).common.name : load_model(path).name;
   const std::filesystem::path source = MECHGEN_SOURCE_DIR;
   gen::GenerateOptions options;
   options.model_path = path;
-  options.output_dir = args.get("--output", (source / "generated" / model.name).string());
+  options.output_dir = args.get("--output", (source / "generated" / name).string());
   options.templates_dir = args.get("--templates", (source / "templates").string());
   options.bake = args.has("--bake");
   const auto start = std::chrono::steady_clock::now();
@@ -267,10 +270,11 @@ int run_generate(const Args& args) {
   std::cout << "generated '" << result.model << "' in " << fixed(seconds_since(start), 3) << " s\n";
   for (const std::string& note : result.notes) std::cout << "  " << note << "\n";
   for (const std::string& file : result.written) std::cout << "  wrote " << file << "\n";
-  if (!find_compiled_kernel(model.name))
-    std::cout << "note: '" << model.name
-              << "' is not compiled into this mechgen; add it to MECHGEN_KERNEL_MODELS in "
-                 "generated/CMakeLists.txt and rebuild to sweep it with --solver generated\n";
+  if (!find_compiled_kernel(name))
+    std::cout << "note: '" << name
+              << "' is not compiled into this mechgen; add it to MECHGEN_KERNEL_MODELS (spatial: "
+                 "MECHGEN_SPATIAL_KERNEL_MODELS) in generated/CMakeLists.txt and rebuild to sweep "
+                 "it with --solver generated\n";
   return 0;
 }
 

@@ -54,6 +54,7 @@ class Builder {
     body_outputs();
     jacobians();
     dynamics();
+    ne_system();
     out_.primary_count = static_cast<int>(g_.primary.size());
     return std::move(out_);
   }
@@ -335,12 +336,15 @@ class Builder {
     const V Ia = frame_[b].R * named("Ialb_" + n, I * named("alb_" + n, Rt * A_[b].w));
     const V F = named("F_" + n, mass * (acc_[b] - vec(m_.gravity)));
     const V Mo = named("M_" + n, Ia + geometry::cross(V_[b].w, h) + geometry::cross(com_[b], F));
+    momentum_[b] = {F, Mo};
     return {F, Mo};
   }
 
   void dynamics() {
     const size_t nb = m_.bodies.size();
     std::vector<Wrench> transmitted(nb);
+    momentum_.assign(nb, Wrench{});
+    joint_point_.assign(m_.joints.size(), V{});
     for (auto it = g_.order.rbegin(); it != g_.order.rend(); ++it) {
       const int b = *it;
       if (b == m_.ground) continue;
@@ -363,6 +367,7 @@ class Builder {
                       geometry::apply(D_[static_cast<size_t>(joint.second)],
                                       n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
                                                         : cols_[c0_of(j)].axis.s0));
+    joint_point_[static_cast<size_t>(j)] = P;
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     const size_t n = joint.columns.size();
     std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort
@@ -408,6 +413,75 @@ class Builder {
            named("rm_" + joint.name, R.m - geometry::cross(P, R.f)));
   }
 
+  // The numeric solver's Newton-Euler system, from the same named screws, joint points and
+  // rates of momentum (what ne_system() returns; the kernel itself solves it recursively).
+  void ne_system() {
+    std::vector<int> body_row(m_.bodies.size(), -1);
+    int rows = 0;
+    for (size_t b = 0; b < m_.bodies.size(); ++b)
+      if (static_cast<int>(b) != m_.ground) body_row[b] = rows, rows += 6;
+    const int column_row = rows;
+    rows += g_.cols();
+    const int n = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(g_.primary.size());
+    std::map<int, ex> A;
+    auto add = [&](int r, int c, const ex& e) { A[r * n + c] += e; };
+    auto add_wrench = [&](int body, int col, const ex& sign, const Wrench& w) {
+      if (body == m_.ground) return;
+      for (int i = 0; i < 3; ++i) {
+        add(body_row[static_cast<size_t>(body)] + i, col, sign * w.f[static_cast<size_t>(i)]);
+        add(body_row[static_cast<size_t>(body)] + 3 + i, col, sign * w.m[static_cast<size_t>(i)]);
+      }
+    };
+    const char* const components[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      const SpatialJoint& joint = m_.joints[j];
+      const V& P = joint_point_[j];
+      for (int k = 0; k < 6; ++k) {
+        out_.ne_unknowns.push_back(joint.name + "." + components[k]);
+        // Unknown k (force or moment at P) as a wrench about the ground origin.
+        Wrench unit;
+        if (k < 3) {
+          unit.f[static_cast<size_t>(k)] = 1;
+          V e{0, 0, 0};
+          e[static_cast<size_t>(k)] = 1;
+          unit.m = geometry::cross(P, e);
+        } else {
+          unit.m[static_cast<size_t>(k - 3)] = 1;
+        }
+        const int col = 6 * static_cast<int>(j) + k;
+        add_wrench(joint.second, col, 1, unit);
+        add_wrench(joint.first, col, -1, unit);
+        for (size_t c = 0; c < joint.columns.size(); ++c)
+          add(column_row + g_.joint_column[j] + static_cast<int>(c), col,
+              geometry::reciprocal(cols_[c0_of(static_cast<int>(j)) + c].screw, unit));
+      }
+    }
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const SpatialColumn& sc = g_.columns[static_cast<size_t>(g_.primary[k])];
+      const SpatialJoint& joint = m_.joints[static_cast<size_t>(sc.joint)];
+      const Column& col = cols_[static_cast<size_t>(g_.primary[k])];
+      const Wrench w =
+          col.axis.kind == geometry::ScrewKind::translation
+              ? Wrench{col.screw.v,
+                       geometry::cross(joint_point_[static_cast<size_t>(sc.joint)], col.screw.v)}
+              : Wrench{V{0, 0, 0}, col.screw.w};
+      const int c = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(k);
+      out_.ne_unknowns.push_back(m_.drivers[static_cast<size_t>(sc.driver)].name + ".effort");
+      add_wrench(joint.second, c, 1, w);
+      add_wrench(joint.first, c, -1, w);
+    }
+    for (const auto& [index, value] : A)
+      if (!value.expand().is_zero()) out_.ne_matrix.emplace_back(index, value.expand());
+    out_.ne_rhs.assign(static_cast<size_t>(rows), 0);
+    for (size_t b = 0; b < m_.bodies.size(); ++b)
+      for (int i = 0; body_row[b] >= 0 && i < 3; ++i) {
+        out_.ne_rhs[static_cast<size_t>(body_row[b] + i)] = momentum_[b].f[static_cast<size_t>(i)];
+        out_.ne_rhs[static_cast<size_t>(body_row[b] + 3 + i)] =
+            momentum_[b].m[static_cast<size_t>(i)];
+      }
+    out_.ne_rows = rows;
+  }
+
   size_t c0_of(int j) const { return static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]); }
   size_t n_columns(int j) const { return m_.joints[static_cast<size_t>(j)].columns.size(); }
 
@@ -420,6 +494,8 @@ class Builder {
   std::vector<Twist> V_, A_;     // per body: ground-origin twist and its rate
   std::vector<V> com_, acc_;     // per body: centre of mass and its acceleration
   std::map<std::string, V> point_;
+  std::vector<Wrench> momentum_;  // per body: rate of momentum minus gravity, about the origin
+  std::vector<V> joint_point_;    // per joint: its current point
 };
 
 }  // namespace

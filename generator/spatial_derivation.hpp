@@ -38,6 +38,14 @@ struct SpatialDerivation {
   std::vector<std::string> groups;        // one per located body: "thigh"
   std::vector<std::string> plan;          // one line per group, for the banner
   int primary_count = 0;
+  // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
+  // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
+  // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint
+  // point), then one effort per driven coordinate. Nonzero entries only.
+  int ne_rows = 0;
+  std::vector<std::string> ne_unknowns;
+  std::vector<std::pair<int, GiNaC::ex>> ne_matrix;  // (row * ne_unknowns.size() + column, value)
+  std::vector<GiNaC::ex> ne_rhs;
 };
 
 // Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd`.

@@ -197,6 +197,18 @@ class SpatialEmitter {
             (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
           control.push_back(o);
     const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);
+    std::vector<SpatialOutput> system;
+    for (const auto& [index, value] : d_.ne_matrix)
+      system.push_back({"A[" + std::to_string(index) + "]", value});
+    for (size_t r = 0; r < d_.ne_rhs.size(); ++r)
+      if (!d_.ne_rhs[r].is_zero()) system.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
+    const CodeBlock ne = block(system);
+    v["ne_using"] = using_std(ne);
+    v["ne_ops"] = std::to_string(ne.op_count());
+    v["ne_body"] = ne.render("  ");
+    v["ne_rows"] = std::to_string(d_.ne_rows);
+    v["ne_size"] = std::to_string(d_.ne_unknowns.size());
+    v["ne_unknowns"] = quoted(d_.ne_unknowns);
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
     v["control_body"] = lean.render("  ");

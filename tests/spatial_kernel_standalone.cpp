@@ -14,10 +14,14 @@ int run() {
   k::Status batch_status;
   k::evaluate_batch(p, &in, 1, &s, &batch_status);
   T row[k::column_count];
+  T A[k::ne_rows * k::ne_size];
+  T b[k::ne_rows];
   const int status = static_cast<int>(k::evaluate(p, in, s)) +
-                     static_cast<int>(k::kinematics(p, in, s)) + static_cast<int>(batch_status);
+                     static_cast<int>(k::kinematics(p, in, s)) +
+                     static_cast<int>(k::control(p, in, s)) +
+                     static_cast<int>(k::ne_system(p, in, A, b)) + static_cast<int>(batch_status);
   k::to_columns(in, s, row);
-  return status + static_cast<int>(row[0]);
+  return status + static_cast<int>(row[0] + A[0] + b[0]);
 }
 
 int main() {

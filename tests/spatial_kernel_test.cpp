@@ -226,7 +226,8 @@ TEST(SpatialKernel, Leg6EqualsKdl) {
 }
 
 // float: the same code, single precision; kinematics() alone leaves the loads untouched;
-// control() gives evaluate()'s points, Jacobians and efforts.
+// control() gives evaluate()'s points, Jacobians and efforts; ne_system()'s A x = b holds for
+// evaluate()'s reactions and efforts.
 TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
   const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
   std::mt19937 rng(9);
@@ -262,6 +263,29 @@ TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
       EXPECT_NEAR(c.point_jacobians.toe[r][col], d.point_jacobians.toe[r][col], 1e-14);
   EXPECT_NEAR(c.points.toe.x, d.points.toe.x, 1e-15);
   EXPECT_NEAR(c.drivers.q2.effort, d.drivers.q2.effort, 1e-12 * std::abs(d.drivers.q2.effort));
+  // ne_system(): the kernel's own reactions and efforts solve A x = b.
+  static_assert(k::ne_rows == 42 && k::ne_size == 42);
+  std::vector<double> A(k::ne_rows * k::ne_size), b(k::ne_rows), xs;
+  ASSERT_EQ(k::ne_system(params<double>(model.common.default_parameters()), inputs<double>(x),
+                         A.data(), b.data()),
+            k::Status::ok);
+  for (const double* w : {&d.joints.hip_yaw.fx, &d.joints.hip_roll.fx, &d.joints.hip_pitch.fx,
+                          &d.joints.knee.fx, &d.joints.ankle_pitch.fx, &d.joints.ankle_roll.fx})
+    xs.insert(xs.end(), w, w + 6);
+  for (const auto* dr :
+       {&d.drivers.q1, &d.drivers.q2, &d.drivers.q3, &d.drivers.q4, &d.drivers.q5, &d.drivers.q6})
+    xs.push_back(dr->effort);
+  double residual = 0, scale = 0;
+  for (int r = 0; r < k::ne_rows; ++r) {
+    double sum = -b[static_cast<size_t>(r)];
+    for (int c = 0; c < k::ne_size; ++c)
+      sum += A[static_cast<size_t>(r * k::ne_size + c)] * xs[static_cast<size_t>(c)];
+    residual = std::max(residual, std::abs(sum));
+    scale = std::max(scale, std::abs(b[static_cast<size_t>(r)]));
+  }
+  EXPECT_GT(scale, 1e-3);
+  EXPECT_LT(residual, 1e-13 * scale);
+  EXPECT_STREQ(k::ne_unknowns[0], "hip_yaw.fx");
   Sample bad = x;
   bad.qd[2] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(k::evaluate(params<double>(model.common.default_parameters()), inputs<double>(bad), d),

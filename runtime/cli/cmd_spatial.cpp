@@ -13,6 +13,7 @@
 #include "spatial/spatial_kernel_sweep.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_derivation.hpp"
 
 namespace mechgen::cli {
 
@@ -119,6 +120,16 @@ int run_spatial_check(const Args& args) {
            "caveat: those joints' reactions are reported as the minimum-norm solution (statics "
            "alone does not fix them); driver efforts are " +
            (r.efforts_unique ? "unique" : "NOT unique") + "\n";
+  }
+  // What the generator makes of it (docs/spatial_kernels.md).
+  try {
+    const gen::SpatialDerivation d = gen::derive_spatial(model, g);
+    out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
+           " bodies by product of exponentials, rates outward, Newton-Euler inward" +
+           (find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "") + "\n";
+  } catch (const std::runtime_error& e) {
+    const std::string why = e.what();
+    out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";
   }
   std::cout << out;
   return 0;

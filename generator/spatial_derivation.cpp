@@ -252,7 +252,13 @@ class Builder {
           const Pose& F = frame_[static_cast<size_t>(b)];
           point_[point] =
               named("pt_" + point, F.R * named("pt_local_" + point, vec(sp.local)) + F.p);
-          output(out_.kinematics, "s.points." + point + ".", {"x", "y", "z"}, point_[point]);
+          const std::string o = "s.points." + point + ".";
+          output(out_.kinematics, o, {"x", "y", "z"}, point_[point]);
+          const auto bi = static_cast<size_t>(b);
+          const V v = named("vp_" + point, geometry::point_velocity(V_[bi], point_[point]));
+          output(out_.kinematics, o, {"vx", "vy", "vz"}, v);
+          output(out_.kinematics, o, {"ax", "ay", "az"},
+                 geometry::point_velocity(A_[bi], point_[point]) + geometry::cross(V_[bi].w, v));
           break;
         }
     }

@@ -192,7 +192,8 @@ class SpatialEmitter {
     std::vector<SpatialOutput> control;
     for (const std::vector<SpatialOutput>* list : {&d_.kinematics, &d_.jacobians, &d_.dynamics})
       for (const SpatialOutput& o : *list)
-        if (o.target.rfind("s.points.", 0) == 0 ||
+        if ((o.target.rfind("s.points.", 0) == 0 && o.target.size() > 2 &&
+             o.target[o.target.size() - 2] == '.') ||
             o.target.find("_jacobians.") != std::string::npos ||
             (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
           control.push_back(o);

@@ -127,6 +127,12 @@ void compare(const SpatialModel& model, const SpatialGraph& graph, const Spatial
   for (const auto& [point, b] : model.named_points()) {
     const spatial::V3 x = solver.point_position(
         s, b, in.points[static_cast<size_t>(b)][0]);  // one point per body here
+    const spatial::V3 xv = solver.point_velocity(s, b, in.points[static_cast<size_t>(b)][0]);
+    const spatial::V3 xa = solver.point_acceleration(s, b, in.points[static_cast<size_t>(b)][0]);
+    for (int r = 0; r < 3; ++r) {
+      check("s.points." + point + ".v" + "xyz"[r], xv[static_cast<size_t>(r)]);
+      check("s.points." + point + ".a" + "xyz"[r], xa[static_cast<size_t>(r)]);
+    }
     const Eigen::MatrixXd J = solver.point_jacobian(s, b, x);
     for (int r = 0; r < 3; ++r) {
       check("s.points." + point + "." + "xyz"[r], x[static_cast<size_t>(r)]);

@@ -103,6 +103,11 @@ void compare(const SpatialModel& model, const SpatialSolver& solver, const Sampl
   const V3 foot_point = solver.point_position(s, foot, in.points[static_cast<size_t>(foot)][0]);
   const double p[] = {out.points.foot.x, out.points.foot.y, out.points.foot.z};
   worst(p, foot_point);
+  const V3 toe_local = in.points[static_cast<size_t>(foot)][1];
+  const double tv[] = {out.points.toe.vx, out.points.toe.vy, out.points.toe.vz};
+  const double ta[] = {out.points.toe.ax, out.points.toe.ay, out.points.toe.az};
+  worst(tv, solver.point_velocity(s, foot, toe_local));
+  worst(ta, solver.point_acceleration(s, foot, toe_local));
   const Eigen::MatrixXd Jp = solver.point_jacobian(s, foot, foot_point);
   for (int r = 0; r < 3; ++r)
     for (int col = 0; col < 6; ++col) worst(out.point_jacobians.foot[r][col], Jp(r, col));

@@ -177,7 +177,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y, z;
+  T x, y, z, vx, vy, vz, ax, ay, az;
 };
 template <class T>
 struct DriverState {
@@ -277,7 +277,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 784
+  // Total ops: 922
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
   const T cos_hip_roll = cos(in.q2);
@@ -468,19 +468,31 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pt_K_x = -_tmp1;
   const T pt_K_y = -_tmp2;
   const T pt_K_z = -_tmp3;
+  const T vp_K_x = pt_K_z*w_thigh_y - pt_K_y*w_thigh_z;
+  const T vp_K_y = pt_K_x*w_thigh_z - pt_K_z*w_thigh_x;
+  const T vp_K_z = pt_K_y*w_thigh_x - pt_K_x*w_thigh_y;
   const T pt_local_A_z = -_tmp0;
   const T pt_A_x = pt_local_A_z*R_calf_02 + p_calf_x;
   const T pt_A_y = pt_local_A_z*R_calf_12 + p_calf_y;
   const T pt_A_z = pt_local_A_z*R_calf_22 + p_calf_z;
+  const T vp_A_x = pt_A_z*w_calf_y + v_calf_x - pt_A_y*w_calf_z;
+  const T vp_A_y = pt_A_x*w_calf_z + v_calf_y - pt_A_z*w_calf_x;
+  const T vp_A_z = pt_A_y*w_calf_x + v_calf_z - pt_A_x*w_calf_y;
   const T _tmp4 = p.l1 + p.l2 + p.l3;
   const T pt_local_foot_z = -_tmp4;
   const T pt_foot_x = pt_local_foot_z*R_foot_02 + p_foot_x;
   const T pt_foot_y = pt_local_foot_z*R_foot_12 + p_foot_y;
   const T pt_foot_z = pt_local_foot_z*R_foot_22 + p_foot_z;
+  const T vp_foot_x = pt_foot_z*w_foot_y + v_foot_x - pt_foot_y*w_foot_z;
+  const T vp_foot_y = pt_foot_x*w_foot_z + v_foot_y - pt_foot_z*w_foot_x;
+  const T vp_foot_z = pt_foot_y*w_foot_x + v_foot_z - pt_foot_x*w_foot_y;
   const T pt_local_toe_z = -_tmp4;
   const T pt_toe_x = pt_local_toe_z*R_foot_02 + T(0.06)*R_ankle_link_00 + p_foot_x;
   const T pt_toe_y = pt_local_toe_z*R_foot_12 + T(0.06)*R_ankle_link_10 + p_foot_y;
   const T pt_toe_z = pt_local_toe_z*R_foot_22 + T(0.06)*R_ankle_link_20 + p_foot_z;
+  const T vp_toe_x = pt_toe_z*w_foot_y + v_foot_x - pt_toe_y*w_foot_z;
+  const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y - pt_toe_z*w_foot_x;
+  const T vp_toe_z = pt_toe_y*w_foot_x + v_foot_z - pt_toe_x*w_foot_y;
   s.bodies.hip_yaw_link.x = com_hip_yaw_link_x;
   s.bodies.hip_yaw_link.y = com_hip_yaw_link_y;
   s.bodies.hip_yaw_link.z = -T(0.006);
@@ -628,18 +640,48 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.H.x = T(0);
   s.points.H.y = T(0);
   s.points.H.z = T(0);
+  s.points.H.vx = T(0);
+  s.points.H.vy = T(0);
+  s.points.H.vz = T(0);
+  s.points.H.ax = T(0);
+  s.points.H.ay = T(0);
+  s.points.H.az = T(0);
   s.points.K.x = pt_K_x;
   s.points.K.y = pt_K_y;
   s.points.K.z = pt_K_z;
+  s.points.K.vx = vp_K_x;
+  s.points.K.vy = vp_K_y;
+  s.points.K.vz = vp_K_z;
+  s.points.K.ax = dw_thigh_y*pt_K_z + vp_K_z*w_thigh_y - dw_thigh_z*pt_K_y - vp_K_y*w_thigh_z;
+  s.points.K.ay = dw_thigh_z*pt_K_x + vp_K_x*w_thigh_z - dw_thigh_x*pt_K_z - vp_K_z*w_thigh_x;
+  s.points.K.az = dw_thigh_x*pt_K_y + vp_K_y*w_thigh_x - dw_thigh_y*pt_K_x - vp_K_x*w_thigh_y;
   s.points.A.x = pt_A_x;
   s.points.A.y = pt_A_y;
   s.points.A.z = pt_A_z;
+  s.points.A.vx = vp_A_x;
+  s.points.A.vy = vp_A_y;
+  s.points.A.vz = vp_A_z;
+  s.points.A.ax = dv_calf_x + dw_calf_y*pt_A_z + vp_A_z*w_calf_y - dw_calf_z*pt_A_y - vp_A_y*w_calf_z;
+  s.points.A.ay = dv_calf_y + dw_calf_z*pt_A_x + vp_A_x*w_calf_z - dw_calf_x*pt_A_z - vp_A_z*w_calf_x;
+  s.points.A.az = dv_calf_z + dw_calf_x*pt_A_y + vp_A_y*w_calf_x - dw_calf_y*pt_A_x - vp_A_x*w_calf_y;
   s.points.foot.x = pt_foot_x;
   s.points.foot.y = pt_foot_y;
   s.points.foot.z = pt_foot_z;
+  s.points.foot.vx = vp_foot_x;
+  s.points.foot.vy = vp_foot_y;
+  s.points.foot.vz = vp_foot_z;
+  s.points.foot.ax = dv_foot_x + dw_foot_y*pt_foot_z + vp_foot_z*w_foot_y - dw_foot_z*pt_foot_y - vp_foot_y*w_foot_z;
+  s.points.foot.ay = dv_foot_y + dw_foot_z*pt_foot_x + vp_foot_x*w_foot_z - dw_foot_x*pt_foot_z - vp_foot_z*w_foot_x;
+  s.points.foot.az = dv_foot_z + dw_foot_x*pt_foot_y + vp_foot_y*w_foot_x - dw_foot_y*pt_foot_x - vp_foot_x*w_foot_y;
   s.points.toe.x = pt_toe_x;
   s.points.toe.y = pt_toe_y;
   s.points.toe.z = pt_toe_z;
+  s.points.toe.vx = vp_toe_x;
+  s.points.toe.vy = vp_toe_y;
+  s.points.toe.vz = vp_toe_z;
+  s.points.toe.ax = dv_foot_x + dw_foot_y*pt_toe_z + vp_toe_z*w_foot_y - dw_foot_z*pt_toe_y - vp_toe_y*w_foot_z;
+  s.points.toe.ay = dv_foot_y + dw_foot_z*pt_toe_x + vp_toe_x*w_foot_z - dw_foot_x*pt_toe_z - vp_toe_z*w_foot_x;
+  s.points.toe.az = dv_foot_z + dw_foot_x*pt_toe_y + vp_toe_y*w_foot_x - dw_foot_y*pt_toe_x - vp_toe_x*w_foot_y;
   s.joints.hip_yaw.q = in.q1;
   s.joints.hip_yaw.qd = in.q1_d;
   s.joints.hip_yaw.qdd = in.q1_dd;
@@ -822,7 +864,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 1552
+  // Total ops: 1690
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
   const T cos_hip_roll = cos(in.q2);
@@ -1013,19 +1055,31 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T pt_K_x = -_tmp1;
   const T pt_K_y = -_tmp2;
   const T pt_K_z = -_tmp3;
+  const T vp_K_x = pt_K_z*w_thigh_y - pt_K_y*w_thigh_z;
+  const T vp_K_y = pt_K_x*w_thigh_z - pt_K_z*w_thigh_x;
+  const T vp_K_z = pt_K_y*w_thigh_x - pt_K_x*w_thigh_y;
   const T pt_local_A_z = -_tmp0;
   const T pt_A_x = pt_local_A_z*R_calf_02 + p_calf_x;
   const T pt_A_y = pt_local_A_z*R_calf_12 + p_calf_y;
   const T pt_A_z = pt_local_A_z*R_calf_22 + p_calf_z;
+  const T vp_A_x = pt_A_z*w_calf_y + v_calf_x - pt_A_y*w_calf_z;
+  const T vp_A_y = pt_A_x*w_calf_z + v_calf_y - pt_A_z*w_calf_x;
+  const T vp_A_z = pt_A_y*w_calf_x + v_calf_z - pt_A_x*w_calf_y;
   const T _tmp4 = p.l1 + p.l2 + p.l3;
   const T pt_local_foot_z = -_tmp4;
   const T pt_foot_x = pt_local_foot_z*R_foot_02 + p_foot_x;
   const T pt_foot_y = pt_local_foot_z*R_foot_12 + p_foot_y;
   const T pt_foot_z = pt_local_foot_z*R_foot_22 + p_foot_z;
+  const T vp_foot_x = pt_foot_z*w_foot_y + v_foot_x - pt_foot_y*w_foot_z;
+  const T vp_foot_y = pt_foot_x*w_foot_z + v_foot_y - pt_foot_z*w_foot_x;
+  const T vp_foot_z = pt_foot_y*w_foot_x + v_foot_z - pt_foot_x*w_foot_y;
   const T pt_local_toe_z = -_tmp4;
   const T pt_toe_x = pt_local_toe_z*R_foot_02 + T(0.06)*R_ankle_link_00 + p_foot_x;
   const T pt_toe_y = pt_local_toe_z*R_foot_12 + T(0.06)*R_ankle_link_10 + p_foot_y;
   const T pt_toe_z = pt_local_toe_z*R_foot_22 + T(0.06)*R_ankle_link_20 + p_foot_z;
+  const T vp_toe_x = pt_toe_z*w_foot_y + v_foot_x - pt_toe_y*w_foot_z;
+  const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y - pt_toe_z*w_foot_x;
+  const T vp_toe_z = pt_toe_y*w_foot_x + v_foot_z - pt_toe_x*w_foot_y;
   const T wb_foot_x = R_ankle_link_00*w_foot_x + R_ankle_link_10*w_foot_y + R_ankle_link_20*w_foot_z;
   const T wb_foot_y = R_foot_01*w_foot_x + R_foot_11*w_foot_y + R_foot_21*w_foot_z;
   const T wb_foot_z = R_foot_02*w_foot_x + R_foot_12*w_foot_y + R_foot_22*w_foot_z;
@@ -1354,18 +1408,48 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.H.x = T(0);
   s.points.H.y = T(0);
   s.points.H.z = T(0);
+  s.points.H.vx = T(0);
+  s.points.H.vy = T(0);
+  s.points.H.vz = T(0);
+  s.points.H.ax = T(0);
+  s.points.H.ay = T(0);
+  s.points.H.az = T(0);
   s.points.K.x = pt_K_x;
   s.points.K.y = pt_K_y;
   s.points.K.z = pt_K_z;
+  s.points.K.vx = vp_K_x;
+  s.points.K.vy = vp_K_y;
+  s.points.K.vz = vp_K_z;
+  s.points.K.ax = dw_thigh_y*pt_K_z + vp_K_z*w_thigh_y - dw_thigh_z*pt_K_y - vp_K_y*w_thigh_z;
+  s.points.K.ay = dw_thigh_z*pt_K_x + vp_K_x*w_thigh_z - dw_thigh_x*pt_K_z - vp_K_z*w_thigh_x;
+  s.points.K.az = dw_thigh_x*pt_K_y + vp_K_y*w_thigh_x - dw_thigh_y*pt_K_x - vp_K_x*w_thigh_y;
   s.points.A.x = pt_A_x;
   s.points.A.y = pt_A_y;
   s.points.A.z = pt_A_z;
+  s.points.A.vx = vp_A_x;
+  s.points.A.vy = vp_A_y;
+  s.points.A.vz = vp_A_z;
+  s.points.A.ax = dv_calf_x + dw_calf_y*pt_A_z + vp_A_z*w_calf_y - dw_calf_z*pt_A_y - vp_A_y*w_calf_z;
+  s.points.A.ay = dv_calf_y + dw_calf_z*pt_A_x + vp_A_x*w_calf_z - dw_calf_x*pt_A_z - vp_A_z*w_calf_x;
+  s.points.A.az = dv_calf_z + dw_calf_x*pt_A_y + vp_A_y*w_calf_x - dw_calf_y*pt_A_x - vp_A_x*w_calf_y;
   s.points.foot.x = pt_foot_x;
   s.points.foot.y = pt_foot_y;
   s.points.foot.z = pt_foot_z;
+  s.points.foot.vx = vp_foot_x;
+  s.points.foot.vy = vp_foot_y;
+  s.points.foot.vz = vp_foot_z;
+  s.points.foot.ax = dv_foot_x + dw_foot_y*pt_foot_z + vp_foot_z*w_foot_y - dw_foot_z*pt_foot_y - vp_foot_y*w_foot_z;
+  s.points.foot.ay = dv_foot_y + dw_foot_z*pt_foot_x + vp_foot_x*w_foot_z - dw_foot_x*pt_foot_z - vp_foot_z*w_foot_x;
+  s.points.foot.az = dv_foot_z + dw_foot_x*pt_foot_y + vp_foot_y*w_foot_x - dw_foot_y*pt_foot_x - vp_foot_x*w_foot_y;
   s.points.toe.x = pt_toe_x;
   s.points.toe.y = pt_toe_y;
   s.points.toe.z = pt_toe_z;
+  s.points.toe.vx = vp_toe_x;
+  s.points.toe.vy = vp_toe_y;
+  s.points.toe.vz = vp_toe_z;
+  s.points.toe.ax = dv_foot_x + dw_foot_y*pt_toe_z + vp_toe_z*w_foot_y - dw_foot_z*pt_toe_y - vp_toe_y*w_foot_z;
+  s.points.toe.ay = dv_foot_y + dw_foot_z*pt_toe_x + vp_toe_x*w_foot_z - dw_foot_x*pt_toe_z - vp_toe_z*w_foot_x;
+  s.points.toe.az = dv_foot_z + dw_foot_x*pt_toe_y + vp_toe_y*w_foot_x - dw_foot_y*pt_toe_x - vp_toe_x*w_foot_y;
   s.joints.hip_yaw.q = in.q1;
   s.joints.hip_yaw.qd = in.q1_d;
   s.joints.hip_yaw.qdd = in.q1_dd;
@@ -1583,7 +1667,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   return Status::ok;
 }
 
-// A controller's cycle: the named points, the screw Jacobians and the driver efforts (inverse
+// A controller's cycle: the named points' positions, the screw Jacobians and the driver efforts (inverse
 // dynamics torques and forces); body outputs, joint coordinates and reactions are left untouched.
 template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {

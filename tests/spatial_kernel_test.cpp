@@ -180,6 +180,33 @@ TEST(SpatialKernel, Leg6SweepColumnsEqualTheNumericSweep) {
   }
 }
 
+// The registry's driven entry fed the model's own motion (q, qd, qdd per driver, read from its
+// own row) gives its own row, in double and float.
+TEST(SpatialKernel, Leg6DrivenEntryFedTheOwnMotionGivesTheOwnRow) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  const CompiledKernel* kernel = find_compiled_kernel("leg6");
+  ASSERT_NE(kernel, nullptr);
+  ASSERT_EQ(kernel->driver_count, 6);
+  const std::vector<double> parameters = model.common.default_parameters();
+  std::vector<double> own(static_cast<size_t>(kernel->column_count)), driven = own, single = own;
+  for (const double t : {0.1, 0.4, 0.9}) {
+    int group = -1;
+    ASSERT_EQ(kernel->evaluate_double(parameters.data(), t, own.data(), &group), 0);
+    std::vector<double> drivers;
+    for (int d = 0; d < 6; ++d)  // columns 1 + 4 d: q, qd, qdd, effort of driver d
+      for (int k = 0; k < 3; ++k) drivers.push_back(own[static_cast<size_t>(1 + 4 * d + k)]);
+    ASSERT_EQ(
+        kernel->evaluate_driven_double(parameters.data(), t, drivers.data(), driven.data(), &group),
+        0);
+    EXPECT_EQ(driven, own);
+    ASSERT_EQ(kernel->evaluate_float(parameters.data(), t, single.data(), &group), 0);
+    for (size_t c = 0; c < own.size(); ++c)
+      EXPECT_NEAR(single[c], own[c], 1e-4 * (1 + std::abs(own[c]))) << kernel->column_names[c];
+  }
+  EXPECT_STREQ(kernel->column_names[1], "q1.q");
+  EXPECT_STREQ(kernel->column_names[4], "q1.effort");
+}
+
 KDL::JntArray jnt(const Eigen::VectorXd& x) {
   KDL::JntArray a(static_cast<unsigned>(x.size()));
   a.data = x;

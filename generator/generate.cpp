@@ -8,6 +8,7 @@
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
 #include "report/atomic_output.hpp"
+#include "spatial_emitter.hpp"
 
 namespace mechgen::gen {
 
@@ -89,6 +90,7 @@ static void check_kernel_names(const Model& model, const std::string& path) {
 }
 
 GenerateResult generate(const GenerateOptions& options) {
+  if (is_spatial_description(options.model_path)) return generate_spatial(options);
   return generate(read_model(options.model_path), options);
 }
 

@@ -12,8 +12,10 @@
 #include "report/csv_table.hpp"
 #include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_kernel_sweep.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_derivation.hpp"
 
 namespace mechgen::cli {
 
@@ -130,6 +132,16 @@ int run_spatial_check(const Args& args) {
            "alone does not fix them); driver efforts are " +
            (r.efforts_unique ? "unique" : "NOT unique") + "\n";
   }
+  // What the generator makes of it (docs/spatial_kernels.md).
+  try {
+    const gen::SpatialDerivation d = gen::derive_spatial(model, g);
+    out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
+           " bodies by product of exponentials, rates outward, Newton-Euler inward" +
+           (find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "") + "\n";
+  } catch (const std::runtime_error& e) {
+    const std::string why = e.what();
+    out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";
+  }
   std::cout << out;
   return 0;
 }
@@ -223,11 +235,15 @@ int run_spatial_info(const Args& args) {
 
 int run_spatial_sweep(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
-  if (solver_option(args) != "numeric")
-    throw UsageError(
-        "spatial models have no generated kernels yet (issue 11): use --solver numeric");
+  const bool generated = solver_option(args) != "numeric";
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
   const SpatialModel model = load_spatial(path);
+  const CompiledKernel* kernel = generated ? find_compiled_kernel(model.common.name) : nullptr;
+  if (generated && !kernel)
+    throw UsageError("no generated kernel for spatial model '" + model.common.name +
+                     "' in this build (closed chains and pose drivers are not generated yet): "
+                     "use --solver numeric, or add it to MECHGEN_SPATIAL_KERNEL_MODELS in "
+                     "generated/CMakeLists.txt");
   std::vector<double> parameters = model.common.default_parameters();
   apply_overrides(model.common, args.all("--set"), parameters);
   spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);
@@ -236,15 +252,18 @@ int run_spatial_sweep(const Args& args) {
   options.t0 = args.number("--t0", options.t0);
   options.t1 = args.number("--t1", options.t1);
   const auto start = std::chrono::steady_clock::now();
-  const spatial::SpatialSweepResult result = spatial::run_spatial_sweep(model, options);
+  const spatial::SpatialSweepResult result =
+      kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)
+             : spatial::run_spatial_sweep(model, options);
   const double elapsed = seconds_since(start);
   const std::string out = args.get("--out");
   g_current_file = out;
   report::CsvTable table{out, result.columns, result.rows};
   report::write_csv(table, out);
-  std::cout << "sweep " << model.common.name << ": numeric spatial solver, " << options.samples
-            << " samples, " << result.columns.size() << " columns, " << fixed(elapsed * 1e3, 3)
-            << " ms -> " << out << "\n";
+  std::cout << "sweep " << model.common.name << ": "
+            << (kernel ? "generated spatial kernel, " : "numeric spatial solver, ")
+            << options.samples << " samples, " << result.columns.size() << " columns, "
+            << fixed(elapsed * 1e3, 3) << " ms -> " << out << "\n";
   return 0;
 }
 

@@ -274,11 +274,13 @@ caches the kernel of a model that is not compiled into mechgen on its first use.
 
 int run_generate(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
-  const Model model = load_model(path);
+  g_current_file = path;
+  // A spatial description generates through generator/spatial_emitter (gen::generate dispatches).
+  const std::string name =
+      is_spatial_description(path) ? read_spatial_model(path).common.name : load_model(path).name;
   gen::GenerateOptions options;
   options.model_path = path;
-  options.output_dir =
-      args.get("--output", (std::filesystem::path("generated") / model.name).string());
+  options.output_dir = args.get("--output", (std::filesystem::path("generated") / name).string());
   options.templates_dir = args.get("--templates", ondemand::templates_dir());
   options.bake = args.has("--bake");
   const auto start = std::chrono::steady_clock::now();

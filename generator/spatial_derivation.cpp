@@ -1,0 +1,519 @@
+// Symbolic derivation of a spatial tree's kernel (spatial_derivation.hpp).
+#include "spatial_derivation.hpp"
+
+#include <map>
+#include <stdexcept>
+
+#include "geometry/screw.hpp"
+
+namespace mechgen::gen {
+
+using GiNaC::ex;
+using GiNaC::symbol;
+// Vec3 is a std::array: the geometry layer's operators are not found by argument-dependent lookup.
+using geometry::operator+;
+using geometry::operator-;
+using geometry::operator*;
+
+namespace {
+
+using V = geometry::Vec3<ex>;
+using M = geometry::Mat3<ex>;
+using Pose = geometry::Pose<ex>;
+using Twist = geometry::Twist<ex>;
+using Wrench = geometry::Wrench<ex>;
+
+const char* const kAxis[3] = {"x", "y", "z"};
+
+// A number, a name, or a number times a name: not worth a definition of its own.
+bool trivial(const ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<symbol>(e)) return true;
+  return GiNaC::is_a<GiNaC::mul>(e) && e.nops() == 2 &&
+         ((GiNaC::is_a<GiNaC::numeric>(e.op(0)) && GiNaC::is_a<symbol>(e.op(1))) ||
+          (GiNaC::is_a<symbol>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1))));
+}
+
+struct Column {
+  geometry::ScrewAxis<ex> axis;
+  ex q, qd, qdd;      // the driver's input symbols
+  Pose displacement;  // the screw displacement by q, cosine and sine named
+  Twist screw, rate;  // current unit screw and its time derivative
+  std::string name;   // joint, or joint_2 for a multi-coordinate joint's second coordinate
+};
+
+class Builder {
+ public:
+  Builder(const SpatialModel& model, const SpatialGraph& graph)
+      : m_(model), g_(graph), params_(spatial_parameter_symbols(model)) {}
+
+  SpatialDerivation run() {
+    check_supported();
+    columns();
+    positions();
+    rates();
+    body_outputs();
+    jacobians();
+    dynamics();
+    ne_system();
+    out_.primary_count = static_cast<int>(g_.primary.size());
+    return std::move(out_);
+  }
+
+ private:
+  ex param(const ex& e) const { return e.subs(params_); }
+  V vec(const Vec3Expr& v) const { return {param(v.x.ex), param(v.y.ex), param(v.z.ex)}; }
+
+  ex named(const std::string& name, const ex& e) {
+    const ex x = e.expand();
+    if (trivial(x)) return x;
+    const symbol s(name);
+    out_.definitions.emplace_back(s, x);
+    return s;
+  }
+  V named(const std::string& name, const V& v) {
+    return {named(name + "_x", v[0]), named(name + "_y", v[1]), named(name + "_z", v[2])};
+  }
+  M named(const std::string& name, const M& R) {
+    M out;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        out(i, j) = named(name + "_" + std::to_string(i) + std::to_string(j), R(i, j));
+    return out;
+  }
+  Twist named(const std::string& w, const std::string& v, const Twist& t) {
+    return {named(w, t.w), named(v, t.v)};
+  }
+  void output(std::vector<SpatialOutput>& list, const std::string& target, const ex& value) {
+    list.push_back({target, value});
+  }
+  void output(std::vector<SpatialOutput>& list, const std::string& owner,
+              const std::vector<std::string>& fields, const V& v) {
+    for (int i = 0; i < 3; ++i) list.push_back({owner + fields[static_cast<size_t>(i)], v[i]});
+  }
+  const std::string& body_name(int b) const { return m_.bodies[static_cast<size_t>(b)].name; }
+
+  void check_supported() const {
+    const std::string file = m_.common.file + ": error: ";
+    if (g_.circuits() > 0 || !m_.pose_drivers.empty())
+      throw std::runtime_error(file +
+                               "spatial kernels are generated for serial chains and trees "
+                               "driven joint by joint; closed circuits and pose drivers "
+                               "are not generated yet (use --solver numeric)");
+    for (const SpatialColumn& c : g_.columns)
+      if (c.driver < 0)
+        throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +
+                                 "' has an undriven coordinate: a tree needs every one driven");
+  }
+
+  void columns() {
+    for (size_t c = 0; c < g_.columns.size(); ++c) {
+      const SpatialColumn& sc = g_.columns[c];
+      const SpatialJoint& j = m_.joints[static_cast<size_t>(sc.joint)];
+      const SpatialDriver& d = m_.drivers[static_cast<size_t>(sc.driver)];
+      Column col;
+      col.name = j.columns.size() == 1 ? j.name : j.name + "_" + std::to_string(sc.index + 1);
+      const ScrewColumnExpr& e = j.columns[static_cast<size_t>(sc.index)];
+      col.axis.kind = e.kind == ScrewColumnKind::rotation      ? geometry::ScrewKind::rotation
+                      : e.kind == ScrewColumnKind::translation ? geometry::ScrewKind::translation
+                                                               : geometry::ScrewKind::helical;
+      // Parameter expressions (a joint point at -l1 - l2) are named, so that they multiply as
+      // one number instead of expanding into every product.
+      col.axis.s = named("s_" + col.name, vec(e.s));
+      col.axis.s0 = named("s0_" + col.name, vec(j.s0));
+      col.axis.pitch = named("pitch_" + col.name, param(j.pitch.ex));
+      col.q = symbol("in." + d.name);
+      col.qd = symbol("in." + d.name + "_d");
+      col.qdd = symbol("in." + d.name + "_dd");
+      // The shared layer's displacement, with the coordinate's cosine and sine named once.
+      const Pose E = geometry::screw_displacement(col.axis, col.q);
+      GiNaC::exmap trig;
+      if (col.axis.kind != geometry::ScrewKind::translation) {
+        trig[GiNaC::cos(col.q)] = named_always("cos_" + col.name, GiNaC::cos(col.q));
+        trig[GiNaC::sin(col.q)] = named_always("sin_" + col.name, GiNaC::sin(col.q));
+      }
+      for (size_t k = 0; k < 9; ++k) col.displacement.R.m[k] = E.R.m[k].subs(trig).expand();
+      for (size_t k = 0; k < 3; ++k) col.displacement.p[k] = E.p[k].subs(trig).expand();
+      cols_.push_back(col);
+    }
+  }
+  ex named_always(const std::string& name, const ex& e) {
+    const symbol s(name);
+    out_.definitions.emplace_back(s, e);
+    return s;
+  }
+
+  // The motion of joint j: the product of its coordinates' displacements.
+  Pose joint_motion(int j) const {
+    Pose E;
+    const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
+    for (size_t k = 0; k < m_.joints[static_cast<size_t>(j)].columns.size(); ++k)
+      E = E * cols_[c0 + k].displacement;
+    return E;
+  }
+
+  void positions() {
+    const size_t nb = m_.bodies.size();
+    D_.assign(nb, Pose{});
+    frame_.assign(nb, Pose{});
+    for (const int b : g_.order) {
+      const auto bi = static_cast<size_t>(b);
+      const SpatialBody& body = m_.bodies[bi];
+      if (b != m_.ground) {
+        const int p = g_.parent[bi], j = g_.parent_joint[bi];
+        const Pose E = joint_motion(j);
+        const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+        const Pose D = joint.first == p ? D_[static_cast<size_t>(p)] * E
+                                        : D_[static_cast<size_t>(p)] * geometry::inverse(E);
+        D_[bi] = {named("R_" + body.name, D.R), named("p_" + body.name, D.p)};
+        out_.groups.push_back(body.name);
+        out_.plan.push_back(body.name + ": " + to_string(joint.type) + " '" + joint.name +
+                            "' from '" + body_name(p) + "' (product of exponentials)");
+      }
+      const Pose reference{
+          geometry::rodrigues(vec(body.rotation_axis), param(body.rotation_angle.ex)),
+          vec(body.origin)};
+      const Pose F = D_[bi] * reference;
+      frame_[bi] = {named("Rf_" + body.name, F.R), named("of_" + body.name, F.p)};
+    }
+    // Current screws: each joint's first coordinate carried by its first body, the next ones
+    // also by the coordinates before them.
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      Pose G = D_[static_cast<size_t>(m_.joints[j].first)];
+      const auto c0 = static_cast<size_t>(g_.joint_column[j]);
+      for (size_t k = 0; k < m_.joints[j].columns.size(); ++k) {
+        Column& col = cols_[c0 + k];
+        col.screw = named("sw_" + col.name, "sv_" + col.name,
+                          geometry::adjoint(G, geometry::unit_twist(col.axis)));
+        G = G * col.displacement;
+      }
+    }
+  }
+
+  void rates() {
+    const size_t nb = m_.bodies.size();
+    V_.assign(nb, Twist{});
+    A_.assign(nb, Twist{});
+    for (const int b : g_.order) {
+      if (b == m_.ground) continue;
+      const auto bi = static_cast<size_t>(b);
+      const int p = g_.parent[bi], j = g_.parent_joint[bi];
+      const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+      const ex sign = joint.first == p ? 1 : -1;
+      const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
+      Twist V = V_[static_cast<size_t>(p)];
+      for (size_t k = 0; k < joint.columns.size(); ++k)
+        V = V + (sign * cols_[c0 + k].qd) * cols_[c0 + k].screw;
+      V_[bi] = named("w_" + body_name(b), "v_" + body_name(b), V);
+      // Each screw's rate: the Lie bracket of the twist of the frame carrying it with it.
+      Twist carrier = V_[static_cast<size_t>(joint.first)];
+      for (size_t k = 0; k < joint.columns.size(); ++k) {
+        Column& col = cols_[c0 + k];
+        col.rate =
+            named("dsw_" + col.name, "dsv_" + col.name, geometry::lie_bracket(carrier, col.screw));
+        carrier = carrier + col.qd * col.screw;
+      }
+      Twist A = A_[static_cast<size_t>(p)];
+      for (size_t k = 0; k < joint.columns.size(); ++k) {
+        const Column& col = cols_[c0 + k];
+        A = A + (sign * col.qdd) * col.screw + (sign * col.qd) * col.rate;
+      }
+      A_[bi] = named("dw_" + body_name(b), "dv_" + body_name(b), A);
+    }
+  }
+
+  void body_outputs() {
+    const size_t nb = m_.bodies.size();
+    com_.assign(nb, V{});
+    acc_.assign(nb, V{});
+    for (size_t b = 0; b < nb; ++b) {
+      const SpatialBody& body = m_.bodies[b];
+      if (body.ground) continue;
+      const Pose& F = frame_[b];
+      com_[b] = named("com_" + body.name,
+                      F.R * named("com_local_" + body.name, vec(body.mass.com)) + F.p);
+      // The centre of mass's acceleration dv + dw x c + w x (v + w x c), through its velocity.
+      const V vc = named("vc_" + body.name, geometry::point_velocity(V_[b], com_[b]));
+      acc_[b] = named("ac_" + body.name,
+                      geometry::point_velocity(A_[b], com_[b]) + geometry::cross(V_[b].w, vc));
+      if (body.is_virtual) continue;
+      const std::string o = "s.bodies." + body.name + ".";
+      output(out_.kinematics, o, {"x", "y", "z"}, com_[b]);
+      for (size_t k = 0; k < 9; ++k)
+        output(out_.kinematics, o + "R[" + std::to_string(k) + "]", F.R.m[k]);
+      output(out_.kinematics, o, {"vx", "vy", "vz"}, vc);
+      output(out_.kinematics, o, {"ax", "ay", "az"}, acc_[b]);
+      output(out_.kinematics, o, {"wx", "wy", "wz"}, V_[b].w);
+      output(out_.kinematics, o, {"alx", "aly", "alz"}, A_[b].w);
+    }
+    for (const auto& [point, b] : m_.named_points()) {
+      const SpatialBody& body = m_.bodies[static_cast<size_t>(b)];
+      for (const SpatialPoint& sp : body.points)
+        if (sp.name == point) {
+          const Pose& F = frame_[static_cast<size_t>(b)];
+          point_[point] =
+              named("pt_" + point, F.R * named("pt_local_" + point, vec(sp.local)) + F.p);
+          const std::string o = "s.points." + point + ".";
+          output(out_.kinematics, o, {"x", "y", "z"}, point_[point]);
+          const auto bi = static_cast<size_t>(b);
+          const V v = named("vp_" + point, geometry::point_velocity(V_[bi], point_[point]));
+          output(out_.kinematics, o, {"vx", "vy", "vz"}, v);
+          output(out_.kinematics, o, {"ax", "ay", "az"},
+                 geometry::point_velocity(A_[bi], point_[point]) + geometry::cross(V_[bi].w, v));
+          break;
+        }
+    }
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      const SpatialJoint& joint = m_.joints[j];
+      if (joint.is_virtual) continue;
+      for (size_t k = 0; k < joint.columns.size(); ++k) {
+        const Column& col = cols_[static_cast<size_t>(g_.joint_column[j]) + k];
+        const std::string q = joint.columns.size() == 1 ? "q" : "q" + std::to_string(k + 1);
+        const std::string o = "s.joints." + joint.name + "." + q;
+        output(out_.kinematics, o, col.q);
+        output(out_.kinematics, o + "d", col.qd);
+        output(out_.kinematics, o + "dd", col.qdd);
+      }
+    }
+    for (const SpatialDriver& d : m_.drivers) {
+      const Column& col =
+          cols_[static_cast<size_t>(g_.joint_column[static_cast<size_t>(d.joint)] + d.column)];
+      const std::string o = "s.drivers." + d.name + ".";
+      output(out_.kinematics, o + "q", col.q);
+      output(out_.kinematics, o + "qd", col.qd);
+      output(out_.kinematics, o + "qdd", col.qdd);
+    }
+  }
+
+  // Column k of a body's twist Jacobian is the signed screw of primary k on its tree path; of a
+  // point's velocity Jacobian, that screw's velocity at the point.
+  void jacobians() {
+    for (size_t b = 0; b < m_.bodies.size(); ++b) {
+      const SpatialBody& body = m_.bodies[b];
+      if (body.ground || body.is_virtual) continue;
+      for (size_t k = 0; k < g_.primary.size(); ++k) {
+        const auto c = static_cast<size_t>(g_.primary[k]);
+        const ex sign = g_.path_sign[b][c];
+        for (int r = 0; r < 6; ++r)
+          output(out_.jacobians,
+                 "s.body_jacobians." + body.name + "[" + std::to_string(r) + "][" +
+                     std::to_string(k) + "]",
+                 (sign * (r < 3 ? cols_[c].screw.w[static_cast<size_t>(r)]
+                                : cols_[c].screw.v[static_cast<size_t>(r - 3)]))
+                     .expand());
+      }
+    }
+    for (const auto& [point, b] : m_.named_points()) {
+      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      const V& x = point_.at(point);
+      for (size_t k = 0; k < g_.primary.size(); ++k) {
+        const auto c = static_cast<size_t>(g_.primary[k]);
+        const ex sign = g_.path_sign[static_cast<size_t>(b)][c];
+        const V v = geometry::point_velocity(cols_[c].screw, x);
+        for (int r = 0; r < 3; ++r)
+          output(out_.jacobians,
+                 "s.point_jacobians." + point + "[" + std::to_string(r) + "][" + std::to_string(k) +
+                     "]",
+                 (sign * v[static_cast<size_t>(r)]).expand());
+      }
+    }
+  }
+
+  // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
+  Wrench momentum_rate(size_t b) {
+    const SpatialBody& body = m_.bodies[b];
+    const std::string& n = body.name;
+    // Mass and inertia (parameter expressions, e.g. a bar's from its density) named once, so
+    // that they multiply as numbers instead of expanding into every product.
+    const ex mass = named("m_" + n, param(body.mass.mass.ex));
+    M I;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const ex e = param(body.mass.inertia[static_cast<size_t>(3 * i + j)]);
+        I(i, j) = j < i && (e - param(body.mass.inertia[static_cast<size_t>(3 * j + i)]))
+                               .expand()
+                               .is_zero()
+                      ? I(j, i)
+                      : named("I_" + n + "_" + std::to_string(i) + std::to_string(j), e);
+      }
+    const M Rt = geometry::transpose(frame_[b].R);
+    // Angular momentum about the centre of mass and its rate, through the body frame.
+    const V h =
+        named("h_" + n, frame_[b].R * named("Iwb_" + n, I * named("wb_" + n, Rt * V_[b].w)));
+    const V Ia = frame_[b].R * named("Ialb_" + n, I * named("alb_" + n, Rt * A_[b].w));
+    const V F = named("F_" + n, mass * (acc_[b] - vec(m_.gravity)));
+    const V Mo = named("M_" + n, Ia + geometry::cross(V_[b].w, h) + geometry::cross(com_[b], F));
+    momentum_[b] = {F, Mo};
+    return {F, Mo};
+  }
+
+  void dynamics() {
+    const size_t nb = m_.bodies.size();
+    std::vector<Wrench> transmitted(nb);
+    momentum_.assign(nb, Wrench{});
+    joint_point_.assign(m_.joints.size(), V{});
+    for (auto it = g_.order.rbegin(); it != g_.order.rend(); ++it) {
+      const int b = *it;
+      if (b == m_.ground) continue;
+      const auto bi = static_cast<size_t>(b);
+      Wrench T = momentum_rate(bi);
+      for (size_t ch = 0; ch < nb; ++ch)
+        if (g_.parent[ch] == b) T = T + transmitted[ch];
+      transmitted[bi] = {named("tf_" + body_name(b), T.f), named("tm_" + body_name(b), T.m)};
+      joint_loads(g_.parent_joint[bi], g_.parent[bi], transmitted[bi]);
+    }
+  }
+
+  // The wrench the parent applies on its child through joint j: the efforts of its driven
+  // coordinates (reciprocal products with their screws) and the remaining reaction.
+  void joint_loads(int j, int parent, const Wrench& on_child) {
+    const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+    // The wrench of the joint's first body on its second.
+    const Wrench W = joint.first == parent ? on_child : Wrench{-on_child.f, -on_child.m};
+    const V P = named("P_" + joint.name,
+                      geometry::apply(D_[static_cast<size_t>(joint.second)],
+                                      n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
+                                                        : cols_[c0_of(j)].axis.s0));
+    joint_point_[static_cast<size_t>(j)] = P;
+    const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
+    const size_t n = joint.columns.size();
+    std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort
+    for (size_t k = 0; k < n; ++k) {
+      const Column& col = cols_[c0 + k];
+      if (col.axis.kind == geometry::ScrewKind::translation)
+        unit_effort.push_back({col.screw.v, geometry::cross(P, col.screw.v)});
+      else
+        unit_effort.push_back({V{0, 0, 0}, col.screw.w});
+    }
+    // $_i . W = sum_k tau_k ($_i . e_k): one equation per coordinate (the reaction does no work
+    // on the joint's screws). A single coordinate has $ . e = 1.
+    std::vector<ex> tau(n);
+    if (n == 1) {
+      tau[0] = named("tau_" + cols_[c0].name, geometry::reciprocal(cols_[c0].screw, W));
+    } else if (n > 1) {
+      GiNaC::matrix G(static_cast<unsigned>(n), static_cast<unsigned>(n));
+      GiNaC::matrix r(static_cast<unsigned>(n), 1);
+      for (size_t i = 0; i < n; ++i) {
+        const std::string ni = cols_[c0 + i].name;
+        r(static_cast<unsigned>(i), 0) =
+            named("rp_" + ni, geometry::reciprocal(cols_[c0 + i].screw, W));
+        for (size_t k = 0; k < n; ++k)
+          G(static_cast<unsigned>(i), static_cast<unsigned>(k)) =
+              named("G_" + ni + "_" + std::to_string(k + 1),
+                    geometry::reciprocal(cols_[c0 + i].screw, unit_effort[k]));
+      }
+      const GiNaC::matrix x = G.inverse().mul(r);
+      for (size_t k = 0; k < n; ++k)
+        tau[k] = named("tau_" + cols_[c0 + k].name, x(static_cast<unsigned>(k), 0));
+    }
+    Wrench R = W;
+    for (size_t k = 0; k < n; ++k)
+      R = R + Wrench{-(tau[k] * unit_effort[k].f), -(tau[k] * unit_effort[k].m)};
+    for (const SpatialDriver& d : m_.drivers)
+      if (d.joint == j)
+        output(out_.dynamics, "s.drivers." + d.name + ".effort",
+               tau[static_cast<size_t>(d.column)]);
+    if (joint.is_virtual) return;
+    const std::string o = "s.joints." + joint.name + ".";
+    output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, R.f));
+    output(out_.dynamics, o, {"mx", "my", "mz"},
+           named("rm_" + joint.name, R.m - geometry::cross(P, R.f)));
+  }
+
+  // The numeric solver's Newton-Euler system, from the same named screws, joint points and
+  // rates of momentum (what ne_system() returns; the kernel itself solves it recursively).
+  void ne_system() {
+    std::vector<int> body_row(m_.bodies.size(), -1);
+    int rows = 0;
+    for (size_t b = 0; b < m_.bodies.size(); ++b)
+      if (static_cast<int>(b) != m_.ground) body_row[b] = rows, rows += 6;
+    const int column_row = rows;
+    rows += g_.cols();
+    const int n = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(g_.primary.size());
+    std::map<int, ex> A;
+    auto add = [&](int r, int c, const ex& e) { A[r * n + c] += e; };
+    auto add_wrench = [&](int body, int col, const ex& sign, const Wrench& w) {
+      if (body == m_.ground) return;
+      for (int i = 0; i < 3; ++i) {
+        add(body_row[static_cast<size_t>(body)] + i, col, sign * w.f[static_cast<size_t>(i)]);
+        add(body_row[static_cast<size_t>(body)] + 3 + i, col, sign * w.m[static_cast<size_t>(i)]);
+      }
+    };
+    const char* const components[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      const SpatialJoint& joint = m_.joints[j];
+      const V& P = joint_point_[j];
+      for (int k = 0; k < 6; ++k) {
+        out_.ne_unknowns.push_back(joint.name + "." + components[k]);
+        // Unknown k (force or moment at P) as a wrench about the ground origin.
+        Wrench unit;
+        if (k < 3) {
+          unit.f[static_cast<size_t>(k)] = 1;
+          V e{0, 0, 0};
+          e[static_cast<size_t>(k)] = 1;
+          unit.m = geometry::cross(P, e);
+        } else {
+          unit.m[static_cast<size_t>(k - 3)] = 1;
+        }
+        const int col = 6 * static_cast<int>(j) + k;
+        add_wrench(joint.second, col, 1, unit);
+        add_wrench(joint.first, col, -1, unit);
+        for (size_t c = 0; c < joint.columns.size(); ++c)
+          add(column_row + g_.joint_column[j] + static_cast<int>(c), col,
+              geometry::reciprocal(cols_[c0_of(static_cast<int>(j)) + c].screw, unit));
+      }
+    }
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const SpatialColumn& sc = g_.columns[static_cast<size_t>(g_.primary[k])];
+      const SpatialJoint& joint = m_.joints[static_cast<size_t>(sc.joint)];
+      const Column& col = cols_[static_cast<size_t>(g_.primary[k])];
+      const Wrench w =
+          col.axis.kind == geometry::ScrewKind::translation
+              ? Wrench{col.screw.v,
+                       geometry::cross(joint_point_[static_cast<size_t>(sc.joint)], col.screw.v)}
+              : Wrench{V{0, 0, 0}, col.screw.w};
+      const int c = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(k);
+      out_.ne_unknowns.push_back(m_.drivers[static_cast<size_t>(sc.driver)].name + ".effort");
+      add_wrench(joint.second, c, 1, w);
+      add_wrench(joint.first, c, -1, w);
+    }
+    for (const auto& [index, value] : A)
+      if (!value.expand().is_zero()) out_.ne_matrix.emplace_back(index, value.expand());
+    out_.ne_rhs.assign(static_cast<size_t>(rows), 0);
+    for (size_t b = 0; b < m_.bodies.size(); ++b)
+      for (int i = 0; body_row[b] >= 0 && i < 3; ++i) {
+        out_.ne_rhs[static_cast<size_t>(body_row[b] + i)] = momentum_[b].f[static_cast<size_t>(i)];
+        out_.ne_rhs[static_cast<size_t>(body_row[b] + 3 + i)] =
+            momentum_[b].m[static_cast<size_t>(i)];
+      }
+    out_.ne_rows = rows;
+  }
+
+  size_t c0_of(int j) const { return static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]); }
+  size_t n_columns(int j) const { return m_.joints[static_cast<size_t>(j)].columns.size(); }
+
+  const SpatialModel& m_;
+  const SpatialGraph& g_;
+  GiNaC::exmap params_;
+  SpatialDerivation out_;
+  std::vector<Column> cols_;
+  std::vector<Pose> D_, frame_;  // per body: displacement from the reference pose; its frame
+  std::vector<Twist> V_, A_;     // per body: ground-origin twist and its rate
+  std::vector<V> com_, acc_;     // per body: centre of mass and its acceleration
+  std::map<std::string, V> point_;
+  std::vector<Wrench> momentum_;  // per body: rate of momentum minus gravity, about the origin
+  std::vector<V> joint_point_;    // per joint: its current point
+};
+
+}  // namespace
+
+GiNaC::exmap spatial_parameter_symbols(const SpatialModel& model) {
+  GiNaC::exmap out;
+  for (const Parameter& p : model.common.parameters) out[p.symbol] = symbol("p." + p.name);
+  return out;
+}
+
+SpatialDerivation derive_spatial(const SpatialModel& model, const SpatialGraph& graph) {
+  return Builder(model, graph).run();
+}
+
+}  // namespace mechgen::gen

@@ -1,0 +1,58 @@
+// Symbolic derivation of a spatial model's kernel (issue 11), through the same geometry layer the
+// numeric solver uses (runtime/geometry/screw.hpp with GiNaC::ex as the scalar):
+//  - positions by successive screw displacements along the spanning tree, each joint
+//    coordinate's cosine and sine named once, every body's displacement a named 3 x 3 rotation
+//    matrix and translation;
+//  - each joint's current screws, body twists and twist rates by the recursive propagation
+//    (V_b = V_parent + sum q' $, A_b = A_parent + sum q'' $ + q' [carrier, $]): exact, no
+//    differentiation of large expressions;
+//  - screw Jacobians (each body's twist and each named point's velocity against the primary
+//    rates) read off the same screws;
+//  - inverse dynamics by a recursive backward pass: each body's rate of momentum plus what its
+//    children draw, transmitted through its tree joint; a driven coordinate's effort is the
+//    reciprocal product of its screw with that wrench, the rest is the joint's reaction.
+// Every intermediate is a named definition (an expanded expression of earlier names).
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/spatial_graph.hpp"
+#include "model/spatial_model.hpp"
+
+namespace mechgen::gen {
+
+struct SpatialOutput {
+  std::string target;  // C++ lvalue in the kernel, e.g. "s.bodies.thigh.x"
+  GiNaC::ex value;
+};
+
+struct SpatialDerivation {
+  std::vector<std::pair<GiNaC::symbol, GiNaC::ex>> definitions;  // program order
+  std::vector<SpatialOutput> kinematics;  // bodies, points, joint and driver coordinates
+  std::vector<SpatialOutput> jacobians;   // body twist and point velocity Jacobians
+  std::vector<SpatialOutput> dynamics;    // joint reactions and driver efforts
+  std::vector<std::string> groups;        // one per located body: "thigh"
+  std::vector<std::string> plan;          // one line per group, for the banner
+  int primary_count = 0;
+  // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
+  // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
+  // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint
+  // point), then one effort per driven coordinate. Nonzero entries only.
+  int ne_rows = 0;
+  std::vector<std::string> ne_unknowns;
+  std::vector<std::pair<int, GiNaC::ex>> ne_matrix;  // (row * ne_unknowns.size() + column, value)
+  std::vector<GiNaC::ex> ne_rhs;
+};
+
+// Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd`.
+GiNaC::exmap spatial_parameter_symbols(const SpatialModel& model);
+
+// Throws std::runtime_error (naming what is missing) for a model whose graph has circuits or
+// pose drivers: closed chains are not generated yet.
+SpatialDerivation derive_spatial(const SpatialModel& model, const SpatialGraph& graph);
+
+}  // namespace mechgen::gen

@@ -1,0 +1,325 @@
+// Spatial kernel emission (spatial_emitter.hpp).
+#include "spatial_emitter.hpp"
+
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "code_block.hpp"
+#include "model/spatial_graph.hpp"
+#include "spatial/spatial_sweep.hpp"
+#include "template_renderer.hpp"
+
+namespace mechgen::gen {
+
+using GiNaC::ex;
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read template " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string number_literal(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return "T(" + text + ")";
+}
+
+std::string lines(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& line : items) text += (text.empty() ? "" : "\n") + line;
+  return text;
+}
+
+std::string quoted(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "\"" : ", \"") + item + "\"";
+  return text;
+}
+
+// sin and cos come from the kernels' own branch-free detail:: versions (Cephes polynomials, within
+// about 2 ulp), taken from the planar template so that both kernels share one copy: after
+// inlining, a coordinate's sin and cos share one range reduction, several times cheaper than
+// the C library's sincos.
+std::string using_std(const CodeBlock& code) {
+  std::string text;
+  for (const std::string& f : code.math_functions())
+    text += std::string(text.empty() ? "" : "\n") + "  using " +
+            (f == "sin" || f == "cos" ? "detail::" : "std::") + f + ";";
+  return text;
+}
+
+std::string kernel_math_functions(const std::string& templates_dir) {
+  const std::string text = read_text(templates_dir + "/kernel.hpp.in");
+  const std::string begin = "namespace detail {\n#if defined(__GNUC__)\n#define MECHGEN_INLINE";
+  const std::string end = "#undef MECHGEN_INLINE\n}  // namespace detail\n";
+  const auto b = text.find(begin), e = text.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b)
+    throw std::runtime_error(
+        "templates/kernel.hpp.in: the detail:: math functions block is missing");
+  return text.substr(b, e + end.size() - b);
+}
+
+class SpatialEmitter {
+ public:
+  SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d) : m_(model), d_(d) {
+    for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
+  }
+
+  // Only the definitions the outputs read, in program order, then the outputs.
+  CodeBlock block(const std::vector<SpatialOutput>& outputs) const {
+    std::set<ex, GiNaC::ex_is_less> needed;
+    std::vector<ex> pending;
+    for (const SpatialOutput& o : outputs) pending.push_back(o.value);
+    while (!pending.empty()) {
+      const ex e = pending.back();
+      pending.pop_back();
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+        if (!GiNaC::is_a<GiNaC::symbol>(*it) || needed.count(*it)) continue;
+        needed.insert(*it);
+        if (auto def = definition_.find(*it); def != definition_.end())
+          pending.push_back(def->second);
+      }
+    }
+    CodeBlock code;
+    for (const auto& [symbol, value] : d_.definitions)
+      if (needed.count(symbol)) code.define(symbol.get_name(), value);
+    // A structurally zero Jacobian entry is zero from the State's construction: never written.
+    for (const SpatialOutput& o : outputs)
+      if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
+        code.assign(o.target, o.value);
+    const std::vector<std::string> unused = code.unused_definitions();
+    if (!unused.empty()) throw std::logic_error("generated code would define unused " + unused[0]);
+    return code;
+  }
+
+  std::map<std::string, std::string> values(const EmitOptions& options) const {
+    std::map<std::string, std::string> v;
+    v["math_functions"] = kernel_math_functions(options.templates_dir);
+    v["model"] = m_.common.name;
+    v["source"] = options.source;
+    v["command"] = options.command;
+    v["description"] = m_.common.description.empty() ? "(no description)" : m_.common.description;
+    v["ground"] = m_.bodies[static_cast<size_t>(m_.ground)].name;
+    std::vector<std::string> plan;
+    for (const std::string& line : d_.plan) plan.push_back("//   " + line);
+    v["plan"] = lines(plan);
+    v["primary_count"] = std::to_string(d_.primary_count);
+    v["group_count"] = std::to_string(d_.groups.size());
+    v["group_names"] = quoted(d_.groups);
+
+    const std::vector<double> defaults = m_.common.default_parameters();
+    std::vector<std::string> params, set_params, names;
+    for (size_t i = 0; i < m_.common.parameters.size(); ++i) {
+      const Parameter& par = m_.common.parameters[i];
+      std::string comment = par.unit;
+      if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
+      params.push_back("  T " + par.name + " = " + number_literal(defaults[i]) + ";" +
+                       (comment.empty() ? "" : "  // " + comment));
+      set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
+      names.push_back(par.name);
+    }
+    v["param_fields"] = lines(params);
+    v["parameter_count"] = std::to_string(names.size());
+    v["parameter_names"] = quoted(names);
+    v["set_parameters_body"] = lines(set_params);
+
+    std::vector<std::string> inputs, drivers;
+    std::string checks;
+    CodeBlock motion;
+    GiNaC::exmap rename = spatial_parameter_symbols(m_);
+    rename[m_.common.t] = GiNaC::symbol("t");
+    for (const SpatialDriver& d : m_.drivers) {
+      inputs.push_back("  T " + d.name + " = T(0), " + d.name + "_d = T(0), " + d.name +
+                       "_dd = T(0);");
+      drivers.push_back("    DriverState<T> " + d.name + ";");
+      for (const char* suffix : {"", "_d", "_dd"})
+        checks += std::string(" && isfinite(in.") + d.name + suffix + ")";
+      motion.assign("in." + d.name, d.value.ex.subs(rename));
+      motion.assign("in." + d.name + "_d", d.value_d.subs(rename));
+      motion.assign("in." + d.name + "_dd", d.value_dd.subs(rename));
+    }
+    v["input_fields"] = lines(inputs);
+    v["driver_fields"] = lines(drivers);
+    v["input_checks"] = checks;
+    v["drivers_using"] = using_std(motion);
+    v["drivers_body"] = motion.render("  ");
+
+    std::vector<std::string> bodies, body_jacobians, points, point_jacobians, joints;
+    for (const SpatialBody& b : m_.bodies) {
+      if (b.ground || b.is_virtual) continue;
+      bodies.push_back("    BodyState<T> " + b.name + ";");
+      body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
+    }
+    for (const auto& [point, body] : m_.named_points()) {
+      points.push_back("    PointState<T> " + point + ";");
+      if (!m_.bodies[static_cast<size_t>(body)].ground)
+        point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
+    }
+    for (const SpatialJoint& j : m_.joints) {
+      if (j.is_virtual) continue;
+      std::string q;
+      for (size_t k = 0; k < j.columns.size(); ++k) {
+        const std::string c = j.columns.size() == 1 ? "q" : "q" + std::to_string(k + 1);
+        q += std::string(q.empty() ? "T " : ", ") + c + ", " + c + "d, " + c + "dd";
+      }
+      joints.push_back("    struct {" + (q.empty() ? "" : "\n      " + q + ";") +
+                       "\n      T fx, fy, fz, mx, my, mz;\n    } " + j.name + ";");
+    }
+    v["body_fields"] = lines(bodies);
+    v["body_jacobian_fields"] = lines(body_jacobians);
+    v["point_fields"] = lines(points);
+    v["point_jacobian_fields"] = lines(point_jacobians);
+    v["joint_fields"] = lines(joints);
+
+    std::vector<SpatialOutput> kinematic = d_.kinematics;
+    kinematic.insert(kinematic.end(), d_.jacobians.begin(), d_.jacobians.end());
+    std::vector<SpatialOutput> all = kinematic;
+    all.insert(all.end(), d_.dynamics.begin(), d_.dynamics.end());
+    // What a controller needs each cycle: the named points, their and the bodies' Jacobians and
+    // the driver efforts (no body outputs, no reactions).
+    std::vector<SpatialOutput> control;
+    for (const std::vector<SpatialOutput>* list : {&d_.kinematics, &d_.jacobians, &d_.dynamics})
+      for (const SpatialOutput& o : *list)
+        if ((o.target.rfind("s.points.", 0) == 0 && o.target.size() > 2 &&
+             o.target[o.target.size() - 2] == '.') ||
+            o.target.find("_jacobians.") != std::string::npos ||
+            (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
+          control.push_back(o);
+    const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);
+    std::vector<SpatialOutput> system;
+    for (const auto& [index, value] : d_.ne_matrix)
+      system.push_back({"A[" + std::to_string(index) + "]", value});
+    for (size_t r = 0; r < d_.ne_rhs.size(); ++r)
+      if (!d_.ne_rhs[r].is_zero()) system.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
+    const CodeBlock ne = block(system);
+    v["ne_using"] = using_std(ne);
+    v["ne_ops"] = std::to_string(ne.op_count());
+    v["ne_body"] = ne.render("  ");
+    v["ne_rows"] = std::to_string(d_.ne_rows);
+    v["ne_size"] = std::to_string(d_.ne_unknowns.size());
+    v["ne_unknowns"] = quoted(d_.ne_unknowns);
+    v["control_using"] = using_std(lean);
+    v["control_ops"] = std::to_string(lean.op_count());
+    v["control_body"] = lean.render("  ");
+    v["kinematics_using"] = using_std(kin);
+    v["kinematics_ops"] = std::to_string(kin.op_count());
+    v["kinematics_body"] = kin.render("  ");
+    v["evaluate_using"] = using_std(full);
+    v["evaluate_ops"] = std::to_string(full.op_count());
+    v["evaluate_body"] = full.render("  ");
+    columns(v);
+    return v;
+  }
+
+ private:
+  // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.
+  void columns(std::map<std::string, std::string>& v) const {
+    std::vector<std::string> names{"t"}, body{"  row[0] = in.t;"};
+    auto column = [&](const std::string& name, const std::string& source) {
+      body.push_back("  row[" + std::to_string(names.size()) + "] = " + source + ";");
+      names.push_back(name);
+    };
+    for (const SpatialDriver& d : m_.drivers)
+      for (const char* f : {"q", "qd", "qdd", "effort"})
+        column(d.name + "." + f, "s.drivers." + d.name + "." + f);
+    for (const SpatialBody& b : m_.bodies) {
+      if (b.ground || b.is_virtual) continue;
+      const std::string s = "s.bodies." + b.name + ".";
+      for (const char* f : {"x", "y", "z"}) column(b.name + "." + f, s + f);
+      body.push_back("  " + s + "quaternion(q);");
+      for (int k = 0; k < 4; ++k) column(b.name + ".q" + "wxyz"[k], "q[" + std::to_string(k) + "]");
+      for (const char* f :
+           {"vx", "vy", "vz", "ax", "ay", "az", "wx", "wy", "wz", "alx", "aly", "alz"})
+        column(b.name + "." + f, s + f);
+    }
+    for (const auto& [point, body_index] : m_.named_points())
+      for (const char* f : {"x", "y", "z"}) column(point + "." + f, "s.points." + point + "." + f);
+    for (const SpatialJoint& j : m_.joints) {
+      if (j.is_virtual) continue;
+      for (size_t k = 0; k < j.columns.size(); ++k) {
+        const std::string q = j.columns.size() == 1 ? "q" : "q" + std::to_string(k + 1);
+        for (const char* f : {"", "d", "dd"})
+          column(j.name + "." + q + f, "s.joints." + j.name + "." + q + f);
+      }
+      for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
+        column(j.name + "." + f, "s.joints." + j.name + "." + f);
+    }
+    if (names != spatial::spatial_column_names(m_))
+      throw std::logic_error("spatial kernel columns differ from the sweep's");
+    v["column_count"] = std::to_string(names.size());
+    v["column_names"] = quoted(names);
+    v["to_columns_body"] = lines(body);
+  }
+
+  const SpatialModel& m_;
+  const SpatialDerivation& d_;
+  std::map<ex, ex, GiNaC::ex_is_less> definition_;
+};
+
+}  // namespace
+
+std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
+                                             const SpatialDerivation& derivation,
+                                             const EmitOptions& options) {
+  if (derivation.primary_count == 0)
+    throw std::runtime_error(model.common.file + ": error: no driver: nothing to generate");
+  const std::map<std::string, std::string> values =
+      SpatialEmitter(model, derivation).values(options);
+  std::vector<EmittedFile> files;
+  files.push_back({model.common.name + ".hpp",
+                   render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
+                                   values, "spatial_kernel.hpp.in")});
+  std::string driven;
+  for (size_t i = 0; i < model.drivers.size(); ++i)
+    for (size_t k = 0; k < 3; ++k)
+      driven += std::string(driven.empty() ? "" : "\n") + "in." + model.drivers[i].name +
+                (k == 0   ? ""
+                 : k == 1 ? "_d"
+                          : "_dd") +
+                " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
+  const std::map<std::string, std::string> entry{
+      {"model", values.at("model")},
+      {"source", values.at("source")},
+      {"command", values.at("command")},
+      {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven}};
+  files.push_back(
+      {model.common.name + "_entry.cpp",
+       render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,
+                       "spatial_kernel_entry.cpp.in")});
+  return files;
+}
+
+GenerateResult generate_spatial(const GenerateOptions& options) {
+  const SpatialModel model = read_spatial_model(options.model_path);
+  const SpatialGraph graph = build_spatial_graph(model);
+  const SpatialDerivation derivation = derive_spatial(model, graph);
+  EmitOptions emit;
+  emit.templates_dir = options.templates_dir;
+  emit.source = display_path(options.model_path);
+  emit.command = "build/mechgen generate " + emit.source;
+  GenerateResult result{model.common.name, {}, derivation.plan};
+  std::filesystem::create_directories(options.output_dir);
+  for (const EmittedFile& file : emit_spatial_kernel(model, derivation, emit)) {
+    const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();
+    std::ofstream out(path, std::ios::binary);
+    out << file.text;
+    if (!out) throw std::runtime_error("cannot write " + path);
+    result.written.push_back(path);
+  }
+  return result;
+}
+
+}  // namespace mechgen::gen

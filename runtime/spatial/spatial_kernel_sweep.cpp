@@ -1,0 +1,46 @@
+// The spatial sweep through a generated kernel (spatial_kernel_sweep.hpp).
+#include "spatial/spatial_kernel_sweep.hpp"
+
+#include <sstream>
+
+namespace mechgen::spatial {
+
+double spatial_sample_time(const SpatialSweepOptions& o, int i) {
+  if (o.samples == 1) return o.t0;
+  if (i == o.samples - 1) return o.t1;
+  return o.t0 + (o.t1 - o.t0) * i / (o.samples - 1);
+}
+
+SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
+                                            const SpatialSweepOptions& options,
+                                            const CompiledKernel& kernel) {
+  SpatialSweepResult result;
+  result.columns = spatial_column_names(model);
+  const SourceLoc file{model.common.file, 0, 0};
+  bool same = static_cast<int>(result.columns.size()) == kernel.column_count &&
+              static_cast<int>(options.parameters.size()) == kernel.parameter_count;
+  for (int c = 0; same && c < kernel.column_count; ++c)
+    same = result.columns[static_cast<size_t>(c)] == kernel.column_names[c];
+  if (!same)
+    throw ModelError(file, "the generated kernel of '" + model.common.name +
+                               "' does not match the description (rebuild to regenerate it)");
+  for (int i = 0; i < options.samples; ++i) {
+    const double t = spatial_sample_time(options, i);
+    std::vector<double> row(static_cast<size_t>(kernel.column_count));
+    int group = -1;
+    const int status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
+    if (status != 0) {
+      std::ostringstream m;
+      m << "the generated kernel reports " << (status == 1 ? "unreachable" : "singular")
+        << " at t = " << t
+        << (group >= 0 && group < kernel.group_count
+                ? std::string(" in group '") + kernel.group_names[group] + "'"
+                : std::string(" (non-finite driver input)"));
+      throw ModelError(file, m.str());
+    }
+    result.rows.push_back(std::move(row));
+  }
+  return result;
+}
+
+}  // namespace mechgen::spatial

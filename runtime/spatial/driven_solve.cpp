@@ -1,7 +1,9 @@
 // Solving a spatial model at given primary coordinates (driven_solve.hpp).
 #include "spatial/driven_solve.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mechgen::spatial {
 
@@ -40,11 +42,14 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& N, const std::vector<int>& which) {
 Eigen::VectorXd primary_of(const SpatialSolver& solver, const SpatialState& state) {
   const std::vector<int>& primary = solver.graph().primary;
   Eigen::VectorXd qp(static_cast<Eigen::Index>(primary.size()));
-  for (size_t k = 0; k < primary.size(); ++k) qp[static_cast<Eigen::Index>(k)] = state.q[primary[k]];
+  for (size_t k = 0; k < primary.size(); ++k)
+    qp[static_cast<Eigen::Index>(k)] = state.q[primary[k]];
   return qp;
 }
 
-bool assemble_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, SpatialState& state,
+namespace {
+
+bool newton_step(const SpatialSolver& solver, const Eigen::VectorXd& qp, SpatialState& state,
                  int iterations) {
   const SpatialGraph& g = solver.graph();
   const Eigen::VectorXd step = qp - primary_of(solver, state);
@@ -76,14 +81,38 @@ bool assemble_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, Spatial
   return mismatch(solver, state).norm() < 1e-12;
 }
 
+}  // namespace
+
+bool assemble_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, SpatialState& state,
+                 double max_step, int iterations) {
+  // Equal steps of at most max_step (largest primary change); when they do not close, twice,
+  // four times ... as many, up to 64 times.
+  const SpatialState start = state;
+  const Eigen::VectorXd q0 = primary_of(solver, start);
+  const double span = (qp - q0).cwiseAbs().maxCoeff();
+  const int least = std::isfinite(max_step) && max_step > 0
+                        ? std::max(1, static_cast<int>(std::ceil(span / max_step)))
+                        : 1;
+  for (int steps = least; steps <= 64 * least; steps *= 2) {
+    state = start;
+    bool closed = true;
+    for (int k = 1; k <= steps && closed; ++k)
+      closed =
+          newton_step(solver, q0 + (qp - q0) * (static_cast<double>(k) / steps), state, iterations);
+    if (closed) return true;
+  }
+  return false;
+}
+
 void solve_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
-              const Eigen::VectorXd& qpdd, SpatialState& state) {
-  if (!assemble_at(solver, qp, state)) {
+              const Eigen::VectorXd& qpdd, SpatialState& state, double max_step) {
+  if (!assemble_at(solver, qp, state, max_step)) {
     const SpatialModel& m = solver.model();
     const SpatialJoint& j = m.joints[static_cast<size_t>(solver.graph().chords.at(0))];
-    throw ModelError(j.loc, "the circuits do not close at the requested primary coordinates "
-                            "(Newton-Raphson from the warm start): out of reach, or too far "
-                            "from the start for one step");
+    throw ModelError(j.loc,
+                     "the circuits do not close at the requested primary coordinates "
+                     "(Newton-Raphson from the warm start): out of reach, or too far "
+                     "from the start for one step");
   }
   solver.rates(state, qpd, qpdd);
   state.assembled = true;

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/workspace.hpp"
 #include "spatial/driven_solve.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
@@ -408,3 +409,52 @@ TEST(QuadrupedLeg, SwingCylinderRatesAreTheInverseJacobianOfTheFootVelocity) {
 
 }  // namespace
 }  // namespace mechgen::spatial
+
+namespace mechgen::analysis {
+namespace {
+
+TEST(QuadrupedWorkspace, MonteCarloExtentsMatchTheSeedFormulasAndDoNotDependOnThreads) {
+  const SpatialModel model = read_spatial_model(spatial::kLeg);
+  const spatial::Seed seed(model);
+  // The extents from the seed's formulas on a fine grid of the stroke box (X and Z: theta10 only
+  // turns the leg plane, X does not depend on it).
+  std::array<double, 3> lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  const int n = 61;
+  for (int u = 0; u < n; ++u)
+    for (int v = 0; v < n; ++v)
+      for (int w = 0; w < 7; ++w) {
+        const Eigen::Vector3d x =
+            seed.foot({0.35 + 0.15 * u / (n - 1), 0.35 + 0.15 * v / (n - 1), 0.28 + 0.06 * w / 6});
+        for (size_t c = 0; c < 3; ++c)
+          lo[c] = std::min(lo[c], x[static_cast<Eigen::Index>(c)]),
+          hi[c] = std::max(hi[c], x[static_cast<Eigen::Index>(c)]);
+      }
+  WorkspaceOptions o;
+  o.samples = 4000;
+  o.threads = 1;
+  const WorkspaceResult one = run_workspace(model, o);
+  o.threads = 2;
+  const WorkspaceResult two = run_workspace(model, o);
+  EXPECT_EQ(one.point, "D");
+  EXPECT_EQ(one.assembled, 4000);
+  for (size_t c = 0; c < 3; ++c) {
+    EXPECT_EQ(one.lo[c], two.lo[c]);
+    EXPECT_EQ(one.hi[c], two.hi[c]);
+    // Inside the grid's extents (to the grid's own resolution) and close to them.
+    EXPECT_GT(one.lo[c], lo[c] - 2e-3);
+    EXPECT_LT(one.hi[c], hi[c] + 2e-3);
+    EXPECT_LT(one.lo[c], lo[c] + 0.03);
+    EXPECT_GT(one.hi[c], hi[c] - 0.03);
+  }
+  long total = 0;
+  for (const long k : one.sagittal.counts) total += k;
+  EXPECT_EQ(total, 4000);
+  // A driver held fixed: l3 = 0 is theta10 = 0, the leg's own plane (Y = 0).
+  o.fixed = {{"l3", 0.0}};
+  const WorkspaceResult plane = run_workspace(model, o);
+  EXPECT_LT(std::max(std::abs(plane.lo[1]), std::abs(plane.hi[1])), 1e-15);
+  EXPECT_NE(density_svg(one.sagittal, "t").find("<svg"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mechgen::analysis

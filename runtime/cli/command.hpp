@@ -167,5 +167,6 @@ Command walk_command();        // cmd_walk.cpp
 Command draw_command();        // cmd_draw.cpp
 Command loads_command();       // cmd_loads.cpp
 Command zmp_command();         // cmd_zmp.cpp
+Command workspace_command();   // cmd_workspace.cpp
 
 }  // namespace mechgen::cli

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/follow.hpp"
 #include "analysis/workspace.hpp"
 #include "spatial/driven_solve.hpp"
 #include "spatial/spatial_dynamics.hpp"
@@ -454,6 +455,90 @@ TEST(QuadrupedWorkspace, MonteCarloExtentsMatchTheSeedFormulasAndDoNotDependOnTh
   const WorkspaceResult plane = run_workspace(model, o);
   EXPECT_LT(std::max(std::abs(plane.lo[1]), std::abs(plane.hi[1])), 1e-15);
   EXPECT_NE(density_svg(one.sagittal, "t").find("<svg"), std::string::npos);
+}
+
+TEST(QuadrupedWorkspace, CylinderForcesAlongTheSwingAreJTransposeOfTheFootForce) {
+  // Route 1: the actuated leg following the swing (follow). Route 2: the pose-driven leg's own
+  // Newton-Euler gives the force its foot driver needs; the cylinders realising the same motion
+  // carry J^T of it (virtual power, J = the seed's product at the solved lengths).
+  const SpatialModel driven = read_spatial_model(spatial::kSwing);
+  const SpatialModel twin = read_spatial_model(spatial::kLeg);
+  FollowOptions o;
+  o.samples = 41;
+  const FollowResult r = follow(driven, twin, o);
+  ASSERT_EQ(r.rows.size(), 41U);
+  ASSERT_EQ(r.columns[4], "l1.effort");
+  const spatial::Seed seed(twin);
+  const spatial::SpatialSolver ik(driven, {});
+  const Eigen::Vector3d ref = seed.reference_lengths();
+  spatial::SpatialState s;
+  double peak[3] = {0, 0, 0}, worst = 0;
+  for (const auto& row : r.rows) {
+    ik.solve(row[0], s);
+    const spatial::SpatialLoads loads = spatial::inverse_dynamics(ik, s);
+    Eigen::Vector3d foot_force;
+    for (int k = 0; k < 3; ++k)
+      foot_force[k] = loads.effort[spatial::primary_index(ik, std::string("foot.") + "xyz"[k])];
+    const Eigen::Vector3d l(row[1] + ref[0], row[5] + ref[1], row[9] + ref[2]);
+    const Eigen::Vector3d expected = seed.jacobian(l).transpose() * foot_force;
+    const Eigen::Vector3d effort(row[4], row[8], row[12]);
+    worst = std::max(worst, (effort - expected).norm() / std::max(1.0, expected.norm()));
+    for (int k = 0; k < 3; ++k) peak[k] = std::max(peak[k], std::abs(effort[k]));
+  }
+  EXPECT_LT(worst, 1e-9);
+  std::printf(
+      "swing cylinder forces (stated masses): peak |F1| %.1f N, |F2| %.1f N, |F3| %.2e N; "
+      "vs J^T F_foot %.1e (relative)\n",
+      peak[0], peak[1], peak[2], worst);
+}
+
+// Does the swing (S, H) at the model's stance point keep every cylinder inside its stroke?
+bool inside_strokes(const SpatialModel& m, double S, double H, double* first_exit = nullptr) {
+  std::vector<double> p = m.common.default_parameters();
+  for (size_t k = 0; k < p.size(); ++k) {
+    if (m.common.parameters[k].name == "S") p[k] = S;
+    if (m.common.parameters[k].name == "H") p[k] = H;
+  }
+  const spatial::SpatialSolver ik(m, p);
+  const Eigen::Vector3d ref = spatial::Seed(m).reference_lengths();
+  const double lo[3] = {0.35, 0.35, 0.28}, hi[3] = {0.5, 0.5, 0.34};
+  const char* names[3] = {"cyl1", "cyl2", "cyl3"};
+  spatial::SpatialState s;
+  const double T = spatial::param(m, "T");
+  for (int k = 0; k <= 100; ++k) {
+    ik.solve(T * k / 100, s);
+    for (int c = 0; c < 3; ++c) {
+      const double l =
+          s.q[ik.graph().joint_column[static_cast<size_t>(m.joint_index(names[c]))]] + ref[c];
+      if (l < lo[c] || l > hi[c]) {
+        if (first_exit) *first_exit = T * k / 100;
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+TEST(QuadrupedWorkspace, NearestFeasibleSwing) {
+  const SpatialModel m = read_spatial_model(spatial::kSwing);
+  double exit_t = -1;
+  EXPECT_FALSE(inside_strokes(m, 0.5, 0.3, &exit_t));
+  // Largest H at S = 0.5 and largest S at H = 0.3 (bisection to 1 mm), each checked on both sides.
+  auto largest = [&](bool vary_h) {
+    double ok = 0.0, bad = vary_h ? 0.3 : 0.5;
+    while (bad - ok > 1e-3) {
+      const double mid = (ok + bad) / 2;
+      (vary_h ? inside_strokes(m, 0.5, mid) : inside_strokes(m, mid, 0.3)) ? ok = mid : bad = mid;
+    }
+    return ok;
+  };
+  const double H = largest(true), S = largest(false);
+  EXPECT_TRUE(inside_strokes(m, 0.5, H));
+  EXPECT_FALSE(inside_strokes(m, 0.5, H + 2e-3));
+  std::printf(
+      "seed swing S = 0.5, H = 0.3 leaves the strokes at t = %.2f s; feasible at this "
+      "stance: H <= %.3f m with S = 0.5 m, S <= %.3f m with H = 0.3 m\n",
+      exit_t, H, S);
 }
 
 }  // namespace

@@ -488,6 +488,7 @@ const std::vector<Command>& commands() {
       walk_command(),
       draw_command(),
       workspace_command(),
+      follow_command(),
   };
   return list;
 }

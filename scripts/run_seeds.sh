@@ -20,7 +20,7 @@ steps=(
   swing      # the seed's swing S = 0.5 m, H = 0.3 m, T = 2 s: foot path and cylinders (IK) ->
              # out/quadruped_swing_ik.csv; cylinders' lengths, rates, accelerations and forces ->
              # out/quadruped_swing.csv and out/quadruped_swing_{length,rate,acceleration,force}.svg
-  feasible   # the same with the largest lift inside the strokes (H = 0.185 m) -> *_feasible*
+  feasible   # the same with the largest lift inside the strokes (H = 0.184 m) -> *_feasible*
 )
 
 step_build() {
@@ -51,7 +51,7 @@ swing_run() {
 
 step_swing() { swing_run quadruped_swing "seed 002 swing S = 0.5 m, H = 0.3 m"; }
 step_feasible() {
-  swing_run quadruped_swing_feasible "swing S = 0.5 m, H = 0.185 m (inside the strokes)" --set H=0.185
+  swing_run quadruped_swing_feasible "swing S = 0.5 m, H = 0.184 m (inside the strokes)" --set H=0.184
 }
 
 mkdir -p "$out"

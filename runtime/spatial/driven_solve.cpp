@@ -81,6 +81,20 @@ bool newton_step(const SpatialSolver& solver, const Eigen::VectorXd& qp, Spatial
   return mismatch(solver, state).norm() < 1e-12;
 }
 
+// One more Newton correction from a closed state: the residual goes from the closing tolerance
+// (1e-13) to round-off, which matters for the coordinates near a singular pose (a knee almost
+// straight), where that residual is amplified.
+void polish(const SpatialSolver& solver, SpatialState& state) {
+  const SpatialGraph& g = solver.graph();
+  if (g.circuits() == 0 || g.secondary.empty()) return;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(pick(solver.network(state), g.secondary));
+  qr.setThreshold(1e-10);
+  const Eigen::VectorXd dq = qr.solve(-mismatch(solver, state));
+  for (size_t k = 0; k < g.secondary.size(); ++k)
+    state.q[g.secondary[k]] += dq[static_cast<Eigen::Index>(k)];
+  solver.place(state);
+}
+
 }  // namespace
 
 bool assemble_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, SpatialState& state,
@@ -114,6 +128,7 @@ void solve_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, const Eige
                      "(Newton-Raphson from the warm start): out of reach, or too far "
                      "from the start for one step");
   }
+  polish(solver, state);
   solver.rates(state, qpd, qpdd);
   state.assembled = true;
 }

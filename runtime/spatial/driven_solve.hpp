@@ -22,8 +22,9 @@ namespace mechgen::spatial {
 bool assemble_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, SpatialState& state,
                  double max_step = std::numeric_limits<double>::infinity(), int iterations = 40);
 
-// assemble_at, then the rates for primary rates qpd and accelerations qpdd (state.t unchanged).
-// Throws ModelError when the circuits do not close.
+// assemble_at, one more Newton correction (the residual to round-off), then the rates for primary
+// rates qpd and accelerations qpdd (state.t unchanged). Throws ModelError when the circuits do not
+// close.
 void solve_at(const SpatialSolver& solver, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
               const Eigen::VectorXd& qpdd, SpatialState& state,
               double max_step = std::numeric_limits<double>::infinity());

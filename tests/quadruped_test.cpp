@@ -293,6 +293,39 @@ TEST(QuadrupedLeg, InverseOfForwardIsIdentityOverTheStrokeBox) {
   EXPECT_LT(worst, 1e-12);
 }
 
+// The closed-form inverse the seed outlines: theta10 from the lateral plane, then the planar
+// two-link part (thigh b, lower link a + c from Q) analytically, then the seed's l1, l2, l3
+// formulas. With the foot below the hip (z_D < 0) the seed's theta10 = atan2(-Y_D, Z_D) is off by
+// pi: theta10 = atan2(Y_D, -Z_D), z_D = -sqrt(Y_D^2 + Z_D^2).
+Eigen::Vector3d closed_form_ik(const Seed& s, const Eigen::Vector3d& D) {
+  const double t10 = std::atan2(D[1], -D[2]);
+  const double x = D[0], z = -std::hypot(D[1], D[2]) + s.h;  // relative to Q
+  const double L = s.a + s.c;
+  const double t2 = std::acos((x * x + z * z - s.b * s.b - L * L) / (2 * s.b * L));  // > 0 branch
+  const double t1 = std::atan2(z, x) - std::atan2(L * std::sin(t2), s.b + L * std::cos(t2));
+  const double t3 = t1 - s.th5, t4 = 2 * M_PI - t1 - t2;
+  return {std::sqrt(s.f * s.f + s.d * s.d - 2 * s.f * s.d * std::cos(t3 - s.th8)),
+          std::sqrt(s.a * s.a + s.e * s.e - 2 * s.a * s.e * std::cos(t4 + s.th7)),
+          std::sqrt(s.i * s.i + s.j * s.j - 2 * s.i * s.j * std::cos(t10 - s.th11 + M_PI / 2))};
+}
+
+TEST(QuadrupedLeg, ClosedFormInverseEqualsTheSolversOverTheStrokeBox) {
+  const Leg leg;
+  const Ik ik;
+  const Eigen::Vector3d ref = leg.seed.reference_lengths();
+  for (const Eigen::Vector3d& l : stroke_grid(4)) {
+    const Eigen::Vector3d foot = E(point(leg.solver, leg.at(l), "shank", "D"));
+    EXPECT_LT((closed_form_ik(leg.seed, foot) - l).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT(
+        (ik.cylinders(ik.at(foot), 0) + ref - closed_form_ik(leg.seed, foot)).cwiseAbs().maxCoeff(),
+        1e-12);
+    // The seed's printed theta10 = atan2(-Y_D, Z_D) is the supplement here.
+    EXPECT_NEAR(
+        std::abs(std::remainder(std::atan2(-foot[1], foot[2]) - leg.seed.theta10(l[2]), 2 * M_PI)),
+        M_PI, 1e-12);
+  }
+}
+
 TEST(QuadrupedLeg, JacobianIsTheSeedsProductAndForcesMapThroughItsTranspose) {
   // Statics: only the foot carries a mass (a point mass at D), every other body massless; the
   // gravity vector is turned so the foot force has all three components.

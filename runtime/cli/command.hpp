@@ -173,5 +173,7 @@ Command draw_command();        // cmd_draw.cpp
 Command loads_command();       // cmd_loads.cpp
 Command zmp_command();         // cmd_zmp.cpp
 Command merge_command();       // cmd_merge.cpp
+Command workspace_command();   // cmd_workspace.cpp
+Command follow_command();      // cmd_follow.cpp
 
 }  // namespace mechgen::cli

@@ -437,6 +437,8 @@ const std::vector<Command>& commands() {
       size_motor_command(),
       walk_command(),
       draw_command(),
+      workspace_command(),
+      follow_command(),
   };
   return list;
 }

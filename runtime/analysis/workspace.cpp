@@ -1,0 +1,248 @@
+// Monte Carlo workspace of a spatial model (workspace.hpp).
+#include "analysis/workspace.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "report/svg_plot.hpp"
+#include "spatial/driven_solve.hpp"
+#include "spatial/spatial_solver.hpp"
+
+namespace mechgen::analysis {
+
+namespace {
+
+// Counter-based uniform numbers: sample k, coordinate c gives the same draw on any thread count.
+double uniform(std::uint64_t seed, std::uint64_t k, std::uint64_t c) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + k * 0xBF58476D1CE4E5B9ULL + c + 1;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+// The longest run of occupied cells along one direction of the grid, in cells, and where.
+struct Run {
+  int length = 0, line = 0, from = 0;
+};
+Run longest_run(const Projection& p, bool along_h) {
+  Run best;
+  const int lines = along_h ? p.nv : p.nh, cells = along_h ? p.nh : p.nv;
+  for (int line = 0; line < lines; ++line) {
+    int run = 0;
+    for (int c = 0; c < cells; ++c) {
+      const int h = along_h ? c : line, v = along_h ? line : c;
+      run = p.counts[static_cast<size_t>(v * p.nh + h)] > 0 ? run + 1 : 0;
+      if (run > best.length) best = {run, line, c - run + 1};
+    }
+  }
+  return best;
+}
+
+Projection project(const std::vector<std::array<double, 3>>& pts, int h, int v,
+                   const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cell) {
+  const char* names[3] = {"X", "Y", "Z"};
+  Projection p;
+  p.h_name = names[h], p.v_name = names[v];
+  p.cell = cell;
+  p.nh = std::max(1, static_cast<int>(std::ceil(
+                         (hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)]) / p.cell)));
+  p.nv = std::max(1, static_cast<int>(std::ceil(
+                         (hi[static_cast<size_t>(v)] - lo[static_cast<size_t>(v)]) / p.cell)));
+  p.h_min = lo[static_cast<size_t>(h)], p.v_min = lo[static_cast<size_t>(v)];
+  p.counts.assign(static_cast<size_t>(p.nh) * static_cast<size_t>(p.nv), 0);
+  for (const auto& x : pts) {
+    if (!std::isfinite(x[0])) continue;
+    const int i =
+        std::min(p.nh - 1, static_cast<int>((x[static_cast<size_t>(h)] - p.h_min) / p.cell));
+    const int j =
+        std::min(p.nv - 1, static_cast<int>((x[static_cast<size_t>(v)] - p.v_min) / p.cell));
+    ++p.counts[static_cast<size_t>(j * p.nh + i)];
+  }
+  return p;
+}
+
+// The image at `bins` cells along its longer side; the chords on cells of chord_cell.
+Projection image(const std::vector<std::array<double, 3>>& pts, int h, int v,
+                 const std::array<double, 3>& lo, const std::array<double, 3>& hi, int bins,
+                 double chord_cell) {
+  const double span = std::max({hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)],
+                                hi[static_cast<size_t>(v)] - lo[static_cast<size_t>(v)], 1e-9});
+  Projection p = project(pts, h, v, lo, hi, span / bins);
+  const Projection c = project(pts, h, v, lo, hi, chord_cell);
+  const Run rh = longest_run(c, true), rv = longest_run(c, false);
+  p.chord_cell = chord_cell;
+  p.h_chord = rh.length * c.cell, p.h_chord_at = c.v_min + (rh.line + 0.5) * c.cell;
+  p.h_chord_from = c.h_min + rh.from * c.cell;
+  p.v_chord = rv.length * c.cell, p.v_chord_at = c.h_min + (rv.line + 0.5) * c.cell;
+  p.v_chord_from = c.v_min + rv.from * c.cell;
+  return p;
+}
+
+}  // namespace
+
+WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions& options) {
+  const spatial::SpatialSolver solver(model, options.parameters);
+  if (!model.pose_drivers.empty())
+    throw ModelError(model.pose_drivers.front().loc,
+                     "workspace samples joint drivers' ranges; pose driver '" +
+                         model.pose_drivers.front().name + "' has none");
+  WorkspaceResult r;
+  const GiNaC::exmap subs = model.common.substitutions(solver.parameters());
+  const SpatialGraph& g = solver.graph();
+  std::vector<std::array<double, 2>> range(g.primary.size());
+  for (size_t k = 0; k < g.primary.size(); ++k) {
+    const SpatialDriver& d =
+        model.drivers[static_cast<size_t>(g.columns[static_cast<size_t>(g.primary[k])].driver)];
+    if (!d.range)
+      throw ModelError(d.loc, "driver '" + d.name + "' has no range: give range: [min, max]");
+    range[k] = {model.evaluate(d.range->at(0), subs), model.evaluate(d.range->at(1), subs)};
+    for (const auto& [name, value] : options.fixed)
+      if (name == d.name) range[k] = {value, value};
+    r.drivers.push_back(d.name);
+  }
+  for (const auto& f : options.fixed)
+    if (std::find(r.drivers.begin(), r.drivers.end(), f.first) == r.drivers.end())
+      throw ModelError(SourceLoc{model.common.file, 0, 0}, "no driver named '" + f.first + "'");
+  r.ranges = range;
+  // The point: its body and body-frame position.
+  const auto points = model.named_points();
+  if (points.empty())
+    throw ModelError(SourceLoc{model.common.file, 0, 0}, "the model names no point");
+  r.point = options.point.empty() ? points.back().first : options.point;
+  int body = -1;
+  spatial::V3 local{};
+  for (const auto& [name, b] : points)
+    if (name == r.point) {
+      body = b;
+      const SpatialBody& sb = model.bodies[static_cast<size_t>(b)];
+      for (size_t k = 0; k < sb.points.size(); ++k)
+        if (sb.points[k].name == name) local = solver.instance().points[static_cast<size_t>(b)][k];
+    }
+  if (body < 0)
+    throw ModelError(SourceLoc{model.common.file, 0, 0}, "no point named '" + r.point + "'");
+
+  spatial::SpatialState start;
+  solver.solve(model.evaluate(model.common.step.t0, subs), start);
+  r.samples = std::max(0L, options.samples);
+  std::vector<std::array<double, 3>> pts(static_cast<size_t>(r.samples));
+  const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
+  r.threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
+  std::vector<long> ok(static_cast<size_t>(r.threads), 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
+  auto work = [&](int thread) {
+    Eigen::VectorXd qp(static_cast<Eigen::Index>(g.primary.size()));
+    for (long k = thread; k < r.samples; k += r.threads) {
+      for (size_t c = 0; c < g.primary.size(); ++c)
+        qp[static_cast<Eigen::Index>(c)] =
+            range[c][0] +
+            (range[c][1] - range[c][0]) * uniform(options.seed, static_cast<std::uint64_t>(k), c);
+      spatial::SpatialState s = start;
+      if (spatial::assemble_at(solver, qp, s)) {
+        pts[static_cast<size_t>(k)] = solver.point_position(s, body, local);
+        ++ok[static_cast<size_t>(thread)];
+      } else {
+        pts[static_cast<size_t>(k)].fill(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < r.threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  for (const long n : ok) r.assembled += n;
+  r.lo.fill(std::numeric_limits<double>::infinity());
+  r.hi.fill(-std::numeric_limits<double>::infinity());
+  for (const auto& x : pts)
+    for (size_t c = 0; c < 3 && std::isfinite(x[0]); ++c)
+      r.lo[c] = std::min(r.lo[c], x[c]), r.hi[c] = std::max(r.hi[c], x[c]);
+  r.sagittal = image(pts, 0, 2, r.lo, r.hi, options.bins, options.chord_cell);
+  r.frontal = image(pts, 1, 2, r.lo, r.hi, options.bins, options.chord_cell);
+  return r;
+}
+
+std::string density_svg(const Projection& p, const std::string& title) {
+  const double scale = 560.0 / std::max(p.nh, p.nv);  // pixels per cell
+  const double left = 70, top = 40, w = p.nh * scale, hgt = p.nv * scale;
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + w + 30 << "\" height=\""
+    << top + hgt + 60 << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << left << "\" y=\"22\" font-size=\"14\">" << report::xml_escape(title)
+    << "</text>\n";
+  long most = 1;
+  for (const long c : p.counts) most = std::max(most, c);
+  for (int j = 0; j < p.nv; ++j)
+    for (int i = 0; i < p.nh; ++i) {
+      const long c = p.counts[static_cast<size_t>(j * p.nh + i)];
+      if (c == 0) continue;
+      // Shade by log count: light blue (one sample) to dark blue (the densest cell).
+      const double s = std::log1p(static_cast<double>(c)) / std::log1p(static_cast<double>(most));
+      const int red = static_cast<int>(200 - 190 * s), green = static_cast<int>(220 - 160 * s);
+      o << "<rect x=\"" << left + i * scale << "\" y=\"" << top + hgt - (j + 1) * scale
+        << "\" width=\"" << scale + 0.05 << "\" height=\"" << scale + 0.05 << "\" fill=\"rgb("
+        << red << "," << green << ",255)\"/>\n";
+    }
+  o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << hgt
+    << "\" fill=\"none\" stroke=\"black\"/>\n";
+  const double h_max = p.h_min + p.nh * p.cell, v_max = p.v_min + p.nv * p.cell;
+  const std::vector<double> ht = report::nice_ticks(p.h_min, h_max, 6);
+  const std::vector<std::string> hl = report::tick_labels(ht);
+  for (size_t k = 0; k < ht.size(); ++k) {
+    const double x = left + (ht[k] - p.h_min) / p.cell * scale;
+    o << "<line x1=\"" << x << "\" y1=\"" << top + hgt << "\" x2=\"" << x << "\" y2=\""
+      << top + hgt + 5 << "\" stroke=\"black\"/><text x=\"" << x << "\" y=\"" << top + hgt + 18
+      << "\" text-anchor=\"middle\">" << hl[k] << "</text>\n";
+  }
+  const std::vector<double> vt = report::nice_ticks(p.v_min, v_max, 6);
+  const std::vector<std::string> vl = report::tick_labels(vt);
+  for (size_t k = 0; k < vt.size(); ++k) {
+    const double y = top + hgt - (vt[k] - p.v_min) / p.cell * scale;
+    o << "<line x1=\"" << left - 5 << "\" y1=\"" << y << "\" x2=\"" << left << "\" y2=\"" << y
+      << "\" stroke=\"black\"/><text x=\"" << left - 8 << "\" y=\"" << y + 4
+      << "\" text-anchor=\"end\">" << vl[k] << "</text>\n";
+  }
+  o << "<text x=\"" << left + w / 2 << "\" y=\"" << top + hgt + 40 << "\" text-anchor=\"middle\">"
+    << p.h_name << " [m]</text>\n<text x=\"18\" y=\"" << top + hgt / 2
+    << "\" transform=\"rotate(-90 18 " << top + hgt / 2 << ")\" text-anchor=\"middle\">" << p.v_name
+    << " [m]</text>\n</svg>\n";
+  return o.str();
+}
+
+std::string workspace_csv(const WorkspaceResult& r) {
+  std::ostringstream o;
+  o.precision(9);
+  o << "quantity,value,unit\n"
+    << "samples," << r.samples << ",\nassembled," << r.assembled << ",\nthreads," << r.threads
+    << ",\nseconds," << r.seconds << ",s\ncpu_seconds," << r.cpu_seconds << ",s\nus_per_sample,"
+    << r.cpu_seconds / static_cast<double>(std::max(1L, r.samples)) * 1e6 << ",us (CPU)\n";
+  for (size_t k = 0; k < r.drivers.size(); ++k)
+    o << r.drivers[k] << ".min," << r.ranges[k][0] << ",\n"
+      << r.drivers[k] << ".max," << r.ranges[k][1] << ",\n";
+  const char* axis[3] = {"x", "y", "z"};
+  for (size_t c = 0; c < 3; ++c)
+    o << r.point << "." << axis[c] << ".min," << r.lo[c] << ",m\n"
+      << r.point << "." << axis[c] << ".max," << r.hi[c] << ",m\n"
+      << r.point << "." << axis[c] << ".extent," << r.hi[c] - r.lo[c] << ",m\n";
+  const Projection& s = r.sagittal;
+  o << "sagittal.chord_cell," << s.chord_cell << ",m\n"
+    << "sagittal.longest_horizontal_chord," << s.h_chord << ",m\n"
+    << "sagittal.longest_horizontal_chord.z," << s.h_chord_at << ",m\n"
+    << "sagittal.longest_horizontal_chord.x_from," << s.h_chord_from << ",m\n"
+    << "sagittal.longest_vertical_chord," << s.v_chord << ",m\n"
+    << "sagittal.longest_vertical_chord.x," << s.v_chord_at << ",m\n"
+    << "sagittal.longest_vertical_chord.z_from," << s.v_chord_from << ",m\n"
+    << "frontal.longest_horizontal_chord," << r.frontal.h_chord << ",m\n"
+    << "frontal.longest_vertical_chord," << r.frontal.v_chord << ",m\n";
+  return o.str();
+}
+
+}  // namespace mechgen::analysis

@@ -79,5 +79,38 @@ TEST(BioloidModel, StandingMotionClosesWithStraightWrists) {
   }
 }
 
+// The solver driven by a primary motion given from outside the description (the gait planner's
+// way in): moving all five virtual chains by the same translation moves every body by it and
+// leaves every real joint where it was.
+TEST(BioloidModel, GivenPrimaryMotionTranslatesTheWholeBody) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
+  const SpatialSolver solver(model, {});
+  const SpatialGraph& g = solver.graph();
+  const double t = 0.3;
+  SpatialState a, b;
+  solver.solve(t, a);
+  Eigen::VectorXd qp, qpd, qpdd;
+  solver.primary_motion(t, qp, qpd, qpdd);
+  const V3 shift{0.05, -0.02, 0.01};
+  for (size_t k = 0; k < g.primary.size(); ++k) {
+    const SpatialColumn& c = g.columns[static_cast<size_t>(g.primary[k])];
+    const std::string& name = model.pose_drivers[static_cast<size_t>(c.pose_driver)]
+                                  .coordinates[static_cast<size_t>(c.pose_coordinate)]
+                                  .name;
+    if (name.size() == 1)
+      qp[static_cast<Eigen::Index>(k)] += shift[static_cast<size_t>(name[0] - 'x')];
+  }
+  solver.solve(t, qp, qpd, qpdd, b);
+  for (const int c : g.secondary) EXPECT_NEAR(b.q[c], a.q[c], 1e-12);
+  EXPECT_LT((b.qd - a.qd).norm(), 1e-12);
+  for (size_t body = 0; body < model.bodies.size(); ++body) {
+    if (static_cast<int>(body) == model.ground || model.bodies[body].is_virtual) continue;
+    const V3 d = solver.body_pose(b, static_cast<int>(body)).p -
+                 solver.body_pose(a, static_cast<int>(body)).p;
+    for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(d[i], shift[i], 1e-12) << model.bodies[body].name;
+  }
+  EXPECT_THROW(solver.solve(t, qp.head(3), qpd, qpdd, b), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace mechgen::spatial

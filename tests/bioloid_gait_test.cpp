@@ -280,6 +280,15 @@ TEST(BioloidGait, PolygonMarginIsTheDistanceToTheNearestEdge) {
   std::vector<V3> clockwise(square.rbegin(), square.rend());
   EXPECT_NEAR(polygon_margin(clockwise, {0.09, 0.03, 0}), 0.01, 1e-15);
   EXPECT_NEAR(polygon_margin(square, {0.13, 0.03, 0}), -0.03, 1e-15);
+  // The hull of the corners and an inner point is the four corners, counter-clockwise.
+  std::vector<V3> pts = clockwise;
+  pts.push_back({0.05, 0.03, 0});
+  const std::vector<V3> hull = convex_hull_xy(pts);
+  ASSERT_EQ(hull.size(), 4u);
+  double area = 0;
+  for (size_t i = 0; i < 4; ++i)
+    area += hull[i][0] * hull[(i + 1) % 4][1] - hull[(i + 1) % 4][0] * hull[i][1];
+  EXPECT_NEAR(area / 2, 0.006, 1e-15);
 }
 
 }  // namespace

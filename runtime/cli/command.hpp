@@ -161,11 +161,12 @@ struct Command {
 
 // ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------
 
-Command grid_command();        // cmd_grid.cpp
-Command size_motor_command();  // cmd_size_motor.cpp
-Command walk_command();        // cmd_walk.cpp
-Command draw_command();        // cmd_draw.cpp
-Command loads_command();       // cmd_loads.cpp
-Command zmp_command();         // cmd_zmp.cpp
+Command grid_command();           // cmd_grid.cpp
+Command size_motor_command();     // cmd_size_motor.cpp
+Command walk_command();           // cmd_walk.cpp
+Command draw_command();           // cmd_draw.cpp
+Command loads_command();          // cmd_loads.cpp
+Command zmp_command();            // cmd_zmp.cpp
+Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
 
 }  // namespace mechgen::cli

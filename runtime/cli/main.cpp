@@ -487,6 +487,7 @@ const std::vector<Command>& commands() {
       size_motor_command(),
       walk_command(),
       draw_command(),
+      humanoid_gait_command(),
   };
   return list;
 }

@@ -1,6 +1,7 @@
 // Single-support inverse dynamics of the real-body tree and the two ZMPs (floating_base.hpp).
 #include "spatial/floating_base.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -102,6 +103,27 @@ V3 zmp_of(const Wrench& w, double floor_z) {
 V3 lip_zmp(const V3& com, const V3& a, double g, double floor_z) {
   const double k = (com[2] - floor_z) / g;
   return {com[0] - k * a[0], com[1] - k * a[1], floor_z};
+}
+
+std::vector<V3> convex_hull_xy(std::vector<V3> pts) {
+  std::sort(pts.begin(), pts.end(),
+            [](const V3& a, const V3& b) { return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]); });
+  if (pts.size() < 3) return pts;
+  auto turn = [](const V3& o, const V3& a, const V3& b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  };
+  std::vector<V3> hull(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {  // lower hull
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {  // upper hull
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k - 1);
+  return hull;
 }
 
 double polygon_margin(const std::vector<V3>& poly, const V3& p) {

@@ -38,6 +38,10 @@ V3 zmp_of(const Wrench& w, double floor_z = 0);
 // Kajita's LIP-3D ZMP from the centre of mass position and acceleration (gravity magnitude g).
 V3 lip_zmp(const V3& com, const V3& com_acceleration, double g, double floor_z = 0);
 
+// The convex hull of points projected on the x-y plane (Andrew's monotone chain), counter-
+// clockwise: a foot's support polygon from its sole points.
+std::vector<V3> convex_hull_xy(std::vector<V3> points);
+
 // Signed distance from a point to the edge of a convex polygon in the x-y plane (positive
 // inside), the vertices in either winding order.
 double polygon_margin(const std::vector<V3>& polygon, const V3& point);

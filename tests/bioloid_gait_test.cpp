@@ -28,11 +28,7 @@ struct Walk {
       for (int i = 0; i < per_step; ++i) t.push_back(k * T + T * (i + 0.5) / per_step);
     return t;
   }
-  void solve(double t, SpatialState& s) const {
-    Eigen::VectorXd q, qd, qdd;
-    gait.primary_motion(t, q, qd, qdd);
-    solver.solve(t, q, qd, qdd, s);
-  }
+  void solve(double t, SpatialState& s) const { gait.solve(t, s); }
   int column(const std::string& joint) const {
     return solver.graph().joint_column[static_cast<size_t>(model.joint_index(joint))];
   }
@@ -52,7 +48,7 @@ TEST(BioloidGait, ClosureAndDaviesVelocitiesAgainstFiniteDifferences) {
     a = s, b = s;
     w.solve(t - h, a);
     w.solve(t + h, b);
-    for (const int c : w.solver.graph().secondary) {
+    for (int c = 0; c < w.solver.graph().cols(); ++c) {
       worst_v = std::max(worst_v, std::abs((b.q[c] - a.q[c]) / (2 * h) - s.qd[c]));
       worst_a = std::max(worst_a, std::abs((b.qd[c] - a.qd[c]) / (2 * h) - s.qdd[c]));
     }
@@ -272,6 +268,35 @@ TEST(BioloidGait, PlannedPendulumHasItsZmpOnTheSupportFoot) {
     EXPECT_NEAR(v1[0], v2[0], 1e-5);
     EXPECT_NEAR(v1[1], v2[1], 1e-5);
   }
+}
+
+// The whole-body centre of mass follows the planned pendulum: positions, velocities and
+// accelerations, so that the LIP-3D ZMP of the real centre of mass is the support foot's centre.
+TEST(BioloidGait, CentreOfMassFollowsThePendulum) {
+  const Walk w;
+  const double g = -w.solver.instance().gravity[2], h = 1e-6;
+  SpatialState s;
+  double worst_p = 0, worst_v = 0, worst_a = 0, worst_zmp = 0;
+  for (const double t : w.times(5)) {
+    w.solve(t, s);
+    const CentreOfMass c = centre_of_mass(w.solver, s);
+    const V3 p = w.gait.planned_com(t);
+    const V3 v = (1 / (2 * h)) * (w.gait.planned_com(t + h) - w.gait.planned_com(t - h));
+    const V3 a = (1 / (h * h)) * (w.gait.planned_com(t + h) - 2.0 * p + w.gait.planned_com(t - h));
+    const V3 zmp = lip_zmp(c.p, c.a, g), planned = w.gait.planned_zmp(t);
+    for (size_t i = 0; i < 3; ++i) {
+      worst_p = std::max(worst_p, std::abs(c.p[i] - p[i]));
+      worst_v = std::max(worst_v, std::abs(c.v[i] - v[i]));
+      worst_a = std::max(worst_a, std::abs(c.a[i] - a[i]));
+    }
+    worst_zmp = std::max({worst_zmp, std::abs(zmp[0] - planned[0]), std::abs(zmp[1] - planned[1])});
+  }
+  EXPECT_LT(worst_p, 1e-12);
+  EXPECT_LT(worst_v, 1e-8);
+  EXPECT_LT(worst_a, 1e-3);
+  EXPECT_LT(worst_zmp, 1e-12);
+  std::cout << "centre of mass vs pendulum: " << worst_p << " m, " << worst_v << " m/s (FD), "
+            << worst_a << " m/s^2 (FD); LIP ZMP vs planned " << worst_zmp << " m\n";
 }
 
 TEST(BioloidGait, PolygonMarginIsTheDistanceToTheNearestEdge) {

@@ -97,9 +97,7 @@ int run_humanoid_gait(const Args& args) {
   for (int i = 0; i < n; ++i) {
     // Inside each step (a support switch is an instant with both feet down).
     const double t = T * (i / per_step) + T * ((i % per_step) + 0.5) / per_step;
-    Eigen::VectorXd q, qd, qdd;
-    gait.primary_motion(t, q, qd, qdd);
-    solver.solve(t, q, qd, qdd, s);
+    gait.solve(t, s);
     worst_closure = std::max(worst_closure, (solver.network(s) * s.qd).cwiseAbs().maxCoeff());
     const int side = gait.support(t);
     const int foot = model.pose_drivers[static_cast<size_t>(gait.foot_driver(side))].second;

@@ -2,6 +2,7 @@
 #include "spatial/humanoid_gait.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace mechgen::spatial {
@@ -54,6 +55,20 @@ CentreOfMass centre_of_mass(const SpatialSolver& solver, const SpatialState& sta
   const double k = 1 / c.mass;
   c.p = k * c.p, c.v = k * c.v, c.a = k * c.a;
   return c;
+}
+
+Eigen::MatrixXd com_jacobian(const SpatialSolver& solver, const SpatialState& state) {
+  const SpatialInstance& in = solver.instance();
+  Eigen::MatrixXd J =
+      Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(solver.graph().primary.size()));
+  double mass = 0;
+  for (size_t b = 0; b < in.mass.size(); ++b) {
+    if (static_cast<int>(b) == solver.model().ground || in.mass[b] == 0) continue;
+    const int bi = static_cast<int>(b);
+    J += in.mass[b] * solver.point_jacobian(state, bi, solver.point_position(state, bi, in.com[b]));
+    mass += in.mass[b];
+  }
+  return J / mass;
 }
 
 HumanoidGait::HumanoidGait(const SpatialSolver& solver, const GaitSettings& settings,
@@ -187,6 +202,52 @@ void HumanoidGait::primary_motion(double t, Eigen::VectorXd& q, Eigen::VectorXd&
     qd[k] = m.v[i];
     qdd[k] = m.a[i];
   }
+}
+
+void HumanoidGait::solve(double t, SpatialState& s) const {
+  const SpatialGraph& g = solver_.graph();
+  Eigen::VectorXd q, qd, qdd;
+  primary_motion(t, q, qd, qdd);
+  // Per axis, the translation coordinates (positions in graph().primary) of the waist and of the
+  // pose drivers carried with it: they move together.
+  std::array<std::vector<Eigen::Index>, 3> w;
+  for (size_t k = 0; k < g.primary.size(); ++k) {
+    const SpatialColumn& col = g.columns[static_cast<size_t>(g.primary[k])];
+    if (col.pose_driver < 0 || col.pose_coordinate >= 3 || col.pose_driver == drivers_[1] ||
+        col.pose_driver == drivers_[2])
+      continue;
+    w[static_cast<size_t>(col.pose_coordinate)].push_back(static_cast<Eigen::Index>(k));
+  }
+  const Motion target = com(t);
+  auto waist_block = [&](const Eigen::MatrixXd& J) {
+    Eigen::Matrix3d Jw = Eigen::Matrix3d::Zero();
+    for (size_t i = 0; i < 3; ++i)
+      for (const Eigen::Index k : w[i]) Jw.col(static_cast<Eigen::Index>(i)) += J.col(k);
+    return Jw;
+  };
+  auto add = [&](Eigen::VectorXd& x, const Eigen::Vector3d& d) {
+    for (size_t i = 0; i < 3; ++i)
+      for (const Eigen::Index k : w[i]) x[k] += d[static_cast<Eigen::Index>(i)];
+  };
+  auto eigen = [](const V3& v) { return Eigen::Vector3d(v[0], v[1], v[2]); };
+  double error = 0;
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    solver_.solve(t, q, qd, qdd, s);
+    const Eigen::Vector3d e = eigen(target.p - centre_of_mass(solver_, s).p);
+    error = e.norm();
+    if (error < 1e-14) break;
+    add(q, waist_block(com_jacobian(solver_, s)).partialPivLu().solve(e));
+  }
+  if (!(error < 1e-11))
+    throw ModelError({solver_.model().common.file, 0, 0},
+                     "the waist cannot put the centre of mass on the gait's pendulum at t = " +
+                         std::to_string(t));
+  // c' = J q_p' and c'' = J q_p'' + (terms in q_p'): both linear in the waist's rates.
+  const Eigen::Matrix3d Jw = waist_block(com_jacobian(solver_, s));
+  add(qd, Jw.partialPivLu().solve(eigen(target.v - centre_of_mass(solver_, s).v)));
+  solver_.rates(s, qd, qdd);
+  add(qdd, Jw.partialPivLu().solve(eigen(target.a - centre_of_mass(solver_, s).a)));
+  solver_.rates(s, qd, qdd);
 }
 
 }  // namespace mechgen::spatial

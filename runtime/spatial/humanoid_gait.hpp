@@ -6,7 +6,9 @@
 //   c(tau) = p + (c0 - p) cosh(w tau) + (c0'/w) sinh(w tau),   w = sqrt(g / z_c),
 // periodic and symmetric about the support foot (forward: from -L/2 to +L/2 behind / ahead of
 // it; sideways: from the mid-line towards the foot and back), support switching instantly.
-// The waist follows c(t) minus the centre of mass' offset from the waist at the model's standing
+// The waist is placed so that the whole-body centre of mass follows c(t) exactly (Newton on the
+// waist's translation with the centre-of-mass Jacobian; its velocity and acceleration from the
+// same Jacobian, which maps them linearly), starting from c(t) minus the offset of the standing
 // pose; the swing foot moves 2 L forward along a quintic (zero velocity and acceleration at lift
 // and touch-down) and rises as h 64 u^3 (1 - u)^3. Steady walking: no start and stop phases.
 //
@@ -49,6 +51,10 @@ class HumanoidGait {
   // The primary coordinates (graph().primary order) and their rates at t.
   void primary_motion(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
                       Eigen::VectorXd& qdd) const;
+  // Solves the whole body at t with the waist moved so that the centre of mass follows the
+  // pendulum (positions to 1e-14 m, velocities and accelerations exactly). Throws ModelError when
+  // it cannot be placed so.
+  void solve(double t, SpatialState& state) const;
   // The planned pendulum: centre of mass and ZMP (the support foot's centre) at t.
   V3 planned_com(double t) const;
   V3 planned_zmp(double t) const;
@@ -81,5 +87,7 @@ struct CentreOfMass {
   V3 p{0, 0, 0}, v{0, 0, 0}, a{0, 0, 0};
 };
 CentreOfMass centre_of_mass(const SpatialSolver& solver, const SpatialState& state);
+// Its Jacobian: c' = J q_p' (3 x primaries, screw Jacobians of every body's centre of mass).
+Eigen::MatrixXd com_jacobian(const SpatialSolver& solver, const SpatialState& state);
 
 }  // namespace mechgen::spatial

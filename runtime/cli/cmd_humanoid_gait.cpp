@@ -3,6 +3,7 @@
 // the servos must give in single support against their stall torque, and the ZMP two ways (LIP-3D
 // from the centre of mass, exact from the floor wrench) with the margin to the support polygon.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -40,6 +41,7 @@ and steps. Writes into DIR:
   zmp_x.svg, zmp_y.svg     planned, LIP-3D and exact ZMP over time
   zmp_difference.svg       exact minus LIP-3D, per axis
   zmp_path.svg             top view: both ZMPs and the footprints
+  walk.svg                 animated stick figure, side and front views (10 frames per step)
 options:
   --samples-per-step N     samples in each step (default 50)
   --stall-torque T         servo stall torque in N m (default 1.5: Robotis AX-12)
@@ -55,6 +57,88 @@ void write_text(const std::string& path, const std::string& text) {
 report::Series series(const std::string& label, const std::vector<double>& x,
                       const std::vector<double>& y) {
   return {label, x, y};
+}
+
+// The stick figure of one solved state: per real body, lines from the joint point that carries it
+// (or, for the waist, its first named point) to the points of the joints it carries and to its own
+// named points. Each line as x1 y1 z1 x2 y2 z2.
+std::vector<std::array<double, 6>> stick_figure(const spatial::SpatialSolver& solver,
+                                                const spatial::SpatialState& s) {
+  const SpatialModel& m = solver.model();
+  const spatial::SpatialInstance& in = solver.instance();
+  std::vector<std::array<double, 6>> lines;
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    if (m.bodies[b].ground || m.bodies[b].is_virtual) continue;
+    const int bi = static_cast<int>(b);
+    std::vector<V3> ends;
+    V3 from{0, 0, 0};
+    bool have_from = false;
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+      if (m.joints[j].is_virtual) continue;
+      const V3 p = geometry::apply(s.D[b], in.joint_point[j]);
+      if (m.joints[j].second == bi) from = p, have_from = true;
+      if (m.joints[j].first == bi) ends.push_back(p);
+    }
+    for (size_t k = 0; k < m.bodies[b].points.size(); ++k) {
+      const V3 p = solver.point_position(s, bi, in.points[b][k]);
+      if (!have_from) {
+        from = p, have_from = true;
+        continue;
+      }
+      ends.push_back(p);
+    }
+    for (const V3& e : ends)
+      if (std::hypot(e[0] - from[0], e[1] - from[1], e[2] - from[2]) > 1e-6)
+        lines.push_back({from[0], from[1], from[2], e[0], e[1], e[2]});
+  }
+  return lines;
+}
+
+// Two orthographic views side by side (side: x right, z up; front: y to the viewer's right),
+// animated over the frames with SMIL, looping.
+std::string animated_drawing(const std::string& title,
+                             const std::vector<std::vector<std::array<double, 6>>>& frames,
+                             double duration) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const auto& f : frames)
+    for (const auto& l : f)
+      for (int i = 0; i < 6; ++i)
+        lo[i % 3] = std::min(lo[i % 3], l[static_cast<size_t>(i)]),
+               hi[i % 3] = std::max(hi[i % 3], l[static_cast<size_t>(i)]);
+  const double scale = 1500, pad = 20;  // px per m
+  const double side_w = (hi[0] - lo[0]) * scale + 2 * pad,
+               front_w = (hi[1] - lo[1]) * scale + 2 * pad;
+  const double h = (hi[2] - lo[2]) * scale + 2 * pad + 30;
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
+                    fixed(side_w + front_w, 6) + "\" height=\"" + fixed(h, 6) + "\">\n<title>" +
+                    report::xml_escape(title) +
+                    "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  out += "<text x=\"" + fixed(pad, 4) + "\" y=\"18\" font-size=\"14\">" +
+         report::xml_escape(title) + " (side view | front view)</text>\n";
+  const double floor_y = 30 + pad + hi[2] * scale;
+  out += "<line x1=\"0\" y1=\"" + fixed(floor_y, 6) + "\" x2=\"" + fixed(side_w + front_w, 6) +
+         "\" y2=\"" + fixed(floor_y, 6) + "\" stroke=\"#999\"/>\n";
+  const size_t nl = frames.front().size();
+  for (int view = 0; view < 2; ++view) {
+    const int axis = view == 0 ? 0 : 1;
+    const double x0 = view == 0 ? pad - lo[0] * scale : side_w + pad - lo[1] * scale;
+    for (size_t k = 0; k < nl; ++k) {
+      std::string values[4];
+      for (const auto& f : frames) {
+        const auto& l = f[k];
+        const double v[4] = {x0 + l[static_cast<size_t>(axis)] * scale, floor_y - l[2] * scale,
+                             x0 + l[static_cast<size_t>(3 + axis)] * scale, floor_y - l[5] * scale};
+        for (int i = 0; i < 4; ++i) values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
+      }
+      out += "<line stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
+      const char* attr[4] = {"x1", "y1", "x2", "y2"};
+      for (int i = 0; i < 4; ++i)
+        out += "<animate attributeName=\"" + std::string(attr[i]) + "\" dur=\"" +
+               fixed(duration, 6) + "s\" repeatCount=\"indefinite\" values=\"" + values[i] + "\"/>";
+      out += "</line>\n";
+    }
+  }
+  return out + "</svg>\n";
 }
 
 int run_humanoid_gait(const Args& args) {
@@ -94,6 +178,7 @@ int run_humanoid_gait(const Args& args) {
   double worst_diff = 0, worst_diff_t = 0, min_lip = INFINITY, min_exact = INFINITY;
   double min_lip_t = 0, min_exact_t = 0, worst_closure = 0;
   std::vector<std::vector<V3>> prints;
+  std::vector<std::vector<std::array<double, 6>>> frames;
   for (int i = 0; i < n; ++i) {
     // Inside each step (a support switch is an instant with both feet down).
     const double t = T * (i / per_step) + T * ((i % per_step) + 0.5) / per_step;
@@ -108,6 +193,7 @@ int run_humanoid_gait(const Args& args) {
       sole.push_back(solver.point_position(s, foot, p));
     const std::vector<V3> polygon = spatial::convex_hull_xy(sole);
     if (i % per_step == 0) prints.push_back(polygon);
+    if (i % std::max(1, per_step / 10) == 0) frames.push_back(stick_figure(solver, s));
     const double floor_z = sole.empty() ? 0 : sole[0][2];
     const V3 lip = spatial::lip_zmp(c.p, c.a, gravity, floor_z);
     const V3 exact = spatial::zmp_of(loads.floor, floor_z);
@@ -213,6 +299,10 @@ int run_humanoid_gait(const Args& args) {
     write_text(dir + "/zmp_path.svg", report::render_svg(spec));
   }
 
+  write_text(
+      dir + "/walk.svg",
+      animated_drawing(model.common.name + ": " + std::to_string(gait.settings().steps) + " steps",
+                       frames, gait.duration()));
   std::cout << "humanoid-gait " << model.common.name << ": " << gait.settings().steps
             << " steps of " << fixed(gait.settings().step_length, 4) << " m in " << fixed(T, 3)
             << " s (LIP: z_c " << fixed(gait.com_height(), 4) << " m, omega "
@@ -239,7 +329,7 @@ int run_humanoid_gait(const Args& args) {
             << " m (t = " << fixed(min_lip_t, 3) << " s), exact " << fixed(min_exact, 4)
             << " m (t = " << fixed(min_exact_t, 3) << " s)"
             << (min_exact < 0 ? "  (exact ZMP leaves the foot)" : "") << "\n";
-  std::cout << "wrote " << dir << "/gait.csv and 9 SVG figures\n";
+  std::cout << "wrote " << dir << "/gait.csv, 8 figures and the animated drawing walk.svg\n";
   return 0;
 }
 

@@ -317,17 +317,17 @@ int run_humanoid_gait(const Args& args) {
   for (const int j : order)
     rows.push_back({model.joints[static_cast<size_t>(j)].name,
                     fixed(peak[static_cast<size_t>(j)], 4),
-                    fixed(peak_t[static_cast<size_t>(j)], 3),
+                    fixed(peak_t[static_cast<size_t>(j)], 4),
                     fixed(100 * peak[static_cast<size_t>(j)] / stall, 3) + " %"});
   std::cout << "  joint torques in single support (stall " << fixed(stall, 3) << " N m):\n"
             << cli::table(rows, "    ");
   std::cout << "  ZMP: largest |exact - LIP-3D| " << fixed(worst_diff, 4)
-            << " m at t = " << fixed(worst_diff_t, 3) << " s (step "
+            << " m at t = " << fixed(worst_diff_t, 4) << " s (step "
             << gait.step_index(worst_diff_t) << ", phase "
             << fixed(std::fmod(worst_diff_t, T) / T, 3) << ")\n";
   std::cout << "  margin to the support polygon: LIP-3D " << fixed(min_lip, 4)
-            << " m (t = " << fixed(min_lip_t, 3) << " s), exact " << fixed(min_exact, 4)
-            << " m (t = " << fixed(min_exact_t, 3) << " s)"
+            << " m (t = " << fixed(min_lip_t, 4) << " s), exact " << fixed(min_exact, 4)
+            << " m (t = " << fixed(min_exact_t, 4) << " s)"
             << (min_exact < 0 ? "  (exact ZMP leaves the foot)" : "") << "\n";
   std::cout << "wrote " << dir << "/gait.csv, 8 figures and the animated drawing walk.svg\n";
   return 0;

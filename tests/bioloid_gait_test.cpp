@@ -11,6 +11,7 @@
 #include "kdl_model.hpp"
 #include "spatial/floating_base.hpp"
 #include "spatial/humanoid_gait.hpp"
+#include "spatial/leg_ik.hpp"
 #include "spatial/spatial_dynamics.hpp"
 
 namespace mechgen::spatial {
@@ -297,6 +298,41 @@ TEST(BioloidGait, CentreOfMassFollowsThePendulum) {
   EXPECT_LT(worst_zmp, 1e-12);
   std::cout << "centre of mass vs pendulum: " << worst_p << " m, " << worst_v << " m/s (FD), "
             << worst_a << " m/s^2 (FD); LIP ZMP vs planned " << worst_zmp << " m\n";
+}
+
+// Each leg's six angles in closed form from the waist's and the foot's poses (the seed solved
+// them numerically) equal the solver's Newton closure of the whole-body circuits.
+TEST(BioloidGait, ClosedFormLegAnglesEqualTheCircuitClosure) {
+  const Walk w;
+  std::array<LegGeometry, 2> legs;
+  for (size_t side = 0; side < 2; ++side) {
+    std::array<std::string, 6> names;
+    for (size_t k = 0; k < 6; ++k) names[k] = kLegs[side][k];
+    legs[side] = leg_geometry(w.solver, names);
+    EXPECT_NEAR(legs[side].thigh, 0.075, 1e-15);
+    EXPECT_NEAR(legs[side].calf, 0.075, 1e-15);
+  }
+  SpatialState s;
+  double worst = 0;
+  for (const double t : w.times(8)) {
+    w.solve(t, s);
+    for (size_t side = 0; side < 2; ++side) {
+      const LegGeometry& leg = legs[side];
+      const std::array<double, 6> q = leg_inverse_kinematics(
+          leg, s.D[static_cast<size_t>(leg.waist)], s.D[static_cast<size_t>(leg.foot)]);
+      for (size_t k = 0; k < 6; ++k)
+        worst = std::max(worst, std::abs(q[k] - s.q[w.column(kLegs[side][k])]));
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+  std::cout << "closed-form leg angles vs circuit closure: " << worst << " rad\n";
+  // The reference pose (straight leg) gives zeros; a foot 0.2 m lower is out of reach.
+  Pose lower;
+  lower.p = {0, 0, -0.2};
+  for (const double q : leg_inverse_kinematics(legs[0], Pose{}, Pose{})) EXPECT_NEAR(q, 0, 1e-12);
+  EXPECT_THROW(leg_inverse_kinematics(legs[0], Pose{}, lower), ModelError);
+  // Another layout is refused.
+  EXPECT_THROW(leg_geometry(w.solver, {"RL2", "RL1", "RL3", "RL4", "RL5", "RL6"}), ModelError);
 }
 
 TEST(BioloidGait, PolygonMarginIsTheDistanceToTheNearestEdge) {

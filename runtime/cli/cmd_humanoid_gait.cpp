@@ -254,8 +254,7 @@ int run_humanoid_gait(const Args& args) {
   for (const char* axis : {"x", "y"}) {
     report::PlotSpec spec;
     spec.title = model.common.name + ": ZMP " + axis +
-                 ", planned (LIP on the foot), LIP-3D of "
-                 "the whole-body centre of mass, exact (floor wrench)";
+                 ": planned, LIP-3D (whole-body CoM), exact (floor wrench)";
     spec.x_label = "time t [s]";
     spec.y_label = std::string("ZMP ") + axis + " [m]";
     spec.width = 1000;

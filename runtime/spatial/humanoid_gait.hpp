@@ -48,7 +48,9 @@ class HumanoidGait {
   // Which foot supports the robot at t: 0 right (even steps), 1 left.
   int support(double t) const;
   int step_index(double t) const;
-  // The primary coordinates (graph().primary order) and their rates at t.
+  // The primary coordinates (graph().primary order) and their rates at t, the waist at c(t) minus
+  // the standing offset (solve() then corrects it). Every rotation keeps its standing value (the
+  // waist does not turn, so the hands are carried by translation alone).
   void primary_motion(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
                       Eigen::VectorXd& qdd) const;
   // Solves the whole body at t with the waist moved so that the centre of mass follows the

@@ -22,7 +22,7 @@ using spatial::V3;
 
 const char* const kHumanoidGaitHelp =
     R"(usage: mechgen humanoid-gait MODEL.yaml --out DIR [--samples-per-step N] [--stall-torque T]
-                              [--waist NAME] [--right-foot NAME] [--left-foot NAME]
+                              [--set NAME=VALUE]... [--waist NAME] [--right-foot NAME] [--left-foot NAME]
 
 A walking gait of a humanoid modelled as seed 001 does (models/bioloid.yaml): Kajita's 3D linear
 inverted pendulum walk (ZMP on the support foot's centre, support switching each step_time),
@@ -45,6 +45,7 @@ and steps. Writes into DIR:
 options:
   --samples-per-step N     samples in each step (default 50)
   --stall-torque T         servo stall torque in N m (default 1.5: Robotis AX-12)
+  --set NAME=VALUE         override a model parameter (e.g. step_length, step_time, steps)
   --waist, --right-foot, --left-foot   pose driver names (default vFB, vRL, vLL)
 )";
 
@@ -150,7 +151,9 @@ int run_humanoid_gait(const Args& args) {
   const double stall = args.number("--stall-torque", 1.5);
   g_current_file = path;
   const SpatialModel model = read_spatial_model(path);
-  const spatial::SpatialSolver solver(model, {});
+  std::vector<double> parameters = model.common.default_parameters();
+  apply_overrides(model.common, args.all("--set"), parameters);
+  const spatial::SpatialSolver solver(model, parameters);
   const spatial::HumanoidGait gait(solver, spatial::gait_settings(solver),
                                    args.get("--waist", "vFB"), args.get("--right-foot", "vRL"),
                                    args.get("--left-foot", "vLL"));
@@ -341,6 +344,7 @@ Command humanoid_gait_command() {
           {{"--out", "-o", true},
            {"--samples-per-step", "", true},
            {"--stall-torque", "", true},
+           {"--set", "", true, true},
            {"--waist", "", true},
            {"--right-foot", "", true},
            {"--left-foot", "", true}},

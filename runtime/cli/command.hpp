@@ -175,5 +175,6 @@ Command zmp_command();         // cmd_zmp.cpp
 Command merge_command();       // cmd_merge.cpp
 Command workspace_command();   // cmd_workspace.cpp
 Command follow_command();      // cmd_follow.cpp
+Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
 
 }  // namespace mechgen::cli

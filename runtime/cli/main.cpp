@@ -439,6 +439,7 @@ const std::vector<Command>& commands() {
       draw_command(),
       workspace_command(),
       follow_command(),
+      humanoid_gait_command(),
   };
   return list;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 namespace mechgen::spatial {
 
@@ -378,6 +379,15 @@ void SpatialSolver::rates(SpatialState& s, const Eigen::VectorXd& qpd,
 void SpatialSolver::solve(double t, SpatialState& s) const {
   Eigen::VectorXd qp, qpd, qpdd;
   primary_motion(t, qp, qpd, qpdd);
+  solve(t, qp, qpd, qpdd, s);
+}
+
+void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
+                          const Eigen::VectorXd& qpdd, SpatialState& s) const {
+  const auto np = static_cast<Eigen::Index>(graph_.primary.size());
+  if (qp.size() != np || qpd.size() != np || qpdd.size() != np)
+    throw std::invalid_argument("SpatialSolver::solve: " + std::to_string(np) +
+                                " primary coordinates expected");
   const bool first = !s.assembled;
   if (first) {
     s.q = Eigen::Map<const Eigen::VectorXd>(inst_.hint.data(),

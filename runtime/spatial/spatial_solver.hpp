@@ -76,6 +76,11 @@ class SpatialSolver {
   // under-determined motion, a singular N_s); later calls continue from the state. Throws
   // ModelError when the circuits cannot be closed.
   void solve(double t, SpatialState& state) const;
+  // The same with the primary coordinates and their rates given (graph().primary order, as
+  // primary_motion returns them): a motion planned outside the description (a gait) drives the
+  // same mechanism.
+  void solve(double t, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
+             const Eigen::VectorXd& qpdd, SpatialState& state) const;
 
   // Product of exponentials from state.q: D of every body, current screws (no rates).
   void place(SpatialState& state) const;

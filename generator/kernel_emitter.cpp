@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -75,7 +76,7 @@ class Emitter {
   // output written as soon as it is known; a warm start for the next call only after every
   // check); `fail` maps a status and group to the statement run when a check fails.
   CodeBlock block(const std::vector<Output>& outputs,
-                  std::string (*fail)(const std::string& status, int group),
+                  const std::function<std::string(const std::string& status, int group)>& fail,
                   Readiness readiness = Readiness::latency) const {
     std::set<ex, GiNaC::ex_is_less> needed;
     std::vector<ex> pending;
@@ -263,8 +264,11 @@ class Emitter {
              std::to_string(inputs_group + static_cast<int>(stage)) + ", Status::non_finite);";
     };
 
-    auto state_fail = [](const std::string& status, int group) {
-      return "return detail::failed(s, " + std::to_string(group) + ", Status::" + status + ");";
+    // A Newton-Euler pivot belongs to no solve group: it names the "forces" stage.
+    const int forces_group = inputs_group + static_cast<int>(OutputStage::forces);
+    auto state_fail = [forces_group](const std::string& status, int group) {
+      return "return detail::failed(s, " + std::to_string(group < 0 ? forces_group : group) +
+             ", Status::" + status + ");";
     };
     auto plain_fail = [](const std::string& status, int) {
       return "return Status::" + status + ";";
@@ -380,11 +384,12 @@ class Emitter {
     }
     if (outputs.size() != columns.size())
       throw std::logic_error("evaluate_batch would leave columns unwritten");
-    auto code = [](const std::string& status, int group) {
+    const int forces_group = inputs_group + static_cast<int>(OutputStage::forces);
+    auto code = [forces_group](const std::string& status, int group) {
       return std::to_string((status == "unreachable" ? 1
                              : status == "singular"  ? 2
                                                      : 3) +
-                            4 * (group + 1));
+                            4 * ((group < 0 ? forces_group : group) + 1));
     };
     // Roots ready in program order: in the vectorised loop that order's placement measured faster
     // (about 5 %) than latency order's, which keeps more vectors alive.

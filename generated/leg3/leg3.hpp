@@ -216,7 +216,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 3 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 7;
 inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot", "inputs", "positions", "rates", "forces" };
 

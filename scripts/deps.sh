@@ -7,7 +7,7 @@
 
 mechgen_deps() {
   local -a wanted=(
-    g++ cmake ninja-build pkg-config                           # toolchain
+    g++ cmake ninja-build pkg-config ccache                    # toolchain (ccache: faster reruns)
     libginac-dev libcln-dev libeigen3-dev libyaml-cpp-dev      # libraries
     libgtest-dev libbenchmark-dev clang-format                 # tests, benchmarks, format check
     clang-14 libclang-rt-14-dev                                # libFuzzer (scripts/fuzz.sh)

@@ -9,8 +9,13 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$PWD
 seconds=${1:-60}
 bash scripts/deps.sh
+launcher=()
+if command -v ccache >/dev/null 2>&1; then  # as scripts/test.sh: reruns rebuild what changed
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
+fi
 cmake -S fuzz -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
-  >/dev/null
+  "${launcher[@]}" >/dev/null
 cmake --build build-fuzz -j "${MECHGEN_JOBS:-2}"
 mkdir -p build-fuzz/corpus/reader build-fuzz/corpus/kernel
 cp -n models/*.yaml build-fuzz/corpus/reader/

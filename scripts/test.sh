@@ -19,11 +19,19 @@ configure() {
   if [[ -f $dir/CMakeCache.txt ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then
     rm -rf "$dir/CMakeCache.txt" "$dir/CMakeFiles"
   fi
-  cmake -S "$root" -B "$dir" -G Ninja "$@"
+  cmake -S "$root" -B "$dir" -G Ninja $launcher "$@"
 }
 
 step "dependencies"
 bash scripts/deps.sh
+
+# ccache (scripts/deps.sh installs it) makes a rerun of the suite rebuild only what changed; paths
+# are taken relative to the checkout, so another clone of the same sources hits the same cache.
+launcher=
+if command -v ccache >/dev/null 2>&1; then
+  launcher=-DCMAKE_CXX_COMPILER_LAUNCHER=ccache
+  export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
+fi
 
 step "Release build (build/)"
 configure build -DCMAKE_BUILD_TYPE=Release

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Seed 002 (the hybrid serial-parallel quadruped leg, issue 12) from a clean clone, into out/:
+# Seed 002 (the hybrid serial-parallel quadruped leg, issue 12) and seed 003's walking example
+# from a clean clone, into out/:
 #   scripts/run_seeds.sh             every step below, in order
 #   scripts/run_seeds.sh swing ...   only the named steps (each expects the earlier ones' files)
 # Spatial models have no generated kernels yet (issue 11): everything runs on the numeric
@@ -21,6 +22,8 @@ steps=(
              # out/quadruped_swing_ik.csv; cylinders' lengths, rates, accelerations and forces ->
              # out/quadruped_swing.csv and out/quadruped_swing_{length,rate,acceleration,force}.svg
   feasible   # the same with the largest lift inside the strokes (H = 0.184 m) -> *_feasible*
+  walking    # seed 003: examples/walking built as its own project (build-walking/), 3 s at 1 kHz ->
+             # out/lecture_walking.csv; joint angles, leg angles, foot paths -> out/lecture_walking_*.svg
 )
 
 step_build() {
@@ -52,6 +55,22 @@ swing_run() {
 step_swing() { swing_run quadruped_swing "seed 002 swing S = 0.5 m, H = 0.3 m"; }
 step_feasible() {
   swing_run quadruped_swing_feasible "swing S = 0.5 m, H = 0.184 m (inside the strokes)" --set H=0.184
+}
+
+step_walking() {
+  cmake -S examples/walking -B build-walking -G Ninja -DCMAKE_BUILD_TYPE=Release
+  cmake --build build-walking
+  build-walking/walking "$out/lecture_walking.csv"
+  local csv=$out/lecture_walking.csv
+  "$mechgen" plot "$csv" --x t --y right.q1 --y right.q2 --y right.q3 \
+    --out "$out/lecture_walking_joints.svg" --ylabel "joint angle [rad]" \
+    --title "seed 003 minimal walking function: right leg joint angles (abstract kinematics)"
+  "$mechgen" plot "$csv" --x t --y right.theta_leg --y left.theta_leg --y right.eta --y left.eta \
+    --out "$out/lecture_walking_pattern.svg" --ylabel "leg angle [rad], extension" \
+    --title "seed 003 step pattern: leg angle and extension, legs in antiphase"
+  "$mechgen" plot "$csv" --x right.toe.x --y right.toe.y --equal \
+    --out "$out/lecture_walking_foot.svg" --xlabel "toe x from the hip [m]" \
+    --ylabel "toe y from the hip [m]" --title "seed 003: toe path relative to the hip (generated FK)"
 }
 
 mkdir -p "$out"

@@ -154,17 +154,22 @@ class Deriver {
                     const std::vector<std::pair<ex, ex>>& minus, const std::string& group) {
     const double ref_th = pose_[static_cast<size_t>(plan_.reference)].th;
     double err_plus = 0, err_minus = 0;
+    std::vector<double> ground_plus, ground_minus;
     for (size_t i = 0; i < bodies.size(); ++i) {
       const double target = pose_[static_cast<size_t>(bodies[i])].th - ref_th;
       const double th_p = std::atan2(p_.value(plus[i].second, 0), p_.value(plus[i].first, 0));
       const double th_m = std::atan2(p_.value(minus[i].second, 0), p_.value(minus[i].first, 0));
       err_plus += std::abs(wrap(th_p - target));
       err_minus += std::abs(wrap(th_m - target));
+      ground_plus.push_back(wrap(th_p + ref_th));
+      ground_minus.push_back(wrap(th_m + ref_th));
     }
     if (!(err_plus < 0.5 || err_minus < 0.5) || std::isnan(err_plus) || std::isnan(err_minus))
       throw std::runtime_error(group + ": neither branch matches the assembled configuration");
     const int sign = err_plus <= err_minus ? 1 : -1;
     out_.notes.push_back(group + ": branch " + (sign > 0 ? "+1" : "-1"));
+    out_.branches.push_back({group, sign, bodies, sign > 0 ? ground_plus : ground_minus,
+                             sign > 0 ? ground_minus : ground_plus});
     return sign;
   }
 

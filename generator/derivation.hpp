@@ -22,6 +22,15 @@ struct Output {
   GiNaC::ex value;
 };
 
+// A closed-form group's two roots at the assembly (t0, default parameters): the ground-frame
+// angles of its bodies on the branch taken (the numeric solver's assembly) and on the other.
+struct BranchChoice {
+  std::string group;
+  int sign = 1;
+  std::vector<int> bodies;
+  std::vector<double> taken, other;
+};
+
 struct Derivation {
   // Symbols the kernel receives. Parameters keep the model's symbols.
   struct DriverInputs {
@@ -39,6 +48,7 @@ struct Derivation {
   std::vector<GiNaC::ex> ne_rhs;
   std::vector<std::string> group_names;  // index = group number used in statements
   std::vector<std::string> notes;        // branch choices, for `check` and the banner
+  std::vector<BranchChoice> branches;    // the same, with both branches' body angles
   // Iterative groups' start values kept in the kernel state: field name, default (the assembly).
   std::vector<std::pair<std::string, double>> warm_start;
 };

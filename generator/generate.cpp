@@ -3,9 +3,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "kernel_fingerprint.hpp"
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
+#include "report/atomic_output.hpp"
 
 namespace mechgen::gen {
 
@@ -59,11 +61,13 @@ StagedProgram make_program(const Model& model,
 }
 }  // namespace
 
-std::vector<std::string> branch_notes(const Model& model) {
+std::vector<std::string> branch_notes(const Model& model, std::vector<BranchChoice>* branches) {
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
   StagedProgram program = make_program(model, inputs);
-  return derive(model, plan, assembled_pose(model), inputs, program).notes;
+  Derivation d = derive(model, plan, assembled_pose(model), inputs, program);
+  if (branches) *branches = std::move(d.branches);
+  return d.notes;
 }
 
 // Names become fields of kernel templates whose scalar type parameter is T: a field named T would
@@ -71,6 +75,7 @@ std::vector<std::string> branch_notes(const Model& model) {
 static void check_kernel_names(const Model& model, const std::string& path) {
   std::vector<std::string> names;
   for (const Parameter& p : model.parameters) names.push_back(p.name);
+  for (const DerivedParameter& p : model.derived) names.push_back(p.name);
   for (const Body& b : model.bodies) {
     names.push_back(b.name);
     for (const BodyPoint& p : b.points) names.push_back(p.name);
@@ -84,7 +89,10 @@ static void check_kernel_names(const Model& model, const std::string& path) {
 }
 
 GenerateResult generate(const GenerateOptions& options) {
-  const Model model = read_model(options.model_path);
+  return generate(read_model(options.model_path), options);
+}
+
+GenerateResult generate(const Model& model, const GenerateOptions& options) {
   check_kernel_names(model, options.model_path);
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
@@ -96,15 +104,14 @@ GenerateResult generate(const GenerateOptions& options) {
   emit.source = display_path(options.model_path);
   emit.command = "build/mechgen generate " + emit.source + (options.bake ? " --bake" : "");
   emit.bake = options.bake;
+  emit.fingerprint = kernel_fingerprint(model, options.templates_dir, options.bake);
   const std::vector<EmittedFile> files = emit_kernel(model, plan, derivation, program, emit);
 
   GenerateResult result{model.name, {}, derivation.notes};
   std::filesystem::create_directories(options.output_dir);
   for (const EmittedFile& file : files) {
     const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();
-    std::ofstream out(path, std::ios::binary);
-    out << file.text;
-    if (!out) throw std::runtime_error("cannot write " + path);
+    report::write_file_atomically(path, file.text);  // never a half-written kernel
     result.written.push_back(path);
   }
   return result;

@@ -24,10 +24,15 @@ struct GenerateResult {
 
 // Throws ModelError for description problems and std::runtime_error for derivation problems.
 GenerateResult generate(const GenerateOptions& options);
+// The same for a model already read (options.model_path only names it in the banners): what was
+// read is what is generated, even if the file changes meanwhile.
+GenerateResult generate(const Model& model, const GenerateOptions& options);
 
 // The branch generate() picks for each group ("g2_l7_l9: branch -1"), derived the same way but
 // without emitting or writing anything: what `mechgen check` prints. Same exceptions.
-std::vector<std::string> branch_notes(const Model& model);
+// With each closed-form group's branches (BranchChoice) in `branches` when given.
+std::vector<std::string> branch_notes(const Model& model,
+                                      std::vector<BranchChoice>* branches = nullptr);
 
 // The part of a path from its "models/" component on, so banners do not depend on where the
 // tree is checked out.

@@ -10,6 +10,8 @@
 #include "code_block.hpp"
 #include "latency_schedule.hpp"
 #include "model/columns.hpp"
+#include "model/fingerprint.hpp"
+#include "output_checks.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
@@ -17,14 +19,6 @@ namespace mechgen::gen {
 using GiNaC::ex;
 
 namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read template " + path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::string literal(double value) {
   char buffer[64];
@@ -49,6 +43,16 @@ std::string joined(const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += (text.empty() ? "" : "\n") + line;
   return text;
+}
+
+// The outputs whose finiteness a kernel checks: every State field it writes, except constants
+// (finite by construction) and the warm start.
+std::vector<CheckedOutput> checked_outputs(const std::vector<Output>& outputs) {
+  std::vector<CheckedOutput> checked;
+  for (const Output& o : outputs)
+    if (!GiNaC::is_a<GiNaC::numeric>(o.value) && stage_of(o.target) != OutputStage::none)
+      checked.push_back({stage_of(o.target), o.target});
+  return checked;
 }
 
 class Emitter {
@@ -153,6 +157,7 @@ class Emitter {
     v["model"] = model_.name;
     v["source"] = options_.source;
     v["command"] = options_.command;
+    v["fingerprint"] = hex64(options_.fingerprint);
     v["description"] = model_.description.empty() ? "(no description)" : model_.description;
     v["ground"] = model_.bodies[static_cast<size_t>(model_.ground)].name;
     v["reference"] = model_.bodies[static_cast<size_t>(plan.reference)].name;
@@ -170,11 +175,27 @@ class Emitter {
     for (size_t i = 0; i < model_.parameters.size(); ++i) {
       const Parameter& par = model_.parameters[i];
       std::string comment = par.unit.empty() ? "" : par.unit;
+      if (!par.written.empty()) comment += " (" + par.written + " in the model)";
       if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
       params.push_back("  T " + par.name + " = " + literal(defaults[i]) + ";" +
                        (comment.empty() ? "" : "  // " + comment));
       set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
       names.push_back(par.name);
+    }
+    if (!model_.derived.empty())
+      params.push_back(
+          "\n  // Derived parameters: not fields but computed from the fields above (the kernel "
+          "uses\n"
+          "  // the same expressions inline), so setting a field moves them too.");
+    for (const DerivedParameter& d : model_.derived) {
+      CodeBlock block("_" + d.name + "_");
+      block.assign("const T value", d.value.ex);
+      std::string function = "  T " + d.name + "() const noexcept {  // " + d.value.text +
+                             (d.unit.empty() ? "" : " [" + d.unit + "]") +
+                             (d.doc.empty() ? "" : ": " + d.doc) + "\n";
+      for (const std::string& f : block.math_functions()) function += "    using std::" + f + ";\n";
+      function += block.render("    ") + "    return value;\n  }";
+      params.push_back(function);
     }
     v["param_fields"] = joined(params);
     v["set_parameters_body"] = joined(set_params);
@@ -229,8 +250,18 @@ class Emitter {
     v["point_fields"] = joined(points);
     v["joint_fields"] = joined(joints);
     v["driver_fields"] = joined(drivers);
-    v["group_count"] = std::to_string(d_.group_names.size());
-    v["group_names"] = quoted_list(d_.group_names);
+    // The solve groups, then the stages whose checks follow them (output_checks.hpp).
+    std::vector<std::string> group_names = d_.group_names;
+    const int inputs_group = static_cast<int>(group_names.size());
+    for (const char* stage : kStageNames) group_names.push_back(stage);
+    v["group_count"] = std::to_string(group_names.size());
+    v["solve_group_count"] = std::to_string(d_.group_names.size());
+    v["group_names"] = quoted_list(group_names);
+    v["inputs_group"] = std::to_string(inputs_group);
+    auto stage_check = [inputs_group](OutputStage stage, const std::string& condition) {
+      return "if (!(" + condition + ")) return detail::failed(s, " +
+             std::to_string(inputs_group + static_cast<int>(stage)) + ", Status::non_finite);";
+    };
 
     auto state_fail = [](const std::string& status, int group) {
       return "return detail::failed(s, " + std::to_string(group) + ", Status::" + status + ");";
@@ -254,13 +285,21 @@ class Emitter {
     const CodeBlock system = block(ne, plain_fail);
     v["kinematics_using"] = using_lines(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
-    v["kinematics_body"] = kin.render("  ");
+    v["kinematics_body"] =
+        kin.render("  ") + output_checks(checked_outputs(d_.kinematics), "  ", stage_check);
     v["evaluate_using"] = using_lines(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
-    v["evaluate_body"] = full.render("  ");
+    v["evaluate_body"] = full.render("  ") + output_checks(checked_outputs(all), "  ", stage_check);
     v["ne_using"] = using_lines(system);
     v["ne_ops"] = std::to_string(system.op_count());
-    v["ne_body"] = system.render("  ");
+    std::vector<CheckedOutput> system_outputs;
+    for (const Output& o : ne)
+      if (!GiNaC::is_a<GiNaC::numeric>(o.value))
+        system_outputs.push_back({OutputStage::forces, o.target});
+    v["ne_body"] = system.render("  ") +
+                   output_checks(system_outputs, "  ", [](OutputStage, const std::string& c) {
+                     return "if (!(" + c + ")) return Status::non_finite;";
+                   });
     v["ne_size"] = std::to_string(n);
     v["ne_unknowns"] = quoted_list(d_.ne_unknowns);
 
@@ -299,7 +338,7 @@ class Emitter {
       sources.push_back(source);
     }
     v["column_count"] = std::to_string(columns.size());
-    batch_values(columns, sources, all, v);
+    batch_values(columns, sources, all, inputs_group, v);
     v["column_names"] = quoted_list(columns);
     v["to_columns_body"] = joined(to_columns);
     return v;
@@ -314,7 +353,7 @@ class Emitter {
   // folded into the sample's result code instead of returning.
   void batch_values(const std::vector<std::string>& columns,
                     const std::vector<std::string>& sources, const std::vector<Output>& all,
-                    std::map<std::string, std::string>& v) const {
+                    int inputs_group, std::map<std::string, std::string>& v) const {
     std::map<std::string, size_t> column_of;
     for (size_t c = 0; c < sources.size(); ++c) column_of[sources[c]] = c;
     auto target = [&](const std::string& source) {
@@ -323,6 +362,7 @@ class Emitter {
       return "out[" + std::to_string(it->second) + " * stride + i]";
     };
     std::vector<Output> outputs{{target("in.t"), model_.t}};
+    std::vector<CheckedOutput> checked;
     std::map<std::string, ex> value_of;
     for (const Output& o : all) value_of[o.target] = o.value;
     for (const Output& o : all) {
@@ -332,14 +372,19 @@ class Emitter {
         const std::string body = o.target.substr(0, o.target.size() - 6);
         outputs.push_back(
             {target(body + "th()"), GiNaC::atan2(value_of.at(body + "sin_th"), o.value)});
-        continue;
+      } else {
+        outputs.push_back({target(o.target), o.value});
       }
-      outputs.push_back({target(o.target), o.value});
+      if (!GiNaC::is_a<GiNaC::numeric>(o.value))
+        checked.push_back({stage_of(o.target), outputs.back().target});
     }
     if (outputs.size() != columns.size())
       throw std::logic_error("evaluate_batch would leave columns unwritten");
     auto code = [](const std::string& status, int group) {
-      return std::to_string((status == "unreachable" ? 1 : 2) + 4 * (group + 1));
+      return std::to_string((status == "unreachable" ? 1
+                             : status == "singular"  ? 2
+                                                     : 3) +
+                            4 * (group + 1));
     };
     // Roots ready in program order: in the vectorised loop that order's placement measured faster
     // (about 5 %) than latency order's, which keeps more vectors alive.
@@ -371,8 +416,8 @@ class Emitter {
     v["batch_stores"] = joined(stores);
     v["batch_input_fields"] = joined(fields);
     v["batch_code_range"] = std::to_string(kCodeRange);
-    v["batch_input_weight"] =
-        std::to_string(static_cast<long>(kFirstCheckRank + 1) * kCodeRange + 1);
+    v["batch_input_weight"] = std::to_string(static_cast<long>(kFirstCheckRank + 1) * kCodeRange +
+                                             1 + 4 * (inputs_group + 1));
     v["batch_inputs"] = joined(inputs);
     v["batch_pointers_local"] = joined(locals);
     v["batch_input_checks"] = checks;
@@ -388,6 +433,14 @@ class Emitter {
           return "failed = max(failed, (" + condition + ") ? T(0) : T(" + std::to_string(weight) +
                  "));";
         });
+    // Then the outputs' finiteness, stage by stage, after every other check.
+    body += output_checks(checked, "    ",
+                          [&rank, inputs_group](OutputStage stage, const std::string& condition) {
+                            const long weight = static_cast<long>(rank--) * kCodeRange + 3 +
+                                                4 * (inputs_group + static_cast<int>(stage) + 1);
+                            return "failed = max(failed, (" + condition + ") ? T(0) : T(" +
+                                   std::to_string(weight) + "));";
+                          });
     if (rank <= 0) throw std::logic_error("evaluate_batch: too many checks");
     if (!body.empty() && body.back() == '\n') body.pop_back();
     v["batch_body"] = body;
@@ -412,7 +465,7 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
   std::vector<EmittedFile> files;
   const std::string kernel = options.templates_dir + "/kernel.hpp.in";
   files.push_back(
-      {model.name + ".hpp", render_template(read_file(kernel), values, "kernel.hpp.in")});
+      {model.name + ".hpp", render_template(read_template(kernel), values, "kernel.hpp.in")});
   // Driven evaluation (a motion other than the model's own, e.g. a start from rest): the driver
   // inputs are read from a flat array, (q, qd, qdd) per driver in model order.
   std::string driven_inputs;
@@ -432,7 +485,7 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
       {"driven_inputs", driven_inputs}};
   const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
   files.push_back({model.name + "_entry.cpp",
-                   render_template(read_file(entry), entry_values, "kernel_entry.cpp.in")});
+                   render_template(read_template(entry), entry_values, "kernel_entry.cpp.in")});
   return files;
 }
 

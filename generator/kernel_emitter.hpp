@@ -1,6 +1,7 @@
 // Emission of a derived model as C++17 kernels through the text templates in templates/.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,7 @@ struct EmitOptions {
   std::string source;         // the model's path as shown in the banner, e.g. models/pasibot.yaml
   std::string command;        // the command that regenerates the files
   bool bake = false;          // parameter values as constants instead of run-time fields
+  std::uint64_t fingerprint = 0;  // kernel_fingerprint() of the model, templates and bake
 };
 
 struct EmittedFile {

@@ -78,9 +78,14 @@ void StagedProgram::check_positive_kept(const GiNaC::symbol& value, const std::s
   statements_.back().keep = true;
 }
 
+// The samples map symbols only: exact lookups (GiNaC's default matches every key as a pattern at
+// every node, quadratic in the parameter and statement count).
+constexpr unsigned kSymbolSubs =
+    GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product;
+
 void StagedProgram::evaluate(const GiNaC::symbol& s, const ex& value) {
   for (GiNaC::exmap& sample : samples_) {
-    const ex v = value.subs(sample).evalf();
+    const ex v = value.subs(sample, kSymbolSubs).evalf();
     double number = std::numeric_limits<double>::quiet_NaN();
     if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
       number = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
@@ -89,7 +94,7 @@ void StagedProgram::evaluate(const GiNaC::symbol& s, const ex& value) {
 }
 
 double StagedProgram::value(const ex& e, size_t sample) const {
-  const ex v = e.subs(samples_.at(sample)).evalf();
+  const ex v = e.subs(samples_.at(sample), kSymbolSubs).evalf();
   if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
     return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
   return std::numeric_limits<double>::quiet_NaN();

@@ -1,7 +1,9 @@
 #include "template_renderer.hpp"
 
 #include <cctype>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace mechgen::gen {
@@ -70,6 +72,14 @@ std::string render_template(const std::string& template_text,
                                "' is never used (no {{" + name + "}} in the template)");
   }
   return out;
+}
+
+std::string read_template(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read template " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace mechgen::gen

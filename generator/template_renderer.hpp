@@ -22,4 +22,7 @@ std::string render_template(const std::string& template_text,
                             const std::map<std::string, std::string>& values,
                             const std::string& template_name);
 
+/// The text of a template file; std::runtime_error "cannot read template PATH" when unreadable.
+std::string read_template(const std::string& path);
+
 }  // namespace mechgen::gen

@@ -10,6 +10,7 @@ mechgen_deps() {
     g++ cmake ninja-build pkg-config                           # toolchain
     libginac-dev libcln-dev libeigen3-dev libyaml-cpp-dev      # libraries
     libgtest-dev libbenchmark-dev clang-format                 # tests, benchmarks, format check
+    clang-14 libclang-rt-14-dev                                # libFuzzer (scripts/fuzz.sh)
     liborocos-kdl-dev                                          # spatial checks against KDL (tests, bench)
     "$@"
   )

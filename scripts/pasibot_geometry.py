@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """PASIBOT geometry for models/pasibot.yaml (plain python3, no third-party modules).
 
-Solves the mechanism of /work/shared/pasibot.md directly, point by point, by circle and line
-intersections (lengths in units of the crank length l8, hip frame: origin A, x axis A->B, y up):
+Solves the mechanism of ../shared/pasibot.md (a path from the repository root) directly, point by
+point, by circle and line intersections (lengths in units of the crank length l8, hip frame:
+origin A, x axis A->B, y up):
 
   Chebyshev   P = (cos th8, sin th8); M: |PM| = |BM| = 2.5, below the line P-B; C = 2M - P
   pantograph  K: |CK| = 3, |DK| = 6 (branch: the seed's eq. 7); J = C + 3(K - C);

@@ -3,6 +3,7 @@
 #   1. dependencies (scripts/deps.sh)
 #   2. Release build in build/ and every ctest test (unit, equivalence, regenerate-and-diff, format)
 #   3. AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/ and every test again
+#   4. the libFuzzer targets (fuzz/) for 10 s each (scripts/fuzz.sh)
 # Exits non-zero at the first failure. MECHGEN_JOBS sets the parallelism (default 2).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -62,5 +63,10 @@ cmake --build build-asan -j "$jobs"
 
 step "tests, sanitizers"
 ctest --test-dir build-asan --output-on-failure -j "$jobs"
+
+# libFuzzer on the model reader and a kernel (clang, sanitizers), a short budget per change;
+# scripts/fuzz.sh SECONDS runs longer campaigns.
+step "fuzzing (scripts/fuzz.sh 10: 10 s per target)"
+bash scripts/fuzz.sh 10
 
 step "all tests passed"

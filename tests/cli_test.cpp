@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -101,28 +102,6 @@ TEST(Sweep, OverridesAndThreadsGiveTheSameRows) {
   EXPECT_EQ(one.rows, three.rows);
   options.solver = "numeric";
   expect_columns_agree(run_sweep(model, options), one, 1e-9);
-}
-
-TEST(Sweep, ModelWithoutCompiledKernelSaysHowToAddIt) {
-  std::string text = file_text(model_path("chebyshev"));
-  const auto at = text.find("name: chebyshev");
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, 15, "name: lambda_copy");
-  const Model model = read_model_text(text, "models/lambda_copy.yaml");
-  SweepOptions options = default_sweep(model);
-  try {
-    run_sweep(model, options);
-    FAIL() << "expected an error";
-  } catch (const ModelError& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("not compiled in"), std::string::npos) << message;
-    EXPECT_NE(message.find("mechgen generate models/lambda_copy.yaml"), std::string::npos)
-        << message;
-    EXPECT_NE(message.find("MECHGEN_KERNEL_MODELS"), std::string::npos) << message;
-    EXPECT_NE(message.find("--solver numeric"), std::string::npos) << message;
-  }
-  options.solver = "numeric";
-  EXPECT_EQ(run_sweep(model, options).rows.size(), static_cast<size_t>(model.step.samples));
 }
 
 TEST(Sweep, UnreachableSampleIsAnErrorNamingTimeAndGroup) {
@@ -266,6 +245,62 @@ TEST(Summary, BodyChoiceAndErrors) {
   EXPECT_TRUE(std::isnan(s.t0));
   EXPECT_DOUBLE_EQ(s.drivers.at(0).rms_effort, 1.0);
   EXPECT_FALSE(s.body.has_value());
+}
+
+// A crank turning in place (a full turn: the pin P comes back, its mean height is 0): no gait
+// figure by default, and no "height variation / mean" of a path around y = 0 when asked.
+report::CsvTable crank_turn() {
+  std::string text = "t,d.q,d.qd,d.qdd,d.effort,crank.x,crank.y,crank.th,P.x,P.y,s.q,s.effort\n";
+  for (int i = 0; i <= 8; ++i) {
+    const double t = i * M_PI / 4, th = std::remainder(t, 2 * M_PI);
+    char row[256];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,1,0,0.5,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,2\n", t,
+                  t, 0.05 * std::cos(t), 0.05 * std::sin(t), th, 0.1 * std::cos(t),
+                  0.1 * std::sin(t), 0.3 + 0.1 * std::cos(t));
+    text += row;
+  }
+  return report::parse_csv(text, "crank.csv");
+}
+
+TEST(Summary, NoGaitFiguresForAMechanismTurningInPlace) {
+  const SweepSummary s = summarize(crank_turn());
+  EXPECT_FALSE(s.body.has_value());
+  EXPECT_EQ(format_summary(s).find("height"), std::string::npos) << format_summary(s);
+  SummaryOptions options;
+  options.body = "crank";
+  const SweepSummary asked = summarize(crank_turn(), options);
+  ASSERT_TRUE(asked.body.has_value());
+  EXPECT_NEAR(asked.body->height_variation, 0.1, 1e-15);
+  EXPECT_TRUE(std::isnan(asked.body->relative_variation));
+  const std::string text = format_summary(asked);
+  EXPECT_NE(text.find("body crank (centre of mass)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("/ mean"), std::string::npos) << text;
+}
+
+TEST(Summary, APointIsLabelledAsAPoint) {
+  SummaryOptions options;
+  options.body = "P";
+  const SweepSummary s = summarize(crank_turn(), options);
+  ASSERT_TRUE(s.body.has_value());
+  EXPECT_TRUE(s.body->point);
+  EXPECT_NEAR(s.body->height_variation, 0.2, 1e-15);
+  const std::string text = format_summary(s);
+  EXPECT_NE(text.find("\npoint P\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("centre of mass"), std::string::npos) << text;
+}
+
+// Without a model: d's q equals crank.th modulo 2 pi (an angle driver: N m); s's q is a length.
+TEST(Summary, EffortUnitsFromTheDriverKindWithoutAModel) {
+  const SweepSummary s = summarize(crank_turn());
+  ASSERT_EQ(s.drivers.size(), 2u);
+  EXPECT_EQ(s.drivers[0].kind, "angle");
+  EXPECT_TRUE(s.drivers[0].kind_inferred);
+  EXPECT_EQ(s.drivers[1].kind, "length");
+  const std::string text = format_summary(s);
+  EXPECT_NE(text.find("driver d (angle, read from the columns)"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.5  N m"), std::string::npos) << text;
+  EXPECT_NE(text.find("2  N "), std::string::npos) << text;
+  EXPECT_EQ(text.find("N m|N"), std::string::npos) << text;
 }
 
 TEST(Summary, TimeAverages) {

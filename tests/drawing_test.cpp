@@ -138,4 +138,59 @@ TEST(MechanismDrawing, ShapesFollowTheGeometry) {
   EXPECT_THROW(report::frames_from_table(pasibot(), {"t", "A.x"}, {{0, 0}}), std::runtime_error);
 }
 
+// --trace: the path of chebyshev's coupler point C, on a still (over the model's step) and on an
+// animation (over its frames): every vertex at the solver's C, through the view's mapping; on the
+// still a dot sits on C at the drawn time.
+TEST(MechanismDrawing, TracedPointPathsOnStillAndAnimation) {
+  const Model model = mechgen::read_model(MECHGEN_SOURCE_DIR "/models/chebyshev.yaml");
+  mechgen::SweepOptions options = mechgen::default_sweep(model);
+  options.solver = "numeric";
+  options.samples = 73;
+  const mechgen::SweepResult sweep = mechgen::run_sweep(model, options);
+  const report::MechanismFrames path = report::frames_from_table(model, sweep.columns, sweep.rows);
+  size_t cx = 0;
+  while (sweep.columns[cx] != "C.x") ++cx;
+  for (const bool animated : {false, true}) {
+    SCOPED_TRACE(animated ? "animation" : "still");
+    report::DrawingOptions drawing;
+    drawing.trace = {"C"};
+    drawing.max_frames = 200;  // keep every frame
+    report::MechanismFrames frames = path;
+    if (!animated) {
+      frames = report::frames_from_table(model, sweep.columns, {sweep.rows[20]});
+      drawing.trace_path = path;
+    }
+    const std::string svg = report::draw_mechanism(model, frames, drawing);
+    EXPECT_EQ(count(svg, "class=\"trace\""), 1u);
+    EXPECT_EQ(count(svg, "class=\"tracer\""), 1u);
+    // The view is fitted to the mechanism's frames and the whole path.
+    report::MechanismFrames fitted = frames;
+    if (!animated)
+      fitted.points.insert(fitted.points.end(), path.points.begin(), path.points.end());
+    const report::DrawingView view = report::fit_view(fitted, drawing.width);
+    const std::vector<double> xy = numbers(attribute(svg, "trace-C", "points"));
+    ASSERT_EQ(xy.size(), 2 * sweep.rows.size());
+    for (size_t i = 0; i < sweep.rows.size(); ++i) {
+      EXPECT_NEAR(xy[2 * i], view.px(sweep.rows[i][cx]), 0.01);
+      EXPECT_NEAR(xy[2 * i + 1], view.py(sweep.rows[i][cx + 1]), 0.01);
+    }
+    const size_t drawn = animated ? 0 : 20;
+    EXPECT_NEAR(numbers(attribute(svg, "tracer-C", "cx")).at(0), view.px(sweep.rows[drawn][cx]),
+                0.01);
+    EXPECT_EQ(svg.find("<animate") != std::string::npos, animated);
+  }
+  // The straight stroke of the lambda linkage shows in the trace: the first half of the step
+  // (crank from pi/2 to 3 pi/2) keeps C within 0.0098 l of y = -4 l.
+  const double l = 0.03;
+  for (size_t i = 0; i <= 36; ++i) EXPECT_NEAR(sweep.rows[i][cx + 1], -4 * l, 0.0098 * l + 1e-12);
+  report::DrawingOptions bad;
+  bad.trace = {"Q"};
+  try {
+    report::draw_mechanism(model, path, bad);
+    FAIL() << "traced a point that does not exist";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "--trace: model 'chebyshev' has no point 'Q' (points: A, B, P, C, M)");
+  }
+}
+
 }  // namespace

@@ -3,6 +3,7 @@
 // speed perturbations that still assemble. The two share nothing but the model reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -12,6 +13,7 @@
 #include "model/columns.hpp"
 #include "model/model.hpp"
 #include "numeric/reference_solver.hpp"
+#include "plate_crank/plate_crank.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen {
@@ -135,10 +137,71 @@ TEST_P(Equivalence, RandomPerturbations) {
   EXPECT_GE(compared, 4);
 }
 
+// plate_crank's coupler point C = (cx, cy) = e (cos phi, sin phi) in the coupler frame is derived:
+// --set e=0.05 moves it in the kernel (whose Params has e, not cx) exactly as in the solver, and
+// both equal P + R(th) (cx, cy) computed here from the set value.
+TEST(DerivedParameters, SetOfABaseParameterMovesThemInTheKernel) {
+  const Model model = load("plate_crank");
+  ASSERT_GE(model.derived_index("cx"), 0);
+  ASSERT_LT(model.parameter_index("cx"), 0);  // not a run-time value of its own
+  const CompiledKernel* kernel = find_compiled_kernel("plate_crank");
+  ASSERT_NE(kernel, nullptr);
+  ASSERT_EQ(kernel->parameter_count, static_cast<int>(model.parameters.size()));
+  std::vector<double> p = model.default_parameters();
+  apply_overrides(model, {"e=0.05"}, p);
+  const std::vector<std::string> names = column_names(model);
+  auto col = [&](const std::string& n) {
+    return static_cast<size_t>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  numeric::ReferenceSolver solver(model, p);
+  solver.assemble(0);
+  std::vector<double> row(names.size()), kernel_row(names.size());
+  for (const double t : {0.0, 0.3, 0.7}) {
+    ASSERT_EQ(solver.solve(t, row), numeric::Status::ok);
+    int failed = -1;
+    ASSERT_EQ(kernel->evaluate_double(p.data(), t, kernel_row.data(), &failed), 0);
+    const double th = row[col("coupler.th")], phi = M_PI / 3;
+    const double cx = 0.05 * std::cos(phi), cy = 0.05 * std::sin(phi);
+    const double x = row[col("P.x")] + std::cos(th) * cx - std::sin(th) * cy;
+    const double y = row[col("P.y")] + std::sin(th) * cx + std::cos(th) * cy;
+    EXPECT_NEAR(row[col("C.x")], x, 1e-14);
+    EXPECT_NEAR(row[col("C.y")], y, 1e-14);
+    EXPECT_NEAR(kernel_row[col("C.x")], x, 1e-12);
+    EXPECT_NEAR(kernel_row[col("C.y")], y, 1e-12);
+    // The plate's centre of mass, (P + M + C) / 3, moves with C too.
+    const double gx = (row[col("P.x")] + row[col("M.x")] + x) / 3;
+    EXPECT_NEAR(kernel_row[col("coupler.x")], gx, 1e-12);
+  }
+}
+
+// The header a user embeds: Params holds e and phi, and computes cx() = e cos(phi), cy(), r();
+// the kernel places C with the same values.
+TEST(DerivedParameters, KernelParamsComputeThem) {
+  namespace k = mechgen::gen::plate_crank;
+  k::Params<double> p;
+  EXPECT_DOUBLE_EQ(p.cx(), 0.04 * std::cos(M_PI / 3));
+  p.e = 0.05;
+  p.c = 0.06;
+  EXPECT_DOUBLE_EQ(p.cx(), 0.05 * std::cos(M_PI / 3));
+  EXPECT_DOUBLE_EQ(p.cy(), 0.05 * std::sin(M_PI / 3));
+  EXPECT_DOUBLE_EQ(p.r(), 0.03);
+  k::Inputs<double> in;
+  k::driver_inputs(p, 0.2, in);
+  k::State<double> s;
+  ASSERT_EQ(k::evaluate(p, in, s), k::Status::ok);
+  const auto& coupler = s.bodies.coupler;
+  EXPECT_NEAR(s.points.C.x, s.points.P.x + coupler.cos_th * p.cx() - coupler.sin_th * p.cy(),
+              1e-15);
+  EXPECT_NEAR(s.points.C.y, s.points.P.y + coupler.sin_th * p.cx() + coupler.cos_th * p.cy(),
+              1e-15);
+  k::Params<float> f;
+  EXPECT_FLOAT_EQ(f.r(), 0.025f);
+}
+
 INSTANTIATE_TEST_SUITE_P(ShippedModels, Equivalence,
                          ::testing::Values("chebyshev", "slider_crank", "leg3", "pasibot",
                                            "cylinder_leg", "quick_return", "assur_triad",
-                                           "inverted_slider"));
+                                           "inverted_slider", "plate_crank"));
 
 }  // namespace
 }  // namespace mechgen

@@ -101,6 +101,17 @@ TEST(Grid, SpecParsingAndErrors) {
   } catch (const ModelError& error) {
     EXPECT_NE(std::string(error.what()).find("no parameter 'w9'"), std::string::npos);
   }
+  // A derived parameter is not a grid axis: the error names what it depends on.
+  try {
+    pasibot_grid(read_model(model_path("plate_crank")), "cx", {0.01});
+    FAIL() << "expected an error";
+  } catch (const ModelError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("grid: parameter 'cx' is derived (cx = e*cos(phi)); vary what it depends "
+                        "on: e, phi"),
+              std::string::npos)
+        << error.what();
+  }
   // A value where the mechanism cannot assemble is named in the error.
   try {
     pasibot_grid(model, "l8", {0.03, 0});

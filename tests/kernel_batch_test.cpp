@@ -105,7 +105,8 @@ TEST(KernelBatch, SliderCrankFailuresMatchScalar) {
   EXPECT_LE(r.worst, 1e-12);
 }
 
-// A non-finite driver input fails the sample as unreachable with no group, as evaluate() does.
+// A non-finite driver input fails the sample as unreachable in the "inputs" stage, as evaluate()
+// does.
 TEST(KernelBatch, NonFiniteInputIsUnreachable) {
   const pb::Params<double> p;
   const double t[2] = {0.1, 0.2};
@@ -117,7 +118,37 @@ TEST(KernelBatch, NonFiniteInputIsUnreachable) {
   pb::evaluate_batch(p, batch, 2, out.data(), 2, failure);
   EXPECT_EQ(failure[0], 0.0);
   EXPECT_EQ(pb::batch_status(failure[1]), pb::Status::unreachable);
-  EXPECT_EQ(pb::batch_failed_group(failure[1]), -1);
+  ASSERT_GE(pb::batch_failed_group(failure[1]), 0);
+  EXPECT_STREQ(pb::group_names[pb::batch_failed_group(failure[1])], "inputs");
+  pb::Inputs<double> in;
+  pb::driver_inputs(p, 0.2, in);
+  in.theta8 = std::nan("");
+  pb::State<double> s;
+  EXPECT_EQ(pb::evaluate(p, in, s), pb::Status::unreachable);
+  EXPECT_STREQ(pb::group_names[s.failed_group], "inputs");
+}
+
+// Finite inputs whose outputs overflow (a crank speed of 1e200 rad/s): non_finite, naming the
+// first stage that overflows, in evaluate() and evaluate_batch alike (ok before, with NaN out).
+TEST(KernelBatch, OverflowIsNonFiniteNamingTheStage) {
+  pb::Params<double> p;
+  p.w8 = 1e200;
+  const double t[2] = {0.0, 0.2};  // at t = 0 the crank angle is pi/2: only the rates overflow
+  double storage[2 * pb::batch_storage_per_sample], failure[2];
+  std::vector<double> out(2 * pb::column_count);
+  pb::BatchInputs<double> batch;
+  pb::batch_driver_inputs(p, t, 2, storage, batch);
+  pb::evaluate_batch(p, batch, 2, out.data(), 2, failure);
+  pb::Inputs<double> in;
+  pb::driver_inputs(p, t[0], in);
+  pb::State<double> s;
+  ASSERT_EQ(pb::evaluate(p, in, s), pb::Status::non_finite);
+  EXPECT_STREQ(pb::group_names[s.failed_group], "rates");  // w^2 terms overflow first
+  EXPECT_EQ(pb::batch_status(failure[0]), pb::Status::non_finite);
+  EXPECT_EQ(pb::batch_failed_group(failure[0]), s.failed_group);
+  EXPECT_EQ(pb::kinematics(p, in, s), pb::Status::non_finite);
+  std::vector<double> A(pb::ne_size * pb::ne_size), b(pb::ne_size);
+  EXPECT_EQ(pb::ne_system(p, in, A.data(), b.data()), pb::Status::non_finite);
 }
 
 // The kernels' own atan2, sin and cos against the C library: within 2e-16 absolute for the angle

@@ -292,8 +292,8 @@ TEST(ReferenceSolverDynamics, PowerBalanceOnEveryShippedModel) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// PASIBOT (/work/shared/pasibot.md): 69 Newton-Euler unknowns, the support foot fixed, the rigid
-// distances and affine relations of the geometry at every sample of the step.
+// PASIBOT (../shared/pasibot.md from the repository root): 69 Newton-Euler unknowns, the support
+// foot fixed, the rigid distances and affine relations of the geometry at every sample of the step.
 TEST(ReferenceSolverDynamics, Pasibot) {
   const std::string path = MECHGEN_SOURCE_DIR "/models/pasibot.yaml";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "models/pasibot.yaml not written yet";

@@ -232,7 +232,7 @@ TEST(Render, MismatchedSeriesIsAnError) {
 }
 
 TEST(Csv, ParsesNumbersHeaderAndSpecialValues) {
-  const CsvTable t = parse_csv("t, a.x ,b\r\n0,1.5,-2e-3\n\n0.1,nan,+inf\n", "mem.csv");
+  const CsvTable t = parse_csv("t, a.x ,b\r\n0,1.5,-2e-3\n\n0.1,nan,+inf\n", "mem.csv", Cells::any);
   EXPECT_EQ(t.header, (std::vector<std::string>{"t", "a.x", "b"}));
   ASSERT_EQ(t.rows.size(), 2u);
   EXPECT_EQ(t.rows[0], (std::vector<double>{0, 1.5, -2e-3}));
@@ -260,6 +260,10 @@ TEST(Csv, ErrorsNameFileAndLine) {
   expect_error("t,x\n0,1.5.2\n", "run.csv:2: column 'x': '1.5.2' is not a number");
   expect_error("t,x\n0,1e999\n", "run.csv:2: column 'x': '1e999' is out of range");
   expect_error("t,,x\n", "run.csv:1: empty name for column 2");
+  // Non-finite cells: an analysis would compute with them (summary printed nan, issue 16).
+  expect_error("t,x\n0,1\n0.1,nan\n", "run.csv:3: column 'x': 'nan' is not finite");
+  expect_error("t,x\n0,-inf\n", "run.csv:2: column 'x': '-inf' is not finite");
+  expect_error("t,x\n0,+INF\n", "run.csv:2: column 'x': '+INF' is not finite");
   expect_error("t,x,t\n", "run.csv:1: column 't' appears twice");
   expect_error("", "run.csv:1: no header row (the file is empty)");
   try {
@@ -286,7 +290,7 @@ TEST(Csv, RoundTripKeepsEveryBit) {
             {5e-324, std::numeric_limits<double>::max(), INFINITY}};
   const std::string path = temp_path("roundtrip.csv");
   write_csv(t, path);
-  const CsvTable back = read_csv(path);
+  const CsvTable back = read_csv(path, Cells::any);
   std::filesystem::remove(path);
   EXPECT_EQ(back.path, path);
   EXPECT_EQ(back.header, t.header);
@@ -320,6 +324,45 @@ TEST(ColumnPlot, LabelsAndUnitsFromColumnNames) {
   EXPECT_EQ(e.y_label, "torque [N m]");
   EXPECT_EQ(e.title, "theta8.effort over t");
   EXPECT_THROW(column_plot(t, {"t", {"nope"}, "", "", ""}), CsvError);
+}
+
+// --equal: one scale on both axes, so a circle is drawn round (in a 800 x 500 plot whose free
+// layout stretches it), centred, and the data stays inside the axes.
+TEST(Layout, EqualScaleKeepsACircleRound) {
+  PlotSpec spec;
+  spec.title = "coupler point";
+  spec.x_label = "C.x [m]";
+  spec.y_label = "C.y [m]";
+  std::vector<double> x, y;
+  for (int i = 0; i <= 360; ++i) {
+    x.push_back(3 + 0.5 * std::cos(i * M_PI / 180));
+    y.push_back(-2 + 0.5 * std::sin(i * M_PI / 180));
+  }
+  spec.series.push_back({"C", x, y});
+  auto radii = [&](const PlotLayout& L) {
+    const double cx = L.x.to_px(3), cy = L.y.to_px(-2);
+    double lo = INFINITY, hi = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      const double r = std::hypot(L.x.to_px(x[i]) - cx, L.y.to_px(y[i]) - cy);
+      lo = std::min(lo, r);
+      hi = std::max(hi, r);
+    }
+    return std::pair<double, double>{lo, hi};
+  };
+  const auto [free_lo, free_hi] = radii(compute_layout(spec));
+  EXPECT_GT(free_hi / free_lo, 1.2);  // the free layout makes an ellipse
+  spec.equal_scale = true;
+  const PlotLayout L = compute_layout(spec);
+  const auto [lo, hi] = radii(L);
+  EXPECT_NEAR(hi / lo, 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(L.x.px_hi - L.x.px_lo) / (L.x.hi - L.x.lo),
+              std::abs(L.y.px_hi - L.y.px_lo) / (L.y.hi - L.y.lo), 1e-9);
+  EXPECT_NEAR((L.x.lo + L.x.hi) / 2, 3, 1e-12);  // the widened axis stays centred
+  EXPECT_LE(L.x.lo, 2.5);
+  EXPECT_GE(L.x.hi, 3.5);
+  EXPECT_LE(L.y.lo, -2.5);
+  EXPECT_GE(L.y.hi, -1.5);
+  EXPECT_NE(render_svg(spec).find("<svg"), std::string::npos);
 }
 
 }  // namespace

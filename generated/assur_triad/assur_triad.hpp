@@ -199,7 +199,7 @@ struct State {
   struct Drivers {
     DriverState<T> crank_angle;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
   struct Warm {  // iterative groups' start angles (reference frame)
     T g2_link1_plate_link2_link3_link1 = T(0.0);
     T g2_link1_plate_link2_link3_plate = T(0.0);
@@ -208,11 +208,15 @@ struct State {
   } warm;
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_link1_plate_link2_link3" };
+// The 2 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 6;
+inline constexpr const char* group_names[] = { "g1_crank", "g2_link1_plate_link2_link3", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -231,7 +235,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -245,7 +250,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 3991
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -1003,17 +1008,30 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.warm.g2_link1_plate_link2_link3_plate = g2_link1_plate_link2_link3_plate_n10;
   s.warm.g2_link1_plate_link2_link3_link2 = g2_link1_plate_link2_link3_link2_n10;
   s.warm.g2_link1_plate_link2_link3_link3 = g2_link1_plate_link2_link3_link3_n10;
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.link1.x) + (s.bodies.link1.y + s.bodies.link1.cos_th));
+  const T _sum_positions_1 = ((s.bodies.link1.sin_th + s.bodies.link2.x) + (s.bodies.link2.y + s.bodies.link2.cos_th)) + ((s.bodies.link2.sin_th + s.bodies.link3.x) + (s.bodies.link3.y + s.bodies.link3.cos_th));
+  const T _sum_positions_2 = ((s.bodies.link3.sin_th + s.bodies.plate.x) + (s.bodies.plate.y + s.bodies.plate.cos_th)) + ((s.bodies.plate.sin_th + s.points.P.x) + (s.points.P.y + s.points.C1.x));
+  const T _sum_positions_3 = (s.points.C1.y + (s.points.C2.x + s.points.C2.y)) + ((s.points.C3.x + s.points.C3.y) + (s.points.Tip.x + s.points.Tip.y));
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.link1.vx + s.bodies.link1.vy) + (s.bodies.link1.w + s.bodies.link1.ax)) + ((s.bodies.link1.ay + s.bodies.link1.al) + (s.bodies.link2.vx + s.bodies.link2.vy));
+  const T _sum_rates_2 = ((s.bodies.link2.w + s.bodies.link2.ax) + (s.bodies.link2.ay + s.bodies.link2.al)) + ((s.bodies.link3.vx + s.bodies.link3.vy) + (s.bodies.link3.w + s.bodies.link3.ax));
+  const T _sum_rates_3 = ((s.bodies.link3.ay + s.bodies.link3.al) + (s.bodies.plate.vx + s.bodies.plate.vy)) + ((s.bodies.plate.w + s.bodies.plate.ax) + (s.bodies.plate.ay + s.bodies.plate.al));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 4152
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -1862,6 +1880,22 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.warm.g2_link1_plate_link2_link3_plate = g2_link1_plate_link2_link3_plate_n10;
   s.warm.g2_link1_plate_link2_link3_link2 = g2_link1_plate_link2_link3_link2_n10;
   s.warm.g2_link1_plate_link2_link3_link3 = g2_link1_plate_link2_link3_link3_n10;
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.link1.x) + (s.bodies.link1.y + s.bodies.link1.cos_th));
+  const T _sum_positions_1 = ((s.bodies.link1.sin_th + s.bodies.link2.x) + (s.bodies.link2.y + s.bodies.link2.cos_th)) + ((s.bodies.link2.sin_th + s.bodies.link3.x) + (s.bodies.link3.y + s.bodies.link3.cos_th));
+  const T _sum_positions_2 = ((s.bodies.link3.sin_th + s.bodies.plate.x) + (s.bodies.plate.y + s.bodies.plate.cos_th)) + ((s.bodies.plate.sin_th + s.points.P.x) + (s.points.P.y + s.points.C1.x));
+  const T _sum_positions_3 = (s.points.C1.y + (s.points.C2.x + s.points.C2.y)) + ((s.points.C3.x + s.points.C3.y) + (s.points.Tip.x + s.points.Tip.y));
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.link1.vx + s.bodies.link1.vy) + (s.bodies.link1.w + s.bodies.link1.ax)) + ((s.bodies.link1.ay + s.bodies.link1.al) + (s.bodies.link2.vx + s.bodies.link2.vy));
+  const T _sum_rates_2 = ((s.bodies.link2.w + s.bodies.link2.ax) + (s.bodies.link2.ay + s.bodies.link2.al)) + ((s.bodies.link3.vx + s.bodies.link3.vy) + (s.bodies.link3.w + s.bodies.link3.ax));
+  const T _sum_rates_3 = ((s.bodies.link3.ay + s.bodies.link3.al) + (s.bodies.plate.vx + s.bodies.plate.vy)) + ((s.bodies.plate.w + s.bodies.plate.ax) + (s.bodies.plate.ay + s.bodies.plate.al));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.jA.fx + s.joints.jA.fy) + (s.joints.jP.fx + s.joints.jP.fy)) + ((s.joints.jC1.fx + s.joints.jC1.fy) + (s.joints.jB.fx + s.joints.jB.fy));
+  const T _sum_forces_1 = (s.joints.jC2.fx + (s.joints.jC2.fy + s.joints.jD.fx)) + ((s.joints.jD.fy + s.joints.jC3.fx) + (s.joints.jC3.fy + s.drivers.crank_angle.effort));
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
@@ -1913,7 +1947,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_d = batch_crank_angle_d[i];
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
     // Total ops: 4157
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
@@ -2754,6 +2788,22 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[67 * stride + i] = jA_fy;
     const T jA_fx = crank_inertial_x + jP_fx;
     out[66 * stride + i] = jA_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[25 * stride + i]) + (out[32 * stride + i] + out[33 * stride + i])) + ((out[34 * stride + i] + out[41 * stride + i]) + (out[42 * stride + i] + out[43 * stride + i]));
+    const T _sum_positions_2 = ((out[56 * stride + i] + out[57 * stride + i]) + (out[58 * stride + i] + out[59 * stride + i])) + ((out[60 * stride + i] + out[61 * stride + i]) + (out[62 * stride + i] + out[63 * stride + i]));
+    const T _sum_positions_3 = out[64 * stride + i] + out[65 * stride + i];
+    const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8122387));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[35 * stride + i] + out[36 * stride + i]) + (out[37 * stride + i] + out[38 * stride + i]));
+    const T _sum_rates_3 = ((out[39 * stride + i] + out[40 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i])) + ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8118295));
+    const T _sum_forces_0 = ((out[66 * stride + i] + out[67 * stride + i]) + (out[68 * stride + i] + out[69 * stride + i])) + ((out[70 * stride + i] + out[71 * stride + i]) + (out[72 * stride + i] + out[73 * stride + i]));
+    const T _sum_forces_1 = (out[74 * stride + i] + (out[75 * stride + i] + out[76 * stride + i])) + ((out[77 * stride + i] + out[78 * stride + i]) + (out[79 * stride + i] + out[4 * stride + i]));
+    const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8114203));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -2762,7 +2812,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 15;
 inline constexpr const char* ne_unknowns[] = { "jA.fx", "jA.fy", "jP.fx", "jP.fy", "jC1.fx", "jC1.fy", "jB.fx", "jB.fy", "jC2.fx", "jC2.fy", "jD.fx", "jD.fy", "jC3.fx", "jC3.fy", "crank_angle.effort" };
 template <class T>
@@ -3501,6 +3552,12 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T g2_link1_plate_link2_link3_converged = T(7.34734e-11) - _tmp317*_tmp317 - _tmp318*_tmp318 - _tmp319*_tmp319 - _tmp320*_tmp320;
   if (!(g2_link1_plate_link2_link3_converged > T(0))) return Status::unreachable;
   if (!(g2_link1_plate_link2_link3_det != T(0))) return Status::singular;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[32] + A[33])) + ((b[2] + b[3]) + (b[4] + A[79]));
+  const T _sum_forces_1 = ((A[80] + b[5]) + (b[6] + b[7])) + ((A[128] + A[129]) + (b[8] + b[9]));
+  const T _sum_forces_2 = ((b[10] + A[177]) + (A[178] + b[11])) + ((b[12] + b[13]) + (A[218] + A[219]));
+  const T _sum_forces_3 = A[222] + (A[223] + b[14]);
+  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -3534,6 +3591,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[2 * n + i] = in.crank_angle_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x4b3ae493de6b7185ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -219,14 +219,18 @@ struct State {
     DriverState<T> l1;
     DriverState<T> l2;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_thigh_barrel1_rod1", "g2_shank_rod2_barrel2" };
+// The 2 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 6;
+inline constexpr const char* group_names[] = { "g1_thigh_barrel1_rod1", "g2_shank_rod2_barrel2", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -243,7 +247,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -256,7 +261,7 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 434
   s.drivers.l1.q = in.l1;
   s.drivers.l1.qd = in.l1_d;
@@ -511,15 +516,31 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(g1_thigh_barrel1_rod1_disc > T(0))) return detail::failed(s, 0, Status::unreachable);
   if (!(g2_shank_rod2_barrel2_d2 > T(0))) return detail::failed(s, 1, Status::singular);
   if (!(g2_shank_rod2_barrel2_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  const T _sum_positions_0 = ((s.drivers.l1.q + s.drivers.l2.q) + (s.bodies.thigh.x + s.bodies.thigh.y)) + ((s.bodies.thigh.cos_th + s.bodies.thigh.sin_th) + (s.bodies.shank.x + s.bodies.shank.y));
+  const T _sum_positions_1 = ((s.bodies.shank.cos_th + s.bodies.shank.sin_th) + (s.bodies.barrel1.x + s.bodies.barrel1.y)) + ((s.bodies.barrel1.cos_th + s.bodies.barrel1.sin_th) + (s.bodies.rod1.x + s.bodies.rod1.y));
+  const T _sum_positions_2 = ((s.bodies.rod1.cos_th + s.bodies.rod1.sin_th) + (s.bodies.barrel2.x + s.bodies.barrel2.y)) + ((s.bodies.barrel2.cos_th + s.bodies.barrel2.sin_th) + (s.bodies.rod2.x + s.bodies.rod2.y));
+  const T _sum_positions_3 = ((s.bodies.rod2.cos_th + s.bodies.rod2.sin_th) + (s.points.G.x + s.points.T1.x)) + ((s.points.T1.y + s.points.F.x) + (s.points.F.y + s.points.K.x));
+  const T _sum_positions_4 = ((s.points.K.y + s.points.S.x) + (s.points.S.y + s.points.D.x)) + ((s.points.D.y + s.points.R1.x) + (s.points.R1.y + s.points.R2.x));
+  const T _sum_positions_5 = s.points.R2.y;
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.l1.qd + s.drivers.l1.qdd) + (s.drivers.l2.qd + s.drivers.l2.qdd)) + ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.w + s.bodies.thigh.ax));
+  const T _sum_rates_1 = ((s.bodies.thigh.ay + s.bodies.thigh.al) + (s.bodies.shank.vx + s.bodies.shank.vy)) + ((s.bodies.shank.w + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.shank.al));
+  const T _sum_rates_2 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.w + s.bodies.barrel1.ax)) + ((s.bodies.barrel1.ay + s.bodies.barrel1.al) + (s.bodies.rod1.vx + s.bodies.rod1.vy));
+  const T _sum_rates_3 = ((s.bodies.rod1.w + s.bodies.rod1.ax) + (s.bodies.rod1.ay + s.bodies.rod1.al)) + ((s.bodies.barrel2.vx + s.bodies.barrel2.vy) + (s.bodies.barrel2.w + s.bodies.barrel2.ax));
+  const T _sum_rates_4 = ((s.bodies.barrel2.ay + s.bodies.barrel2.al) + (s.bodies.rod2.vx + s.bodies.rod2.vy)) + ((s.bodies.rod2.w + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.al));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 643
   s.drivers.l1.q = in.l1;
   s.drivers.l1.qd = in.l1_d;
@@ -900,6 +921,26 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(ne20 != T(0))) return detail::failed(s, -1, Status::singular);
   if (!(ne28 != T(0))) return detail::failed(s, -1, Status::singular);
   if (!(ne35 != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.l1.q + s.drivers.l2.q) + (s.bodies.thigh.x + s.bodies.thigh.y)) + ((s.bodies.thigh.cos_th + s.bodies.thigh.sin_th) + (s.bodies.shank.x + s.bodies.shank.y));
+  const T _sum_positions_1 = ((s.bodies.shank.cos_th + s.bodies.shank.sin_th) + (s.bodies.barrel1.x + s.bodies.barrel1.y)) + ((s.bodies.barrel1.cos_th + s.bodies.barrel1.sin_th) + (s.bodies.rod1.x + s.bodies.rod1.y));
+  const T _sum_positions_2 = ((s.bodies.rod1.cos_th + s.bodies.rod1.sin_th) + (s.bodies.barrel2.x + s.bodies.barrel2.y)) + ((s.bodies.barrel2.cos_th + s.bodies.barrel2.sin_th) + (s.bodies.rod2.x + s.bodies.rod2.y));
+  const T _sum_positions_3 = ((s.bodies.rod2.cos_th + s.bodies.rod2.sin_th) + (s.points.G.x + s.points.T1.x)) + ((s.points.T1.y + s.points.F.x) + (s.points.F.y + s.points.K.x));
+  const T _sum_positions_4 = ((s.points.K.y + s.points.S.x) + (s.points.S.y + s.points.D.x)) + ((s.points.D.y + s.points.R1.x) + (s.points.R1.y + s.points.R2.x));
+  const T _sum_positions_5 = s.points.R2.y;
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.l1.qd + s.drivers.l1.qdd) + (s.drivers.l2.qd + s.drivers.l2.qdd)) + ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.w + s.bodies.thigh.ax));
+  const T _sum_rates_1 = ((s.bodies.thigh.ay + s.bodies.thigh.al) + (s.bodies.shank.vx + s.bodies.shank.vy)) + ((s.bodies.shank.w + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.shank.al));
+  const T _sum_rates_2 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.w + s.bodies.barrel1.ax)) + ((s.bodies.barrel1.ay + s.bodies.barrel1.al) + (s.bodies.rod1.vx + s.bodies.rod1.vy));
+  const T _sum_rates_3 = ((s.bodies.rod1.w + s.bodies.rod1.ax) + (s.bodies.rod1.ay + s.bodies.rod1.al)) + ((s.bodies.barrel2.vx + s.bodies.barrel2.vy) + (s.bodies.barrel2.w + s.bodies.barrel2.ax));
+  const T _sum_rates_4 = ((s.bodies.barrel2.ay + s.bodies.barrel2.al) + (s.bodies.rod2.vx + s.bodies.rod2.vy)) + ((s.bodies.rod2.w + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.al));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.hip.fx + s.joints.hip.fy) + (s.joints.knee.fx + s.joints.knee.fy)) + ((s.joints.base1.fx + s.joints.base1.fy) + (s.joints.stroke1.fx + s.joints.stroke1.fy));
+  const T _sum_forces_1 = ((s.joints.stroke1.m + s.joints.tip1.fx) + (s.joints.tip1.fy + s.joints.base2.fx)) + ((s.joints.base2.fy + s.joints.stroke2.fx) + (s.joints.stroke2.fy + s.joints.stroke2.m));
+  const T _sum_forces_2 = (s.joints.tip2.fx + s.joints.tip2.fy) + (s.drivers.l1.effort + s.drivers.l2.effort);
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
@@ -954,7 +995,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.l2_d = batch_l2_d[i];
     in.l2_dd = batch_l2_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.l1 - in.l1) + (in.l1_d - in.l1_d) + (in.l1_dd - in.l1_dd) + (in.l2 - in.l2) + (in.l2_d - in.l2_d) + (in.l2_dd - in.l2_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.l1 - in.l1) + (in.l1_d - in.l1_d) + (in.l1_dd - in.l1_dd) + (in.l2 - in.l2) + (in.l2_d - in.l2_d) + (in.l2_dd - in.l2_dd)) == T(0) ? T(0) : T(8196109);
     // Total ops: 647
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.l1;
@@ -1332,6 +1373,25 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[82 * stride + i] = hip_fy;
     const T hip_fx = knee_fx + thigh_inertial_x - tip1_fx - tip2_fx;
     out[81 * stride + i] = hip_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[9 * stride + i] + out[10 * stride + i])) + ((out[11 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i]));
+    const T _sum_positions_1 = ((out[27 * stride + i] + out[28 * stride + i]) + (out[29 * stride + i] + out[36 * stride + i])) + ((out[37 * stride + i] + out[38 * stride + i]) + (out[45 * stride + i] + out[46 * stride + i]));
+    const T _sum_positions_2 = ((out[47 * stride + i] + out[54 * stride + i]) + (out[55 * stride + i] + out[56 * stride + i])) + ((out[65 * stride + i] + out[67 * stride + i]) + (out[68 * stride + i] + out[69 * stride + i]));
+    const T _sum_positions_3 = ((out[70 * stride + i] + out[71 * stride + i]) + (out[72 * stride + i] + out[73 * stride + i])) + ((out[74 * stride + i] + out[75 * stride + i]) + (out[76 * stride + i] + out[77 * stride + i]));
+    const T _sum_positions_4 = out[78 * stride + i] + (out[79 * stride + i] + out[80 * stride + i]);
+    const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8159251));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[12 * stride + i] + out[13 * stride + i]) + (out[14 * stride + i] + out[15 * stride + i]));
+    const T _sum_rates_1 = ((out[16 * stride + i] + out[17 * stride + i]) + (out[21 * stride + i] + out[22 * stride + i])) + ((out[23 * stride + i] + out[24 * stride + i]) + (out[25 * stride + i] + out[26 * stride + i]));
+    const T _sum_rates_2 = ((out[30 * stride + i] + out[31 * stride + i]) + (out[32 * stride + i] + out[33 * stride + i])) + ((out[34 * stride + i] + out[35 * stride + i]) + (out[39 * stride + i] + out[40 * stride + i]));
+    const T _sum_rates_3 = ((out[41 * stride + i] + out[42 * stride + i]) + (out[43 * stride + i] + out[44 * stride + i])) + ((out[48 * stride + i] + out[49 * stride + i]) + (out[50 * stride + i] + out[51 * stride + i]));
+    const T _sum_rates_4 = ((out[52 * stride + i] + out[53 * stride + i]) + (out[57 * stride + i] + out[58 * stride + i])) + ((out[59 * stride + i] + out[60 * stride + i]) + (out[61 * stride + i] + out[62 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8155159));
+    const T _sum_forces_0 = ((out[81 * stride + i] + out[82 * stride + i]) + (out[83 * stride + i] + out[84 * stride + i])) + ((out[85 * stride + i] + out[86 * stride + i]) + (out[87 * stride + i] + out[88 * stride + i]));
+    const T _sum_forces_1 = ((out[89 * stride + i] + out[90 * stride + i]) + (out[91 * stride + i] + out[92 * stride + i])) + ((out[93 * stride + i] + out[94 * stride + i]) + (out[95 * stride + i] + out[96 * stride + i]));
+    const T _sum_forces_2 = (out[97 * stride + i] + out[98 * stride + i]) + (out[4 * stride + i] + out[8 * stride + i]);
+    const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8151067));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -1340,7 +1400,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 18;
 inline constexpr const char* ne_unknowns[] = { "hip.fx", "hip.fy", "knee.fx", "knee.fy", "base1.fx", "base1.fy", "stroke1.n", "stroke1.m", "tip1.fx", "tip1.fy", "base2.fx", "base2.fy", "stroke2.n", "stroke2.m", "tip2.fx", "tip2.fy", "l1.effort", "l2.effort" };
 template <class T>
@@ -1594,6 +1655,15 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[264] = _tmp16*c_rod2 - _tmp17*stroke2_normal_x;
   A[282] = stroke2_normal_x;
   A[318] = _tmp19*stroke2_normal_x - _tmp18*c_rod2;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[38] + A[39])) + ((A[44] + A[45]) + (A[50] + A[51]));
+  const T _sum_forces_1 = ((b[2] + b[3]) + (b[4] + A[100])) + ((A[101] + b[5]) + (A[114] + A[124]));
+  const T _sum_forces_2 = ((b[6] + A[132]) + (A[142] + b[7])) + ((A[150] + A[160]) + (b[8] + A[168]));
+  const T _sum_forces_3 = ((A[178] + b[9]) + (A[186] + A[196])) + ((b[10] + A[204]) + (A[214] + b[11]));
+  const T _sum_forces_4 = ((A[228] + A[233]) + (b[12] + A[246])) + ((A[251] + b[13]) + (A[264] + A[269]));
+  const T _sum_forces_5 = ((b[14] + A[282]) + (A[287] + b[15])) + ((A[300] + A[305]) + (b[16] + A[318]));
+  const T _sum_forces_6 = A[323] + b[17];
+  const T _sum_forces = (_sum_forces_0 + (_sum_forces_1 + _sum_forces_2)) + ((_sum_forces_3 + _sum_forces_4) + (_sum_forces_5 + _sum_forces_6));
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -1642,6 +1712,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[5 * n + i] = in.l2_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xcb473cf5eccfcefeULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 19;

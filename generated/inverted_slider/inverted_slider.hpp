@@ -195,14 +195,18 @@ struct State {
   struct Drivers {
     DriverState<T> crank_angle;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_rocker_block" };
+// The 2 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 6;
+inline constexpr const char* group_names[] = { "g1_crank", "g2_rocker_block", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -219,7 +223,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -234,7 +239,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 207
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -346,17 +351,28 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T E_y = p.L*s_rocker;
   s.points.E.y = E_y;
   if (!(g2_rocker_block_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th));
+  const T _sum_positions_1 = ((s.bodies.rocker.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.points.B.x) + (s.points.A.x + s.points.A.y));
+  const T _sum_positions_2 = (s.points.E.x + s.points.E.y) + (s.points.S.x + s.points.S.y);
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.rocker.vx + s.bodies.rocker.vy) + (s.bodies.rocker.w + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.al) + (s.bodies.block.vx + s.bodies.block.vy));
+  const T _sum_rates_2 = (s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 290
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -516,6 +532,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.O_crank.fx = O_crank_fx;
   if (!(g2_rocker_block_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th));
+  const T _sum_positions_1 = ((s.bodies.rocker.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.points.B.x) + (s.points.A.x + s.points.A.y));
+  const T _sum_positions_2 = (s.points.E.x + s.points.E.y) + (s.points.S.x + s.points.S.y);
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.rocker.vx + s.bodies.rocker.vy) + (s.bodies.rocker.w + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.al) + (s.bodies.block.vx + s.bodies.block.vy));
+  const T _sum_rates_2 = (s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.O_crank.fx + s.joints.O_crank.fy) + (s.joints.B_rocker.fx + s.joints.B_rocker.fy)) + ((s.joints.A_block.fx + s.joints.A_block.fy) + (s.joints.slide.fx + s.joints.slide.fy));
+  const T _sum_forces_1 = s.joints.slide.m + s.drivers.crank_angle.effort;
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
@@ -566,7 +596,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_d = batch_crank_angle_d[i];
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
     // Total ops: 293
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
@@ -724,6 +754,20 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[43 * stride + i] = O_crank_fy;
     const T O_crank_fx = A_block_fx + crank_inertial_x;
     out[42 * stride + i] = O_crank_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[25 * stride + i]) + (out[34 * stride + i] + out[36 * stride + i])) + ((out[37 * stride + i] + out[38 * stride + i]) + (out[39 * stride + i] + out[40 * stride + i]));
+    const T _sum_positions_2 = out[41 * stride + i];
+    const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8183827));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
+    const T _sum_rates_2 = (out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i]);
+    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8179735));
+    const T _sum_forces_0 = ((out[42 * stride + i] + out[43 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i])) + ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]));
+    const T _sum_forces_1 = out[50 * stride + i] + out[4 * stride + i];
+    const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8175643));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -732,7 +776,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "O_crank.fx", "O_crank.fy", "B_rocker.fx", "B_rocker.fy", "A_block.fx", "A_block.fy", "slide.n", "slide.m", "crank_angle.effort" };
 template <class T>
@@ -845,6 +890,11 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[51] = S_y*slide_normal_x - (S_x - p.d)*c_rocker;
   A[60] = slide_normal_x;
   A[78] = (A_y - S_y)*slide_normal_x - (A_x - S_x)*c_rocker;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[22] + A[23])) + ((b[2] + A[33]) + (b[3] + A[42]));
+  const T _sum_forces_1 = ((b[4] + A[51]) + (b[5] + A[60])) + ((b[6] + A[69]) + (b[7] + A[78]));
+  const T _sum_forces_2 = b[8];
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -878,6 +928,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[2 * n + i] = in.crank_angle_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x7d42c87582c9e417ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 11;

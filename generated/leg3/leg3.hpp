@@ -207,14 +207,18 @@ struct State {
     DriverState<T> q2;
     DriverState<T> q3;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 3;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot" };
+// The 3 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 7;
+inline constexpr const char* group_names[] = { "g1_thigh", "g2_shank", "g3_foot", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -231,7 +235,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -245,7 +250,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 225
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
@@ -367,16 +372,27 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.foot.w = w_foot;
   const T w_foot_d = in.q3_dd + w_shank_d;
   s.bodies.foot.al = w_foot_d;
+  const T _sum_positions_0 = ((s.drivers.q1.q + s.drivers.q2.q) + (s.drivers.q3.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.thigh.cos_th) + (s.bodies.thigh.sin_th + s.bodies.shank.x));
+  const T _sum_positions_1 = ((s.bodies.shank.y + s.bodies.shank.cos_th) + (s.bodies.shank.sin_th + s.bodies.foot.x)) + ((s.bodies.foot.y + s.bodies.foot.cos_th) + (s.bodies.foot.sin_th + s.points.K.x));
+  const T _sum_positions_2 = (s.points.K.y + (s.points.Ank.x + s.points.Ank.y)) + ((s.points.Toe.x + s.points.Toe.y) + (s.points.Heel.x + s.points.Heel.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd)) + ((s.drivers.q3.qd + s.drivers.q3.qdd) + (s.bodies.thigh.vx + s.bodies.thigh.vy));
+  const T _sum_rates_1 = ((s.bodies.thigh.w + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.al)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.w + s.bodies.shank.ax));
+  const T _sum_rates_2 = ((s.bodies.shank.ay + s.bodies.shank.al) + (s.bodies.foot.vx + s.bodies.foot.vy)) + ((s.bodies.foot.w + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.al));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 281
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
@@ -525,6 +541,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.hip.fy = hip_fy;
   const T hip_fx = knee_fx + thigh_inertial_x;
   s.joints.hip.fx = hip_fx;
+  const T _sum_positions_0 = ((s.drivers.q1.q + s.drivers.q2.q) + (s.drivers.q3.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.thigh.cos_th) + (s.bodies.thigh.sin_th + s.bodies.shank.x));
+  const T _sum_positions_1 = ((s.bodies.shank.y + s.bodies.shank.cos_th) + (s.bodies.shank.sin_th + s.bodies.foot.x)) + ((s.bodies.foot.y + s.bodies.foot.cos_th) + (s.bodies.foot.sin_th + s.points.K.x));
+  const T _sum_positions_2 = (s.points.K.y + (s.points.Ank.x + s.points.Ank.y)) + ((s.points.Toe.x + s.points.Toe.y) + (s.points.Heel.x + s.points.Heel.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd)) + ((s.drivers.q3.qd + s.drivers.q3.qdd) + (s.bodies.thigh.vx + s.bodies.thigh.vy));
+  const T _sum_rates_1 = ((s.bodies.thigh.w + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.al)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.w + s.bodies.shank.ax));
+  const T _sum_rates_2 = ((s.bodies.shank.ay + s.bodies.shank.al) + (s.bodies.foot.vx + s.bodies.foot.vy)) + ((s.bodies.foot.w + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.al));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.hip.fx + s.joints.hip.fy) + (s.joints.knee.fx + s.joints.knee.fy)) + ((s.joints.ankle.fx + s.joints.ankle.fy) + (s.drivers.q1.effort + s.drivers.q2.effort));
+  const T _sum_forces_1 = s.drivers.q3.effort;
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
 }
@@ -586,7 +616,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.q3_d = batch_q3_d[i];
     in.q3_dd = batch_q3_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.q1 - in.q1) + (in.q1_d - in.q1_d) + (in.q1_dd - in.q1_dd) + (in.q2 - in.q2) + (in.q2_d - in.q2_d) + (in.q2_dd - in.q2_dd) + (in.q3 - in.q3) + (in.q3_d - in.q3_d) + (in.q3_dd - in.q3_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.q1 - in.q1) + (in.q1_d - in.q1_d) + (in.q1_dd - in.q1_dd) + (in.q2 - in.q2) + (in.q2_d - in.q2_d) + (in.q2_dd - in.q2_dd) + (in.q3 - in.q3) + (in.q3_d - in.q3_d) + (in.q3_dd - in.q3_dd)) == T(0) ? T(0) : T(8196113);
     // Total ops: 284
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.q1;
@@ -733,6 +763,20 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[51 * stride + i] = hip_fy;
     const T hip_fx = knee_fx + thigh_inertial_x;
     out[50 * stride + i] = hip_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[9 * stride + i] + out[13 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[22 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[31 * stride + i]) + (out[32 * stride + i] + out[33 * stride + i])) + ((out[42 * stride + i] + out[43 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i]));
+    const T _sum_positions_2 = (out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]);
+    const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8192023));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[16 * stride + i] + out[17 * stride + i]));
+    const T _sum_rates_1 = ((out[18 * stride + i] + out[19 * stride + i]) + (out[20 * stride + i] + out[21 * stride + i])) + ((out[25 * stride + i] + out[26 * stride + i]) + (out[27 * stride + i] + out[28 * stride + i]));
+    const T _sum_rates_2 = ((out[29 * stride + i] + out[30 * stride + i]) + (out[34 * stride + i] + out[35 * stride + i])) + ((out[36 * stride + i] + out[37 * stride + i]) + (out[38 * stride + i] + out[39 * stride + i]));
+    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8187931));
+    const T _sum_forces_0 = ((out[50 * stride + i] + out[51 * stride + i]) + (out[52 * stride + i] + out[53 * stride + i])) + ((out[54 * stride + i] + out[55 * stride + i]) + (out[4 * stride + i] + out[8 * stride + i]));
+    const T _sum_forces_1 = out[12 * stride + i];
+    const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8183839));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -741,7 +785,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "hip.fx", "hip.fy", "knee.fx", "knee.fy", "ankle.fx", "ankle.fy", "q1.effort", "q2.effort", "q3.effort" };
 template <class T>
@@ -841,6 +886,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
   const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
   b[8] = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[20] + A[21])) + ((b[2] + b[3]) + (b[4] + A[49]));
+  const T _sum_forces_1 = (A[50] + b[5]) + (b[6] + (b[7] + b[8]));
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -916,6 +965,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[8 * n + i] = in.q3_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x325f25b20673f787ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;

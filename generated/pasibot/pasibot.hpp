@@ -274,14 +274,18 @@ struct State {
   struct Drivers {
     DriverState<T> theta8;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 13;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_l8", "g2_l7_l9", "g3_l6_l3", "g4_l10", "g5_l5_l12", "g6_l4_l2", "g7_l1_l11", "g8_l7p_l9p", "g9_l6p_l3p", "g10_l10p", "g11_l5p_l12p", "g12_l4p_l2p", "g13_l11p_l1p" };
+// The 13 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 17;
+inline constexpr const char* group_names[] = { "g1_l8", "g2_l7_l9", "g3_l6_l3", "g4_l10", "g5_l5_l12", "g6_l4_l2", "g7_l1_l11", "g8_l7p_l9p", "g9_l6p_l3p", "g10_l10p", "g11_l5p_l12p", "g12_l4p_l2p", "g13_l11p_l1p", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -298,7 +302,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -313,7 +318,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 13, Status::unreachable);
   // Total ops: 2810
   s.drivers.theta8.q = in.theta8;
   s.drivers.theta8.qd = in.theta8_d;
@@ -1718,17 +1723,64 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.E.x = E_x;
   const T E_y = T(0);
   s.points.E.y = E_y;
+  const T _sum_positions_0 = ((s.drivers.theta8.q + s.bodies.l13.x) + (s.bodies.l13.y + s.bodies.l13.cos_th)) + ((s.bodies.l13.sin_th + s.bodies.l8.x) + (s.bodies.l8.y + s.bodies.l8.cos_th));
+  const T _sum_positions_1 = ((s.bodies.l8.sin_th + s.bodies.l7.x) + (s.bodies.l7.y + s.bodies.l7.cos_th)) + ((s.bodies.l7.sin_th + s.bodies.l9.x) + (s.bodies.l9.y + s.bodies.l9.cos_th));
+  const T _sum_positions_2 = ((s.bodies.l9.sin_th + s.bodies.l6.x) + (s.bodies.l6.y + s.bodies.l6.cos_th)) + ((s.bodies.l6.sin_th + s.bodies.l3.x) + (s.bodies.l3.y + s.bodies.l3.cos_th));
+  const T _sum_positions_3 = ((s.bodies.l3.sin_th + s.bodies.l10.x) + (s.bodies.l10.y + s.bodies.l10.cos_th)) + ((s.bodies.l10.sin_th + s.bodies.l5.x) + (s.bodies.l5.y + s.bodies.l5.cos_th));
+  const T _sum_positions_4 = ((s.bodies.l5.sin_th + s.bodies.l12.x) + (s.bodies.l12.y + s.bodies.l12.cos_th)) + ((s.bodies.l12.sin_th + s.bodies.l4.x) + (s.bodies.l4.y + s.bodies.l4.cos_th));
+  const T _sum_positions_5 = ((s.bodies.l4.sin_th + s.bodies.l2.x) + (s.bodies.l2.y + s.bodies.l2.cos_th)) + ((s.bodies.l2.sin_th + s.bodies.l11.x) + (s.bodies.l11.y + s.bodies.l11.cos_th));
+  const T _sum_positions_6 = ((s.bodies.l11.sin_th + s.bodies.l7p.x) + (s.bodies.l7p.y + s.bodies.l7p.cos_th)) + ((s.bodies.l7p.sin_th + s.bodies.l9p.x) + (s.bodies.l9p.y + s.bodies.l9p.cos_th));
+  const T _sum_positions_7 = ((s.bodies.l9p.sin_th + s.bodies.l6p.x) + (s.bodies.l6p.y + s.bodies.l6p.cos_th)) + ((s.bodies.l6p.sin_th + s.bodies.l3p.x) + (s.bodies.l3p.y + s.bodies.l3p.cos_th));
+  const T _sum_positions_8 = ((s.bodies.l3p.sin_th + s.bodies.l10p.x) + (s.bodies.l10p.y + s.bodies.l10p.cos_th)) + ((s.bodies.l10p.sin_th + s.bodies.l5p.x) + (s.bodies.l5p.y + s.bodies.l5p.cos_th));
+  const T _sum_positions_9 = ((s.bodies.l5p.sin_th + s.bodies.l12p.x) + (s.bodies.l12p.y + s.bodies.l12p.cos_th)) + ((s.bodies.l12p.sin_th + s.bodies.l4p.x) + (s.bodies.l4p.y + s.bodies.l4p.cos_th));
+  const T _sum_positions_10 = ((s.bodies.l4p.sin_th + s.bodies.l2p.x) + (s.bodies.l2p.y + s.bodies.l2p.cos_th)) + ((s.bodies.l2p.sin_th + s.bodies.l11p.x) + (s.bodies.l11p.y + s.bodies.l11p.cos_th));
+  const T _sum_positions_11 = ((s.bodies.l11p.sin_th + s.bodies.l1p.x) + (s.bodies.l1p.y + s.bodies.l1p.cos_th)) + ((s.bodies.l1p.sin_th + s.points.E.x) + (s.points.E.y + s.points.F.x));
+  const T _sum_positions_12 = ((s.points.F.y + s.points.A.x) + (s.points.A.y + s.points.B.x)) + ((s.points.B.y + s.points.D.x) + (s.points.D.y + s.points.P.x));
+  const T _sum_positions_13 = ((s.points.P.y + s.points.Pp.x) + (s.points.Pp.y + s.points.C.x)) + ((s.points.C.y + s.points.M.x) + (s.points.M.y + s.points.K.x));
+  const T _sum_positions_14 = ((s.points.K.y + s.points.J.x) + (s.points.J.y + s.points.S.x)) + ((s.points.S.y + s.points.R.x) + (s.points.R.y + s.points.L.x));
+  const T _sum_positions_15 = ((s.points.L.y + s.points.Cp.x) + (s.points.Cp.y + s.points.Mp.x)) + ((s.points.Mp.y + s.points.Kp.x) + (s.points.Kp.y + s.points.Jp.x));
+  const T _sum_positions_16 = ((s.points.Jp.y + s.points.Sp.x) + (s.points.Sp.y + s.points.Rp.x)) + ((s.points.Rp.y + s.points.Lp.x) + (s.points.Lp.y + s.points.Ep.x));
+  const T _sum_positions_17 = s.points.Ep.y + (s.points.Fp.x + s.points.Fp.y);
+  const T _sum_positions_18 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_19 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_20 = _sum_positions_16 + _sum_positions_17;
+  const T _sum_positions = _sum_positions_18 + (_sum_positions_19 + _sum_positions_20);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 14, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.theta8.qd + s.drivers.theta8.qdd) + (s.bodies.l13.vx + s.bodies.l13.vy)) + ((s.bodies.l13.w + s.bodies.l13.ax) + (s.bodies.l13.ay + s.bodies.l13.al));
+  const T _sum_rates_1 = ((s.bodies.l8.vx + s.bodies.l8.vy) + (s.bodies.l8.w + s.bodies.l8.ax)) + ((s.bodies.l8.ay + s.bodies.l8.al) + (s.bodies.l7.vx + s.bodies.l7.vy));
+  const T _sum_rates_2 = ((s.bodies.l7.w + s.bodies.l7.ax) + (s.bodies.l7.ay + s.bodies.l7.al)) + ((s.bodies.l9.vx + s.bodies.l9.vy) + (s.bodies.l9.w + s.bodies.l9.ax));
+  const T _sum_rates_3 = ((s.bodies.l9.ay + s.bodies.l9.al) + (s.bodies.l6.vx + s.bodies.l6.vy)) + ((s.bodies.l6.w + s.bodies.l6.ax) + (s.bodies.l6.ay + s.bodies.l6.al));
+  const T _sum_rates_4 = ((s.bodies.l3.vx + s.bodies.l3.vy) + (s.bodies.l3.w + s.bodies.l3.ax)) + ((s.bodies.l3.ay + s.bodies.l3.al) + (s.bodies.l10.vx + s.bodies.l10.vy));
+  const T _sum_rates_5 = ((s.bodies.l10.w + s.bodies.l10.ax) + (s.bodies.l10.ay + s.bodies.l10.al)) + ((s.bodies.l5.vx + s.bodies.l5.vy) + (s.bodies.l5.w + s.bodies.l5.ax));
+  const T _sum_rates_6 = ((s.bodies.l5.ay + s.bodies.l5.al) + (s.bodies.l12.vx + s.bodies.l12.vy)) + ((s.bodies.l12.w + s.bodies.l12.ax) + (s.bodies.l12.ay + s.bodies.l12.al));
+  const T _sum_rates_7 = ((s.bodies.l4.vx + s.bodies.l4.vy) + (s.bodies.l4.w + s.bodies.l4.ax)) + ((s.bodies.l4.ay + s.bodies.l4.al) + (s.bodies.l2.vx + s.bodies.l2.vy));
+  const T _sum_rates_8 = ((s.bodies.l2.w + s.bodies.l2.ax) + (s.bodies.l2.ay + s.bodies.l2.al)) + ((s.bodies.l11.vx + s.bodies.l11.vy) + (s.bodies.l11.w + s.bodies.l11.ax));
+  const T _sum_rates_9 = ((s.bodies.l11.ay + s.bodies.l11.al) + (s.bodies.l7p.vx + s.bodies.l7p.vy)) + ((s.bodies.l7p.w + s.bodies.l7p.ax) + (s.bodies.l7p.ay + s.bodies.l7p.al));
+  const T _sum_rates_10 = ((s.bodies.l9p.vx + s.bodies.l9p.vy) + (s.bodies.l9p.w + s.bodies.l9p.ax)) + ((s.bodies.l9p.ay + s.bodies.l9p.al) + (s.bodies.l6p.vx + s.bodies.l6p.vy));
+  const T _sum_rates_11 = ((s.bodies.l6p.w + s.bodies.l6p.ax) + (s.bodies.l6p.ay + s.bodies.l6p.al)) + ((s.bodies.l3p.vx + s.bodies.l3p.vy) + (s.bodies.l3p.w + s.bodies.l3p.ax));
+  const T _sum_rates_12 = ((s.bodies.l3p.ay + s.bodies.l3p.al) + (s.bodies.l10p.vx + s.bodies.l10p.vy)) + ((s.bodies.l10p.w + s.bodies.l10p.ax) + (s.bodies.l10p.ay + s.bodies.l10p.al));
+  const T _sum_rates_13 = ((s.bodies.l5p.vx + s.bodies.l5p.vy) + (s.bodies.l5p.w + s.bodies.l5p.ax)) + ((s.bodies.l5p.ay + s.bodies.l5p.al) + (s.bodies.l12p.vx + s.bodies.l12p.vy));
+  const T _sum_rates_14 = ((s.bodies.l12p.w + s.bodies.l12p.ax) + (s.bodies.l12p.ay + s.bodies.l12p.al)) + ((s.bodies.l4p.vx + s.bodies.l4p.vy) + (s.bodies.l4p.w + s.bodies.l4p.ax));
+  const T _sum_rates_15 = ((s.bodies.l4p.ay + s.bodies.l4p.al) + (s.bodies.l2p.vx + s.bodies.l2p.vy)) + ((s.bodies.l2p.w + s.bodies.l2p.ax) + (s.bodies.l2p.ay + s.bodies.l2p.al));
+  const T _sum_rates_16 = ((s.bodies.l11p.vx + s.bodies.l11p.vy) + (s.bodies.l11p.w + s.bodies.l11p.ax)) + ((s.bodies.l11p.ay + s.bodies.l11p.al) + (s.bodies.l1p.vx + s.bodies.l1p.vy));
+  const T _sum_rates_17 = (s.bodies.l1p.w + s.bodies.l1p.ax) + (s.bodies.l1p.ay + s.bodies.l1p.al);
+  const T _sum_rates_18 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_19 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_20 = _sum_rates_16 + _sum_rates_17;
+  const T _sum_rates = _sum_rates_18 + (_sum_rates_19 + _sum_rates_20);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 15, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 13, Status::unreachable);
   // Total ops: 3811
   s.drivers.theta8.q = in.theta8;
   s.drivers.theta8.qd = in.theta8_d;
@@ -3808,6 +3860,65 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ww_l13 = -w_l1;
   s.bodies.l13.w = ww_l13;
   if (!(ne431 != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.theta8.q + s.bodies.l13.x) + (s.bodies.l13.y + s.bodies.l13.cos_th)) + ((s.bodies.l13.sin_th + s.bodies.l8.x) + (s.bodies.l8.y + s.bodies.l8.cos_th));
+  const T _sum_positions_1 = ((s.bodies.l8.sin_th + s.bodies.l7.x) + (s.bodies.l7.y + s.bodies.l7.cos_th)) + ((s.bodies.l7.sin_th + s.bodies.l9.x) + (s.bodies.l9.y + s.bodies.l9.cos_th));
+  const T _sum_positions_2 = ((s.bodies.l9.sin_th + s.bodies.l6.x) + (s.bodies.l6.y + s.bodies.l6.cos_th)) + ((s.bodies.l6.sin_th + s.bodies.l3.x) + (s.bodies.l3.y + s.bodies.l3.cos_th));
+  const T _sum_positions_3 = ((s.bodies.l3.sin_th + s.bodies.l10.x) + (s.bodies.l10.y + s.bodies.l10.cos_th)) + ((s.bodies.l10.sin_th + s.bodies.l5.x) + (s.bodies.l5.y + s.bodies.l5.cos_th));
+  const T _sum_positions_4 = ((s.bodies.l5.sin_th + s.bodies.l12.x) + (s.bodies.l12.y + s.bodies.l12.cos_th)) + ((s.bodies.l12.sin_th + s.bodies.l4.x) + (s.bodies.l4.y + s.bodies.l4.cos_th));
+  const T _sum_positions_5 = ((s.bodies.l4.sin_th + s.bodies.l2.x) + (s.bodies.l2.y + s.bodies.l2.cos_th)) + ((s.bodies.l2.sin_th + s.bodies.l11.x) + (s.bodies.l11.y + s.bodies.l11.cos_th));
+  const T _sum_positions_6 = ((s.bodies.l11.sin_th + s.bodies.l7p.x) + (s.bodies.l7p.y + s.bodies.l7p.cos_th)) + ((s.bodies.l7p.sin_th + s.bodies.l9p.x) + (s.bodies.l9p.y + s.bodies.l9p.cos_th));
+  const T _sum_positions_7 = ((s.bodies.l9p.sin_th + s.bodies.l6p.x) + (s.bodies.l6p.y + s.bodies.l6p.cos_th)) + ((s.bodies.l6p.sin_th + s.bodies.l3p.x) + (s.bodies.l3p.y + s.bodies.l3p.cos_th));
+  const T _sum_positions_8 = ((s.bodies.l3p.sin_th + s.bodies.l10p.x) + (s.bodies.l10p.y + s.bodies.l10p.cos_th)) + ((s.bodies.l10p.sin_th + s.bodies.l5p.x) + (s.bodies.l5p.y + s.bodies.l5p.cos_th));
+  const T _sum_positions_9 = ((s.bodies.l5p.sin_th + s.bodies.l12p.x) + (s.bodies.l12p.y + s.bodies.l12p.cos_th)) + ((s.bodies.l12p.sin_th + s.bodies.l4p.x) + (s.bodies.l4p.y + s.bodies.l4p.cos_th));
+  const T _sum_positions_10 = ((s.bodies.l4p.sin_th + s.bodies.l2p.x) + (s.bodies.l2p.y + s.bodies.l2p.cos_th)) + ((s.bodies.l2p.sin_th + s.bodies.l11p.x) + (s.bodies.l11p.y + s.bodies.l11p.cos_th));
+  const T _sum_positions_11 = ((s.bodies.l11p.sin_th + s.bodies.l1p.x) + (s.bodies.l1p.y + s.bodies.l1p.cos_th)) + ((s.bodies.l1p.sin_th + s.points.E.x) + (s.points.E.y + s.points.F.x));
+  const T _sum_positions_12 = ((s.points.F.y + s.points.A.x) + (s.points.A.y + s.points.B.x)) + ((s.points.B.y + s.points.D.x) + (s.points.D.y + s.points.P.x));
+  const T _sum_positions_13 = ((s.points.P.y + s.points.Pp.x) + (s.points.Pp.y + s.points.C.x)) + ((s.points.C.y + s.points.M.x) + (s.points.M.y + s.points.K.x));
+  const T _sum_positions_14 = ((s.points.K.y + s.points.J.x) + (s.points.J.y + s.points.S.x)) + ((s.points.S.y + s.points.R.x) + (s.points.R.y + s.points.L.x));
+  const T _sum_positions_15 = ((s.points.L.y + s.points.Cp.x) + (s.points.Cp.y + s.points.Mp.x)) + ((s.points.Mp.y + s.points.Kp.x) + (s.points.Kp.y + s.points.Jp.x));
+  const T _sum_positions_16 = ((s.points.Jp.y + s.points.Sp.x) + (s.points.Sp.y + s.points.Rp.x)) + ((s.points.Rp.y + s.points.Lp.x) + (s.points.Lp.y + s.points.Ep.x));
+  const T _sum_positions_17 = s.points.Ep.y + (s.points.Fp.x + s.points.Fp.y);
+  const T _sum_positions_18 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_19 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_20 = _sum_positions_16 + _sum_positions_17;
+  const T _sum_positions = _sum_positions_18 + (_sum_positions_19 + _sum_positions_20);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 14, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.theta8.qd + s.drivers.theta8.qdd) + (s.bodies.l13.vx + s.bodies.l13.vy)) + ((s.bodies.l13.w + s.bodies.l13.ax) + (s.bodies.l13.ay + s.bodies.l13.al));
+  const T _sum_rates_1 = ((s.bodies.l8.vx + s.bodies.l8.vy) + (s.bodies.l8.w + s.bodies.l8.ax)) + ((s.bodies.l8.ay + s.bodies.l8.al) + (s.bodies.l7.vx + s.bodies.l7.vy));
+  const T _sum_rates_2 = ((s.bodies.l7.w + s.bodies.l7.ax) + (s.bodies.l7.ay + s.bodies.l7.al)) + ((s.bodies.l9.vx + s.bodies.l9.vy) + (s.bodies.l9.w + s.bodies.l9.ax));
+  const T _sum_rates_3 = ((s.bodies.l9.ay + s.bodies.l9.al) + (s.bodies.l6.vx + s.bodies.l6.vy)) + ((s.bodies.l6.w + s.bodies.l6.ax) + (s.bodies.l6.ay + s.bodies.l6.al));
+  const T _sum_rates_4 = ((s.bodies.l3.vx + s.bodies.l3.vy) + (s.bodies.l3.w + s.bodies.l3.ax)) + ((s.bodies.l3.ay + s.bodies.l3.al) + (s.bodies.l10.vx + s.bodies.l10.vy));
+  const T _sum_rates_5 = ((s.bodies.l10.w + s.bodies.l10.ax) + (s.bodies.l10.ay + s.bodies.l10.al)) + ((s.bodies.l5.vx + s.bodies.l5.vy) + (s.bodies.l5.w + s.bodies.l5.ax));
+  const T _sum_rates_6 = ((s.bodies.l5.ay + s.bodies.l5.al) + (s.bodies.l12.vx + s.bodies.l12.vy)) + ((s.bodies.l12.w + s.bodies.l12.ax) + (s.bodies.l12.ay + s.bodies.l12.al));
+  const T _sum_rates_7 = ((s.bodies.l4.vx + s.bodies.l4.vy) + (s.bodies.l4.w + s.bodies.l4.ax)) + ((s.bodies.l4.ay + s.bodies.l4.al) + (s.bodies.l2.vx + s.bodies.l2.vy));
+  const T _sum_rates_8 = ((s.bodies.l2.w + s.bodies.l2.ax) + (s.bodies.l2.ay + s.bodies.l2.al)) + ((s.bodies.l11.vx + s.bodies.l11.vy) + (s.bodies.l11.w + s.bodies.l11.ax));
+  const T _sum_rates_9 = ((s.bodies.l11.ay + s.bodies.l11.al) + (s.bodies.l7p.vx + s.bodies.l7p.vy)) + ((s.bodies.l7p.w + s.bodies.l7p.ax) + (s.bodies.l7p.ay + s.bodies.l7p.al));
+  const T _sum_rates_10 = ((s.bodies.l9p.vx + s.bodies.l9p.vy) + (s.bodies.l9p.w + s.bodies.l9p.ax)) + ((s.bodies.l9p.ay + s.bodies.l9p.al) + (s.bodies.l6p.vx + s.bodies.l6p.vy));
+  const T _sum_rates_11 = ((s.bodies.l6p.w + s.bodies.l6p.ax) + (s.bodies.l6p.ay + s.bodies.l6p.al)) + ((s.bodies.l3p.vx + s.bodies.l3p.vy) + (s.bodies.l3p.w + s.bodies.l3p.ax));
+  const T _sum_rates_12 = ((s.bodies.l3p.ay + s.bodies.l3p.al) + (s.bodies.l10p.vx + s.bodies.l10p.vy)) + ((s.bodies.l10p.w + s.bodies.l10p.ax) + (s.bodies.l10p.ay + s.bodies.l10p.al));
+  const T _sum_rates_13 = ((s.bodies.l5p.vx + s.bodies.l5p.vy) + (s.bodies.l5p.w + s.bodies.l5p.ax)) + ((s.bodies.l5p.ay + s.bodies.l5p.al) + (s.bodies.l12p.vx + s.bodies.l12p.vy));
+  const T _sum_rates_14 = ((s.bodies.l12p.w + s.bodies.l12p.ax) + (s.bodies.l12p.ay + s.bodies.l12p.al)) + ((s.bodies.l4p.vx + s.bodies.l4p.vy) + (s.bodies.l4p.w + s.bodies.l4p.ax));
+  const T _sum_rates_15 = ((s.bodies.l4p.ay + s.bodies.l4p.al) + (s.bodies.l2p.vx + s.bodies.l2p.vy)) + ((s.bodies.l2p.w + s.bodies.l2p.ax) + (s.bodies.l2p.ay + s.bodies.l2p.al));
+  const T _sum_rates_16 = ((s.bodies.l11p.vx + s.bodies.l11p.vy) + (s.bodies.l11p.w + s.bodies.l11p.ax)) + ((s.bodies.l11p.ay + s.bodies.l11p.al) + (s.bodies.l1p.vx + s.bodies.l1p.vy));
+  const T _sum_rates_17 = (s.bodies.l1p.w + s.bodies.l1p.ax) + (s.bodies.l1p.ay + s.bodies.l1p.al);
+  const T _sum_rates_18 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_19 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_20 = _sum_rates_16 + _sum_rates_17;
+  const T _sum_rates = _sum_rates_18 + (_sum_rates_19 + _sum_rates_20);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 15, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.A_13_8.fx + s.joints.A_13_8.fy) + (s.joints.B_13_9.fx + s.joints.B_13_9.fy)) + ((s.joints.P_8_7.fx + s.joints.P_8_7.fy) + (s.joints.M_9_7.fx + s.joints.M_9_7.fy));
+  const T _sum_forces_1 = ((s.joints.C_7_3.fx + s.joints.C_7_3.fy) + (s.joints.D_13_6.fx + s.joints.D_13_6.fy)) + ((s.joints.K_6_3.fx + s.joints.K_6_3.fy) + (s.joints.D_13_4.fx + s.joints.D_13_4.fy));
+  const T _sum_forces_2 = ((s.joints.J_3_2.fx + s.joints.J_3_2.fy) + (s.joints.L_4_2.fx + s.joints.L_4_2.fy)) + ((s.joints.C_3_10.fx + s.joints.C_3_10.fy) + (s.joints.S_13_10.fx + s.joints.S_13_10.fy));
+  const T _sum_forces_3 = ((s.joints.S_10_12.fx + s.joints.S_10_12.fy) + (s.joints.J_3_5.fx + s.joints.J_3_5.fy)) + ((s.joints.R_12_5.fx + s.joints.R_12_5.fy) + (s.joints.R_12_11.fx + s.joints.R_12_11.fy));
+  const T _sum_forces_4 = ((s.joints.E_2_1.fx + s.joints.E_2_1.fy) + (s.joints.F_11_1.fx + s.joints.F_11_1.fy)) + ((s.joints.B_13_9p.fx + s.joints.B_13_9p.fy) + (s.joints.Pp_8_7p.fx + s.joints.Pp_8_7p.fy));
+  const T _sum_forces_5 = ((s.joints.Mp_9p_7p.fx + s.joints.Mp_9p_7p.fy) + (s.joints.Cp_7p_3p.fx + s.joints.Cp_7p_3p.fy)) + ((s.joints.D_13_6p.fx + s.joints.D_13_6p.fy) + (s.joints.Kp_6p_3p.fx + s.joints.Kp_6p_3p.fy));
+  const T _sum_forces_6 = ((s.joints.D_13_4p.fx + s.joints.D_13_4p.fy) + (s.joints.Jp_3p_2p.fx + s.joints.Jp_3p_2p.fy)) + ((s.joints.Lp_4p_2p.fx + s.joints.Lp_4p_2p.fy) + (s.joints.Cp_3p_10p.fx + s.joints.Cp_3p_10p.fy));
+  const T _sum_forces_7 = ((s.joints.Sp_13_10p.fx + s.joints.Sp_13_10p.fy) + (s.joints.Sp_10p_12p.fx + s.joints.Sp_10p_12p.fy)) + ((s.joints.Jp_3p_5p.fx + s.joints.Jp_3p_5p.fy) + (s.joints.Rp_12p_5p.fx + s.joints.Rp_12p_5p.fy));
+  const T _sum_forces_8 = (s.joints.Rp_12p_11p.fx + (s.joints.Rp_12p_11p.fy + s.joints.Ep_2p_1p.fx)) + ((s.joints.Ep_2p_1p.fy + s.joints.Fp_11p_1p.fx) + (s.joints.Fp_11p_1p.fy + s.drivers.theta8.effort));
+  const T _sum_forces_9 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+  const T _sum_forces_10 = _sum_forces_8;
+  const T _sum_forces = _sum_forces_9 + _sum_forces_10;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 16, Status::non_finite);
 
   return Status::ok;
 }
@@ -3858,7 +3969,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.theta8_d = batch_theta8_d[i];
     in.theta8_dd = batch_theta8_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.theta8 - in.theta8) + (in.theta8_d - in.theta8_d) + (in.theta8_dd - in.theta8_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.theta8 - in.theta8) + (in.theta8_d - in.theta8_d) + (in.theta8_dd - in.theta8_dd)) == T(0) ? T(0) : T(8196153);
     // Total ops: 3834
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.theta8;
@@ -5916,6 +6027,61 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[293 * stride + i] = F_11_1_fy;
     const T F_11_1_fx = R_12_11_fx - l11_inertial_x;
     out[292 * stride + i] = F_11_1_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[25 * stride + i]) + (out[32 * stride + i] + out[33 * stride + i])) + ((out[34 * stride + i] + out[41 * stride + i]) + (out[42 * stride + i] + out[43 * stride + i]));
+    const T _sum_positions_2 = ((out[50 * stride + i] + out[51 * stride + i]) + (out[52 * stride + i] + out[59 * stride + i])) + ((out[60 * stride + i] + out[61 * stride + i]) + (out[68 * stride + i] + out[69 * stride + i]));
+    const T _sum_positions_3 = ((out[70 * stride + i] + out[77 * stride + i]) + (out[78 * stride + i] + out[79 * stride + i])) + ((out[86 * stride + i] + out[87 * stride + i]) + (out[88 * stride + i] + out[95 * stride + i]));
+    const T _sum_positions_4 = ((out[96 * stride + i] + out[97 * stride + i]) + (out[104 * stride + i] + out[105 * stride + i])) + ((out[106 * stride + i] + out[113 * stride + i]) + (out[114 * stride + i] + out[115 * stride + i]));
+    const T _sum_positions_5 = ((out[122 * stride + i] + out[123 * stride + i]) + (out[124 * stride + i] + out[131 * stride + i])) + ((out[132 * stride + i] + out[133 * stride + i]) + (out[140 * stride + i] + out[141 * stride + i]));
+    const T _sum_positions_6 = ((out[142 * stride + i] + out[149 * stride + i]) + (out[150 * stride + i] + out[151 * stride + i])) + ((out[158 * stride + i] + out[159 * stride + i]) + (out[160 * stride + i] + out[167 * stride + i]));
+    const T _sum_positions_7 = ((out[168 * stride + i] + out[169 * stride + i]) + (out[176 * stride + i] + out[177 * stride + i])) + ((out[178 * stride + i] + out[185 * stride + i]) + (out[186 * stride + i] + out[187 * stride + i]));
+    const T _sum_positions_8 = ((out[194 * stride + i] + out[195 * stride + i]) + (out[196 * stride + i] + out[203 * stride + i])) + ((out[204 * stride + i] + out[205 * stride + i]) + (out[212 * stride + i] + out[213 * stride + i]));
+    const T _sum_positions_9 = ((out[214 * stride + i] + out[215 * stride + i]) + (out[216 * stride + i] + out[217 * stride + i])) + ((out[218 * stride + i] + out[219 * stride + i]) + (out[220 * stride + i] + out[221 * stride + i]));
+    const T _sum_positions_10 = ((out[222 * stride + i] + out[223 * stride + i]) + (out[224 * stride + i] + out[225 * stride + i])) + ((out[226 * stride + i] + out[227 * stride + i]) + (out[228 * stride + i] + out[229 * stride + i]));
+    const T _sum_positions_11 = ((out[230 * stride + i] + out[231 * stride + i]) + (out[232 * stride + i] + out[233 * stride + i])) + ((out[234 * stride + i] + out[235 * stride + i]) + (out[236 * stride + i] + out[237 * stride + i]));
+    const T _sum_positions_12 = ((out[238 * stride + i] + out[239 * stride + i]) + (out[240 * stride + i] + out[241 * stride + i])) + ((out[242 * stride + i] + out[243 * stride + i]) + (out[244 * stride + i] + out[245 * stride + i]));
+    const T _sum_positions_13 = ((out[246 * stride + i] + out[247 * stride + i]) + (out[248 * stride + i] + out[249 * stride + i])) + ((out[250 * stride + i] + out[251 * stride + i]) + (out[252 * stride + i] + out[253 * stride + i]));
+    const T _sum_positions_14 = (out[254 * stride + i] + out[255 * stride + i]) + (out[256 * stride + i] + out[257 * stride + i]);
+    const T _sum_positions_15 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+    const T _sum_positions_16 = (_sum_positions_8 + (_sum_positions_9 + _sum_positions_10)) + ((_sum_positions_11 + _sum_positions_12) + (_sum_positions_13 + _sum_positions_14));
+    const T _sum_positions = _sum_positions_15 + _sum_positions_16;
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8007743));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[35 * stride + i] + out[36 * stride + i]) + (out[37 * stride + i] + out[38 * stride + i]));
+    const T _sum_rates_3 = ((out[39 * stride + i] + out[40 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i])) + ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]));
+    const T _sum_rates_4 = ((out[53 * stride + i] + out[54 * stride + i]) + (out[55 * stride + i] + out[56 * stride + i])) + ((out[57 * stride + i] + out[58 * stride + i]) + (out[62 * stride + i] + out[63 * stride + i]));
+    const T _sum_rates_5 = ((out[64 * stride + i] + out[65 * stride + i]) + (out[66 * stride + i] + out[67 * stride + i])) + ((out[71 * stride + i] + out[72 * stride + i]) + (out[73 * stride + i] + out[74 * stride + i]));
+    const T _sum_rates_6 = ((out[75 * stride + i] + out[76 * stride + i]) + (out[80 * stride + i] + out[81 * stride + i])) + ((out[82 * stride + i] + out[83 * stride + i]) + (out[84 * stride + i] + out[85 * stride + i]));
+    const T _sum_rates_7 = ((out[89 * stride + i] + out[90 * stride + i]) + (out[91 * stride + i] + out[92 * stride + i])) + ((out[93 * stride + i] + out[94 * stride + i]) + (out[98 * stride + i] + out[99 * stride + i]));
+    const T _sum_rates_8 = ((out[100 * stride + i] + out[101 * stride + i]) + (out[102 * stride + i] + out[103 * stride + i])) + ((out[107 * stride + i] + out[108 * stride + i]) + (out[109 * stride + i] + out[110 * stride + i]));
+    const T _sum_rates_9 = ((out[111 * stride + i] + out[112 * stride + i]) + (out[116 * stride + i] + out[117 * stride + i])) + ((out[118 * stride + i] + out[119 * stride + i]) + (out[120 * stride + i] + out[121 * stride + i]));
+    const T _sum_rates_10 = ((out[125 * stride + i] + out[126 * stride + i]) + (out[127 * stride + i] + out[128 * stride + i])) + ((out[129 * stride + i] + out[130 * stride + i]) + (out[134 * stride + i] + out[135 * stride + i]));
+    const T _sum_rates_11 = ((out[136 * stride + i] + out[137 * stride + i]) + (out[138 * stride + i] + out[139 * stride + i])) + ((out[143 * stride + i] + out[144 * stride + i]) + (out[145 * stride + i] + out[146 * stride + i]));
+    const T _sum_rates_12 = ((out[147 * stride + i] + out[148 * stride + i]) + (out[152 * stride + i] + out[153 * stride + i])) + ((out[154 * stride + i] + out[155 * stride + i]) + (out[156 * stride + i] + out[157 * stride + i]));
+    const T _sum_rates_13 = ((out[161 * stride + i] + out[162 * stride + i]) + (out[163 * stride + i] + out[164 * stride + i])) + ((out[165 * stride + i] + out[166 * stride + i]) + (out[170 * stride + i] + out[171 * stride + i]));
+    const T _sum_rates_14 = ((out[172 * stride + i] + out[173 * stride + i]) + (out[174 * stride + i] + out[175 * stride + i])) + ((out[179 * stride + i] + out[180 * stride + i]) + (out[181 * stride + i] + out[182 * stride + i]));
+    const T _sum_rates_15 = ((out[183 * stride + i] + out[184 * stride + i]) + (out[188 * stride + i] + out[189 * stride + i])) + ((out[190 * stride + i] + out[191 * stride + i]) + (out[192 * stride + i] + out[193 * stride + i]));
+    const T _sum_rates_16 = ((out[197 * stride + i] + out[198 * stride + i]) + (out[199 * stride + i] + out[200 * stride + i])) + ((out[201 * stride + i] + out[202 * stride + i]) + (out[206 * stride + i] + out[207 * stride + i]));
+    const T _sum_rates_17 = (out[208 * stride + i] + out[209 * stride + i]) + (out[210 * stride + i] + out[211 * stride + i]);
+    const T _sum_rates_18 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+    const T _sum_rates_19 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+    const T _sum_rates_20 = _sum_rates_16 + _sum_rates_17;
+    const T _sum_rates = _sum_rates_18 + (_sum_rates_19 + _sum_rates_20);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8003651));
+    const T _sum_forces_0 = ((out[258 * stride + i] + out[259 * stride + i]) + (out[260 * stride + i] + out[261 * stride + i])) + ((out[262 * stride + i] + out[263 * stride + i]) + (out[264 * stride + i] + out[265 * stride + i]));
+    const T _sum_forces_1 = ((out[266 * stride + i] + out[267 * stride + i]) + (out[268 * stride + i] + out[269 * stride + i])) + ((out[270 * stride + i] + out[271 * stride + i]) + (out[272 * stride + i] + out[273 * stride + i]));
+    const T _sum_forces_2 = ((out[274 * stride + i] + out[275 * stride + i]) + (out[276 * stride + i] + out[277 * stride + i])) + ((out[278 * stride + i] + out[279 * stride + i]) + (out[280 * stride + i] + out[281 * stride + i]));
+    const T _sum_forces_3 = ((out[282 * stride + i] + out[283 * stride + i]) + (out[284 * stride + i] + out[285 * stride + i])) + ((out[286 * stride + i] + out[287 * stride + i]) + (out[288 * stride + i] + out[289 * stride + i]));
+    const T _sum_forces_4 = ((out[290 * stride + i] + out[291 * stride + i]) + (out[292 * stride + i] + out[293 * stride + i])) + ((out[294 * stride + i] + out[295 * stride + i]) + (out[296 * stride + i] + out[297 * stride + i]));
+    const T _sum_forces_5 = ((out[298 * stride + i] + out[299 * stride + i]) + (out[300 * stride + i] + out[301 * stride + i])) + ((out[302 * stride + i] + out[303 * stride + i]) + (out[304 * stride + i] + out[305 * stride + i]));
+    const T _sum_forces_6 = ((out[306 * stride + i] + out[307 * stride + i]) + (out[308 * stride + i] + out[309 * stride + i])) + ((out[310 * stride + i] + out[311 * stride + i]) + (out[312 * stride + i] + out[313 * stride + i]));
+    const T _sum_forces_7 = ((out[314 * stride + i] + out[315 * stride + i]) + (out[316 * stride + i] + out[317 * stride + i])) + ((out[318 * stride + i] + out[319 * stride + i]) + (out[320 * stride + i] + out[321 * stride + i]));
+    const T _sum_forces_8 = (out[322 * stride + i] + (out[323 * stride + i] + out[324 * stride + i])) + ((out[325 * stride + i] + out[326 * stride + i]) + (out[327 * stride + i] + out[4 * stride + i]));
+    const T _sum_forces_9 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+    const T _sum_forces_10 = _sum_forces_8;
+    const T _sum_forces = _sum_forces_9 + _sum_forces_10;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(7999559));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -5924,7 +6090,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 69;
 inline constexpr const char* ne_unknowns[] = { "A_13_8.fx", "A_13_8.fy", "B_13_9.fx", "B_13_9.fy", "P_8_7.fx", "P_8_7.fy", "M_9_7.fx", "M_9_7.fy", "C_7_3.fx", "C_7_3.fy", "D_13_6.fx", "D_13_6.fy", "K_6_3.fx", "K_6_3.fy", "D_13_4.fx", "D_13_4.fy", "J_3_2.fx", "J_3_2.fy", "L_4_2.fx", "L_4_2.fy", "C_3_10.fx", "C_3_10.fy", "S_13_10.n", "S_10_12.fx", "S_10_12.fy", "J_3_5.fx", "J_3_5.fy", "R_12_5.fx", "R_12_5.fy", "R_12_11.fx", "R_12_11.fy", "E_2_1.fx", "E_2_1.fy", "F_11_1.fx", "F_11_1.fy", "B_13_9p.fx", "B_13_9p.fy", "Pp_8_7p.fx", "Pp_8_7p.fy", "Mp_9p_7p.fx", "Mp_9p_7p.fy", "Cp_7p_3p.fx", "Cp_7p_3p.fy", "D_13_6p.fx", "D_13_6p.fy", "Kp_6p_3p.fx", "Kp_6p_3p.fy", "D_13_4p.fx", "D_13_4p.fy", "Jp_3p_2p.fx", "Jp_3p_2p.fy", "Lp_4p_2p.fx", "Lp_4p_2p.fy", "Cp_3p_10p.fx", "Cp_3p_10p.fy", "Sp_13_10p.n", "Sp_10p_12p.fx", "Sp_10p_12p.fy", "Jp_3p_5p.fx", "Jp_3p_5p.fy", "Rp_12p_5p.fx", "Rp_12p_5p.fy", "Rp_12p_11p.fx", "Rp_12p_11p.fy", "Ep_2p_1p.fx", "Ep_2p_1p.fy", "Fp_11p_1p.fx", "Fp_11p_1p.fy", "theta8.effort" };
 template <class T>
@@ -7392,6 +7559,31 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[193] = (A_x - Sp_x)*c_l1 - (A_y - Sp_y)*Sp_13_10p_normal_x;
   A[3367] = Sp_13_10p_normal_x;
   A[3505] = _tmp76*Sp_13_10p_normal_x - _tmp75*c_l1;
+  const T _sum_forces_0 = ((A[22] + A[55]) + (b[0] + A[91])) + ((A[124] + b[1]) + (A[140] + A[141]));
+  const T _sum_forces_1 = ((A[148] + A[149]) + (A[152] + A[153])) + ((A[160] + A[173]) + (A[174] + A[181]));
+  const T _sum_forces_2 = ((A[182] + A[185]) + (A[186] + A[193])) + ((b[2] + b[3]) + (b[4] + A[349]));
+  const T _sum_forces_3 = ((A[350] + A[382]) + (A[383] + b[5])) + ((b[6] + b[7]) + (A[558] + A[559]));
+  const T _sum_forces_4 = ((A[560] + A[561]) + (b[8] + b[9])) + ((b[10] + A[765]) + (A[766] + b[11]));
+  const T _sum_forces_5 = ((b[12] + b[13]) + (A[978] + A[979])) + ((b[14] + b[15]) + (b[16] + A[1185]));
+  const T _sum_forces_6 = ((A[1186] + A[1189]) + (A[1190] + A[1198])) + ((A[1199] + b[17]) + (A[1264] + b[18]));
+  const T _sum_forces_7 = ((A[1333] + b[19]) + (A[1402] + A[1403])) + ((A[1404] + b[20]) + (b[21] + b[22]));
+  const T _sum_forces_8 = ((A[1614] + A[1615]) + (b[23] + b[24])) + ((b[25] + A[1821]) + (A[1822] + A[1823]));
+  const T _sum_forces_9 = ((A[1824] + b[26]) + (b[27] + b[28])) + ((A[2019] + A[2020]) + (b[29] + b[30]));
+  const T _sum_forces_10 = ((b[31] + A[2226]) + (A[2227] + A[2239])) + ((A[2240] + b[32]) + (b[33] + b[34]));
+  const T _sum_forces_11 = ((A[2448] + A[2449]) + (b[35] + b[36])) + ((b[37] + A[2661]) + (A[2662] + A[2663]));
+  const T _sum_forces_12 = ((A[2664] + b[38]) + (b[39] + b[40])) + ((A[2868] + A[2869]) + (b[41] + b[42]));
+  const T _sum_forces_13 = ((b[43] + A[3081]) + (A[3082] + b[44])) + ((b[45] + b[46]) + (A[3288] + A[3289]));
+  const T _sum_forces_14 = ((A[3292] + A[3293]) + (A[3301] + A[3302])) + ((b[47] + A[3367]) + (b[48] + A[3436]));
+  const T _sum_forces_15 = ((b[49] + A[3505]) + (A[3506] + A[3507])) + ((b[50] + b[51]) + (b[52] + A[3717]));
+  const T _sum_forces_16 = ((A[3718] + b[53]) + (b[54] + b[55])) + ((A[3924] + A[3925]) + (A[3926] + A[3927]));
+  const T _sum_forces_17 = ((b[56] + b[57]) + (b[58] + A[4122])) + ((A[4123] + b[59]) + (b[60] + b[61]));
+  const T _sum_forces_18 = ((A[4329] + A[4330]) + (A[4342] + A[4343])) + ((b[62] + b[63]) + (b[64] + A[4551]));
+  const T _sum_forces_19 = (A[4552] + (b[65] + b[66])) + ((b[67] + A[4758]) + (A[4759] + b[68]));
+  const T _sum_forces_20 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+  const T _sum_forces_21 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
+  const T _sum_forces_22 = (_sum_forces_16 + _sum_forces_17) + (_sum_forces_18 + _sum_forces_19);
+  const T _sum_forces = _sum_forces_20 + (_sum_forces_21 + _sum_forces_22);
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -7425,6 +7617,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[2 * n + i] = in.theta8_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xade9a74bab0b766fULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

@@ -58,7 +58,9 @@ static int evaluate_driven_row(const double* parameters, double t, const double*
 // has FMA, so results are those of the scalar entry. `flatten` inlines evaluate_batch into each
 // clone: called out of line, the one instantiation (compiled for the baseline) would serve every
 // clone and the wide ones would run 2-lane SSE2 code.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+// A kernel built on demand (MECHGEN_KERNEL_SHARED, -march=native) needs no clones.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(MECHGEN_KERNEL_SHARED)
 __attribute__((target_clones("avx512f", "avx2", "default"), flatten))
 #endif
 static void evaluate_batch_rows(const double* parameters, const double* t, long n, double* out,
@@ -81,8 +83,19 @@ const CompiledKernel& compiled_kernel() {
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 1,
-                                     &evaluate_driven_row<double>, &evaluate_batch_rows};
+                                     &evaluate_driven_row<double>, &evaluate_batch_rows,
+                                     fingerprint};
   return kernel;
 }
 
 }  // namespace mechgen::gen::pasibot
+
+#if defined(MECHGEN_KERNEL_SHARED)
+// The one symbol of a kernel built as a shared library by mechgen on demand (built with hidden
+// visibility, so nothing else can clash with the mechgen binary's own kernels): the kernel when
+// the loader's CompiledKernel layout is `abi`, else null.
+extern "C" __attribute__((visibility("default"))) const mechgen::CompiledKernel*
+mechgen_kernel_entry(int abi) {
+  return abi == mechgen::kCompiledKernelAbi ? &mechgen::gen::pasibot::compiled_kernel() : nullptr;
+}
+#endif

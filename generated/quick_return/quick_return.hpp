@@ -199,14 +199,18 @@ struct State {
   struct Drivers {
     DriverState<T> crank_angle;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 3;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram" };
+// The 3 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 7;
+inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -223,7 +227,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -238,7 +243,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 130
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -354,17 +359,28 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.Tool.y = Tool_y;
   if (!(g2_lever_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   if (!(g3_block_ram_cross != T(0))) return detail::failed(s, 2, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.lever.x) + (s.bodies.lever.y + s.bodies.lever.cos_th));
+  const T _sum_positions_1 = ((s.bodies.lever.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.bodies.ram.x) + (s.bodies.ram.y + s.points.O.y));
+  const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.E.x + s.points.E.y)) + ((s.points.C.x + s.points.C.y) + (s.points.Tool.x + s.points.Tool.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.lever.vx + s.bodies.lever.vy) + (s.bodies.lever.w + s.bodies.lever.ax)) + ((s.bodies.lever.ay + s.bodies.lever.al) + (s.bodies.block.vx + s.bodies.block.vy));
+  const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.bodies.ram.vx + s.bodies.ram.vy) + (s.bodies.ram.ax + s.bodies.ram.ay));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 197
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -534,6 +550,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(g3_block_ram_cross != T(0))) return detail::failed(s, 2, Status::singular);
   if (!(ne_pivot11 != T(0))) return detail::failed(s, -1, Status::singular);
   if (!(block_slide_normal_x != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.lever.x) + (s.bodies.lever.y + s.bodies.lever.cos_th));
+  const T _sum_positions_1 = ((s.bodies.lever.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.bodies.ram.x) + (s.bodies.ram.y + s.points.O.y));
+  const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.E.x + s.points.E.y)) + ((s.points.C.x + s.points.C.y) + (s.points.Tool.x + s.points.Tool.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.lever.vx + s.bodies.lever.vy) + (s.bodies.lever.w + s.bodies.lever.ax)) + ((s.bodies.lever.ay + s.bodies.lever.al) + (s.bodies.block.vx + s.bodies.block.vy));
+  const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.bodies.ram.vx + s.bodies.ram.vy) + (s.bodies.ram.ax + s.bodies.ram.ay));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.crank_pivot.fx + s.joints.crank_pivot.fy) + (s.joints.lever_pivot.fx + s.joints.lever_pivot.fy)) + ((s.joints.crank_pin.fx + s.joints.crank_pin.fy) + (s.joints.block_slide.fx + s.joints.block_slide.fy));
+  const T _sum_forces_1 = (s.joints.block_slide.m + (s.joints.ram_pin.fx + s.joints.ram_pin.fy)) + (s.joints.ram_slide.fy + (s.joints.ram_slide.m + s.drivers.crank_angle.effort));
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
 }
@@ -584,7 +614,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_d = batch_crank_angle_d[i];
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196113);
     // Total ops: 199
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
@@ -752,6 +782,20 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[54 * stride + i] = crank_pivot_fy;
     const T crank_pivot_fx = crank_inertial_x - _tmp10;
     out[53 * stride + i] = crank_pivot_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[25 * stride + i]) + (out[32 * stride + i] + out[33 * stride + i])) + ((out[44 * stride + i] + out[45 * stride + i]) + (out[46 * stride + i] + out[47 * stride + i]));
+    const T _sum_positions_2 = (out[48 * stride + i] + out[49 * stride + i]) + (out[50 * stride + i] + (out[51 * stride + i] + out[52 * stride + i]));
+    const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8175639));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[35 * stride + i] + out[36 * stride + i]) + (out[38 * stride + i] + out[39 * stride + i]));
+    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8171547));
+    const T _sum_forces_0 = ((out[53 * stride + i] + out[54 * stride + i]) + (out[55 * stride + i] + out[56 * stride + i])) + ((out[57 * stride + i] + out[58 * stride + i]) + (out[59 * stride + i] + out[60 * stride + i]));
+    const T _sum_forces_1 = (out[61 * stride + i] + (out[62 * stride + i] + out[63 * stride + i])) + (out[65 * stride + i] + (out[66 * stride + i] + out[4 * stride + i]));
+    const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8167455));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -760,7 +804,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 12;
 inline constexpr const char* ne_unknowns[] = { "crank_pivot.fx", "crank_pivot.fy", "lever_pivot.fx", "lever_pivot.fy", "crank_pin.n", "block_slide.n", "block_slide.m", "ram_pin.fx", "ram_pin.fy", "ram_slide.n", "ram_slide.m", "crank_angle.effort" };
 template <class T>
@@ -872,6 +917,11 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   A[40] = -crank_pin_normal_x;
   A[64] = P_y*crank_pin_normal_x - _tmp4;
   if (!(block_slide_normal_x != T(0))) return Status::singular;
+  const T _sum_forces_0 = ((A[4] + b[0]) + (A[16] + b[1])) + ((A[28] + b[2]) + (A[40] + A[41]));
+  const T _sum_forces_1 = ((b[3] + A[52]) + (A[53] + b[4])) + ((A[64] + A[65]) + (b[5] + A[77]));
+  const T _sum_forces_2 = (b[6] + (A[89] + b[7])) + ((b[8] + b[9]) + (b[10] + b[11]));
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -905,6 +955,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[2 * n + i] = in.crank_angle_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xed80812b23b2c000ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

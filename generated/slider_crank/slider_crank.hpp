@@ -196,14 +196,18 @@ struct State {
   struct Drivers {
     DriverState<T> crank_angle;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider" };
+// The 2 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 6;
+inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -220,7 +224,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -235,7 +240,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 86
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -329,17 +334,26 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T G_x = T(3)*p.r + p.L;
   s.points.G.x = G_x;
   if (!(g2_rod_slider_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rod.x) + (s.bodies.rod.y + s.bodies.rod.cos_th));
+  const T _sum_positions_1 = (s.bodies.rod.sin_th + (s.bodies.slider.x + s.points.G.x)) + (s.points.P.x + (s.points.P.y + s.points.Q.x));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.rod.vx + s.bodies.rod.vy) + (s.bodies.rod.w + s.bodies.rod.ax)) + ((s.bodies.rod.ay + s.bodies.rod.al) + (s.bodies.slider.vx + s.bodies.slider.ax));
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 169
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -478,6 +492,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.O_ground_crank.fx = O_ground_crank_fx;
   if (!(g2_rod_slider_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   if (!(ne_pivot9 != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rod.x) + (s.bodies.rod.y + s.bodies.rod.cos_th));
+  const T _sum_positions_1 = (s.bodies.rod.sin_th + (s.bodies.slider.x + s.points.G.x)) + (s.points.P.x + (s.points.P.y + s.points.Q.x));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.rod.vx + s.bodies.rod.vy) + (s.bodies.rod.w + s.bodies.rod.ax)) + ((s.bodies.rod.ay + s.bodies.rod.al) + (s.bodies.slider.vx + s.bodies.slider.ax));
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces = ((s.joints.O_ground_crank.fx + s.joints.O_ground_crank.fy) + (s.joints.P_crank_rod.fx + s.joints.P_crank_rod.fy)) + ((s.joints.Q_rod_slider.fx + s.joints.Q_rod_slider.fy) + (s.joints.slide.fy + s.drivers.crank_angle.effort));
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
@@ -528,7 +552,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_d = batch_crank_angle_d[i];
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
     // Total ops: 171
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
@@ -665,6 +689,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[41 * stride + i] = O_ground_crank_fy;
     const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
     out[40 * stride + i] = O_ground_crank_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = (out[34 * stride + i] + out[36 * stride + i]) + (out[37 * stride + i] + out[38 * stride + i]);
+    const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8183827));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[29 * stride + i]));
+    const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8179735));
+    const T _sum_forces = ((out[40 * stride + i] + out[41 * stride + i]) + (out[42 * stride + i] + out[43 * stride + i])) + ((out[44 * stride + i] + out[45 * stride + i]) + (out[47 * stride + i] + out[4 * stride + i]));
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8175643));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -673,7 +707,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "O_ground_crank.fx", "O_ground_crank.fy", "P_crank_rod.fx", "P_crank_rod.fy", "Q_rod_slider.fx", "Q_rod_slider.fy", "slide.n", "slide.m", "crank_angle.effort" };
 template <class T>
@@ -775,6 +810,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T slider_inertial_y = T(9.81)*p.m_s;
   b[7] = slider_inertial_y;
   if (!(g2_rod_slider_disc > T(0))) return Status::unreachable;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[20] + A[21])) + ((b[2] + b[3]) + (b[4] + A[49]));
+  const T _sum_forces_1 = (A[50] + b[5]) + (b[6] + b[7]);
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -808,6 +847,11 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
     storage[2 * n + i] = in.crank_angle_dd;
   }
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x38f5587c59bbe288ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;

@@ -58,7 +58,11 @@ FreeBodies::FreeBodies(const Model& model, const std::vector<double>& parameters
     column(name + ".y");
   }
   const auto compiled = [&](const Expr& e) {
-    return numeric::TimeExpression(e.ex.subs(subs_), model.t);
+    // A map of symbols: exact lookups, linear in the parameter count (see Model::evaluate).
+    return numeric::TimeExpression(
+        e.ex.subs(subs_,
+                  GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product),
+        model.t);
   };
   for (const ForceElement& f : model.forces) {
     AppliedLoad a;

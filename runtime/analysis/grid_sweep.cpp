@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include "report/atomic_output.hpp"
+#include "sweep/parallel.hpp"
+
 namespace mechgen {
 
 namespace {
@@ -29,6 +32,14 @@ size_t parameter_index(const Model& model, const std::string& name) {
   for (size_t i = 0; i < model.parameters.size(); ++i)
     if (model.parameters[i].name == name) return i;
   std::string known;
+  if (const int d = model.derived_index(name); d >= 0) {
+    for (const std::string& u : model.derived[static_cast<size_t>(d)].uses)
+      known += (known.empty() ? "" : ", ") + u;
+    throw ModelError({model.file, 0, 0}, "grid: parameter '" + name + "' is derived (" + name +
+                                             " = " +
+                                             model.derived[static_cast<size_t>(d)].value.text +
+                                             "); vary what it depends on: " + known);
+  }
   for (const Parameter& p : model.parameters) known += (known.empty() ? "" : ", ") + p.name;
   throw ModelError({model.file, 0, 0}, "grid: no parameter '" + name + "' in model '" + model.name +
                                            "' (parameters: " + known + ")");
@@ -68,12 +79,17 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
     run.options.solver = options.solver;
     if (options.samples > 0) run.options.samples = options.samples;
     run.options.threads = 1;  // the runs are the parallel unit
+    run.options.progress = options.progress;
   }
 
   // Runs are independent (each its own solver or a pure kernel call): a pool of threads takes
   // them in turn; the first failure, in grid order, is rethrown with the value it belongs to.
   // The numeric solver copies and substitutes the model's GiNaC expressions, whose reference
   // counts are not atomic: its runs share the Model, so they go one at a time.
+  if (options.threads > thread_limit())
+    throw ModelError({model.file, 0, 0},
+                     "grid: " + std::to_string(options.threads) + " threads asked for, at most " +
+                         std::to_string(thread_limit()) + " (4 x the hardware threads)");
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const size_t threads =
       options.solver != "generated"
@@ -98,10 +114,7 @@ GridResult run_grid(const Model& model, const GridOptions& options) {
       }
     }
   };
-  std::vector<std::thread> pool;
-  for (size_t i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  run_parallel(threads, [&](size_t) { worker(); });  // a thread that cannot start: one error
 
   for (size_t k = 0; k < errors.size(); ++k) {
     if (!errors[k]) continue;
@@ -167,10 +180,10 @@ int column_of(const std::vector<std::string>& columns, const std::string& name) 
 
 }  // namespace
 
-void write_grid_csv(const std::string& path, const GridResult& grid) {
-  std::ofstream file(path, std::ios::binary);
+void write_grid_csv(const std::string& path, const GridResult& grid,
+                    const std::string& first_line) {
   const std::vector<std::string> columns = grid_columns(grid);
-  std::string text;
+  std::string text = first_line;
   for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
   text += "\n";
   for (const GridRun& run : grid.runs) {
@@ -182,9 +195,7 @@ void write_grid_csv(const std::string& path, const GridResult& grid) {
       text += "\n";
     }
   }
-  file << text;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  report::write_file_atomically(path, text);
 }
 
 report::PlotSpec grid_plot(const GridResult& grid, const GridPlotOptions& options) {

@@ -20,6 +20,7 @@ struct GridOptions {
   std::string solver = "generated";  // as SweepOptions::solver
   int samples = 0;                   // per run; 0: the model's step samples
   int threads = 0;                   // runs in parallel; 0: one per hardware thread
+  Progress* progress = nullptr;      // told of every sample of every run; optional
 };
 
 struct GridRun {
@@ -48,7 +49,9 @@ std::pair<std::string, std::vector<double>> parse_grid_spec(const std::string& t
 // The long table: column 1 the grid parameter's value, column 2 "t_norm" = (t - t0) / (t1 - t0)
 // (the seed's t/T, T the step's duration), then the sweep's columns; runs one after the other.
 std::vector<std::string> grid_columns(const GridResult& grid);
-void write_grid_csv(const std::string& path, const GridResult& grid);
+// `first_line` (a shard's part_line, sweep/shard.hpp) goes before the header.
+void write_grid_csv(const std::string& path, const GridResult& grid,
+                    const std::string& first_line = "");
 
 struct GridPlotOptions {
   std::string column;  // the sweep column plotted, e.g. "theta8.effort"

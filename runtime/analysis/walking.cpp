@@ -76,6 +76,12 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
     throw ModelError(where, "walk: needs exactly one driver (the motor); '" + model.name +
                                 "' has " + std::to_string(model.drivers.size()));
   const Driver& driver = model.drivers.front();
+  // The walk is one table in memory (a huge --steps grew it without bound): checked up front.
+  check_table_memory(model,
+                     static_cast<size_t>(options.steps) *
+                         static_cast<size_t>(options.samples_per_step > 0 ? options.samples_per_step
+                                                                          : model.step.samples),
+                     column_names(model).size());
 
   // The model's own motion at both ends of its step, through the generated kernel: this also
   // checks that the compiled kernel matches the description.
@@ -164,7 +170,7 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
     }
   }
 
-  const CompiledKernel& kernel = *find_compiled_kernel(model.name);
+  const CompiledKernel& kernel = generated_kernel(model);
   std::vector<double> kernel_row(static_cast<size_t>(kernel.column_count));
   auto evaluate = [&](double t, const DriverMotion& m) {
     const double drivers[3] = {m.q, m.qd, m.qdd};
@@ -174,7 +180,9 @@ WalkResult walk(const Model& model, const WalkOptions& options) {
     if (status != 0) {
       std::string message = "walk: generated kernel: t = " + format_number(t) + ", " + driver.name +
                             " = " + format_number(m.q) + ": " +
-                            (status == 1 ? "unreachable" : "singular");
+                            (status == 1   ? "unreachable"
+                             : status == 2 ? "singular"
+                                           : "non-finite result");
       if (group >= 0 && group < kernel.group_count)
         message += " in group " + std::string(kernel.group_names[group]);
       throw ModelError(where, message);

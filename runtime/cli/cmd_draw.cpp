@@ -7,6 +7,7 @@
 #include "analysis/walking.hpp"
 #include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
+#include "report/atomic_output.hpp"
 #include "report/mechanism_drawing.hpp"
 #include "sweep/sweep.hpp"
 
@@ -17,7 +18,7 @@ namespace {
 const char* const kDrawHelp =
     R"(usage: mechgen draw MODEL.yaml (--at T | --animate [--steps N [--ramp SECONDS]])
                     [--set NAME=VALUE]... [--solver generated|numeric] [--labels]
-                    [--title TEXT] [--width PIXELS] --out FILE.svg
+                    [--trace POINT[,POINT...]]... [--title TEXT] [--width PIXELS] --out FILE.svg
 
 Draws the mechanism: bodies as bars or plates between their points, joints as circles, the
 ground body on a hatched floor (model ground frame).
@@ -29,6 +30,9 @@ ground body on a hatched floor (model ground frame).
   --ramp SECONDS      with --steps: start from rest with this motor-speed ramp
   --solver NAME       generated (default) or numeric, for --at and a one-step --animate
   --labels            body names beside the bodies
+  --trace POINTS      the paths of these named points (comma separated, repeatable), dashed:
+                      over the model's step on a still, over the animation on --animate (a dot
+                      follows each point)
   --width PIXELS      drawing width (default 900)
 )";
 
@@ -51,6 +55,13 @@ int run_draw(const Args& args) {
   const Model model = load_model(path);
   std::vector<double> parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
+  for (const std::string& list : args.all("--trace"))
+    for (size_t begin = 0; begin <= list.size();) {
+      const size_t end = std::min(list.find(',', begin), list.size());
+      if (end == begin) throw UsageError("--trace: an empty point name in '" + list + "'");
+      drawing.trace.push_back(list.substr(begin, end - begin));
+      begin = end + 1;
+    }
 
   report::MechanismFrames frames;
   std::string what;
@@ -84,6 +95,12 @@ int run_draw(const Args& args) {
       result.rows.erase(result.rows.begin(), result.rows.end() - 1);
       frames = report::frames_from_table(model, result.columns, result.rows);
       what = "t = " + fixed(at, 6) + " s";
+      if (!drawing.trace.empty()) {  // the traced paths: over the model's step
+        SweepOptions step = default_sweep(model, parameters);
+        step.solver = solver;
+        const SweepResult whole = run_sweep(model, step);
+        drawing.trace_path = report::frames_from_table(model, whole.columns, whole.rows);
+      }
     } else {
       const SweepResult result = run_sweep(model, sweep);
       frames = report::frames_from_table(model, result.columns, result.rows);
@@ -92,9 +109,7 @@ int run_draw(const Args& args) {
   }
   const std::string out = args.get("--out");
   g_current_file = out;
-  std::ofstream file(out);
-  file << report::draw_mechanism(model, frames, drawing);
-  if (!file) throw std::runtime_error("cannot write " + out);
+  report::write_file_atomically(out, report::draw_mechanism(model, frames, drawing));
   std::cout << "draw " << model.name << ": " << what << ", " << frames.points.size()
             << " frames -> " << out << "\n";
   return 0;
@@ -112,6 +127,7 @@ Command draw_command() {
            {"--ramp", "", true},
            {"--solver", "", true},
            {"--labels", "", false},
+           {"--trace", "", true, true},
            {"--title", "", true},
            {"--width", "", true},
            {"--set", "", true, true},

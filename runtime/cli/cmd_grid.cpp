@@ -12,6 +12,7 @@
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "model/columns.hpp"
+#include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "report/svg_plot.hpp"
 #include "sweep/summary.hpp"
@@ -24,6 +25,7 @@ const char* const kGridHelp =
     R"(usage: mechgen grid MODEL.yaml --grid NAME=V1,V2,... --out FILE.csv [--plot FILE.svg]
                     [--y COLUMN] [--x t_norm|t] [--title TEXT] [--ylabel TEXT]
                     [--set NAME=VALUE]... [--solver generated|numeric] [--samples N] [--threads N]
+                    [--shard I/N]
 
 One sweep of the model's step per value of parameter NAME, each exactly what
 `mechgen sweep MODEL.yaml --set NAME=VALUE` computes (the step's t0 and t1 are evaluated with the
@@ -37,6 +39,9 @@ parallel; the numeric solver runs them one after the other.
   --x t_norm|t        normalised time (default: steps of different duration compared phase by
                       phase, as the seed's Fig. 10) or time in seconds
   --set, --solver, --samples: as for mechgen sweep; --threads N: runs at once (default: all cores)
+  --shard I/N         only part I of N of the values (their runs whole): `mechgen merge --out
+                      FILE.csv PART...` joins the parts into this grid's file, byte for byte
+A progress line (samples, rate, time left) is drawn on stderr when it is a terminal.
 Prints, per value, the step's duration and the peak and RMS of the plotted column.
 )";
 
@@ -68,6 +73,15 @@ int run_grid_command(const Args& args) {
   if (plot.x != "t_norm" && plot.x != "t")
     throw UsageError("--x: expected t_norm or t, got '" + plot.x + "'");
 
+  const Shard shard = shard_option(args);
+  const auto [first, end] = shard_range(shard, options.values.size());
+  if (first == end)
+    throw UsageError("--shard " + args.get("--shard") + ": no value of the " +
+                     std::to_string(options.values.size()) +
+                     " falls in it (use N <= " + std::to_string(options.values.size()) + ")");
+  options.values = {options.values.begin() + static_cast<long>(first),
+                    options.values.begin() + static_cast<long>(end)};
+
   const Model model = load_model(path);
   options.parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), options.parameters);
@@ -79,13 +93,22 @@ int run_grid_command(const Args& args) {
   if (std::find(columns.begin(), columns.end(), plot.column) == columns.end())
     throw UsageError("--y: no column '" + plot.column + "' in the sweep of " + model.name);
 
+  // The kernel first (a model not compiled in is built on its first use): not part of the timing.
+  if (options.solver == "generated") generated_kernel(model);
   const auto start = std::chrono::steady_clock::now();
-  const GridResult grid = run_grid(model, options);
+  GridResult grid;
+  {
+    const size_t samples =
+        static_cast<size_t>(options.samples > 0 ? options.samples : model.step.samples);
+    Progress progress("grid " + model.name, options.values.size() * samples);
+    options.progress = &progress;
+    grid = run_grid(model, options);
+  }
   const double elapsed = seconds_since(start);
 
   const std::string out = args.get("--out");
   g_current_file = out;
-  write_grid_csv(out, grid);
+  write_grid_csv(out, grid, part_line(shard));
   std::cout << "grid " << model.name << ": " << options.parameter << " = " << grid.runs.size()
             << " values, " << options.solver << " solver, " << grid.runs.front().result.rows.size()
             << " samples each, " << fixed(elapsed * 1e3, 3) << " ms -> " << out << "\n";
@@ -117,10 +140,7 @@ int run_grid_command(const Args& args) {
     plot.y_label = args.get("--ylabel", plot.column + " " + unit_of(model, plot.column));
     const std::string svg_path = args.get("--plot");
     g_current_file = svg_path;
-    std::ofstream file(svg_path, std::ios::binary);
-    file << report::render_svg(grid_plot(grid, plot));
-    file.close();
-    if (!file) throw std::runtime_error("cannot write '" + svg_path + "'");
+    report::write_file_atomically(svg_path, report::render_svg(grid_plot(grid, plot)));
     std::cout << "plot: " << grid.runs.size() << " series of " << plot.column << " -> " << svg_path
               << "\n";
   }
@@ -143,7 +163,8 @@ Command grid_command() {
            {"--y", "", true},
            {"--x", "", true},
            {"--title", "", true},
-           {"--ylabel", "", true}},
+           {"--ylabel", "", true},
+           {"--shard", "", true}},
           &run_grid_command};
 }
 

@@ -9,6 +9,7 @@
 #include "analysis/link_loads.hpp"
 #include "cli/command.hpp"
 #include "cli/sweep_source.hpp"
+#include "report/atomic_output.hpp"
 #include "report/csv_table.hpp"
 
 namespace mechgen::cli {
@@ -47,7 +48,8 @@ std::string mpa(double pa) {
 
 void write_maxima(const std::string& path, const analysis::LinkLoadReport& report) {
   g_current_file = path;
-  std::ofstream file(path, std::ios::binary);
+  report::AtomicOutput output(path);
+  std::ostream& file = output.stream();
   file << "link,section,length,area,inertia,fibre,N,N_t,N_s,V,V_t,V_s,M,M_t,M_s,sigma,sigma_t,"
           "sigma_s,tau,tau_t,tau_s,yield,safety,compression,compression_t,compression_s,"
           "youngs_modulus,buckling_inertia,buckling_load,buckling_safety\n";
@@ -63,8 +65,7 @@ void write_maxima(const std::string& path, const analysis::LinkLoadReport& repor
       file << "," << num(v);
     file << "\n";
   }
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  output.commit();
 }
 
 void write_over_time(const std::string& path, const analysis::LinkLoadReport& report) {

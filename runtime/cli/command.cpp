@@ -56,6 +56,15 @@ std::string solver_option(const Args& args) {
   return solver;
 }
 
+Shard shard_option(const Args& args) {
+  if (!args.has("--shard")) return {};
+  try {
+    return parse_shard(args.get("--shard"));
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(std::string("--shard: ") + error.what());
+  }
+}
+
 SweepOptions sweep_options(const Model& model, const std::vector<double>& parameters,
                            const Args& args) {
   SweepOptions options = default_sweep(model, parameters);

@@ -90,6 +90,8 @@ class Args {
     const auto it = values_.find(name);
     return it == values_.end() ? std::vector<std::string>{} : it->second;
   }
+  // Every positional argument, in order.
+  const std::vector<std::string>& positionals() const { return positional_; }
   // The one positional argument a command takes (its MODEL.yaml or CSV file).
   std::string single_positional(const std::string& what) const {
     if (positional_.empty()) throw UsageError("missing " + what);
@@ -144,6 +146,8 @@ Model load_model(const std::string& path);
 double seconds_since(std::chrono::steady_clock::time_point start);
 // --solver's value: "generated" (the default) or "numeric"; anything else is a UsageError.
 std::string solver_option(const Args& args);
+// --shard I/N (sweep/shard.hpp), the whole run when absent; a malformed one is a UsageError.
+Shard shard_option(const Args& args);
 // A fresh sweep of `model` at `parameters`: the model's step, overridden by --solver, --samples,
 // --t0 and --t1 where given (each checked).
 SweepOptions sweep_options(const Model& model, const std::vector<double>& parameters,
@@ -161,11 +165,13 @@ struct Command {
 
 // ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------
 
+Command sweep_command();       // cmd_sweep.cpp
 Command grid_command();        // cmd_grid.cpp
 Command size_motor_command();  // cmd_size_motor.cpp
 Command walk_command();        // cmd_walk.cpp
 Command draw_command();        // cmd_draw.cpp
 Command loads_command();       // cmd_loads.cpp
 Command zmp_command();         // cmd_zmp.cpp
+Command merge_command();       // cmd_merge.cpp
 
 }  // namespace mechgen::cli

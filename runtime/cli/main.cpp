@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "branch_choice.hpp"
 #include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
@@ -26,6 +27,8 @@
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
 #include "numeric/reference_solver.hpp"
+#include "ondemand/data_paths.hpp"
+#include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
 #include "report/svg_plot.hpp"
@@ -68,10 +71,19 @@ int run_check(const Args& args) {
   out += path + ": model '" + model.name + "'" +
          (model.description.empty() ? "" : ": " + model.description) + "\n";
 
-  std::vector<std::vector<std::string>> rows{{"name", "default", "unit", "doc"}};
+  std::vector<std::vector<std::string>> rows{{"name", "default", "unit", "as written", "doc"}};
   for (const Parameter& p : model.parameters)
-    rows.push_back({p.name, number_text(p.value), p.unit, p.doc});
-  out += "\nparameters (" + std::to_string(model.parameters.size()) + ")\n" + table(rows, "  ");
+    rows.push_back({p.name, number_text(p.value), p.unit, p.written, p.doc});
+  const std::vector<double> derived = model.derived_values(defaults);
+  for (size_t i = 0; i < model.derived.size(); ++i) {
+    const DerivedParameter& d = model.derived[i];
+    rows.push_back({d.name, number_text(derived[i]), d.unit, "= " + d.value.text, d.doc});
+  }
+  out += "\nparameters (" + std::to_string(model.parameters.size()) +
+         (model.derived.empty()
+              ? ""
+              : ", and " + std::to_string(model.derived.size()) + " derived from them") +
+         "; SI units)\n" + table(rows, "  ");
 
   rows = {{"name", "mass [kg]", "inertia [kg m^2]", "assembly hint [rad]"}};
   for (const Body& body : model.bodies) {
@@ -161,10 +173,11 @@ int run_check(const Args& args) {
              : " (shape solved in its frame, then placed on the ground body " +
                    model.bodies[static_cast<size_t>(model.ground)].name + ")\n";
   std::vector<std::string> notes;
+  std::vector<gen::BranchChoice> branches;
   std::string derivation_problem;
   if (plan.complete()) {
     try {
-      notes = gen::branch_notes(model);
+      notes = gen::branch_notes(model, &branches);
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& error) {
@@ -180,6 +193,8 @@ int run_check(const Args& args) {
       if (note.rfind(prefix, 0) == 0) line += ";" + note.substr(prefix.size());
     out += line + "\n";
   }
+  const std::vector<std::string> unpinned = gen::unpinned_branch_warnings(model, branches);
+  for (const std::string& warning : unpinned) out += "  warning: " + warning + "\n";
   const auto iterative = std::count_if(plan.groups.begin(), plan.groups.end(),
                                        [](const SolveGroup& g) { return is_iterative(g.kind); });
   if (plan.complete() && iterative > 0) {
@@ -201,7 +216,11 @@ int run_check(const Args& args) {
     std::cerr << path << ": warning: the generator cannot derive this model: " << derivation_problem
               << "\n";
   }
-  std::cout << "\nok: " << path << "\n";
+  std::cout << "\nok: " << path
+            << (unpinned.empty() ? std::string()
+                                 : " (" + std::to_string(unpinned.size()) +
+                                       " branch(es) chosen without a hint: see the warnings)")
+            << "\n";
   return 0;
 }
 
@@ -210,8 +229,8 @@ int run_check(const Args& args) {
 const char* const kInfoHelp =
     R"(usage: mechgen info MODEL.yaml [--json]
 
-Model metadata. With --json, exactly the JSON of DESIGN.md on stdout: name, gravity, parameters
-with their default values, bodies (mass and inertia about the centre of mass at the defaults,
+Model metadata. With --json, JSON on stdout (README.md, "Command line"): name, gravity,
+parameters with their default values (derived ones under derived_parameters), bodies (mass and inertia about the centre of mass at the defaults,
 ground flag), named points, joints (name, type, first, second, point) and drivers (name, joint,
 kind). Numbers are written with as many digits as it takes to read back the same double.
 Without --json, a short text summary.
@@ -245,91 +264,28 @@ const char* const kGenerateHelp =
     R"(usage: mechgen generate MODEL.yaml [-o DIR] [--bake] [--templates DIR]
 
 Derives the model's kinematics and dynamics symbolically and writes its kernels.
-  -o, --output DIR   where to write (default: generated/<name>/ of the source tree)
+  -o, --output DIR   where to write (default: generated/<name>/ under the current folder)
   --bake             bake the default parameter values into the kernel as constants
-  --templates DIR    the templates to emit through (default: templates/ of the source tree)
-Parameters stay run-time values unless --bake is given: only a change of topology (bodies,
-joints, drivers) needs regeneration. A kernel is compiled into mechgen when its model is listed in
-MECHGEN_KERNEL_MODELS (generated/CMakeLists.txt).
+  --templates DIR    the templates to emit through (default: mechgen's own)
+Parameters stay run-time values unless --bake is given. The kernel carries a fingerprint of the
+description it was generated from. Sweeps need no generate step: `--solver generated` builds and
+caches the kernel of a model that is not compiled into mechgen on its first use.
 )";
 
 int run_generate(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   const Model model = load_model(path);
-  const std::filesystem::path source = MECHGEN_SOURCE_DIR;
   gen::GenerateOptions options;
   options.model_path = path;
-  options.output_dir = args.get("--output", (source / "generated" / model.name).string());
-  options.templates_dir = args.get("--templates", (source / "templates").string());
+  options.output_dir =
+      args.get("--output", (std::filesystem::path("generated") / model.name).string());
+  options.templates_dir = args.get("--templates", ondemand::templates_dir());
   options.bake = args.has("--bake");
   const auto start = std::chrono::steady_clock::now();
   const gen::GenerateResult result = gen::generate(options);
   std::cout << "generated '" << result.model << "' in " << fixed(seconds_since(start), 3) << " s\n";
   for (const std::string& note : result.notes) std::cout << "  " << note << "\n";
   for (const std::string& file : result.written) std::cout << "  wrote " << file << "\n";
-  if (!find_compiled_kernel(model.name))
-    std::cout << "note: '" << model.name
-              << "' is not compiled into this mechgen; add it to MECHGEN_KERNEL_MODELS in "
-                 "generated/CMakeLists.txt and rebuild to sweep it with --solver generated\n";
-  return 0;
-}
-
-// ---- mechgen sweep ------------------------------------------------------------------------------
-
-const char* const kSweepHelp =
-    R"(usage: mechgen sweep MODEL.yaml [--solver generated|numeric] [--set NAME=VALUE]...
-                     [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
-
-One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
-the model's step, evaluated with the --set values), one CSV row per sample (DESIGN.md's columns,
-17 significant digits).
-  --solver generated  the compiled kernel (default); numeric: the reference solver
-  --set NAME=VALUE    overrides a model parameter (repeatable); no regeneration needed
-  --threads N         threads for the generated solver (default: all, for 20000 samples or more)
-  --out FILE.csv      where to write the table (required unless --summary is given)
-  --summary           print each column's minimum and maximum; without --out no table is kept
-                      (10^6 PASIBOT samples in about 0.6 s on 2 cores)
-A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
-)";
-
-int run_sweep_command(const Args& args) {
-  const std::string path = args.single_positional("MODEL.yaml");
-  if (is_spatial_description(path)) return run_spatial_sweep(args);
-  if (!args.has("--out") && !args.has("--summary"))
-    throw UsageError("missing --out FILE.csv (or --summary)");
-  const Model model = load_model(path);
-  std::vector<double> parameters = model.default_parameters();
-  apply_overrides(model, args.all("--set"), parameters);
-  SweepOptions options = sweep_options(model, parameters, args);
-  options.threads = args.integer("--threads", 0);
-  if (options.threads < 0) throw UsageError("--threads must be at least 0");
-
-  const auto start = std::chrono::steady_clock::now();
-  // Summary only: the ranges are folded as the samples come, no table is kept.
-  SweepResult result;
-  const ColumnRanges ranges = args.has("--out") ? column_ranges(result = run_sweep(model, options))
-                                                : sweep_ranges(model, options);
-  const double elapsed = seconds_since(start);
-  std::string line = "sweep " + model.name + ": " + options.solver + " solver, " +
-                     std::to_string(options.samples) + " samples, t = " + number_text(options.t0) +
-                     " .. " + number_text(options.t1) + " s, " +
-                     std::to_string(ranges.columns.size()) + " columns, " +
-                     fixed(elapsed * 1e3, 3) + " ms";
-  if (args.has("--out")) {
-    const std::string out = args.get("--out");
-    g_current_file = out;
-    write_csv(out, result);
-    line += " -> " + out;
-  }
-  std::cout << line << "\n";
-
-  if (args.has("--summary")) {
-    std::vector<std::vector<std::string>> rows{{"column", "min", "max", "unit"}};
-    for (size_t c = 0; c < ranges.columns.size(); ++c)
-      rows.push_back({ranges.columns[c], fixed(ranges.min[c], 8), fixed(ranges.max[c], 8),
-                      report::column_unit(ranges.columns[c])});
-    std::cout << table(rows, "  ");
-  }
   return 0;
 }
 
@@ -337,11 +293,11 @@ int run_sweep_command(const Args& args) {
 
 const char* const kPlotHelp =
     R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
-                   [--title TEXT] [--xlabel TEXT] [--ylabel TEXT]
+                   [--title TEXT] [--xlabel TEXT] [--ylabel TEXT] [--equal]
 
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
-unless given.
+unless given. --equal: one scale on both axes, so an x-y path (--x C.x --y C.y) keeps its shape.
 )";
 
 int run_plot(const Args& args) {
@@ -364,15 +320,13 @@ int run_plot(const Args& args) {
   options.title = args.get("--title");
   options.x_label = args.get("--xlabel");
   options.y_label = args.get("--ylabel");
+  options.equal_scale = args.has("--equal");
   g_current_file = path;
-  const report::CsvTable table = report::read_csv(path);
+  const report::CsvTable table = report::read_csv(path, report::Cells::any);  // gaps in a plot
   const std::string svg = report::render_svg(report::column_plot(table, options));
   const std::string out = args.get("--out");
   g_current_file = out;
-  std::ofstream file(out, std::ios::binary);
-  file << svg;
-  file.close();
-  if (!file) throw std::runtime_error("cannot write '" + out + "'");
+  report::write_file_atomically(out, svg);
   std::cout << "plot: " << options.y.size() << " series, " << table.rows.size() << " samples -> "
             << out << "\n";
   return 0;
@@ -386,12 +340,15 @@ const char* const kSummaryHelp =
 The figures of a sweep that size a motor and describe a gait:
   every driver <d> (columns <d>.effort, <d>.qd): peak effort (largest magnitude, signed, and when),
   RMS effort, mean power (effort x qd averaged over time), peak power, work over the run;
-  one body (--body, default l13 when present, else the first body): travel of its centre of mass
-  in x (end minus start) and height variation in y (max minus min, also relative to the mean);
+  one body's centre of mass or one named point (--body NAME): travel in x (end minus start) and
+  height variation in y (max minus min, and relative to the mean when the mean height is larger);
+  without --body, l13 when present, else the first body, and only when the run travels (net x
+  travel above the height variation, as a walking hip): a mechanism turning in place gets none;
   the largest joint force magnitude |(fx, fy)| and its joint.
 Averages are over time (trapezoidal rule in t). The driver kinds (hence the effort units: N m for
 an angle, N for a length) come from --model, else from the model of models/ whose sweep columns
-are exactly the table's.
+are exactly the table's, else from the columns (an angle driver's q is a difference of body
+angles).
 )";
 
 // The model of the source tree whose sweep columns are exactly `header`, if exactly one is.
@@ -445,7 +402,7 @@ const std::vector<Command>& commands() {
        {},
        &run_check},
       {"info",
-       "model metadata (--json: DESIGN.md's JSON)",
+       "model metadata (--json: JSON on stdout)",
        kInfoHelp,
        {{"--json", "", false}},
        &run_info},
@@ -454,18 +411,7 @@ const std::vector<Command>& commands() {
        kGenerateHelp,
        {{"--output", "-o", true}, {"--bake", "", false}, {"--templates", "", true}},
        &run_generate},
-      {"sweep",
-       "one run over time -> CSV",
-       kSweepHelp,
-       {{"--solver", "", true},
-        {"--set", "", true, true},
-        {"--samples", "", true},
-        {"--t0", "", true},
-        {"--t1", "", true},
-        {"--threads", "", true},
-        {"--out", "-o", true},
-        {"--summary", "", false}},
-       &run_sweep_command},
+      sweep_command(),
       {"plot",
        "SVG line plot of CSV columns",
        kPlotHelp,
@@ -474,7 +420,8 @@ const std::vector<Command>& commands() {
         {"--out", "-o", true},
         {"--title", "", true},
         {"--xlabel", "", true},
-        {"--ylabel", "", true}},
+        {"--ylabel", "", true},
+        {"--equal", "", false}},
        &run_plot},
       {"summary",
        "motor torque, power and gait figures of a sweep CSV",
@@ -484,6 +431,7 @@ const std::vector<Command>& commands() {
       loads_command(),
       zmp_command(),
       grid_command(),
+      merge_command(),
       size_motor_command(),
       walk_command(),
       draw_command(),
@@ -502,6 +450,10 @@ std::string main_help() {
   std::string models;
   for (const std::string& m : compiled_kernel_models()) models += " " + m;
   text += "\ncompiled kernels:" + (models.empty() ? std::string(" none") : models) + "\n";
+  text +=
+      "Any other model (or one edited since the build) gets its kernel generated, compiled and\n"
+      "cached on first use; --cache DIR (any command) or MECHGEN_CACHE moves the cache from\n"
+      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen).\n";
   return text;
 }
 
@@ -511,8 +463,35 @@ void print_error(const std::string& message) {
             << "\n";
 }
 
+// `--cache DIR` (or --cache=DIR), accepted anywhere and by every command: the on-demand kernel
+// cache, passed on as MECHGEN_CACHE. Removes it from `words`.
+void take_cache_option(std::vector<std::string>& words) {
+  for (size_t i = 0; i < words.size(); ++i) {
+    std::string dir;
+    if (words[i] == "--cache") {
+      if (i + 1 == words.size()) throw UsageError("--cache needs a folder");
+      dir = words[i + 1];
+      words.erase(words.begin() + static_cast<long>(i), words.begin() + static_cast<long>(i) + 2);
+    } else if (words[i].rfind("--cache=", 0) == 0) {
+      dir = words[i].substr(8);
+      words.erase(words.begin() + static_cast<long>(i));
+    } else {
+      continue;
+    }
+    if (dir.empty()) throw UsageError("--cache needs a folder");
+    ::setenv("MECHGEN_CACHE", dir.c_str(), 1);
+    --i;
+  }
+}
+
 int dispatch(int argc, char** argv) {
   std::vector<std::string> words(argv + 1, argv + argc);
+  try {
+    take_cache_option(words);
+  } catch (const UsageError& error) {
+    std::cerr << "mechgen: error: " << error.what() << "\n";
+    return 1;
+  }
   if (words.empty()) {
     std::cerr << main_help();
     return 1;
@@ -536,6 +515,9 @@ int dispatch(int argc, char** argv) {
         std::cout << c.help;
         return 0;
       }
+      // Every output path is checked before any computation (the files are written atomically).
+      for (const char* option : {"--out", "--over-time", "--diagram-out", "--plot"})
+        for (const std::string& path : args.all(option)) report::check_output_path(path);
       return c.run(args);
     } catch (const UsageError& error) {
       std::cerr << "mechgen " << c.name << ": error: " << error.what() << " (see mechgen " << c.name

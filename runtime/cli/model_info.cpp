@@ -73,7 +73,15 @@ std::string model_info_json(const Model& model) {
   for (size_t i = 0; i < model.parameters.size(); ++i)
     j += (i ? ", " : "") + json_string(model.parameters[i].name) + ": " +
          number_text(model.parameters[i].value);
-  j += "},\n \"bodies\": [";
+  j += "},\n";
+  if (!model.derived.empty()) {  // values at the defaults; not settable (set what they use)
+    const std::vector<double> derived = model.derived_values(model.default_parameters());
+    j += " \"derived_parameters\": {";
+    for (size_t i = 0; i < model.derived.size(); ++i)
+      j += (i ? ", " : "") + json_string(model.derived[i].name) + ": " + number_text(derived[i]);
+    j += "},\n";
+  }
+  j += " \"bodies\": [";
   for (size_t i = 0; i < model.bodies.size(); ++i) {
     const Body& body = model.bodies[i];
     const auto [mass, inertia] = mass_properties(model, body, subs);

@@ -5,6 +5,7 @@
 
 #include <ginac/ginac.h>
 
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -40,10 +41,22 @@ struct Vec2Expr {
 
 struct Parameter {
   std::string name;
-  double value = 0;  // default, SI units
-  std::string unit;  // informative only ("m", "kg", "rad/s", ...)
+  double value = 0;     // default, SI units (converted from the file's unit when read)
+  std::string unit;     // the SI unit of value ("m" for a parameter written in mm); "" if none
+  std::string written;  // as the file gives it when converted ("38 mm"), else empty
   std::string doc;
   GiNaC::symbol symbol;
+  SourceLoc loc;
+};
+
+// A parameter whose value is an expression of other parameters (`hip_x: {value: -a}`): not a
+// run-time field of its own; every expression that names it uses its definition, so it follows
+// `--set` of the parameters it depends on in the numeric solver and the generated kernels alike.
+struct DerivedParameter {
+  std::string name;
+  Expr value;  // in the base parameters' symbols (derived ones it uses are expanded)
+  std::string unit, doc;
+  std::vector<std::string> uses;  // the parameters its expression names (base or derived)
   SourceLoc loc;
 };
 
@@ -55,13 +68,14 @@ struct BodyPoint {
 
 // Mass properties, always resolved to mass, centre of mass (body frame) and inertia about it.
 struct MassProperties {
-  enum class Source { none, explicit_values, bar };
+  enum class Source { none, explicit_values, bar, bars, plate };
   Source source = Source::none;
   Expr mass, inertia;  // kg, kg m^2 about the centre of mass
   Vec2Expr com;        // body frame
   // For Source::bar: the bar's end points, width (in the plane), thickness and density.
   std::string bar_from, bar_to;
-  Expr width, thickness, density;
+  Expr width, thickness, density;    // bars: the same for every bar; plate: thickness, density
+  std::vector<std::string> outline;  // bars: end points, two by two; plate: the polygon's points
 };
 
 // A bar's cross-section, for the stresses of runtime/analysis/link_loads (not used by the solvers).
@@ -146,7 +160,8 @@ struct Model {
   std::string file;
   std::string description;
   Vec2Expr gravity;
-  std::vector<Parameter> parameters;
+  std::vector<Parameter> parameters;      // base parameters: the run-time values, file order
+  std::vector<DerivedParameter> derived;  // dependency order
   std::vector<Body> bodies;
   std::vector<Joint> joints;
   std::vector<Driver> drivers;
@@ -157,13 +172,20 @@ struct Model {
   double assembly_tolerance = 0.35;    // rad: how far a converged assembly may be from the hint
   GiNaC::symbol t{"t"};
   int ground = -1;
+  // The description's fingerprint (model/fingerprint.hpp): its parsed YAML document, comments
+  // and layout aside. Generated kernels carry it (combined with the generator's) to never be run
+  // for another description.
+  std::uint64_t description_hash = 0;
 
   int body_index(const std::string& name) const;       // -1 when absent
   int parameter_index(const std::string& name) const;  // -1 when absent
   int moving_body_count() const { return static_cast<int>(bodies.size()) - 1; }
   // Distinct point names in order of first appearance, with the body that locates each.
   std::vector<std::pair<std::string, int>> named_points() const;
+  int derived_index(const std::string& name) const;  // -1 when absent
   std::vector<double> default_parameters() const;
+  // Each derived parameter's value (order of `derived`) at the given base parameter values.
+  std::vector<double> derived_values(const std::vector<double>& values) const;
   // Substitution map parameter symbol -> value.
   GiNaC::exmap substitutions(const std::vector<double>& values) const;
   // Evaluates an expression of parameters (and t when given) to a double; throws ModelError.
@@ -174,7 +196,8 @@ struct Model {
 Model read_model(const std::string& path);
 Model read_model_text(const std::string& text, const std::string& file_label);
 
-// Applies "NAME=VALUE" overrides to a parameter vector; throws ModelError naming the bad one.
+// Applies "NAME=VALUE" overrides to a parameter vector; throws ModelError naming the bad one, or
+// when the values fail the checks the file's values get (model/value_checks.hpp).
 void apply_overrides(const Model& model, const std::vector<std::string>& overrides,
                      std::vector<double>& values);
 

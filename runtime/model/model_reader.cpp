@@ -10,9 +10,13 @@
 #include <sstream>
 
 #include "model/description_syntax.hpp"
+#include "model/fingerprint.hpp"
+#include "model/link_mass.hpp"
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
+#include "model/parameter_resolver.hpp"
 #include "model/spatial_model.hpp"
+#include "model/value_checks.hpp"
 
 namespace mechgen {
 
@@ -62,6 +66,7 @@ class Reader : public DescriptionSyntax {
   void read_parameters(const YAML::Node& node);
   void read_body(const YAML::Node& node);
   void read_mass(const YAML::Node& node, Body& body);
+  void read_link_mass(const YAML::Node& node, Body& body, const std::string& what);
   void read_section(const YAML::Node& node, Body& body);
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
@@ -114,9 +119,30 @@ std::string Reader::identifier(const YAML::Node& node, const std::string& what) 
   return s;
 }
 
+// Bounds on an expression's text, checked before GiNaC parses it: its parser recurses once per
+// nesting level (10 000 parentheses overflow the stack), and so does every later walk of the
+// expression tree. Models' expressions are under 120 characters and 5 levels deep.
+constexpr size_t kMaxExpressionLength = 2000;
+constexpr int kMaxExpressionDepth = 64;
+
 Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
+  if (text.size() > kMaxExpressionLength)
+    fail(node, what + " is " + std::to_string(text.size()) + " characters long (at most " +
+                   std::to_string(kMaxExpressionLength) + ")");
+  int depth = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    depth += text[i] == '(' || text[i] == '[' || text[i] == '{';
+    depth -= text[i] == ')' || text[i] == ']' || text[i] == '}';
+    if (depth > kMaxExpressionDepth) {
+      SourceLoc at = loc(node);
+      if (node.Tag() != "!" && at.col > 0) at.col += static_cast<int>(i);  // a plain scalar
+      throw ModelError(at, what + " nests parentheses more than " +
+                               std::to_string(kMaxExpressionDepth) + " deep (at character " +
+                               std::to_string(i + 1) + ")");
+    }
+  }
   Expr result{ex(0), text, loc(node)};
   // GiNaC evaluates while it parses: besides syntax errors it reports poles (1/0, log(0)).
   auto first_line = [](const std::string& message) {
@@ -137,6 +163,8 @@ Expr Reader::expression(const YAML::Node& node, const std::string& what, bool ti
         close > open) {
       std::string known;
       for (const Parameter& p : model_.parameters) known += (known.empty() ? "" : ", ") + p.name;
+      for (const DerivedParameter& p : model_.derived)
+        known += (known.empty() ? "" : ", ") + p.name;
       fail(node, what + " '" + text + "': undefined name '" +
                      message.substr(open + 1, close - open - 1) + "' (" +
                      (known.empty() ? "the model has no parameters" : "parameters: " + known) +
@@ -174,34 +202,32 @@ int Reader::body_ref(const YAML::Node& node, const std::string& what) const {
 void Reader::read_parameters(const YAML::Node& node) {
   if (!node) return;
   expect_map(node, "parameters");
+  std::vector<ParameterEntry> entries;
   for (const auto& item : node) {
-    Parameter p;
+    ParameterEntry p;
     p.name = identifier(item.first, "parameter name");
-    p.loc = loc(item.first);
+    p.name_loc = loc(item.first);
     if (p.name == "t" || p.name == "pi")
       fail(item.first, "parameter name '" + p.name + "' is reserved");
-    if (model_.parameter_index(p.name) >= 0)
-      fail(item.first, "duplicate parameter '" + p.name + "'");
+    for (const ParameterEntry& other : entries)
+      if (other.name == p.name) fail(item.first, "duplicate parameter '" + p.name + "'");
     YAML::Node value = item.second;
     if (value.IsMap()) {
       expect_keys(value, "parameter '" + p.name + "'", {"value", "unit", "doc"});
-      if (value["unit"]) p.unit = scalar(value["unit"], "unit");
+      if (value["unit"]) {
+        p.has_unit = true;
+        p.unit = scalar(value["unit"], "unit");
+        p.unit_loc = loc(value["unit"]);
+      }
       if (value["doc"]) p.doc = scalar(value["doc"], "doc");
       value = required(value, "value", "parameter '" + p.name + "'");
     }
-    const std::string text = scalar(value, "parameter '" + p.name + "'");
-    size_t used = 0;
-    try {
-      p.value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(p.value))
-      fail(value, "parameter '" + p.name + "' must be a number, got '" + text + "'");
-    p.symbol = GiNaC::symbol(p.name);
-    symbols_[p.name] = p.symbol;
-    model_.parameters.push_back(p);
+    p.text = scalar(value, "parameter '" + p.name + "'");
+    p.value_loc = loc(value);
+    if (p.text.empty()) fail(value, "parameter '" + p.name + "' is empty");
+    entries.push_back(p);
   }
+  resolve_parameters(entries, model_, symbols_);
 }
 
 void Reader::read_mass(const YAML::Node& node, Body& body) {
@@ -231,6 +257,8 @@ void Reader::read_mass(const YAML::Node& node, Body& body) {
     m.inertia = {mass * (dx * dx + dy * dy + m.width.ex * m.width.ex) / 12, "bar inertia", at};
     m.com = {{(from->local.x.ex + to->local.x.ex) / 2, "bar middle x", at},
              {(from->local.y.ex + to->local.y.ex) / 2, "bar middle y", at}};
+  } else if (node["bars"] || node["plate"]) {
+    read_link_mass(node, body, what);
   } else {
     expect_keys(node, what, {"mass", "com", "inertia"});
     m.source = MassProperties::Source::explicit_values;
@@ -238,6 +266,56 @@ void Reader::read_mass(const YAML::Node& node, Body& body) {
     m.com = vector2(required(node, "com", what), what + " com", false);
     m.inertia = expression(required(node, "inertia", what), what + " inertia", false);
   }
+}
+
+// `bars: [[A, B], [B, C]]` with width, thickness, density, or `plate: [A, B, C]` with thickness,
+// density: runtime/model/link_mass.hpp.
+void Reader::read_link_mass(const YAML::Node& node, Body& body, const std::string& what) {
+  MassProperties& m = body.mass;
+  const bool plate = static_cast<bool>(node["plate"]);
+  const YAML::Node list = plate ? node["plate"] : node["bars"];
+  if (plate)
+    expect_keys(node, what + " (plate)", {"plate", "thickness", "density"});
+  else
+    expect_keys(node, what + " (bars)", {"bars", "width", "thickness", "density"});
+  auto point_of = [&](const YAML::Node& n) {
+    const std::string name = scalar(n, what + " point");
+    const BodyPoint* p = body.find_point(name);
+    if (!p) fail(n, what + ": body has no point '" + name + "'");
+    m.outline.push_back(name);
+    return PointEx{p->local.x.ex, p->local.y.ex};
+  };
+  if (!list.IsSequence() || list.size() < (plate ? 3u : 1u))
+    fail(list, what + (plate ? ": plate must list at least three of the body's points"
+                             : ": bars must list bars [from, to] between the body's points"));
+  m.thickness = expression(required(node, "thickness", what), what + " thickness", false);
+  m.density = expression(required(node, "density", what), what + " density", false);
+  const SourceLoc at = loc(list);
+  PlanarMass mass;
+  if (plate) {
+    m.source = MassProperties::Source::plate;
+    std::vector<PointEx> vertices;
+    for (const auto& n : list) vertices.push_back(point_of(n));
+    const double area = model_.evaluate({signed_area(vertices), "plate area", at},
+                                        model_.substitutions(model_.default_parameters()));
+    if (std::abs(area) < 1e-300) fail(list, what + ": the plate's points enclose no area");
+    mass = plate_mass(vertices, m.thickness.ex, m.density.ex, area > 0 ? 1 : -1);
+  } else {
+    m.source = MassProperties::Source::bars;
+    m.width = expression(required(node, "width", what), what + " width", false);
+    std::vector<std::pair<PointEx, PointEx>> bars;
+    for (const auto& bar : list) {
+      if (!bar.IsSequence() || bar.size() != 2)
+        fail(bar, what + ": each bar must name two of the body's points [from, to]");
+      bars.emplace_back(point_of(bar[0]), point_of(bar[1]));
+    }
+    mass = bars_mass(bars, m.width.ex, m.thickness.ex, m.density.ex);
+  }
+  const std::string kind = plate ? "plate" : "bars";
+  m.mass = {mass.mass, kind + " mass", at};
+  m.inertia = {mass.inertia, kind + " inertia", at};
+  m.com = {{mass.com_x, kind + " centre of mass x", at},
+           {mass.com_y, kind + " centre of mass y", at}};
 }
 
 void Reader::read_section(const YAML::Node& node, Body& body) {
@@ -440,84 +518,9 @@ void Reader::read_force(const YAML::Node& node) {
   model_.forces.push_back(f);
 }
 
-// Numbers that must make physical sense at the default parameters.
+// Numbers that must make physical sense at the default parameters (model/value_checks.hpp).
 void Reader::check_values() {
-  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
-  for (const Body& b : model_.bodies) {
-    for (const BodyPoint& p : b.points) {
-      model_.evaluate(p.local.x, subs);
-      model_.evaluate(p.local.y, subs);
-    }
-    if (b.ground) continue;
-    const MassProperties& m = b.mass;
-    if (m.source == MassProperties::Source::bar) {
-      const std::pair<const char*, const Expr*> sizes[] = {
-          {"width", &m.width}, {"thickness", &m.thickness}, {"density", &m.density}};
-      for (const auto& [field, e] : sizes)
-        if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(e->loc, "body '" + b.name + "': bar " + field + " '" + e->text +
-                                       "' must be positive");
-    }
-    if (model_.evaluate(m.mass, subs) <= 0)
-      throw ModelError(m.mass.loc, "body '" + b.name + "' has a non-positive mass");
-    if (model_.evaluate(m.inertia, subs) <= 0)
-      throw ModelError(m.inertia.loc, "body '" + b.name + "' has a non-positive inertia");
-    model_.evaluate(m.com.x, subs);
-    model_.evaluate(m.com.y, subs);
-    if (b.assembly_angle) model_.evaluate(*b.assembly_angle, subs);
-    if (b.section) {
-      const Section& s = *b.section;
-      std::vector<const Expr*> sizes;
-      if (s.shape == Section::Shape::rectangle)
-        sizes = {&s.width, &s.thickness};
-      else
-        sizes = {&s.area, &s.inertia, &s.fibre};
-      if (s.yield_strength) sizes.push_back(&*s.yield_strength);
-      if (s.youngs_modulus) sizes.push_back(&*s.youngs_modulus);
-      for (const Expr* e : sizes)
-        if (model_.evaluate(*e, subs) <= 0)
-          throw ModelError(
-              e->loc, "body '" + b.name + "': section value '" + e->text + "' must be positive");
-    }
-  }
-  for (const std::optional<Expr>* value : {&model_.yield_strength, &model_.youngs_modulus})
-    if (*value && model_.evaluate(**value, subs) <= 0)
-      throw ModelError((*value)->loc, "material value '" + (*value)->text + "' must be positive");
-  for (const Joint& j : model_.joints) {
-    if (j.type == JointType::revolute) continue;
-    const double dx = model_.evaluate(j.line.direction.x, subs);
-    const double dy = model_.evaluate(j.line.direction.y, subs);
-    if (dx * dx + dy * dy <= 0)
-      throw ModelError(j.line.direction.x.loc, "joint '" + j.name + "': zero line direction");
-    model_.evaluate(j.line.through.x, subs);
-    model_.evaluate(j.line.through.y, subs);
-    if (j.type == JointType::prismatic) model_.evaluate(j.angle, subs);
-  }
-  GiNaC::exmap at_t0 = subs;
-  at_t0[model_.t] = model_.evaluate(model_.step.t0, subs);
-  for (const Driver& d : model_.drivers) model_.evaluate(d.value, at_t0);
-  for (const ForceElement& f : model_.forces) {
-    if (f.type == ForceType::spring_damper) {
-      if (model_.evaluate(f.stiffness, subs) < 0)
-        throw ModelError(f.stiffness.loc, "force '" + f.name + "': negative stiffness");
-      if (model_.evaluate(f.damping, subs) < 0)
-        throw ModelError(f.damping.loc, "force '" + f.name + "': negative damping");
-      if (model_.evaluate(f.free_length, subs) < 0)
-        throw ModelError(f.free_length.loc, "force '" + f.name + "': negative free length");
-    } else if (f.type == ForceType::force) {
-      model_.evaluate(f.force.x, at_t0);
-      model_.evaluate(f.force.y, at_t0);
-    } else {
-      model_.evaluate(f.torque, at_t0);
-    }
-  }
-  const double t0 = model_.evaluate(model_.step.t0, subs);
-  const double t1 = model_.evaluate(model_.step.t1, subs);
-  if (!(t1 > t0)) {
-    std::ostringstream message;
-    message << "step: t1 (" << t1 << ") must be greater than t0 (" << t0 << ")";
-    throw ModelError(model_.step.t1.loc, message.str());
-  }
+  mechgen::check_values(model_, model_.default_parameters());
 }
 
 void Reader::read_header(const YAML::Node& root, std::set<std::string> keys) {
@@ -527,6 +530,7 @@ void Reader::read_header(const YAML::Node& root, std::set<std::string> keys) {
   keys.insert({"name", "description", "dimension", "parameters", "step", "assembly_tolerance"});
   expect_keys(root, "model", keys);
   model_.file = file_;
+  model_.description_hash = description_fingerprint(root);
   model_.name = identifier(required(root, "name", "the model"), "model name");
   if (root["description"]) model_.description = scalar(root["description"], "description");
   symbols_["t"] = model_.t;

@@ -27,6 +27,11 @@ Vector2d perp(const Vector2d& v) {
 double cross(const Vector2d& a, const Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
+// A body angle as reported: in (-pi, pi] (the solver's own coordinates stay continuous).
+double reported_angle(double th) {
+  const double a = std::remainder(th, 2 * std::numbers::pi);
+  return a <= -std::numbers::pi ? a + 2 * std::numbers::pi : a;
+}
 Matrix2d rotation(double th) {
   const double c = std::cos(th), s = std::sin(th);
   Matrix2d r;
@@ -76,7 +81,9 @@ ReferenceSolver::TimeFunction::TimeFunction(const GiNaC::ex& e, const GiNaC::exm
     : loc_(std::move(loc)), what_(std::move(what)) {
   GiNaC::ex substituted;
   try {
-    substituted = e.subs(subs);
+    // A map of symbols: exact lookups, linear in the parameter count (see Model::evaluate).
+    substituted =
+        e.subs(subs, GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product);
   } catch (const std::exception& error) {
     throw ModelError(loc_, what_ + " cannot be evaluated: " + error.what());
   }
@@ -724,6 +731,25 @@ void ReferenceSolver::assemble(double t) {
     }
   }
 
+  // A hinted angle fixed by an angle driver or a prismatic joint may be given modulo 2 pi (the
+  // driver at 5 pi/2, the hint pi/2): it is moved by whole turns next to the value the joint
+  // fixes, which changes no position, so Newton-Raphson does not have to turn the body round.
+  for (size_t ji = 0; ji < joints_.size(); ++ji) {
+    const JointData& j = joints_[ji];
+    if (j.type != JointType::prismatic && angle_driver[ji] < 0) continue;
+    const double relative =
+        j.type == JointType::prismatic ? j.angle : drivers_[angle_driver[ji]].f(t);
+    const int sf = bodies_[j.first].slot, ss = bodies_[j.second].slot;
+    const double th_first = sf < 0 ? 0 : q[sf + 2], th_second = ss < 0 ? 0 : q[ss + 2];
+    if (ss >= 0 && hinted[j.second]) {
+      const double fixed = th_first + relative;
+      q[ss + 2] = fixed + std::remainder(th_second - fixed, 2 * std::numbers::pi);
+    } else if (sf >= 0 && hinted[j.first]) {
+      const double fixed = th_second - relative;
+      q[sf + 2] = fixed + std::remainder(th_first - fixed, 2 * std::numbers::pi);
+    }
+  }
+
   const Newton result = newton(q, t, 4 * options_.max_iterations, true);
   if (!result.converged) {
     VectorXd phi;
@@ -1016,7 +1042,7 @@ void ReferenceSolver::fill_row(double t, Status status, std::vector<double>& row
     const Vector2d g = k.r + rc;
     at(c) = g.x();
     at(c + 1) = g.y();
-    at(c + 2) = k.th;
+    at(c + 2) = reported_angle(k.th);
     if (!rates) continue;
     const Vector2d v = k.v + k.w * perp(rc);
     const Vector2d a = k.a + k.al * perp(rc) - k.w * k.w * rc;

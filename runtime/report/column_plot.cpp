@@ -48,6 +48,7 @@ PlotSpec column_plot(const CsvTable& table, const ColumnPlotOptions& options) {
   spec.y_label =
       !options.y_label.empty() ? options.y_label : with_unit(names, same_unit ? common_unit : "");
   spec.title = !options.title.empty() ? options.title : names + " over " + options.x;
+  spec.equal_scale = options.equal_scale;
   return spec;
 }
 

@@ -19,6 +19,7 @@ struct ColumnPlotOptions {
   std::vector<std::string> y;  // one series per column
   // Empty: derived. Axis labels name the columns and their units when known ("time t [s]").
   std::string title, x_label, y_label;
+  bool equal_scale = false;  // one scale on both axes (x-y paths)
 };
 
 // Throws CsvError naming a missing column and the columns that exist.

@@ -1,10 +1,12 @@
 #include "report/csv_table.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
+#include "report/atomic_output.hpp"
 namespace mechgen::report {
 namespace {
 
@@ -55,7 +57,7 @@ std::vector<double> CsvTable::values(int column) const {
   return v;
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& path) {
+CsvTable parse_csv(const std::string& text, const std::string& path, Cells cells) {
   CsvTable table;
   table.path = path;
   std::istringstream in(text);
@@ -101,6 +103,8 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
       if (ec == std::errc::result_out_of_range) {
         fail(path, line_no, "column '" + table.header[i] + "': '" + f + "' is out of range");
       }
+      if (cells == Cells::finite && !std::isfinite(row[i]))
+        fail(path, line_no, "column '" + table.header[i] + "': '" + f + "' is not finite");
     }
     table.rows.push_back(std::move(row));
   }
@@ -108,18 +112,18 @@ CsvTable parse_csv(const std::string& text, const std::string& path) {
   return table;
 }
 
-CsvTable read_csv(const std::string& path) {
+CsvTable read_csv(const std::string& path, Cells cells) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(path + ":0: cannot open for reading");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw CsvError(path + ":0: read error");
-  return parse_csv(text.str(), path);
+  return parse_csv(text.str(), path, cells);
 }
 
 void write_csv(const CsvTable& table, const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw CsvError(path + ":0: cannot open for writing");
+  AtomicOutput output(path);  // throws std::runtime_error "cannot write 'PATH': ..."
+  std::ostream& out = output.stream();
   for (std::size_t i = 0; i < table.header.size(); ++i) out << (i ? "," : "") << table.header[i];
   out << '\n';
   char buf[32];
@@ -130,8 +134,7 @@ void write_csv(const CsvTable& table, const std::string& path) {
     }
     out << '\n';
   }
-  out.close();
-  if (!out) throw CsvError(path + ":0: write error");
+  output.commit();
 }
 
 }  // namespace mechgen::report

@@ -1,5 +1,7 @@
 // Numeric CSV tables as the sweep writes them: one header row of column names, then one row of
-// numbers per sample, comma separated. "nan" and "inf" are numbers; quoting is not supported.
+// numbers per sample, comma separated; quoting is not supported. A cell "nan" or "inf" is an
+// error unless the reader asks for Cells::any (a plot draws gaps; an analysis must not compute
+// with them).
 #pragma once
 
 #include <stdexcept>
@@ -25,9 +27,10 @@ struct CsvTable {
   std::vector<double> values(int column) const;  // one column, top to bottom
 };
 
-CsvTable read_csv(const std::string& path);
+enum class Cells { finite, any };
+CsvTable read_csv(const std::string& path, Cells cells = Cells::finite);
 // Parses text already in memory; `path` only labels the messages.
-CsvTable parse_csv(const std::string& text, const std::string& path);
+CsvTable parse_csv(const std::string& text, const std::string& path, Cells cells = Cells::finite);
 // Writes header and rows with 17 significant digits, so read_csv() returns the same doubles.
 void write_csv(const CsvTable& table, const std::string& path);
 

@@ -155,9 +155,26 @@ std::string draw_mechanism(const Model& model, const MechanismFrames& all,
     frames.points.push_back(all.points[i]);
   }
   const double duration = t1 > t0 ? t1 - t0 : 1.0;
-  const DrawingView view = fit_view(frames, options.width);
-  const std::vector<PointXY>& first = frames.points.front();
   const auto names = model.named_points();
+  // Traced points: their indices, and the frames their paths run over (also fitted in the view).
+  std::vector<size_t> traced;
+  for (const std::string& name : options.trace) {
+    size_t i = 0;
+    while (i < names.size() && names[i].first != name) ++i;
+    if (i == names.size()) {
+      std::string known;
+      for (const auto& n : names) known += (known.empty() ? "" : ", ") + n.first;
+      throw std::runtime_error("--trace: model '" + model.name + "' has no point '" + name +
+                               "' (points: " + known + ")");
+    }
+    traced.push_back(i);
+  }
+  const MechanismFrames& path = options.trace_path.points.empty() ? all : options.trace_path;
+  MechanismFrames fitted = frames;
+  if (!traced.empty())
+    fitted.points.insert(fitted.points.end(), path.points.begin(), path.points.end());
+  const DrawingView view = fit_view(fitted, options.width);
+  const std::vector<PointXY>& first = frames.points.front();
 
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
                     std::to_string(view.width) + "\" height=\"" + std::to_string(view.height) +
@@ -198,6 +215,15 @@ std::string draw_mechanism(const Model& model, const MechanismFrames& all,
           svg += hatch(view.px(first[i].x) - 14, view.px(first[i].x) + 14, view.py(first[i].y) + 4);
   }
   svg += "</g>\n";
+
+  // Paths of the traced points, under the bodies.
+  for (size_t i : traced) {
+    std::string line;
+    for (const std::vector<PointXY>& at : path.points)
+      line += (line.empty() ? "" : " ") + num(view.px(at[i].x)) + "," + num(view.py(at[i].y));
+    svg += "<polyline id=\"trace-" + names[i].first + "\" class=\"trace\" points=\"" + line +
+           "\" fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1.5\" stroke-dasharray=\"5 3\"/>\n";
+  }
 
   // Bodies: the hip-like plates first (underneath), then the bars.
   std::vector<BodyShape> shapes = body_shapes(model, first);
@@ -240,6 +266,23 @@ std::string draw_mechanism(const Model& model, const MechanismFrames& all,
            "\" cy=\"" + ys.front() + "\" r=\"3.5\" fill=\"white\" stroke=\"black\" " +
            "stroke-width=\"1.2\">" + animate("cx", xs, duration) + animate("cy", ys, duration) +
            "</circle>\n";
+  }
+
+  // A dot on each traced point (it follows the point along its path on an animation).
+  for (size_t i : traced) {
+    std::vector<std::string> xs, ys;
+    for (const std::vector<PointXY>& at : frames.points) {
+      xs.push_back(num(view.px(at[i].x)));
+      ys.push_back(num(view.py(at[i].y)));
+    }
+    svg += "<circle id=\"tracer-" + names[i].first + "\" class=\"tracer\" cx=\"" + xs.front() +
+           "\" cy=\"" + ys.front() + "\" r=\"3\" fill=\"#2ca02c\">" + animate("cx", xs, duration) +
+           animate("cy", ys, duration) + "</circle>\n";
+    if (options.labels)
+      svg += "<text class=\"label\" x=\"" + num(view.px(first[i].x) + 5) + "\" y=\"" +
+             num(view.py(first[i].y) + 12) +
+             "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#2ca02c\">" +
+             xml_escape(names[i].first) + "</text>\n";
   }
 
   if (options.labels)

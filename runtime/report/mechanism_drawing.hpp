@@ -46,6 +46,10 @@ struct DrawingOptions {
   int max_frames = 120;  // an animation is resampled to at most this many frames, evenly in time
   // Bodies whose name ends with this (the flying leg of a biped) are drawn in a second colour.
   std::string mirror_suffix = "p";
+  // Named points whose paths are drawn (dashed, under the bodies; a dot follows each on an
+  // animation), over `trace_path` when it has frames (a still's step), else over every frame.
+  std::vector<std::string> trace;
+  MechanismFrames trace_path;
 };
 
 // How a body is drawn: its points (indices into named_points()) in drawing order, and whether
@@ -59,7 +63,9 @@ std::vector<BodyShape> body_shapes(const Model& model, const std::vector<PointXY
 
 // The SVG document: a still of frame 0 when there is one frame, else the animation over all of
 // them (duration: their time span, real time). Elements: <polyline|polygon id="body-NAME"
-// class="body">, <circle id="joint-POINT" class="joint">, a <g id="ground"> floor.
+// class="body">, <circle id="joint-POINT" class="joint">, a <g id="ground"> floor,
+// <polyline id="trace-POINT" class="trace"> and <circle id="tracer-POINT" class="tracer"> per
+// traced point. Throws std::runtime_error for a traced name that is not a point.
 std::string draw_mechanism(const Model& model, const MechanismFrames& frames,
                            const DrawingOptions& options);
 

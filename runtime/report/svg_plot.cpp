@@ -197,7 +197,49 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
+namespace {
+PlotLayout free_layout(const PlotSpec& spec);
+
+// Pixels per data unit of an axis.
+double pixels_per_unit(const Axis& a) {
+  return std::abs(a.px_hi - a.px_lo) / (a.hi - a.lo);
+}
+}  // namespace
+
 PlotLayout compute_layout(const PlotSpec& spec) {
+  if (!spec.equal_scale) return free_layout(spec);
+  // Widen one axis's range until both scales agree; the margins depend on the tick labels, so
+  // lay out again (they settle in a pass or two), then make the last range exact.
+  PlotSpec fixed = spec;
+  fixed.equal_scale = false;
+  PlotLayout L = free_layout(fixed);
+  for (int pass = 0; pass < 4; ++pass) {
+    const double sx = pixels_per_unit(L.x), sy = pixels_per_unit(L.y);
+    if (std::abs(sx - sy) <= 1e-12 * std::max(sx, sy)) break;
+    Axis& wide = sx > sy ? L.x : L.y;
+    const double scale = std::min(sx, sy);
+    const double centre = (wide.lo + wide.hi) / 2;
+    const double half = std::abs(wide.px_hi - wide.px_lo) / scale / 2;
+    if (sx > sy) {
+      fixed.x_min = centre - half, fixed.x_max = centre + half;
+      fixed.y_min = L.y.lo, fixed.y_max = L.y.hi;
+    } else {
+      fixed.y_min = centre - half, fixed.y_max = centre + half;
+      fixed.x_min = L.x.lo, fixed.x_max = L.x.hi;
+    }
+    L = free_layout(fixed);
+  }
+  const double sx = pixels_per_unit(L.x), sy = pixels_per_unit(L.y);
+  Axis& wide = sx > sy ? L.x : L.y;
+  const double centre = (wide.lo + wide.hi) / 2;
+  const double half = std::abs(wide.px_hi - wide.px_lo) / std::min(sx, sy) / 2;
+  wide.lo = centre - half;
+  wide.hi = centre + half;
+  return L;
+}
+
+namespace {
+PlotLayout free_layout(const PlotSpec& spec) {
   check_lengths(spec);
   PlotLayout L;
   const double width = std::max(spec.width, 200), height = std::max(spec.height, 150);
@@ -252,6 +294,7 @@ PlotLayout compute_layout(const PlotSpec& spec) {
   L.y = {ylo, yhi, L.bottom, L.top};
   return L;
 }
+}  // namespace
 
 std::string render_svg(const PlotSpec& spec) {
   const PlotLayout L = compute_layout(spec);

@@ -23,6 +23,9 @@ struct PlotSpec {
   double y_min = std::numeric_limits<double>::quiet_NaN();
   double y_max = std::numeric_limits<double>::quiet_NaN();
   int width = 800, height = 500;  // SVG pixels
+  // One scale on both axes (an x-y path keeps its shape): the axis with more pixels per unit
+  // gets a wider range, centred on its data.
+  bool equal_scale = false;
 };
 
 // The whole plot as an SVG document. Throws std::invalid_argument when a series' x and y differ

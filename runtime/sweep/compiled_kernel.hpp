@@ -7,9 +7,15 @@
 
 namespace mechgen {
 
+// The layout below; a kernel built on demand (a shared library) is used only when its entry
+// `extern "C" const CompiledKernel* mechgen_kernel_entry(int abi)` accepts this value. Bump it with
+// any change of CompiledKernel.
+inline constexpr int kCompiledKernelAbi = 1;
+
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
-  // returns 0 (ok), 1 (unreachable) or 2 (singular) and the failing group.
+  // returns 0 (ok), 1 (unreachable), 2 (singular) or 3 (a non-finite output) and the failing
+  // group_names[] entry (a solve group, or the stage: inputs, positions, rates, forces).
   using RowFunction = int (*)(const double* parameters, double t, double* row, int* failed_group);
   // The row for a driver motion other than the model's own: `drivers` holds (q, qd, qdd) per
   // driver, in model order (driver_count of them); same return values.
@@ -32,9 +38,13 @@ struct CompiledKernel {
   int driver_count;
   DrivenRowFunction evaluate_driven_double;
   BatchFunction evaluate_batch_double;
+  // What the kernel was generated from (generator/kernel_fingerprint.hpp): run it only for a
+  // description with this fingerprint.
+  unsigned long long fingerprint;
 };
 
-// The kernel compiled into this binary for `model`, or nullptr.
+// The kernel compiled into this binary for `model`, or nullptr, whatever its fingerprint (the
+// checked lookup is runtime/ondemand/kernel_resolver.hpp's).
 const CompiledKernel* find_compiled_kernel(const std::string& model);
 std::vector<std::string> compiled_kernel_models();
 

@@ -40,6 +40,28 @@ std::string driver_kind(const Model* model, const std::string& driver) {
   return "";
 }
 
+// Without a model: "angle" when q is, at every sample, th_b - th_a (modulo 2 pi) for two of the
+// table's bodies or the ground (angle 0); "length" when it is not; "" when the table cannot tell
+// (no body angles, fewer than two samples, or no q column).
+std::string driver_kind_from_columns(const report::CsvTable& table, const std::string& driver) {
+  const int q = table.column(driver + ".q");
+  if (q < 0 || table.rows.size() < 2) return "";
+  std::vector<std::vector<double>> angles{std::vector<double>(table.rows.size(), 0.0)};  // ground
+  for (const std::string& column : table.header)
+    if (ends_with(column, ".th")) angles.push_back(table.values(table.column(column)));
+  if (angles.size() < 2) return "";
+  const std::vector<double> qs = table.values(q);
+  for (size_t a = 0; a < angles.size(); ++a)
+    for (size_t b = 0; b < angles.size(); ++b) {
+      if (a == b) continue;
+      bool equal = true;
+      for (size_t i = 0; i < qs.size() && equal; ++i)
+        equal = std::abs(std::remainder(qs[i] - (angles[b][i] - angles[a][i]), 2 * M_PI)) < 1e-7;
+      if (equal) return "angle";
+    }
+  return "length";
+}
+
 std::string default_body(const report::CsvTable& table) {
   if (table.column("l13.x") >= 0 && table.column("l13.y") >= 0) return "l13";
   for (const std::string& column : table.header) {
@@ -86,6 +108,10 @@ SweepSummary summarize(const report::CsvTable& table, const SummaryOptions& opti
     DriverSummary d;
     d.name = column.substr(0, column.size() - 7);
     d.kind = driver_kind(options.model, d.name);
+    if (!options.model) {
+      d.kind = driver_kind_from_columns(table, d.name);
+      d.kind_inferred = !d.kind.empty();
+    }
     const std::vector<double> effort = table.values(table.column(column));
     const size_t peak = peak_index(effort);
     d.peak_effort = effort[peak];
@@ -115,6 +141,7 @@ SweepSummary summarize(const report::CsvTable& table, const SummaryOptions& opti
                              ".y' (is '" + body + "' a moving body of this model?)");
     BodySummary b;
     b.name = body;
+    b.point = table.column(body + ".th") < 0;
     const std::vector<double> xs = table.values(x), ys = table.values(y);
     b.x_start = xs.front();
     b.x_end = xs.back();
@@ -123,8 +150,10 @@ SweepSummary summarize(const report::CsvTable& table, const SummaryOptions& opti
     for (double v : ys) b.y_min = std::min(b.y_min, v), b.y_max = std::max(b.y_max, v);
     b.y_mean = time_average(t, ys);
     b.height_variation = b.y_max - b.y_min;
-    b.relative_variation = b.y_mean != 0 ? b.height_variation / std::abs(b.y_mean) * 100 : nan;
-    s.body = b;
+    b.relative_variation = std::abs(b.y_mean) > b.height_variation
+                               ? b.height_variation / std::abs(b.y_mean) * 100
+                               : nan;
+    if (!options.body.empty() || std::abs(b.travel) > b.height_variation) s.body = b;
   }
 
   for (const std::string& column : table.header) {
@@ -169,7 +198,11 @@ std::string format_summary(const SweepSummary& s) {
 
   for (const DriverSummary& d : s.drivers) {
     const char* effort_unit = d.kind == "angle" ? "N m" : d.kind == "length" ? "N" : "N m|N";
-    out += "driver " + d.name + (d.kind.empty() ? "" : " (" + d.kind + ")") + "\n";
+    out += "driver " + d.name +
+           (d.kind.empty()
+                ? ""
+                : " (" + d.kind + (d.kind_inferred ? ", read from the columns" : "") + ")") +
+           "\n";
     row("peak effort", d.peak_effort, effort_unit, at(d.peak_time));
     row("RMS effort", d.rms_effort, effort_unit);
     if (d.has_power) {
@@ -182,13 +215,14 @@ std::string format_summary(const SweepSummary& s) {
   if (s.body) {
     const BodySummary& b = *s.body;
     char note[96];
-    out += "body " + b.name + " (centre of mass)\n";
+    out += (b.point ? "point " + b.name : "body " + b.name + " (centre of mass)") + "\n";
     std::snprintf(note, sizeof note, "(x %.6g -> %.6g m)", b.x_start, b.x_end);
     row("travel x (end - start)", b.travel, "m", note);
     std::snprintf(note, sizeof note, "(y %.6g .. %.6g m)", b.y_min, b.y_max);
     row("height variation y", b.height_variation, "m", note);
     row("mean height y", b.y_mean, "m");
-    row("height variation / mean", b.relative_variation, "%");
+    if (!std::isnan(b.relative_variation))
+      row("height variation / mean", b.relative_variation, "%");
   }
   if (s.joint) {
     out += "joints\n";

@@ -7,9 +7,15 @@
 #include <memory>
 #include <thread>
 
+#include <unistd.h>
+
 #include "model/columns.hpp"
+#include "model/value_checks.hpp"
 #include "numeric/reference_solver.hpp"
+#include "ondemand/kernel_resolver.hpp"
+#include "report/atomic_output.hpp"
 #include "sweep/compiled_kernel.hpp"
+#include "sweep/parallel.hpp"
 
 namespace mechgen {
 
@@ -25,55 +31,14 @@ std::string format_number(double value) {
   return text;
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text.empty() ? "none" : text;
-}
-
-// The compiled kernel of the model, checked against the description it is used with.
-const CompiledKernel& kernel_for(const Model& model) {
-  const CompiledKernel* kernel = find_compiled_kernel(model.name);
-  if (!kernel)
-    throw ModelError(model_loc(model),
-                     "no generated kernel for model '" + model.name +
-                         "' is compiled into this mechgen (kernel not compiled in; compiled in: " +
-                         joined(compiled_kernel_models()) +
-                         "); run `build/mechgen generate models/" + model.name + ".yaml`, add " +
-                         model.name +
-                         " to MECHGEN_KERNEL_MODELS in generated/CMakeLists.txt and rebuild, or "
-                         "use --solver numeric");
-  const std::string stale =
-      "the compiled kernel of '" + model.name + "' does not match this description (";
-  const std::string advice = "); rebuild mechgen to regenerate it, or use --solver numeric";
-  if (kernel->parameter_count != static_cast<int>(model.parameters.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->parameter_count) +
-                                           " parameters, the description has " +
-                                           std::to_string(model.parameters.size()) + advice);
-  for (size_t i = 0; i < model.parameters.size(); ++i)
-    if (model.parameters[i].name != kernel->parameter_names[i])
-      throw ModelError(model_loc(model), stale + "parameter " + std::to_string(i + 1) + " is '" +
-                                             kernel->parameter_names[i] + "', not '" +
-                                             model.parameters[i].name + "'" + advice);
-  const std::vector<std::string> columns = column_names(model);
-  if (kernel->column_count != static_cast<int>(columns.size()))
-    throw ModelError(model_loc(model), stale + std::to_string(kernel->column_count) +
-                                           " columns, the description gives " +
-                                           std::to_string(columns.size()) + advice);
-  for (size_t i = 0; i < columns.size(); ++i)
-    if (columns[i] != kernel->column_names[i])
-      throw ModelError(model_loc(model), stale + "column " + std::to_string(i + 1) + " is '" +
-                                             kernel->column_names[i] + "', not '" + columns[i] +
-                                             "'" + advice);
-  return *kernel;
-}
-
 const char* kernel_status(int status) {
   switch (status) {
     case 1:
       return "unreachable";
     case 2:
       return "singular";
+    case 3:
+      return "non-finite result";
     default:
       return "unknown status";
   }
@@ -86,6 +51,23 @@ struct KernelFailure {
   int group = -1;
 };
 
+// The sample times of sample_times(), computed when needed: a sweep of ranges keeps nothing per
+// sample.
+struct SampleTimes {
+  double t0 = 0, t1 = 0;
+  size_t n = 0;      // samples of the whole run
+  size_t first = 0;  // this view's first sample (a shard's part)
+  size_t count = n;  // samples in this view
+  size_t size() const { return count; }
+  double operator[](size_t i) const {
+    const size_t j = first + i;
+    return j == n - 1 && n > 1 ? t1
+                               : t0 + (t1 - t0) * static_cast<double>(j) /
+                                          static_cast<double>(std::max<size_t>(1, n - 1));
+  }
+  SampleTimes part(size_t from, size_t samples) const { return {t0, t1, n, first + from, samples}; }
+};
+
 // Samples per call of the batch entry: its column-major block (columns x kBlock doubles, 170 kB
 // for PASIBOT) stays in the L2 cache (measured: 32 to 128 samples are within 10%).
 constexpr size_t kBlock = 64;
@@ -93,8 +75,11 @@ constexpr size_t kBlock = 64;
 // A thread's scratch for one block of the batch entry.
 struct BlockBuffers {
   explicit BlockBuffers(const CompiledKernel& kernel)
-      : out(static_cast<size_t>(kernel.column_count) * kBlock), status(kBlock), group(kBlock) {}
-  std::vector<double> out;
+      : out(static_cast<size_t>(kernel.column_count) * kBlock),
+        t(kBlock),
+        status(kBlock),
+        group(kBlock) {}
+  std::vector<double> out, t;
   std::vector<int> status, group;
 };
 
@@ -103,26 +88,28 @@ struct BlockBuffers {
 // failure and returns it (status 0: none); a failing block is not handed over.
 template <class Use>
 KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<double>& parameters,
-                              const std::vector<double>& times, size_t begin, size_t end,
-                              Use&& use) {
+                              const SampleTimes& times, size_t begin, size_t end,
+                              Progress* progress, Use&& use) {
   BlockBuffers buffers(kernel);
   for (size_t first = begin; first < end; first += kBlock) {
     const size_t n = std::min(kBlock, end - first);
-    kernel.evaluate_batch_double(parameters.data(), &times[first], static_cast<long>(n),
+    for (size_t k = 0; k < n; ++k) buffers.t[k] = times[first + k];
+    kernel.evaluate_batch_double(parameters.data(), buffers.t.data(), static_cast<long>(n),
                                  buffers.out.data(), buffers.status.data(), buffers.group.data());
     for (size_t k = 0; k < n; ++k)
       if (buffers.status[k] != 0) return {first + k, buffers.status[k], buffers.group[k]};
     use(first, n, buffers.out.data());
+    if (progress) progress->advance(n);
   }
   return {};
 }
 
 // Evaluates samples [begin, end) into rows; stops at the first failure and returns it.
 KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<double>& parameters,
-                             const std::vector<double>& times, size_t begin, size_t end,
+                             const SampleTimes& times, size_t begin, size_t end, Progress* progress,
                              std::vector<std::vector<double>>& rows) {
   const size_t columns = static_cast<size_t>(kernel.column_count);
-  return evaluate_blocks(kernel, parameters, times, begin, end,
+  return evaluate_blocks(kernel, parameters, times, begin, end, progress,
                          [&](size_t first, size_t n, const double* out) {
                            for (size_t k = 0; k < n; ++k) {
                              std::vector<double>& row = rows[first + k];
@@ -142,46 +129,55 @@ int sweep_threads(const SweepOptions& options, size_t n) {
   return static_cast<int>(std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(threads), n)));
 }
 
-// Runs task(k, begin, end) on `threads` contiguous chunks of [0, n), one thread each.
+// Runs task(k, begin, end) on `threads` contiguous chunks of [0, n), one thread each; a thread
+// that cannot start or a task that throws is one exception here (sweep/parallel.hpp).
 template <class Task>
 void in_parallel(int threads, size_t n, Task&& task) {
   if (threads <= 1) {
     task(0, 0, n);
     return;
   }
-  std::vector<std::thread> pool;
   const size_t chunk = (n + static_cast<size_t>(threads) - 1) / static_cast<size_t>(threads);
-  for (size_t k = 0; k < static_cast<size_t>(threads); ++k) {
+  run_parallel(static_cast<size_t>(threads), [&](size_t k) {
     const size_t begin = std::min(n, k * chunk), end = std::min(n, begin + chunk);
-    pool.emplace_back([&task, k, begin, end] { task(k, begin, end); });
-  }
-  for (std::thread& thread : pool) thread.join();
+    task(k, begin, end);
+  });
 }
 
-[[noreturn]] void report_kernel_failure(const Model& model, const CompiledKernel& kernel, double t,
-                                        const KernelFailure& failure) {
+// The sample (1-based, of `samples`) and its time, as every failure message names them.
+std::string sample_text(size_t sample, size_t samples, double t) {
+  return "sample " + std::to_string(sample + 1) + " of " + std::to_string(samples) +
+         ", t = " + format_number(t);
+}
+
+[[noreturn]] void report_kernel_failure(const Model& model, const CompiledKernel& kernel,
+                                        const SampleTimes& times, const KernelFailure& failure) {
   std::string message =
-      "generated kernel: t = " + format_number(t) + ": " + kernel_status(failure.status);
+      "generated kernel: " + sample_text(failure.sample, times.size(), times[failure.sample]) +
+      ": " + kernel_status(failure.status);
   if (failure.group >= 0 && failure.group < kernel.group_count)
     message += " in group " + std::string(kernel.group_names[failure.group]);
-  message += failure.status == 1 ? " (the mechanism cannot assemble there with these parameters)"
-                                 : " (the configuration is singular there)";
+  message += failure.status == 1   ? " (the mechanism cannot assemble there with these parameters)"
+             : failure.status == 3 ? " (the parameters or the motion are too large for double "
+                                     "precision: an output overflows)"
+                                   : " (the configuration is singular there)";
   throw ModelError(model_loc(model), message);
 }
 
-void sweep_generated(const Model& model, const SweepOptions& options,
-                     const std::vector<double>& times, SweepResult& result) {
-  const CompiledKernel& kernel = kernel_for(model);
+void sweep_generated(const Model& model, const SweepOptions& options, const SampleTimes& times,
+                     SweepResult& result) {
+  const CompiledKernel& kernel = generated_kernel(model);
   const size_t n = times.size();
   const int threads = sweep_threads(options, n);
   // Contiguous chunks, one per thread; each thread writes only its own rows.
   std::vector<KernelFailure> failures(static_cast<size_t>(threads));
   in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
-    failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, result.rows);
+    failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, options.progress,
+                                 result.rows);
   });
   // The earliest failing sample, as a sequential sweep would report it.
   for (const KernelFailure& failure : failures)
-    if (failure.status != 0) report_kernel_failure(model, kernel, times[failure.sample], failure);
+    if (failure.status != 0) report_kernel_failure(model, kernel, times, failure);
 }
 
 // What a numeric status means for the user, after its name.
@@ -202,17 +198,26 @@ const char* numeric_status_hint(numeric::Status status) {
   return "";
 }
 
-void sweep_numeric(const Model& model, const SweepOptions& options,
-                   const std::vector<double>& times, SweepResult& result) {
+void sweep_numeric(const Model& model, const SweepOptions& options, const SampleTimes& times,
+                   SweepResult& result) {
   numeric::ReferenceSolver solver(model, options.parameters);
-  solver.assemble(times.front());
+  solver.assemble(times[0]);
   for (size_t i = 0; i < times.size(); ++i) {
     result.rows[i].assign(result.columns.size(), 0.0);
     const numeric::Status status = solver.solve(times[i], result.rows[i]);
     if (status != numeric::Status::ok)
-      throw ModelError(model_loc(model), "numeric solver: t = " + format_number(times[i]) + ": " +
-                                             numeric::to_string(status) +
-                                             numeric_status_hint(status));
+      throw ModelError(model_loc(model),
+                       "numeric solver: " + sample_text(i, times.size(), times[i]) + ": " +
+                           numeric::to_string(status) + numeric_status_hint(status));
+    // Never a NaN or infinite row with exit 0: the first non-finite column is named.
+    for (size_t c = 0; c < result.columns.size(); ++c)
+      if (!std::isfinite(result.rows[i][c]))
+        throw ModelError(model_loc(model),
+                         "numeric solver: " + sample_text(i, times.size(), times[i]) +
+                             ": non-finite result in column " + result.columns[c] +
+                             " (the parameters or the motion are too large "
+                             "for double precision)");
+    if (options.progress) options.progress->advance(1);
   }
 }
 
@@ -221,6 +226,8 @@ void sweep_numeric(const Model& model, const SweepOptions& options,
 SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters) {
   SweepOptions options;
   options.parameters = parameters.empty() ? model.default_parameters() : parameters;
+  // Run-time values (a grid value, a catalogue motor's mass) get the checks the file's get.
+  if (!parameters.empty()) check_values(model, options.parameters);
   const GiNaC::exmap subs = model.substitutions(options.parameters);
   options.t0 = model.evaluate(model.step.t0, subs);
   options.t1 = model.evaluate(model.step.t1, subs);
@@ -229,12 +236,10 @@ SweepOptions default_sweep(const Model& model, const std::vector<double>& parame
 }
 
 std::vector<double> sample_times(double t0, double t1, int samples) {
-  std::vector<double> times;
-  for (int i = 0; i < samples; ++i)
-    times.push_back(i == samples - 1 && samples > 1
-                        ? t1
-                        : t0 + (t1 - t0) * static_cast<double>(i) / std::max(1, samples - 1));
-  return times;
+  const SampleTimes times{t0, t1, static_cast<size_t>(std::max(0, samples))};
+  std::vector<double> values(times.size());
+  for (size_t i = 0; i < times.size(); ++i) values[i] = times[i];
+  return values;
 }
 
 namespace {
@@ -251,6 +256,10 @@ SweepOptions checked(const Model& model, const SweepOptions& options_in) {
   if (options.samples < 1)
     throw ModelError(where,
                      "sweep: samples must be at least 1, got " + std::to_string(options.samples));
+  if (options.threads > thread_limit())
+    throw ModelError(where, "sweep: " + std::to_string(options.threads) +
+                                " threads asked for, at most " + std::to_string(thread_limit()) +
+                                " (4 x the hardware threads)");
   if (!std::isfinite(options.t0) || !std::isfinite(options.t1))
     throw ModelError(where, "sweep: t0 and t1 must be finite");
   if (options.solver != "generated" && options.solver != "numeric")
@@ -274,6 +283,23 @@ ColumnRanges empty_ranges(std::vector<std::string> columns) {
 
 }  // namespace
 
+void check_table_memory(const Model& model, size_t samples, size_t columns) {
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page_size <= 0) return;
+  const double available = 0.5 * static_cast<double>(pages) * static_cast<double>(page_size);
+  const double needed =
+      static_cast<double>(samples) *
+      (static_cast<double>(columns) * sizeof(double) + sizeof(std::vector<double>));
+  if (needed > available) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "a table of %zu rows needs %.3g GB, more than half of this machine's memory "
+                  "(%.3g GB): use fewer samples or steps (a sweep's --summary keeps no table)",
+                  samples, needed / 1e9, 2 * available / 1e9);
+    throw ModelError(model_loc(model), text);
+  }
+}
+
 ColumnRanges column_ranges(const SweepResult& result) {
   ColumnRanges ranges = empty_ranges(result.columns);
   ranges.samples = result.rows.size();
@@ -284,9 +310,11 @@ ColumnRanges column_ranges(const SweepResult& result) {
 
 ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
+  if (!options.shard.whole())
+    throw ModelError(model_loc(model), "sweep: the ranges of a shard are not those of the run");
   if (options.solver != "generated") return column_ranges(run_sweep(model, options));
-  const CompiledKernel& kernel = kernel_for(model);
-  const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  const CompiledKernel& kernel = generated_kernel(model);
+  const SampleTimes times{options.t0, options.t1, static_cast<size_t>(options.samples)};
   const size_t n = times.size(), columns = static_cast<size_t>(kernel.column_count);
   const int threads = sweep_threads(options, n);
   // Each thread folds its chunk into its own ranges; they are merged at the end.
@@ -295,7 +323,7 @@ ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   std::vector<KernelFailure> failures(static_cast<size_t>(threads));
   in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
     ColumnRanges& mine = partial[k];
-    failures[k] = evaluate_blocks(kernel, options.parameters, times, begin, end,
+    failures[k] = evaluate_blocks(kernel, options.parameters, times, begin, end, options.progress,
                                   [&](size_t, size_t n, const double* out) {
                                     // A column's samples are contiguous: this loop vectorises.
                                     for (size_t c = 0; c < columns; ++c) {
@@ -310,7 +338,7 @@ ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
                                   });
   });
   for (const KernelFailure& failure : failures)
-    if (failure.status != 0) report_kernel_failure(model, kernel, times[failure.sample], failure);
+    if (failure.status != 0) report_kernel_failure(model, kernel, times, failure);
   ColumnRanges ranges = empty_ranges(column_names(model));
   ranges.samples = n;
   for (const ColumnRanges& part : partial)
@@ -325,29 +353,50 @@ SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
   SweepResult result;
   result.columns = column_names(model);
-  const std::vector<double> times = sample_times(options.t0, options.t1, options.samples);
+  const SampleTimes all{options.t0, options.t1, static_cast<size_t>(options.samples)};
+  // A shard's samples: a generated sample stands alone, but the numeric solver follows the
+  // mechanism from t0 (each sample starts from the previous configuration), so a numeric shard
+  // runs from the first sample and keeps its own rows: the same bits as the whole run.
+  const auto [begin, end] = shard_range(options.shard, all.size());
+  if (begin == end) return result;
+  const size_t first = options.solver == "generated" ? begin : 0;
+  const size_t skip = begin - first;
+  const SampleTimes times = all.part(first, end - first);
+  check_table_memory(model, times.size(), result.columns.size());
   result.rows.resize(times.size());  // each row is sized by the thread that fills it
   if (options.solver == "generated")
     sweep_generated(model, options, times, result);
   else
     sweep_numeric(model, options, times, result);
+  result.rows.erase(result.rows.begin(), result.rows.begin() + static_cast<long>(skip));
   return result;
 }
 
-void write_csv(const std::string& path, const SweepResult& result) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
-                                                       &std::fclose);
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
-  std::FILE* out = file.get();
-  for (size_t i = 0; i < result.columns.size(); ++i)
-    std::fprintf(out, "%s%s", i ? "," : "", result.columns[i].c_str());
-  std::fputc('\n', out);
+void write_csv(const std::string& path, const SweepResult& result, const std::string& first_line) {
+  report::AtomicOutput output(path);  // a killed write leaves the previous file intact
+  std::ostream& out = output.stream();
+  out << first_line;
+  for (size_t i = 0; i < result.columns.size(); ++i) out << (i ? "," : "") << result.columns[i];
+  out << '\n';
+  char number[32];
   for (const std::vector<double>& row : result.rows) {
-    for (size_t i = 0; i < row.size(); ++i) std::fprintf(out, "%s%.17g", i ? "," : "", row[i]);
-    std::fputc('\n', out);
+    for (size_t i = 0; i < row.size(); ++i) {
+      std::snprintf(number, sizeof number, "%s%.17g", i ? "," : "", row[i]);
+      out << number;
+    }
+    out << '\n';
   }
-  if (std::ferror(out) || std::fclose(file.release()) != 0)
-    throw std::runtime_error("cannot write '" + path + "'");
+  output.commit();
+}
+
+const CompiledKernel& generated_kernel(const Model& model) {
+  try {
+    return ondemand::kernel_for(model);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw ModelError(model_loc(model), error.what());
+  }
 }
 
 }  // namespace mechgen

@@ -6,6 +6,9 @@
 #include <vector>
 
 #include "model/model.hpp"
+#include "sweep/compiled_kernel.hpp"
+#include "sweep/progress.hpp"
+#include "sweep/shard.hpp"
 
 namespace mechgen {
 
@@ -19,6 +22,10 @@ struct SweepOptions {
   // from the previous configuration).
   int threads = 0;
   static constexpr int parallel_threshold = 20000;
+  // Told of every sample done (may be shared by several sweeps, e.g. a grid's runs); optional.
+  Progress* progress = nullptr;
+  // Only this shard's samples (sweep/shard.hpp); sweep_ranges takes whole runs only.
+  Shard shard;
 };
 
 struct SweepResult {
@@ -26,11 +33,18 @@ struct SweepResult {
   std::vector<std::vector<double>> rows;  // one per sample, each as long as columns
 };
 
-// The sweep options a model describes: its step with the given (or default) parameters.
+// The generated kernel of the model as it is described now (ondemand/kernel_resolver.hpp): the
+// compiled-in one when its fingerprint is the description's, else one built on demand and cached.
+// Throws ModelError (naming the model file) when there is none: never a kernel of another
+// description, never the numeric solver instead.
+const CompiledKernel& generated_kernel(const Model& model);
+
+// The sweep options a model describes: its step with the given (or default) parameters. Given
+// parameters go through the model's value checks first (model/value_checks.hpp: ModelError).
 SweepOptions default_sweep(const Model& model, const std::vector<double>& parameters = {});
 
-// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, a
-// kernel that is not compiled in or does not match the description) and for a sample the solver
+// Throws ModelError for a bad request (unknown solver, wrong parameter count, samples < 1, no
+// kernel to be had: see generated_kernel) and for a sample the solver
 // cannot evaluate: the message names t, the status and, for a kernel, the failing group. Never
 // returns a NaN row.
 SweepResult run_sweep(const Model& model, const SweepOptions& options);
@@ -49,11 +63,18 @@ ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options);
 // The ranges of a table already computed.
 ColumnRanges column_ranges(const SweepResult& result);
 
+// A table of `samples` rows of `columns` doubles that would not fit in half of this machine's
+// memory is a ModelError up front (naming the size), not a std::bad_alloc or the OOM killer after
+// minutes; run_sweep and walk check their tables with it.
+void check_table_memory(const Model& model, size_t samples, size_t columns);
+
 // The sample times: t0 + (t1 - t0) * i / (samples - 1), the last exactly t1.
 std::vector<double> sample_times(double t0, double t1, int samples);
 
 // Header and rows, comma separated, every number with 17 significant digits ("%.17g"), so
-// reading the file back gives the same doubles. Throws std::runtime_error when it cannot write.
-void write_csv(const std::string& path, const SweepResult& result);
+// reading the file back gives the same doubles; `first_line` (a shard's part_line) before the
+// header. Throws std::runtime_error when it cannot write.
+void write_csv(const std::string& path, const SweepResult& result,
+               const std::string& first_line = "");
 
 }  // namespace mechgen

@@ -1,0 +1,45 @@
+#include "ondemand/kernel_resolver.hpp"
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "kernel_fingerprint.hpp"
+#include "ondemand/data_paths.hpp"
+#include "ondemand/kernel_cache.hpp"
+
+namespace mechgen::ondemand {
+
+std::uint64_t expected_fingerprint(const Model& model) {
+  try {
+    return gen::kernel_fingerprint(model, templates_dir(), false);
+  } catch (const std::runtime_error& error) {
+    // A binary copied away from its source tree, not installed with `cmake --install`.
+    throw std::runtime_error(std::string(error.what()) +
+                             ": mechgen needs its templates to check a kernel against the "
+                             "description (an installed mechgen finds them in share/mechgen)");
+  }
+}
+
+const CompiledKernel* current_compiled_kernel(const Model& model) {
+  const CompiledKernel* kernel = find_compiled_kernel(model.name);
+  return kernel && kernel->fingerprint == expected_fingerprint(model) ? kernel : nullptr;
+}
+
+const CompiledKernel& kernel_for(const Model& model) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, std::uint64_t>, const CompiledKernel*> resolved;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const std::uint64_t fingerprint = expected_fingerprint(model);
+  const CompiledKernel*& kernel = resolved[{model.name, fingerprint}];
+  if (kernel) return *kernel;
+  const CompiledKernel* compiled_in = find_compiled_kernel(model.name);
+  if (compiled_in && compiled_in->fingerprint == fingerprint) return *(kernel = compiled_in);
+  const std::string reason =
+      compiled_in ? " (the compiled-in kernel is of another description)" : "";
+  return *(kernel = &cached_kernel(model, fingerprint, reason));
+}
+
+}  // namespace mechgen::ondemand

@@ -83,6 +83,18 @@ TEST(SpatialModel, Leg6FollowsSeedTable1) {
   EXPECT_NEAR(in.inertia[1](0, 1), 2e-7, 1e-20);
 }
 
+// The shared reader gives spatial models the planar ones' units and derived parameters.
+TEST(SpatialModel, UnitsAndDerivedParametersAsInPlanarModels) {
+  std::string text = spatial::text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  text.replace(text.find("l1: {value: 0.075, unit: m,"), 28, "l1: {value: 75, unit: mm,");
+  text.replace(text.find("  r: {value: 0.008"), 0, "  l12: {value: l1 + l2, unit: m}\n");
+  text.replace(text.find("s0: A}"), 6, "s0: [0, 0, -l12]}");  // ankle pitch through the ankle
+  const SpatialModel m = read_spatial_model_text(text, "leg6_mm.yaml");
+  const spatial::SpatialSolver solver(m, {});
+  EXPECT_DOUBLE_EQ(solver.instance().joint_point[3][2], -0.075);  // the knee, from 75 mm
+  EXPECT_DOUBLE_EQ(solver.instance().joint_point[4][2], -0.15);   // l12 = l1 + l2
+}
+
 // The seed's humanoid: a floating waist and four 6-DOF limbs, each end (feet, hands) and the
 // waist pose-driven by a 3P3R virtual chain from the ground: 4 circuits, N 24 x 54, 30 primary
 // virtual coordinates, 24 secondary real ones.

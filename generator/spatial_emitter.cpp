@@ -233,7 +233,7 @@ class SpatialEmitter {
   void closure(std::map<std::string, std::string>& v) const {
     v["closure_fields"] = "";
     v["closure_check"] = "";
-    v["state_storage"] = "";
+    v["entry_state"] = "State<T> s;";
     if (d_.closure_start.empty()) return;
     std::string start;
     for (const double q : d_.closure_start)
@@ -256,7 +256,12 @@ class SpatialEmitter {
         "))\n    return s.failed_group = group_count - 1, Status::singular;\n"
         "  for (int i = 0; i < " +
         n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
-    v["state_storage"] = "static thread_local ";
+    v["entry_state"] =
+        "// A closed chain's warm start carries over from one call to the next (per thread and "
+        "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
+        "static thread_local State<T> s;\n"
+        "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
+        "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
     const std::string nan =
         "\n  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();";
     for (const char* k : {"kinematics_using", "evaluate_using", "control_using"}) v[k] += nan;
@@ -317,7 +322,7 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       SpatialEmitter(model, derivation).values(options);
   std::vector<EmittedFile> files;
   std::map<std::string, std::string> header = values;
-  header.erase("state_storage");  // the entry's
+  header.erase("entry_state");  // the entry's
   files.push_back({model.common.name + ".hpp",
                    render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
                                    header, "spatial_kernel.hpp.in")});
@@ -332,7 +337,7 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
   const std::map<std::string, std::string> entry{
       {"model", values.at("model")},     {"source", values.at("source")},
       {"command", values.at("command")}, {"driver_count", std::to_string(model.drivers.size())},
-      {"driven_inputs", driven},         {"state_storage", values.at("state_storage")}};
+      {"driven_inputs", driven},         {"entry_state", values.at("entry_state")}};
   files.push_back(
       {model.common.name + "_entry.cpp",
        render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,

@@ -11,7 +11,12 @@ namespace mechgen::gen::rsur {
 template <class T>
 static int evaluate_inputs(const Params<T>& p, const Inputs<T>& in, double* row,
                            int* failed_group) {
+  // A closed chain's warm start carries over from one call to the next (per thread and scalar),
+  // back to the assembly when time does not advance (a new sweep).
   static thread_local State<T> s;
+  static thread_local T last_t = std::numeric_limits<T>::infinity();
+  if (!(in.t > last_t)) s = State<T>{};
+  last_t = in.t;
   const Status status = evaluate(p, in, s);
   *failed_group = s.failed_group;
   if (status != Status::ok) return static_cast<int>(status);

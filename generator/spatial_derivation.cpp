@@ -66,15 +66,7 @@ class Builder {
     body_outputs();
     jacobians();
     if (closed()) {
-      // Newton-Euler of closed chains is not generated yet: efforts and reactions are NaN
-      // (`not_generated`, a local of the entry points).
-      const symbol nan("not_generated");
-      for (const SpatialDriver& d : m_.drivers)
-        output(out_.dynamics, "s.drivers." + d.name + ".effort", nan);
-      for (const SpatialJoint& joint : m_.joints)
-        if (!joint.is_virtual)
-          for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
-            output(out_.dynamics, "s.joints." + joint.name + "." + f, nan);
+      closed_efforts();
     } else {
       dynamics();
       ne_system();
@@ -671,7 +663,8 @@ class Builder {
   // A closed chain's: column k of a body's twist Jacobian is sum_i sign_i $_i dq_i/dq_pk over
   // its tree path, with the secondary coordinates' sensitivity from Davies' elimination.
   void closed_jacobians() {
-    std::vector<std::vector<Twist>> J(m_.bodies.size());
+    std::vector<std::vector<Twist>>& J = jacobian_;
+    J.assign(m_.bodies.size(), {});
     for (size_t b = 0; b < m_.bodies.size(); ++b) {
       const SpatialBody& body = m_.bodies[b];
       if (body.ground) continue;
@@ -701,6 +694,31 @@ class Builder {
                  v[static_cast<size_t>(r)].expand());
       }
     }
+  }
+
+  // A closed chain's driver efforts by virtual power: effort k = sum_b W_b . J_bk, each body's
+  // rate of momentum minus gravity W_b (about the ground origin) against column k of its twist
+  // Jacobian (unique even where the circuits are redundant). The reactions are not generated yet:
+  // NaN (`not_generated`, a local of the entry points).
+  void closed_efforts() {
+    momentum_.assign(m_.bodies.size(), Wrench{});
+    std::vector<ex> effort(g_.primary.size(), 0);
+    for (size_t b = 0; b < m_.bodies.size(); ++b) {
+      if (static_cast<int>(b) == m_.ground) continue;
+      const Wrench W = momentum_rate(b);
+      for (size_t k = 0; k < g_.primary.size(); ++k)
+        effort[k] += geometry::reciprocal(jacobian_[b][k], W);
+    }
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const SpatialDriver& d =
+          m_.drivers[static_cast<size_t>(g_.columns[static_cast<size_t>(g_.primary[k])].driver)];
+      output(out_.dynamics, "s.drivers." + d.name + ".effort", named("tau_" + d.name, effort[k]));
+    }
+    const symbol nan("not_generated");
+    for (const SpatialJoint& joint : m_.joints)
+      if (!joint.is_virtual)
+        for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
+          output(out_.dynamics, "s.joints." + joint.name + "." + f, nan);
   }
 
   // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
@@ -897,6 +915,7 @@ class Builder {
                                                     // secondary coordinate pivot_columns_[k]
   Lu lu_;
   std::vector<std::vector<ex>> sensitivity_;
+  std::vector<std::vector<Twist>> jacobian_;  // per body, per primary: its twist Jacobian column
 };
 
 }  // namespace

@@ -17,8 +17,8 @@ namespace {
 
 namespace k = gen::rsur;
 
-bool is_load(const std::string& column) {
-  for (const char* suffix : {".effort", ".fx", ".fy", ".fz", ".mx", ".my", ".mz"}) {
+bool is_reaction(const std::string& column) {
+  for (const char* suffix : {".fx", ".fy", ".fz", ".mx", ".my", ".mz"}) {
     const std::string s(suffix);
     if (column.size() > s.size() && column.compare(column.size() - s.size(), s.size(), s) == 0)
       return true;
@@ -34,9 +34,9 @@ std::vector<double> changed_parameters(const SpatialModel& model) {
 }
 
 // The whole step through the registry's kernel (warm-started from one call to the next) and the
-// numeric sweep: every kinematic column to 1e-9 of its scale (the column's largest magnitude, at
-// least 1 % of the largest of its kind, as the leg6 test); the loads are not generated for
-// closed chains yet and must be NaN.
+// numeric sweep: every kinematic column and the driver efforts to 1e-9 of its scale (the
+// column's largest magnitude, at least 1 % of the largest of its kind, as the leg6 test); the
+// reactions are not generated for closed chains yet and must be NaN.
 void sweep_equals_numeric(const std::string& name) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
@@ -59,7 +59,7 @@ void sweep_equals_numeric(const std::string& name) {
     std::string where;
     int compared = 0;
     for (size_t c = 0; c < numeric.columns.size(); ++c) {
-      if (is_load(numeric.columns[c])) {
+      if (is_reaction(numeric.columns[c])) {
         for (const auto& row : generated.rows)
           EXPECT_TRUE(std::isnan(row[c])) << numeric.columns[c];
         continue;
@@ -75,8 +75,8 @@ void sweep_equals_numeric(const std::string& name) {
     EXPECT_GT(compared, 80);
     EXPECT_LT(worst, 1e-9) << where;
     std::cout << name << " sweep (" << numeric.rows.size() << " samples, " << compared
-              << " kinematic columns), generated against numeric: worst " << worst << " (" << where
-              << ")\n";
+              << " kinematic and effort columns), generated against numeric: worst " << worst
+              << " (" << where << ")\n";
   }
 }
 

@@ -144,7 +144,7 @@ int run_spatial_check(const Args& args) {
     else
       out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
              " secondary coordinates by unrolled Newton-Raphson, Davies' rates by a fixed-pivot "
-             "elimination, no Newton-Euler yet" +
+             "elimination, efforts by virtual power (reactions not generated yet)" +
              compiled + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();

@@ -1,10 +1,15 @@
 // Symbolic derivation of a spatial tree's kernel (spatial_derivation.hpp).
 #include "spatial_derivation.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "geometry/screw.hpp"
+#include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
 
 namespace mechgen::gen {
 
@@ -48,13 +53,24 @@ class Builder {
 
   SpatialDerivation run() {
     check_supported();
+    const size_t start = out_.definitions.size();
     columns();
     positions();
-    rates();
+    if (closed()) {
+      close_positions(start);
+      secondary_rates(false);
+    }
+    twists();
+    if (closed()) secondary_rates(true);
+    twist_rates();
     body_outputs();
     jacobians();
-    dynamics();
-    ne_system();
+    if (closed()) {
+      closed_efforts();
+    } else {
+      dynamics();
+      ne_system();
+    }
     out_.primary_count = static_cast<int>(g_.primary.size());
     return std::move(out_);
   }
@@ -94,13 +110,12 @@ class Builder {
 
   void check_supported() const {
     const std::string file = m_.common.file + ": error: ";
-    if (g_.circuits() > 0 || !m_.pose_drivers.empty())
+    if (!m_.pose_drivers.empty())
       throw std::runtime_error(file +
-                               "spatial kernels are generated for serial chains and trees "
-                               "driven joint by joint; closed circuits and pose drivers "
+                               "spatial kernels are generated for joint drivers; pose drivers "
                                "are not generated yet (use --solver numeric)");
     for (const SpatialColumn& c : g_.columns)
-      if (c.driver < 0)
+      if (c.driver < 0 && !closed())
         throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +
                                  "' has an undriven coordinate: a tree needs every one driven");
   }
@@ -109,7 +124,6 @@ class Builder {
     for (size_t c = 0; c < g_.columns.size(); ++c) {
       const SpatialColumn& sc = g_.columns[c];
       const SpatialJoint& j = m_.joints[static_cast<size_t>(sc.joint)];
-      const SpatialDriver& d = m_.drivers[static_cast<size_t>(sc.driver)];
       Column col;
       col.name = j.columns.size() == 1 ? j.name : j.name + "_" + std::to_string(sc.index + 1);
       const ScrewColumnExpr& e = j.columns[static_cast<size_t>(sc.index)];
@@ -121,9 +135,15 @@ class Builder {
       col.axis.s = named("s_" + col.name, vec(e.s));
       col.axis.s0 = named("s0_" + col.name, vec(j.s0));
       col.axis.pitch = named("pitch_" + col.name, param(j.pitch.ex));
-      col.q = symbol("in." + d.name);
-      col.qd = symbol("in." + d.name + "_d");
-      col.qdd = symbol("in." + d.name + "_dd");
+      if (sc.driver >= 0) {
+        const SpatialDriver& d = m_.drivers[static_cast<size_t>(sc.driver)];
+        col.q = symbol("in." + d.name);
+        col.qd = symbol("in." + d.name + "_d");
+        col.qdd = symbol("in." + d.name + "_dd");
+      } else {
+        // A secondary coordinate: defined by the closure (close_positions, secondary_rates).
+        col.q = symbol("q_" + col.name);
+      }
       // The shared layer's displacement, with the coordinate's cosine and sine named once.
       const Pose E = geometry::screw_displacement(col.axis, col.q);
       GiNaC::exmap trig;
@@ -189,7 +209,308 @@ class Builder {
     }
   }
 
-  void rates() {
+  bool closed() const { return g_.circuits() > 0; }
+
+  // Straight-line Gaussian elimination of a square system whose k-th row is the k-th pivot row
+  // (the pivot order fixed at generation time): every step a named definition, structural zeros
+  // skipped.
+  struct Lu {
+    std::vector<std::vector<ex>> a;  // upper triangle after elimination
+    std::vector<std::vector<ex>> f;  // multipliers below the diagonal
+    std::vector<ex> inv;             // reciprocal pivots
+    ex det = 1;
+    std::string prefix;
+  };
+  Lu factor(std::vector<std::vector<ex>> a, const std::string& prefix) {
+    const size_t n = a.size();
+    Lu lu;
+    lu.prefix = prefix;
+    lu.f.assign(n, std::vector<ex>(n, 0));
+    for (size_t k = 0; k < n; ++k) {
+      const std::string sk = std::to_string(k);
+      lu.det = lu.det * a[k][k];
+      lu.inv.push_back(named_always(prefix + "ipiv" + sk, 1 / a[k][k]));
+      for (size_t i = k + 1; i < n; ++i) {
+        if (a[i][k].is_zero()) continue;
+        const std::string si = std::to_string(i);
+        lu.f[i][k] = named(prefix + "f" + si + "_" + sk, a[i][k] * lu.inv[k]);
+        for (size_t j = k + 1; j < n; ++j)
+          if (!a[k][j].is_zero())
+            a[i][j] = named(prefix + "a" + sk + "_" + si + "_" + std::to_string(j),
+                            a[i][j] - lu.f[i][k] * a[k][j]);
+      }
+    }
+    lu.a = std::move(a);
+    return lu;
+  }
+  std::vector<ex> solve(const Lu& lu, std::vector<ex> b, const std::string& prefix) {
+    const size_t n = b.size();
+    for (size_t k = 0; k < n; ++k)
+      for (size_t i = k + 1; i < n; ++i)
+        if (!lu.f[i][k].is_zero())
+          b[i] = named(prefix + "b" + std::to_string(k) + "_" + std::to_string(i),
+                       b[i] - lu.f[i][k] * b[k]);
+    std::vector<ex> x(n);
+    for (size_t k = n; k-- > 0;) {
+      ex sum = b[k];
+      for (size_t j = k + 1; j < n; ++j) sum -= lu.a[k][j] * x[j];
+      x[k] = named(prefix + "x" + std::to_string(k), sum * lu.inv[k]);
+    }
+    return x;
+  }
+
+  // The closure error of each circuit (6 rows: the chord's pose error D_F E D_S^-1 as a small
+  // twist) and Davies' network N (rows x columns), from the current (named) screws.
+  void circuit_rows() {
+    for (size_t ci = 0; ci < g_.chords.size(); ++ci) {
+      const int j = g_.chords[ci];
+      const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+      const std::string n = "X" + std::to_string(ci);
+      const Pose X = D_[static_cast<size_t>(joint.first)] * joint_motion(j) *
+                     geometry::inverse(D_[static_cast<size_t>(joint.second)]);
+      const M R = named(n + "_R", X.R);
+      residual_.push_back(named(n + "_wx", (R(2, 1) - R(1, 2)) / 2));
+      residual_.push_back(named(n + "_wy", (R(0, 2) - R(2, 0)) / 2));
+      residual_.push_back(named(n + "_wz", (R(1, 0) - R(0, 1)) / 2));
+      for (int k = 0; k < 3; ++k)
+        residual_.push_back(named(n + "_v" + kAxis[k], X.p[static_cast<size_t>(k)]));
+      std::vector<int> coef(g_.columns.size(), 0);
+      for (size_t c = 0; c < g_.columns.size(); ++c)
+        coef[c] = g_.path_sign[static_cast<size_t>(joint.first)][c] -
+                  g_.path_sign[static_cast<size_t>(joint.second)][c] +
+                  (g_.columns[c].joint == j ? 1 : 0);
+      for (int r = 0; r < 6; ++r) {
+        std::vector<ex> row;
+        for (size_t c = 0; c < g_.columns.size(); ++c)
+          row.push_back(coef[c] * (r < 3 ? cols_[c].screw.w[static_cast<size_t>(r)]
+                                         : cols_[c].screw.v[static_cast<size_t>(r - 3)]));
+        network_.push_back(row);
+      }
+      circuit_coef_.push_back(coef);
+    }
+  }
+
+  // Row selection and pivot order, fixed at generation time from N_s at sample configurations
+  // (default parameters, kPivotSamples instants of the model's step, the numeric solver's
+  // poses): greedily, the row whose entry in the next column is smallest against that column's
+  // largest over the samples is avoided (a pivot through zero at a regular pose would make the
+  // elimination meaningless there); rows never chosen are redundant (an overconstrained
+  // circuit) and dropped.
+  static constexpr int kPivotSamples = 72;
+  void choose_pivots(size_t start) {
+    const std::vector<double> defaults = m_.common.default_parameters();
+    const spatial::SpatialSolver solver(m_, defaults);
+    const spatial::SpatialSweepOptions sweep = spatial::default_spatial_sweep(m_, defaults);
+    const size_t rows = network_.size(), ns = g_.secondary.size();
+    std::vector<std::vector<std::vector<double>>> a;  // per sample: rows x ns
+    spatial::SpatialState st, assembly;
+    for (int sample = 0; sample < kPivotSamples; ++sample) {
+      solver.solve(sweep.t0 + (sweep.t1 - sweep.t0) * sample / kPivotSamples, st);
+      if (sample == 0) assembly = st;
+      GiNaC::exmap num;
+      for (size_t i = 0; i < m_.common.parameters.size(); ++i)
+        num[params_.at(m_.common.parameters[i].symbol)] = GiNaC::numeric(defaults[i]);
+      for (size_t c = 0; c < cols_.size(); ++c)
+        num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
+      for (size_t k = start; k < out_.definitions.size(); ++k)
+        num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
+      std::vector<std::vector<double>> m(rows, std::vector<double>(ns));
+      for (size_t r = 0; r < rows; ++r)
+        for (size_t i = 0; i < ns; ++i)
+          m[r][i] = GiNaC::ex_to<GiNaC::numeric>(
+                        network_[r][static_cast<size_t>(g_.secondary[i])].subs(num).evalf())
+                        .to_double();
+      a.push_back(m);
+    }
+    std::vector<bool> used(rows, false), done(ns, false);
+    double det = 1, worst = 1;
+    for (size_t k = 0; k < ns; ++k) {
+      // Complete pivoting fixed over the samples: the (row, column) whose entry is largest
+      // against the remaining block's largest in its worst sample.
+      size_t best = rows, column = ns;
+      double value = 0;
+      std::vector<double> largest;
+      for (const auto& m : a) {
+        double l = 0;
+        for (size_t r = 0; r < rows; ++r)
+          for (size_t i = 0; i < ns; ++i)
+            if (!used[r] && !done[i]) l = std::max(l, std::abs(m[r][i]));
+        largest.push_back(l);
+      }
+      for (size_t r = 0; r < rows; ++r)
+        for (size_t i = 0; i < ns; ++i) {
+          if (used[r] || done[i]) continue;
+          double ratio = 1;
+          for (size_t sample = 0; sample < a.size(); ++sample)
+            ratio = std::min(
+                ratio, largest[sample] > 0 ? std::abs(a[sample][r][i]) / largest[sample] : 0.0);
+          if (ratio > value) best = r, column = i, value = ratio;
+        }
+      if (best == rows || value <= 1e-6)
+        throw std::runtime_error(m_.common.file +
+                                 ": error: no pivot order fixed at generation time stays "
+                                 "regular over the step (smallest pivot " +
+                                 std::to_string(value) + " of its block)");
+      used[best] = true;
+      done[column] = true;
+      worst = std::min(worst, value);
+      det *= a[0][best][column];
+      pivot_rows_.push_back(best);
+      pivot_columns_.push_back(column);
+      for (auto& m : a)
+        for (size_t r = 0; r < rows; ++r)
+          if (!used[r]) {
+            const double f = m[r][column] / m[best][column];
+            for (size_t i = 0; i < ns; ++i) m[r][i] -= f * m[best][i];
+          }
+    }
+    for (const int c : g_.secondary)
+      out_.closure_start.push_back(assembly.q[static_cast<Eigen::Index>(c)]);
+    out_.closure_det = det;
+    out_.groups.push_back("closure");
+    std::string dropped;
+    for (size_t r = 0; r < rows; ++r)
+      if (!used[r])
+        dropped += (dropped.empty() ? "" : ", ") + std::string(r % 6 < 3 ? "w" : "v") +
+                   kAxis[r % 3] + " of circuit " + std::to_string(r / 6);
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "%.2g", worst);
+    out_.plan.push_back("closure: " + std::to_string(ns) + " secondary coordinates, " +
+                        std::to_string(rows) + " closure rows, pivot order from " +
+                        std::to_string(kPivotSamples) + " samples (smallest pivot " + ratio +
+                        " of its column)" +
+                        (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
+  }
+
+  // Unknown k of the elimination is secondary coordinate pivot_columns_[k].
+  std::vector<ex> unpermute(const std::vector<ex>& x) const {
+    std::vector<ex> y(x.size());
+    for (size_t k = 0; k < x.size(); ++k) y[pivot_columns_[k]] = x[k];
+    return y;
+  }
+  std::vector<std::vector<ex>> secondary_matrix(const GiNaC::exmap& subs) const {
+    std::vector<std::vector<ex>> a;
+    for (const size_t r : pivot_rows_) {
+      std::vector<ex> row;
+      for (const size_t i : pivot_columns_)
+        row.push_back(network_[r][static_cast<size_t>(g_.secondary[i])].subs(subs));
+      a.push_back(row);
+    }
+    return a;
+  }
+
+  // Positions of the secondary coordinates: kNewtonSteps unrolled Newton-Raphson steps on the
+  // closure error from the State's warm start, each on a renamed copy of the position
+  // definitions that depend on the secondary coordinates; then the definitions themselves at the
+  // result.
+  static constexpr int kNewtonSteps = 5;
+  void close_positions(size_t start) {
+    circuit_rows();
+    choose_pivots(start);
+    std::vector<std::pair<symbol, ex>> chain(
+        out_.definitions.begin() + static_cast<std::ptrdiff_t>(start), out_.definitions.end());
+    out_.definitions.resize(start);
+    std::set<ex, GiNaC::ex_is_less> moving;
+    for (const int c : g_.secondary) moving.insert(cols_[static_cast<size_t>(c)].q);
+    std::vector<std::pair<symbol, ex>> dependent;
+    for (const auto& [sym, value] : chain) {
+      bool depends = false;
+      for (auto it = value.preorder_begin(); it != value.preorder_end() && !depends; ++it)
+        depends = moving.count(*it) > 0;
+      if (depends) {
+        moving.insert(sym);
+        dependent.emplace_back(sym, value);
+      } else {
+        out_.definitions.emplace_back(sym, value);
+      }
+    }
+    const size_t ns = g_.secondary.size();
+    std::vector<ex> q(ns);
+    for (size_t i = 0; i < ns; ++i) q[i] = symbol("s.closure.q[" + std::to_string(i) + "]");
+    for (int step = 0; step < kNewtonSteps; ++step) {
+      const std::string suffix = "_n" + std::to_string(step);
+      GiNaC::exmap subs;
+      for (size_t i = 0; i < ns; ++i) subs[cols_[static_cast<size_t>(g_.secondary[i])].q] = q[i];
+      for (const auto& [sym, value] : dependent) {
+        const symbol copy(sym.get_name() + suffix);
+        out_.definitions.emplace_back(copy, value.subs(subs));
+        subs[sym] = copy;
+      }
+      const Lu lu = factor(secondary_matrix(subs), "n" + std::to_string(step) + "_");
+      std::vector<ex> rhs;
+      for (const size_t r : pivot_rows_) rhs.push_back(-residual_[r].subs(subs));
+      const std::vector<ex> dq = unpermute(solve(lu, rhs, "n" + std::to_string(step) + "_"));
+      for (size_t i = 0; i < ns; ++i)
+        q[i] = named_always("q_" + cols_[static_cast<size_t>(g_.secondary[i])].name + suffix,
+                            q[i] + dq[i]);
+    }
+    for (size_t i = 0; i < ns; ++i) {
+      out_.definitions.emplace_back(
+          GiNaC::ex_to<symbol>(cols_[static_cast<size_t>(g_.secondary[i])].q), q[i]);
+      output(out_.kinematics, "s.closure.next[" + std::to_string(i) + "]",
+             cols_[static_cast<size_t>(g_.secondary[i])].q);
+    }
+    for (const auto& definition : dependent) out_.definitions.push_back(definition);
+    ex sum = 0;
+    for (const ex& r : residual_) sum += r * r;
+    output(out_.kinematics, "s.closure.residual", named("closure_residual", sum));
+  }
+
+  // Davies' method at the closed pose: q_s' = -N_s^-1 N_p q_p' (and the sensitivity
+  // -N_s^-1 N_p for the Jacobians), q_s'' from the derivative of the circulation law,
+  // N q'' + sum_i q_i' d$_i/dt = 0, through one elimination.
+  void secondary_rates(bool accelerations) {
+    const size_t ns = g_.secondary.size();
+    if (!accelerations) {
+      lu_ = factor(secondary_matrix({}), "lu_");
+      output(out_.kinematics, "s.closure.det", named("closure_det", lu_.det));
+      std::vector<ex> rhs;
+      for (const size_t r : pivot_rows_) {
+        ex b = 0;
+        for (const int c : g_.primary)
+          b -= network_[r][static_cast<size_t>(c)] * cols_[static_cast<size_t>(c)].qd;
+        rhs.push_back(b);
+      }
+      const std::vector<ex> qd = unpermute(solve(lu_, rhs, "vel_"));
+      for (size_t i = 0; i < ns; ++i) {
+        Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
+        col.qd = named("qd_" + col.name, qd[i]);
+      }
+      sensitivity_.assign(g_.columns.size(), std::vector<ex>(g_.primary.size(), 0));
+      for (size_t k = 0; k < g_.primary.size(); ++k) {
+        sensitivity_[static_cast<size_t>(g_.primary[k])][k] = 1;
+        std::vector<ex> b;
+        for (const size_t r : pivot_rows_)
+          b.push_back(-network_[r][static_cast<size_t>(g_.primary[k])]);
+        const std::vector<ex> x = unpermute(solve(lu_, b, "sen" + std::to_string(k) + "_"));
+        for (size_t i = 0; i < ns; ++i)
+          sensitivity_[static_cast<size_t>(g_.secondary[i])][k] = x[i];
+      }
+      return;
+    }
+    std::vector<ex> rhs;
+    for (const size_t r : pivot_rows_) {
+      const std::vector<int>& coef = circuit_coef_[r / 6];
+      ex b = 0;
+      for (const int c : g_.primary)
+        b -= network_[r][static_cast<size_t>(c)] * cols_[static_cast<size_t>(c)].qdd;
+      for (size_t c = 0; c < g_.columns.size(); ++c) {
+        const Twist& rate = cols_[c].rate;
+        b -= coef[c] * cols_[c].qd * (r % 6 < 3 ? rate.w[r % 6] : rate.v[r % 6 - 3]);
+      }
+      rhs.push_back(named("acc_rhs" + std::to_string(r), b));
+    }
+    const std::vector<ex> qdd = unpermute(solve(lu_, rhs, "acc_"));
+    for (size_t i = 0; i < ns; ++i) {
+      Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
+      col.qdd = named("qdd_" + col.name, qdd[i]);
+    }
+  }
+
+  // Body twists, each screw's rate (the Lie bracket of the twist of the frame carrying it with
+  // it) and, for a tree, the twist rates in the same pass. A closed chain's secondary
+  // accelerations need the screw rates first: twist_rates() follows them.
+  void twists() {
     const size_t nb = m_.bodies.size();
     V_.assign(nb, Twist{});
     A_.assign(nb, Twist{});
@@ -204,21 +525,38 @@ class Builder {
       for (size_t k = 0; k < joint.columns.size(); ++k)
         V = V + (sign * cols_[c0 + k].qd) * cols_[c0 + k].screw;
       V_[bi] = named("w_" + body_name(b), "v_" + body_name(b), V);
-      // Each screw's rate: the Lie bracket of the twist of the frame carrying it with it.
-      Twist carrier = V_[static_cast<size_t>(joint.first)];
-      for (size_t k = 0; k < joint.columns.size(); ++k) {
-        Column& col = cols_[c0 + k];
-        col.rate =
-            named("dsw_" + col.name, "dsv_" + col.name, geometry::lie_bracket(carrier, col.screw));
-        carrier = carrier + col.qd * col.screw;
-      }
-      Twist A = A_[static_cast<size_t>(p)];
-      for (size_t k = 0; k < joint.columns.size(); ++k) {
-        const Column& col = cols_[c0 + k];
-        A = A + (sign * col.qdd) * col.screw + (sign * col.qd) * col.rate;
-      }
-      A_[bi] = named("dw_" + body_name(b), "dv_" + body_name(b), A);
+      screw_rates(static_cast<size_t>(j));
+      if (!closed()) twist_rate(b);
     }
+    for (const int j : g_.chords) screw_rates(static_cast<size_t>(j));
+  }
+  void screw_rates(size_t j) {
+    Twist carrier = V_[static_cast<size_t>(m_.joints[j].first)];
+    const auto c0 = static_cast<size_t>(g_.joint_column[j]);
+    for (size_t k = 0; k < m_.joints[j].columns.size(); ++k) {
+      Column& col = cols_[c0 + k];
+      col.rate =
+          named("dsw_" + col.name, "dsv_" + col.name, geometry::lie_bracket(carrier, col.screw));
+      carrier = carrier + col.qd * col.screw;
+    }
+  }
+  void twist_rate(int b) {
+    const auto bi = static_cast<size_t>(b);
+    const int p = g_.parent[bi], j = g_.parent_joint[bi];
+    const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+    const ex sign = joint.first == p ? 1 : -1;
+    const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
+    Twist A = A_[static_cast<size_t>(p)];
+    for (size_t k = 0; k < joint.columns.size(); ++k) {
+      const Column& col = cols_[c0 + k];
+      A = A + (sign * col.qdd) * col.screw + (sign * col.qd) * col.rate;
+    }
+    A_[bi] = named("dw_" + body_name(b), "dv_" + body_name(b), A);
+  }
+  void twist_rates() {
+    if (!closed()) return;
+    for (const int b : g_.order)
+      if (b != m_.ground) twist_rate(b);
   }
 
   void body_outputs() {
@@ -287,6 +625,10 @@ class Builder {
   // Column k of a body's twist Jacobian is the signed screw of primary k on its tree path; of a
   // point's velocity Jacobian, that screw's velocity at the point.
   void jacobians() {
+    if (closed()) {
+      closed_jacobians();
+      return;
+    }
     for (size_t b = 0; b < m_.bodies.size(); ++b) {
       const SpatialBody& body = m_.bodies[b];
       if (body.ground || body.is_virtual) continue;
@@ -316,6 +658,67 @@ class Builder {
                  (sign * v[static_cast<size_t>(r)]).expand());
       }
     }
+  }
+
+  // A closed chain's: column k of a body's twist Jacobian is sum_i sign_i $_i dq_i/dq_pk over
+  // its tree path, with the secondary coordinates' sensitivity from Davies' elimination.
+  void closed_jacobians() {
+    std::vector<std::vector<Twist>>& J = jacobian_;
+    J.assign(m_.bodies.size(), {});
+    for (size_t b = 0; b < m_.bodies.size(); ++b) {
+      const SpatialBody& body = m_.bodies[b];
+      if (body.ground) continue;
+      for (size_t k = 0; k < g_.primary.size(); ++k) {
+        Twist t;
+        for (size_t c = 0; c < g_.columns.size(); ++c)
+          if (g_.path_sign[b][c] != 0 && !sensitivity_[c][k].is_zero())
+            t = t + (g_.path_sign[b][c] * sensitivity_[c][k]) * cols_[c].screw;
+        J[b].push_back(named("jw_" + body.name + "_" + std::to_string(k),
+                             "jv_" + body.name + "_" + std::to_string(k), t));
+        if (body.is_virtual) continue;
+        for (int r = 0; r < 6; ++r)
+          output(out_.jacobians,
+                 "s.body_jacobians." + body.name + "[" + std::to_string(r) + "][" +
+                     std::to_string(k) + "]",
+                 r < 3 ? J[b][k].w[static_cast<size_t>(r)] : J[b][k].v[static_cast<size_t>(r - 3)]);
+      }
+    }
+    for (const auto& [point, b] : m_.named_points()) {
+      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      for (size_t k = 0; k < g_.primary.size(); ++k) {
+        const V v = geometry::point_velocity(J[static_cast<size_t>(b)][k], point_.at(point));
+        for (int r = 0; r < 3; ++r)
+          output(out_.jacobians,
+                 "s.point_jacobians." + point + "[" + std::to_string(r) + "][" + std::to_string(k) +
+                     "]",
+                 v[static_cast<size_t>(r)].expand());
+      }
+    }
+  }
+
+  // A closed chain's driver efforts by virtual power: effort k = sum_b W_b . J_bk, each body's
+  // rate of momentum minus gravity W_b (about the ground origin) against column k of its twist
+  // Jacobian (unique even where the circuits are redundant). The reactions are not generated yet:
+  // NaN (`not_generated`, a local of the entry points).
+  void closed_efforts() {
+    momentum_.assign(m_.bodies.size(), Wrench{});
+    std::vector<ex> effort(g_.primary.size(), 0);
+    for (size_t b = 0; b < m_.bodies.size(); ++b) {
+      if (static_cast<int>(b) == m_.ground) continue;
+      const Wrench W = momentum_rate(b);
+      for (size_t k = 0; k < g_.primary.size(); ++k)
+        effort[k] += geometry::reciprocal(jacobian_[b][k], W);
+    }
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const SpatialDriver& d =
+          m_.drivers[static_cast<size_t>(g_.columns[static_cast<size_t>(g_.primary[k])].driver)];
+      output(out_.dynamics, "s.drivers." + d.name + ".effort", named("tau_" + d.name, effort[k]));
+    }
+    const symbol nan("not_generated");
+    for (const SpatialJoint& joint : m_.joints)
+      if (!joint.is_virtual)
+        for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
+          output(out_.dynamics, "s.joints." + joint.name + "." + f, nan);
   }
 
   // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
@@ -502,6 +905,17 @@ class Builder {
   std::map<std::string, V> point_;
   std::vector<Wrench> momentum_;  // per body: rate of momentum minus gravity, about the origin
   std::vector<V> joint_point_;    // per joint: its current point
+  // Closed chains: closure error rows, Davies' network (rows x columns), per circuit each
+  // column's sign, the pivot rows in elimination order, the elimination at the closed pose and
+  // d q / d q_p (columns x primaries).
+  std::vector<ex> residual_;
+  std::vector<std::vector<ex>> network_;
+  std::vector<std::vector<int>> circuit_coef_;
+  std::vector<size_t> pivot_rows_, pivot_columns_;  // elimination order; unknown k is the
+                                                    // secondary coordinate pivot_columns_[k]
+  Lu lu_;
+  std::vector<std::vector<ex>> sensitivity_;
+  std::vector<std::vector<Twist>> jacobian_;  // per body, per primary: its twist Jacobian column
 };
 
 }  // namespace

@@ -38,6 +38,10 @@ struct SpatialDerivation {
   std::vector<std::string> groups;        // one per located body: "thigh"
   std::vector<std::string> plan;          // one line per group, for the banner
   int primary_count = 0;
+  // Closed chains: the secondary coordinates at the assembly (default parameters, t0), the
+  // State's default warm start. Empty for a tree.
+  std::vector<double> closure_start;
+  double closure_det = 0;  // det of the eliminated N_s there
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
   // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint
@@ -51,8 +55,8 @@ struct SpatialDerivation {
 // Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd`.
 GiNaC::exmap spatial_parameter_symbols(const SpatialModel& model);
 
-// Throws std::runtime_error (naming what is missing) for a model whose graph has circuits or
-// pose drivers: closed chains are not generated yet.
+// Throws std::runtime_error (naming what is missing) for a model with pose drivers or a closed
+// chain whose N_s is singular at the assembly.
 SpatialDerivation derive_spatial(const SpatialModel& model, const SpatialGraph& graph);
 
 }  // namespace mechgen::gen

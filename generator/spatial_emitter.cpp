@@ -195,7 +195,9 @@ class SpatialEmitter {
         if ((o.target.rfind("s.points.", 0) == 0 && o.target.size() > 2 &&
              o.target[o.target.size() - 2] == '.') ||
             o.target.find("_jacobians.") != std::string::npos ||
-            (o.target.rfind("s.drivers.", 0) == 0 && o.target.find(".effort") != std::string::npos))
+            (o.target.rfind("s.drivers.", 0) == 0 &&
+             o.target.find(".effort") != std::string::npos) ||
+            o.target.rfind("s.closure.", 0) == 0)
           control.push_back(o);
     const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);
     std::vector<SpatialOutput> system;
@@ -209,7 +211,7 @@ class SpatialEmitter {
     v["ne_body"] = ne.render("  ");
     v["ne_rows"] = std::to_string(d_.ne_rows);
     v["ne_size"] = std::to_string(d_.ne_unknowns.size());
-    v["ne_unknowns"] = quoted(d_.ne_unknowns);
+    v["ne_unknowns"] = d_.ne_unknowns.empty() ? "nullptr" : quoted(d_.ne_unknowns);
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
     v["control_body"] = lean.render("  ");
@@ -219,11 +221,52 @@ class SpatialEmitter {
     v["evaluate_using"] = using_std(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
     v["evaluate_body"] = full.render("  ");
+    closure(v);
     columns(v);
     return v;
   }
 
  private:
+  // A closed chain's State keeps the secondary coordinates (the Newton-Raphson warm start, the
+  // assembly by default); each entry point checks the closure before accepting them. Placed at
+  // the start of existing lines of the template: a tree's kernel is unchanged.
+  void closure(std::map<std::string, std::string>& v) const {
+    v["closure_fields"] = "";
+    v["closure_check"] = "";
+    v["entry_state"] = "State<T> s;";
+    if (d_.closure_start.empty()) return;
+    std::string start;
+    for (const double q : d_.closure_start)
+      start += (start.empty() ? "" : ", ") + number_literal(q);
+    const std::string n = std::to_string(d_.closure_start.size());
+    v["closure_fields"] =
+        "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "
+        "t0\n  // by default, replaced by every call that closes the circuits), the last call's "
+        "result,\n  // squared closure error and det N_s.\n  struct {\n    T q[" +
+        n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n  } closure;\n";
+    v["closure_check"] =
+        "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
+        "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
+        "  using std::abs;\n"
+        "  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *\n"
+        "                                   std::numeric_limits<T>::epsilon()))\n"
+        "    return s.failed_group = group_count - 1, Status::unreachable;\n"
+        "  if (!(abs(s.closure.det) > " +
+        number_literal(1e-9 * std::abs(d_.closure_det)) +
+        "))\n    return s.failed_group = group_count - 1, Status::singular;\n"
+        "  for (int i = 0; i < " +
+        n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
+    v["entry_state"] =
+        "// A closed chain's warm start carries over from one call to the next (per thread and "
+        "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
+        "static thread_local State<T> s;\n"
+        "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
+        "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
+    const std::string nan =
+        "\n  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();";
+    for (const char* k : {"kinematics_using", "evaluate_using", "control_using"}) v[k] += nan;
+  }
+
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.
   void columns(std::map<std::string, std::string>& v) const {
     std::vector<std::string> names{"t"}, body{"  row[0] = in.t;"};
@@ -278,9 +321,11 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
   const std::map<std::string, std::string> values =
       SpatialEmitter(model, derivation).values(options);
   std::vector<EmittedFile> files;
+  std::map<std::string, std::string> header = values;
+  header.erase("entry_state");  // the entry's
   files.push_back({model.common.name + ".hpp",
                    render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
-                                   values, "spatial_kernel.hpp.in")});
+                                   header, "spatial_kernel.hpp.in")});
   std::string driven;
   for (size_t i = 0; i < model.drivers.size(); ++i)
     for (size_t k = 0; k < 3; ++k)
@@ -290,11 +335,9 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                           : "_dd") +
                 " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
   const std::map<std::string, std::string> entry{
-      {"model", values.at("model")},
-      {"source", values.at("source")},
-      {"command", values.at("command")},
-      {"driver_count", std::to_string(model.drivers.size())},
-      {"driven_inputs", driven}};
+      {"model", values.at("model")},     {"source", values.at("source")},
+      {"command", values.at("command")}, {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven},         {"entry_state", values.at("entry_state")}};
   files.push_back(
       {model.common.name + "_entry.cpp",
        render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,

@@ -81,7 +81,8 @@ const CompiledKernel& compiled_kernel() {
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 6,
-                                     &evaluate_driven_row<double>, &evaluate_batch_rows};
+                                     &evaluate_driven_row<double>, &evaluate_batch_rows,
+                                     0 /* fingerprint: none for spatial kernels yet */};
   return kernel;
 }
 

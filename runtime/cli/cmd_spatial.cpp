@@ -135,9 +135,17 @@ int run_spatial_check(const Args& args) {
   // What the generator makes of it (docs/spatial_kernels.md).
   try {
     const gen::SpatialDerivation d = gen::derive_spatial(model, g);
-    out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
-           " bodies by product of exponentials, rates outward, Newton-Euler inward" +
-           (find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "") + "\n";
+    const std::string compiled =
+        find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "";
+    if (d.closure_start.empty())
+      out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
+             " bodies by product of exponentials, rates outward, Newton-Euler inward" + compiled +
+             "\n";
+    else
+      out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
+             " secondary coordinates by unrolled Newton-Raphson, Davies' rates by a fixed-pivot "
+             "elimination, efforts by virtual power (reactions not generated yet)" +
+             compiled + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";
@@ -241,7 +249,8 @@ int run_spatial_sweep(const Args& args) {
   const CompiledKernel* kernel = generated ? find_compiled_kernel(model.common.name) : nullptr;
   if (generated && !kernel)
     throw UsageError("no generated kernel for spatial model '" + model.common.name +
-                     "' in this build (closed chains and pose drivers are not generated yet): "
+                     "' in this build (pose drivers are not generated yet; a model must be listed "
+                     "to be compiled in): "
                      "use --solver numeric, or add it to MECHGEN_SPATIAL_KERNEL_MODELS in "
                      "generated/CMakeLists.txt");
   std::vector<double> parameters = model.common.default_parameters();

@@ -165,16 +165,16 @@ struct Command {
 
 // ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------
 
-Command sweep_command();       // cmd_sweep.cpp
-Command grid_command();        // cmd_grid.cpp
-Command size_motor_command();  // cmd_size_motor.cpp
-Command walk_command();        // cmd_walk.cpp
-Command draw_command();        // cmd_draw.cpp
-Command loads_command();       // cmd_loads.cpp
-Command zmp_command();         // cmd_zmp.cpp
-Command merge_command();       // cmd_merge.cpp
-Command workspace_command();   // cmd_workspace.cpp
-Command follow_command();      // cmd_follow.cpp
+Command sweep_command();          // cmd_sweep.cpp
+Command grid_command();           // cmd_grid.cpp
+Command size_motor_command();     // cmd_size_motor.cpp
+Command walk_command();           // cmd_walk.cpp
+Command draw_command();           // cmd_draw.cpp
+Command loads_command();          // cmd_loads.cpp
+Command zmp_command();            // cmd_zmp.cpp
+Command merge_command();          // cmd_merge.cpp
+Command workspace_command();      // cmd_workspace.cpp
+Command follow_command();         // cmd_follow.cpp
 Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
 
 }  // namespace mechgen::cli

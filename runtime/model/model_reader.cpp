@@ -15,8 +15,8 @@
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/parameter_resolver.hpp"
-#include "model/value_checks.hpp"
 #include "model/spatial_model.hpp"
+#include "model/value_checks.hpp"
 
 namespace mechgen {
 

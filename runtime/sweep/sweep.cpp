@@ -65,9 +65,7 @@ struct SampleTimes {
                                : t0 + (t1 - t0) * static_cast<double>(j) /
                                           static_cast<double>(std::max<size_t>(1, n - 1));
   }
-  SampleTimes part(size_t from, size_t samples) const {
-    return {t0, t1, n, first + from, samples};
-  }
+  SampleTimes part(size_t from, size_t samples) const { return {t0, t1, n, first + from, samples}; }
 };
 
 // Samples per call of the batch entry: its column-major block (columns x kBlock doubles, 170 kB
@@ -108,8 +106,8 @@ KernelFailure evaluate_blocks(const CompiledKernel& kernel, const std::vector<do
 
 // Evaluates samples [begin, end) into rows; stops at the first failure and returns it.
 KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<double>& parameters,
-                             const SampleTimes& times, size_t begin, size_t end,
-                             Progress* progress, std::vector<std::vector<double>>& rows) {
+                             const SampleTimes& times, size_t begin, size_t end, Progress* progress,
+                             std::vector<std::vector<double>>& rows) {
   const size_t columns = static_cast<size_t>(kernel.column_count);
   return evaluate_blocks(kernel, parameters, times, begin, end, progress,
                          [&](size_t first, size_t n, const double* out) {

@@ -217,14 +217,18 @@ struct State {
   struct Drivers {
     DriverState<T> crank_angle;
   } drivers;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 2;
-// Solve groups in order; State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker" };
+// The 2 solve groups in order, then the stages checked after them: "inputs"
+// (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
+// that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 6;
+inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker", "inputs", "positions", "rates", "forces" };
 
 namespace detail {
 // A failed check: the State is cleared (the entries write each output as soon as it is known, so
@@ -241,7 +245,8 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }
 }  // namespace detail
 
-// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity.
+// A driver motion outside its domain (e.g. acos of more than 1) arrives here as NaN or infinity:
+// the entries return unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -256,7 +261,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 204
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -386,17 +391,28 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T S_y = -p.c;
   s.points.S.y = S_y;
   if (!(M_y != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.coupler.x) + (s.bodies.coupler.y + s.bodies.coupler.cos_th));
+  const T _sum_positions_1 = ((s.bodies.coupler.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th)) + ((s.bodies.rocker.sin_th + s.points.B.x) + (s.points.S.x + s.points.S.y));
+  const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.M.x + s.points.M.y)) + ((s.points.C.x + s.points.C.y) + (s.points.R.x + s.points.R.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
+  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics and the solution of the Newton-Euler system: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
   // Total ops: 362
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
@@ -587,6 +603,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   if (!(M_y != T(0))) return detail::failed(s, -1, Status::singular);
   if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
+  const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.coupler.x) + (s.bodies.coupler.y + s.bodies.coupler.cos_th));
+  const T _sum_positions_1 = ((s.bodies.coupler.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th)) + ((s.bodies.rocker.sin_th + s.points.B.x) + (s.points.S.x + s.points.S.y));
+  const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.M.x + s.points.M.y)) + ((s.points.C.x + s.points.C.y) + (s.points.R.x + s.points.R.y));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
+  const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
+  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces_0 = ((s.joints.A_ground_crank.fx + s.joints.A_ground_crank.fy) + (s.joints.P_crank_coupler.fx + s.joints.P_crank_coupler.fy)) + ((s.joints.M_rocker_coupler.fx + s.joints.M_rocker_coupler.fy) + (s.joints.B_ground_rocker.fx + s.joints.B_ground_rocker.fy));
+  const T _sum_forces_1 = s.drivers.crank_angle.effort;
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
@@ -637,7 +667,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_d = batch_crank_angle_d[i];
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
-    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196097);
+    T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
     // Total ops: 365
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
@@ -826,6 +856,20 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[47 * stride + i] = A_ground_crank_fy;
     const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
     out[46 * stride + i] = A_ground_crank_fx;
+    const T _sum_positions_0 = ((out[1 * stride + i] + out[5 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[14 * stride + i] + out[15 * stride + i]) + (out[16 * stride + i] + out[23 * stride + i]));
+    const T _sum_positions_1 = ((out[24 * stride + i] + out[25 * stride + i]) + (out[34 * stride + i] + out[36 * stride + i])) + ((out[37 * stride + i] + out[38 * stride + i]) + (out[39 * stride + i] + out[40 * stride + i]));
+    const T _sum_positions_2 = (out[41 * stride + i] + out[42 * stride + i]) + (out[43 * stride + i] + (out[44 * stride + i] + out[45 * stride + i]));
+    const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+    failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8175635));
+    const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
+    const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
+    const T _sum_rates_2 = (out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i]);
+    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8171543));
+    const T _sum_forces_0 = ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i])) + ((out[50 * stride + i] + out[51 * stride + i]) + (out[52 * stride + i] + out[53 * stride + i]));
+    const T _sum_forces_1 = out[4 * stride + i];
+    const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+    failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8167451));
     failure[i] = failed;  // as T: an int conversion here would defeat GCC 12's vectoriser
   }
 }
@@ -834,7 +878,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
 // moving body the force balance in x and y and the moment balance about the pin of its first
 // revolute joint (about the centre of mass when it has none): the seed's eq. 14 with each moment
 // row combined with its body's force rows, an exact row operation with the same solution, and
-// sparser. Unknowns are ne_unknowns[] in order.
+// sparser. Unknowns are ne_unknowns[] in order. Status::non_finite when an entry of A or b is not
+// finite.
 inline constexpr int ne_size = 9;
 inline constexpr const char* ne_unknowns[] = { "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy", "crank_angle.effort" };
 template <class T>
@@ -971,6 +1016,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   if (!(g2_coupler_rocker_d2 > T(0))) return Status::singular;
   if (!(g2_coupler_rocker_disc > T(0))) return Status::unreachable;
   if (!(M_y != T(0))) return Status::singular;
+  const T _sum_forces_0 = ((b[0] + b[1]) + (A[20] + A[21])) + ((b[2] + b[3]) + (b[4] + A[49]));
+  const T _sum_forces_1 = (A[50] + (b[5] + b[6])) + ((b[7] + A[78]) + (A[79] + b[8]));
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
@@ -1008,7 +1057,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x1d302f7b3c852459ULL;
+inline constexpr unsigned long long fingerprint = 0x9444c1d2905c62f3ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 14;

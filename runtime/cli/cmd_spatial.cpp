@@ -9,6 +9,7 @@
 
 #include "cli/model_info.hpp"
 #include "model/spatial_graph.hpp"
+#include "ondemand/kernel_resolver.hpp"
 #include "report/csv_table.hpp"
 #include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
@@ -137,7 +138,7 @@ int run_spatial_check(const Args& args) {
     const gen::SpatialDerivation d = gen::derive_spatial(model, g);
     out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
            " bodies by product of exponentials, rates outward, Newton-Euler inward" +
-           (find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "") + "\n";
+           (ondemand::current_compiled_kernel(model) ? " (compiled into this mechgen)" : "") + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";
@@ -238,12 +239,8 @@ int run_spatial_sweep(const Args& args) {
   const bool generated = solver_option(args) != "numeric";
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
   const SpatialModel model = load_spatial(path);
-  const CompiledKernel* kernel = generated ? find_compiled_kernel(model.common.name) : nullptr;
-  if (generated && !kernel)
-    throw UsageError("no generated kernel for spatial model '" + model.common.name +
-                     "' in this build (closed chains and pose drivers are not generated yet): "
-                     "use --solver numeric, or add it to MECHGEN_SPATIAL_KERNEL_MODELS in "
-                     "generated/CMakeLists.txt");
+  // The current compiled-in kernel, else one built on demand (never one of another description).
+  const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;
   std::vector<double> parameters = model.common.default_parameters();
   apply_overrides(model.common, args.all("--set"), parameters);
   spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);

@@ -16,6 +16,7 @@
 #include "model/fingerprint.hpp"
 #include "ondemand/data_paths.hpp"
 #include "ondemand/process.hpp"
+#include "spatial_emitter.hpp"
 
 namespace mechgen::ondemand {
 
@@ -89,12 +90,16 @@ const CompiledKernel* load(const fs::path& library, const Model& model, std::uin
 }
 
 // Generates and compiles the kernel into `library` (kernel_cache.hpp).
-void build(const Model& model, const fs::path& cache, const std::vector<std::string>& command,
-           const fs::path& library) {
+void build(const Model& model, gen::KernelKind kind, const fs::path& cache,
+           const std::vector<std::string>& command, const fs::path& library) {
   const fs::path dir = make_build_dir(cache, model.name);
   std::error_code ignored;
   try {
-    gen::generate(model, {model.file, dir.string(), templates_dir(), false});
+    const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false};
+    if (kind == gen::KernelKind::spatial)
+      gen::generate_spatial(options);  // reads model.file again: load() checks the fingerprint
+    else
+      gen::generate(model, options);
   } catch (const ModelError&) {
     fs::remove_all(dir, ignored);
     throw;
@@ -157,7 +162,7 @@ std::vector<std::string> compile_command() {
 }
 
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
-                                    const std::string& reason) {
+                                    const std::string& reason, gen::KernelKind kind) {
   const fs::path cache = cache_dir();
   std::error_code error;
   fs::create_directories(cache, error);
@@ -178,7 +183,7 @@ const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprin
             << ", first use: " << std::flush;
   const auto start = std::chrono::steady_clock::now();
   try {
-    build(model, cache, command, library);
+    build(model, kind, cache, command, library);
   } catch (...) {
     std::cerr << "failed\n";
     throw;

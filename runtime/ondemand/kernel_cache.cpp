@@ -105,8 +105,13 @@ void build(const Model& model, gen::KernelKind kind, const fs::path& cache,
     throw;
   } catch (const std::exception& error) {
     fs::remove_all(dir, ignored);
-    throw std::runtime_error("cannot generate a kernel for '" + model.name + "': " + error.what() +
-                             " (use --solver numeric)");
+    // The generator's own "FILE: error: " prefix is dropped (the command prints its own), and the
+    // advice is given once.
+    std::string why = error.what();
+    const std::string prefix = model.file + ": error: ";
+    if (why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+    if (why.find("--solver numeric") == std::string::npos) why += " (use --solver numeric)";
+    throw std::runtime_error("cannot generate a kernel for '" + model.name + "': " + why);
   }
   std::vector<std::string> argv = command;
   const fs::path built = dir / (model.name + ".so");

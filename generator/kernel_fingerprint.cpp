@@ -1,17 +1,24 @@
 #include "kernel_fingerprint.hpp"
 
+#include <vector>
+
 #include "model/fingerprint.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
 
-std::uint64_t kernel_fingerprint(const Model& model, const std::string& templates_dir, bool bake) {
+std::uint64_t kernel_fingerprint(const Model& model, const std::string& templates_dir, bool bake,
+                                 KernelKind kind) {
+  const bool spatial = kind == KernelKind::spatial;
   Fnv1a64 hash;
-  hash.add_field("mechgen kernel");
+  hash.add_field(spatial ? "mechgen spatial kernel" : "mechgen kernel");
   hash.add_field(std::to_string(kEmissionVersion));
   hash.add_field(hex64(model.description_hash));
   hash.add_field(bake ? "baked" : "run-time parameters");
-  for (const char* name : {"kernel.hpp.in", "kernel_entry.cpp.in"}) {
+  const std::vector<const char*> planar{"kernel.hpp.in", "kernel_entry.cpp.in"};
+  const std::vector<const char*> spatial_templates{"spatial_kernel.hpp.in",
+                                                   "spatial_kernel_entry.cpp.in", "kernel.hpp.in"};
+  for (const char* name : spatial ? spatial_templates : planar) {
     hash.add_field(name);
     hash.add_field(read_template(templates_dir + "/" + name));
   }

@@ -1,6 +1,8 @@
 // The fingerprint a generated kernel carries (`fingerprint` in <model>.hpp, CompiledKernel's
 // `fingerprint`): everything its code depends on. That is the description (its canonical parsed
-// form, Model::description_hash), whether defaults are baked in, the text of both templates, and
+// form, Model::description_hash), whether defaults are baked in, the text of the templates it is
+// rendered from (planar: kernel.hpp.in and kernel_entry.cpp.in; spatial: spatial_kernel.hpp.in,
+// spatial_kernel_entry.cpp.in and kernel.hpp.in, whose math functions it shares), and
 // kEmissionVersion for the generator's own part of the emitted code. mechgen evaluates a kernel
 // only for a description whose fingerprint is the kernel's.
 //
@@ -20,7 +22,12 @@ namespace mechgen::gen {
 
 inline constexpr int kEmissionVersion = 1;
 
-// Reads templates_dir/kernel.hpp.in and kernel_entry.cpp.in; std::runtime_error when unreadable.
-std::uint64_t kernel_fingerprint(const Model& model, const std::string& templates_dir, bool bake);
+// Which emitter (and so which templates) a kernel comes from: a planar model's or a spatial one's
+// (`dimension: spatial`, generator/spatial_emitter.hpp; never baked).
+enum class KernelKind { planar, spatial };
+
+// Reads the kind's templates from templates_dir; std::runtime_error when one is unreadable.
+std::uint64_t kernel_fingerprint(const Model& model, const std::string& templates_dir, bool bake,
+                                 KernelKind kind = KernelKind::planar);
 
 }  // namespace mechgen::gen

@@ -63,6 +63,20 @@ OutputStage stage_of(const std::string& source) {
   return OutputStage::none;
 }
 
+OutputStage spatial_stage_of(const std::string& target) {
+  if (starts_with(target, "s.body_jacobians.") || starts_with(target, "s.point_jacobians."))
+    return OutputStage::positions;
+  if (!starts_with(target, "s.")) return OutputStage::none;
+  const std::string field = target.substr(target.rfind('.') + 1);
+  if (field == "x" || field == "y" || field == "z" || starts_with(field, "R[") ||
+      (starts_with(field, "q") && field.find('d') == std::string::npos))
+    return OutputStage::positions;
+  if (field == "effort" || field == "fx" || field == "fy" || field == "fz" || field == "mx" ||
+      field == "my" || field == "mz")
+    return OutputStage::forces;
+  return OutputStage::rates;
+}
+
 std::string output_checks(
     const std::vector<CheckedOutput>& outputs, const std::string& indent,
     const std::function<std::string(OutputStage, const std::string& condition)>& check_line) {

@@ -25,6 +25,11 @@ inline constexpr int kStageCount = 4;
 // `s.joints.<j>.<f>`, `s.drivers.<d>.<f>` (a body's `th()` is a position); anything else (the warm
 // start, the inputs) is `none`.
 OutputStage stage_of(const std::string& source);
+// The same for a spatial kernel's State (generator/spatial_emitter.cpp): a body's x, y, z and R[k],
+// a point's x, y, z, a joint's or driver's coordinates (q, q1, ...) and every screw Jacobian entry
+// (`s.body_jacobians.`, `s.point_jacobians.`) are positions; wrenches (fx ... mz) and driver
+// efforts are forces; every other State field (velocities, accelerations, qd, qdd) is a rate.
+OutputStage spatial_stage_of(const std::string& target);
 
 struct CheckedOutput {
   OutputStage stage;

@@ -4,13 +4,17 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "code_block.hpp"
+#include "kernel_fingerprint.hpp"
+#include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
+#include "output_checks.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "template_renderer.hpp"
 
@@ -58,6 +62,24 @@ std::string using_std(const CodeBlock& code) {
     text += std::string(text.empty() ? "" : "\n") + "  using " +
             (f == "sin" || f == "cos" ? "detail::" : "std::") + f + ";";
   return text;
+}
+
+// The finiteness checks of these outputs (output_checks.hpp), each stage's failure through
+// `check_line`; every output in `stage` when one is given (the Newton-Euler system's A and b).
+std::string spatial_output_checks(
+    const std::vector<SpatialOutput>& outputs,
+    const std::function<std::string(OutputStage, const std::string& condition)>& check_line,
+    OutputStage stage = OutputStage::none) {
+  std::vector<CheckedOutput> checked;
+  for (const SpatialOutput& o : outputs)
+    // A closed chain's reactions are not generated yet: NaN by design (`not_generated`), so they
+    // are not checked; the runtime refuses to write them (runtime/cli/cmd_spatial.cpp).
+    if (!GiNaC::is_a<GiNaC::numeric>(o.value) &&
+        !(GiNaC::is_a<GiNaC::symbol>(o.value) &&
+          GiNaC::ex_to<GiNaC::symbol>(o.value).get_name() == "not_generated"))
+      checked.push_back(
+          {stage == OutputStage::none ? spatial_stage_of(o.target) : stage, o.target});
+  return output_checks(checked, "  ", check_line);
 }
 
 std::string kernel_math_functions(const std::string& templates_dir) {
@@ -116,8 +138,19 @@ class SpatialEmitter {
     for (const std::string& line : d_.plan) plan.push_back("//   " + line);
     v["plan"] = lines(plan);
     v["primary_count"] = std::to_string(d_.primary_count);
-    v["group_count"] = std::to_string(d_.groups.size());
-    v["group_names"] = quoted(d_.groups);
+    // The solve groups, then the stages checked after them (output_checks.hpp), as in planar.
+    std::vector<std::string> group_names = d_.groups;
+    const int inputs_group = static_cast<int>(group_names.size());
+    for (const char* stage : kStageNames) group_names.push_back(stage);
+    v["group_count"] = std::to_string(group_names.size());
+    v["solve_group_count"] = std::to_string(d_.groups.size());
+    v["group_names"] = quoted(group_names);
+    v["inputs_group"] = std::to_string(inputs_group);
+    v["fingerprint"] = hex64(options.fingerprint);
+    const auto stage_check = [inputs_group](OutputStage stage, const std::string& condition) {
+      return "if (!(" + condition + ")) return detail::failed(s, " +
+             std::to_string(inputs_group + static_cast<int>(stage)) + ", Status::non_finite);";
+    };
 
     const std::vector<double> defaults = m_.common.default_parameters();
     std::vector<std::string> params, set_params, names;
@@ -208,19 +241,24 @@ class SpatialEmitter {
     const CodeBlock ne = block(system);
     v["ne_using"] = using_std(ne);
     v["ne_ops"] = std::to_string(ne.op_count());
-    v["ne_body"] = ne.render("  ");
+    v["ne_body"] = ne.render("  ") + spatial_output_checks(
+                                         system,
+                                         [](OutputStage, const std::string& c) {
+                                           return "if (!(" + c + ")) return Status::non_finite;";
+                                         },
+                                         OutputStage::forces);
     v["ne_rows"] = std::to_string(d_.ne_rows);
     v["ne_size"] = std::to_string(d_.ne_unknowns.size());
     v["ne_unknowns"] = d_.ne_unknowns.empty() ? "nullptr" : quoted(d_.ne_unknowns);
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
-    v["control_body"] = lean.render("  ");
+    v["control_body"] = lean.render("  ") + spatial_output_checks(control, stage_check);
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
-    v["kinematics_body"] = kin.render("  ");
+    v["kinematics_body"] = kin.render("  ") + spatial_output_checks(kinematic, stage_check);
     v["evaluate_using"] = using_std(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
-    v["evaluate_body"] = full.render("  ");
+    v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, stage_check);
     closure(v);
     columns(v);
     return v;
@@ -353,6 +391,8 @@ GenerateResult generate_spatial(const GenerateOptions& options) {
   emit.templates_dir = options.templates_dir;
   emit.source = display_path(options.model_path);
   emit.command = "build/mechgen generate " + emit.source;
+  emit.fingerprint =
+      kernel_fingerprint(model.common, options.templates_dir, false, KernelKind::spatial);
   GenerateResult result{model.common.name, {}, derivation.plan};
   std::filesystem::create_directories(options.output_dir);
   for (const EmittedFile& file : emit_spatial_kernel(model, derivation, emit)) {

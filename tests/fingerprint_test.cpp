@@ -1,6 +1,7 @@
 // Fingerprints: a compiled-in kernel is used only for the very description it was generated from.
 // Each edit of the issue (gravity off, the driver law doubled, a point moved 10 mm, a parameter's
-// default changed) makes slider_crank's compiled-in kernel stale; comments and layout do not.
+// default changed) makes slider_crank's compiled-in kernel stale; comments and layout do not. The
+// same for the spatial leg6, whose kernel comes from the spatial templates.
 #include <gtest/gtest.h>
 
 #include <yaml-cpp/yaml.h>
@@ -9,8 +10,10 @@
 #include <sstream>
 #include <string>
 
+#include "leg6/leg6.hpp"
 #include "model/fingerprint.hpp"
 #include "model/model.hpp"
+#include "model/spatial_model.hpp"
 #include "ondemand/kernel_resolver.hpp"
 #include "sweep/compiled_kernel.hpp"
 
@@ -59,13 +62,30 @@ TEST(Fingerprint, CanonicalFormKeepsStructureAndDropsLayout) {
 }
 
 TEST(Fingerprint, EveryShippedCompiledInKernelIsCurrent) {
+  int spatial = 0;
   for (const std::string& name : compiled_kernel_models()) {
+    const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml";
+    if (is_spatial_description(path)) {
+      ++spatial;
+      const SpatialModel model =
+          read_spatial_model_text(shipped_text(name), "models/" + name + ".yaml");
+      const CompiledKernel* kernel = ondemand::current_compiled_kernel(model);
+      ASSERT_NE(kernel, nullptr) << name;
+      EXPECT_EQ(kernel, find_compiled_kernel(name));
+      EXPECT_EQ(kernel->fingerprint, ondemand::expected_fingerprint(model)) << name;
+      // A spatial kernel is never taken for the planar reading of the same description.
+      EXPECT_NE(kernel->fingerprint, ondemand::expected_fingerprint(model.common)) << name;
+      continue;
+    }
     const Model model = read_model_text(shipped_text(name), "models/" + name + ".yaml");
     const CompiledKernel* kernel = ondemand::current_compiled_kernel(model);
     ASSERT_NE(kernel, nullptr) << name;
     EXPECT_EQ(kernel, find_compiled_kernel(name));
     EXPECT_EQ(kernel->fingerprint, ondemand::expected_fingerprint(model)) << name;
   }
+  EXPECT_GE(spatial, 1);  // leg6 at least
+  // The header's constant is the registry's.
+  EXPECT_EQ(gen::leg6::fingerprint, find_compiled_kernel("leg6")->fingerprint);
 }
 
 TEST(Fingerprint, CommentsAndLayoutKeepTheKernel) {
@@ -98,6 +118,43 @@ TEST(Fingerprint, EachEditMakesTheCompiledInKernelStale) {
     EXPECT_NE(model.description_hash, original.description_hash) << edit.what;
     EXPECT_NE(ondemand::expected_fingerprint(model),
               find_compiled_kernel("slider_crank")->fingerprint)
+        << edit.what;
+    EXPECT_EQ(ondemand::current_compiled_kernel(model), nullptr) << edit.what;
+  }
+}
+
+SpatialModel leg6(const std::string& text) {
+  return read_spatial_model_text(text, "models/leg6.yaml");
+}
+
+TEST(Fingerprint, SpatialCommentsAndLayoutKeepTheKernel) {
+  const std::string text = shipped_text("leg6");
+  const SpatialModel original = leg6(text);
+  ASSERT_NE(original.common.description_hash, 0u);
+  const SpatialModel commented =
+      leg6("# edited by hand\n" +
+           edited(text, "gravity: [0, 0, -9.81]", "gravity:  [ 0, 0,  -9.81 ]   # down"));
+  EXPECT_EQ(commented.common.description_hash, original.common.description_hash);
+  EXPECT_EQ(ondemand::current_compiled_kernel(commented), find_compiled_kernel("leg6"));
+}
+
+TEST(Fingerprint, EachEditMakesTheSpatialCompiledInKernelStale) {
+  const std::string text = shipped_text("leg6");
+  const SpatialModel original = leg6(text);
+  ASSERT_NE(ondemand::current_compiled_kernel(original), nullptr);
+  const struct {
+    const char* what;
+    std::string text;
+  } edits[] = {
+      {"gravity set to zero", edited(text, "gravity: [0, 0, -9.81]", "gravity: [0, 0, 0]")},
+      {"driver law doubled", edited(text, "value: 0.1*sin(w*t)", "value: 0.2*sin(w*t)")},
+      {"point moved 10 mm", edited(text, "toe: [0.06, 0,", "toe: [0.07, 0,")},
+      {"parameter default changed", edited(text, "l1: {value: 0.075,", "l1: {value: 0.085,")},
+  };
+  for (const auto& edit : edits) {
+    const SpatialModel model = leg6(edit.text);
+    EXPECT_NE(model.common.description_hash, original.common.description_hash) << edit.what;
+    EXPECT_NE(ondemand::expected_fingerprint(model), find_compiled_kernel("leg6")->fingerprint)
         << edit.what;
     EXPECT_EQ(ondemand::current_compiled_kernel(model), nullptr) << edit.what;
   }

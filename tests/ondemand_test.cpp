@@ -22,24 +22,15 @@
 #include "report/csv_table.hpp"
 #include "sweep/sweep.hpp"
 
+#include "ondemand_test_support.hpp"
+
 namespace mechgen {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string file_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
+using test::file_text;
+using test::replaced;
 
 // A fresh folder holding `name`.yaml: slider_crank renamed, with a longer rod and a doubled speed.
 fs::path write_model(const std::string& name) {
@@ -134,11 +125,7 @@ TEST(OnDemand, EditedShippedModelGetsItsOwnKernelBesideTheCompiledInOne) {
 
 // Runs the mechgen binary; returns its exit code, with its stderr in `err`.
 int mechgen(const std::string& arguments, const fs::path& dir, std::string& err) {
-  const std::string command = std::string(MECHGEN_BINARY) + " " + arguments + " 2>" +
-                              (dir / "stderr.txt").string() + " >/dev/null";
-  const int status = std::system(command.c_str());
-  err = file_text(dir / "stderr.txt");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::run_mechgen(arguments, dir, err);
 }
 
 TEST(OnDemand, SecondRunLoadsFromTheCache) {

@@ -254,16 +254,35 @@ struct State {
     T foot[3][primary_count] = {};
     T toe[3][primary_count] = {};
   } point_jacobians;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 6;
-// Solve groups in order (one per located body); State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "hip_yaw_link", "hip_roll_link", "thigh", "calf", "ankle_link", "foot" };
+// The 6 solve groups in order (one per located body), then the stages checked
+// after them: "inputs" (a non-finite driver input: unreachable), "positions", "rates", "forces" (a
+// non-finite output of that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 10;
+inline constexpr const char* group_names[] = { "hip_yaw_link", "hip_roll_link", "thigh", "calf", "ankle_link", "foot", "inputs", "positions", "rates", "forces" };
 
-// A driver motion outside its domain arrives here as NaN or infinity.
+namespace detail {
+// A failed check: the State is cleared (it would otherwise hold part of a configuration) and the
+// failing group recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
+// A driver motion outside its domain arrives here as NaN or infinity: the entries return
+// unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -276,7 +295,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
   // Total ops: 922
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
@@ -853,17 +872,68 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[0][5] = R_ankle_link_10*pt_toe_z + sv_ankle_roll_x - R_ankle_link_20*pt_toe_y;
   s.point_jacobians.toe[1][5] = R_ankle_link_20*pt_toe_x + sv_ankle_roll_y - R_ankle_link_00*pt_toe_z;
   s.point_jacobians.toe[2][5] = R_ankle_link_00*pt_toe_y + sv_ankle_roll_z - R_ankle_link_10*pt_toe_x;
+  const T _sum_positions_0 = ((s.bodies.hip_yaw_link.x + s.bodies.hip_yaw_link.y) + (s.bodies.hip_yaw_link.R[0] + s.bodies.hip_yaw_link.R[1])) + ((s.bodies.hip_yaw_link.R[3] + s.bodies.hip_yaw_link.R[4]) + (s.bodies.hip_roll_link.x + s.bodies.hip_roll_link.y));
+  const T _sum_positions_1 = ((s.bodies.hip_roll_link.z + s.bodies.hip_roll_link.R[0]) + (s.bodies.hip_roll_link.R[1] + s.bodies.hip_roll_link.R[2])) + ((s.bodies.hip_roll_link.R[3] + s.bodies.hip_roll_link.R[4]) + (s.bodies.hip_roll_link.R[5] + s.bodies.hip_roll_link.R[7]));
+  const T _sum_positions_2 = ((s.bodies.hip_roll_link.R[8] + s.bodies.thigh.x) + (s.bodies.thigh.y + s.bodies.thigh.z)) + ((s.bodies.thigh.R[0] + s.bodies.thigh.R[1]) + (s.bodies.thigh.R[2] + s.bodies.thigh.R[3]));
+  const T _sum_positions_3 = ((s.bodies.thigh.R[4] + s.bodies.thigh.R[5]) + (s.bodies.thigh.R[6] + s.bodies.thigh.R[7])) + ((s.bodies.thigh.R[8] + s.bodies.calf.x) + (s.bodies.calf.y + s.bodies.calf.z));
+  const T _sum_positions_4 = ((s.bodies.calf.R[0] + s.bodies.calf.R[1]) + (s.bodies.calf.R[2] + s.bodies.calf.R[3])) + ((s.bodies.calf.R[4] + s.bodies.calf.R[5]) + (s.bodies.calf.R[6] + s.bodies.calf.R[7]));
+  const T _sum_positions_5 = ((s.bodies.calf.R[8] + s.bodies.ankle_link.x) + (s.bodies.ankle_link.y + s.bodies.ankle_link.z)) + ((s.bodies.ankle_link.R[0] + s.bodies.ankle_link.R[1]) + (s.bodies.ankle_link.R[2] + s.bodies.ankle_link.R[3]));
+  const T _sum_positions_6 = ((s.bodies.ankle_link.R[4] + s.bodies.ankle_link.R[5]) + (s.bodies.ankle_link.R[6] + s.bodies.ankle_link.R[7])) + ((s.bodies.ankle_link.R[8] + s.bodies.foot.x) + (s.bodies.foot.y + s.bodies.foot.z));
+  const T _sum_positions_7 = ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[2] + s.bodies.foot.R[3])) + ((s.bodies.foot.R[4] + s.bodies.foot.R[5]) + (s.bodies.foot.R[6] + s.bodies.foot.R[7]));
+  const T _sum_positions_8 = ((s.bodies.foot.R[8] + s.points.K.x) + (s.points.K.y + s.points.K.z)) + ((s.points.A.x + s.points.A.y) + (s.points.A.z + s.points.foot.x));
+  const T _sum_positions_9 = ((s.points.foot.y + s.points.foot.z) + (s.points.toe.x + s.points.toe.y)) + ((s.points.toe.z + s.joints.hip_yaw.q) + (s.joints.hip_roll.q + s.joints.hip_pitch.q));
+  const T _sum_positions_10 = ((s.joints.knee.q + s.joints.ankle_pitch.q) + (s.joints.ankle_roll.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.drivers.q4.q + s.drivers.q5.q));
+  const T _sum_positions_11 = ((s.drivers.q6.q + s.body_jacobians.hip_roll_link[0][1]) + (s.body_jacobians.hip_roll_link[1][1] + s.body_jacobians.thigh[0][1])) + ((s.body_jacobians.thigh[1][1] + s.body_jacobians.thigh[0][2]) + (s.body_jacobians.thigh[1][2] + s.body_jacobians.thigh[2][2]));
+  const T _sum_positions_12 = ((s.body_jacobians.calf[0][1] + s.body_jacobians.calf[1][1]) + (s.body_jacobians.calf[0][2] + s.body_jacobians.calf[1][2])) + ((s.body_jacobians.calf[2][2] + s.body_jacobians.calf[0][3]) + (s.body_jacobians.calf[1][3] + s.body_jacobians.calf[2][3]));
+  const T _sum_positions_13 = ((s.body_jacobians.calf[3][3] + s.body_jacobians.calf[4][3]) + (s.body_jacobians.calf[5][3] + s.body_jacobians.ankle_link[0][1])) + ((s.body_jacobians.ankle_link[1][1] + s.body_jacobians.ankle_link[0][2]) + (s.body_jacobians.ankle_link[1][2] + s.body_jacobians.ankle_link[2][2]));
+  const T _sum_positions_14 = ((s.body_jacobians.ankle_link[0][3] + s.body_jacobians.ankle_link[1][3]) + (s.body_jacobians.ankle_link[2][3] + s.body_jacobians.ankle_link[3][3])) + ((s.body_jacobians.ankle_link[4][3] + s.body_jacobians.ankle_link[5][3]) + (s.body_jacobians.ankle_link[0][4] + s.body_jacobians.ankle_link[1][4]));
+  const T _sum_positions_15 = ((s.body_jacobians.ankle_link[2][4] + s.body_jacobians.ankle_link[3][4]) + (s.body_jacobians.ankle_link[4][4] + s.body_jacobians.ankle_link[5][4])) + ((s.body_jacobians.foot[0][1] + s.body_jacobians.foot[1][1]) + (s.body_jacobians.foot[0][2] + s.body_jacobians.foot[1][2]));
+  const T _sum_positions_16 = ((s.body_jacobians.foot[2][2] + s.body_jacobians.foot[0][3]) + (s.body_jacobians.foot[1][3] + s.body_jacobians.foot[2][3])) + ((s.body_jacobians.foot[3][3] + s.body_jacobians.foot[4][3]) + (s.body_jacobians.foot[5][3] + s.body_jacobians.foot[0][4]));
+  const T _sum_positions_17 = ((s.body_jacobians.foot[1][4] + s.body_jacobians.foot[2][4]) + (s.body_jacobians.foot[3][4] + s.body_jacobians.foot[4][4])) + ((s.body_jacobians.foot[5][4] + s.body_jacobians.foot[0][5]) + (s.body_jacobians.foot[1][5] + s.body_jacobians.foot[2][5]));
+  const T _sum_positions_18 = ((s.body_jacobians.foot[3][5] + s.body_jacobians.foot[4][5]) + (s.body_jacobians.foot[5][5] + s.point_jacobians.K[0][0])) + ((s.point_jacobians.K[1][0] + s.point_jacobians.K[0][1]) + (s.point_jacobians.K[1][1] + s.point_jacobians.K[2][1]));
+  const T _sum_positions_19 = ((s.point_jacobians.K[0][2] + s.point_jacobians.K[1][2]) + (s.point_jacobians.K[2][2] + s.point_jacobians.A[0][0])) + ((s.point_jacobians.A[1][0] + s.point_jacobians.A[0][1]) + (s.point_jacobians.A[1][1] + s.point_jacobians.A[2][1]));
+  const T _sum_positions_20 = ((s.point_jacobians.A[0][2] + s.point_jacobians.A[1][2]) + (s.point_jacobians.A[2][2] + s.point_jacobians.A[0][3])) + ((s.point_jacobians.A[1][3] + s.point_jacobians.A[2][3]) + (s.point_jacobians.foot[0][0] + s.point_jacobians.foot[1][0]));
+  const T _sum_positions_21 = ((s.point_jacobians.foot[0][1] + s.point_jacobians.foot[1][1]) + (s.point_jacobians.foot[2][1] + s.point_jacobians.foot[0][2])) + ((s.point_jacobians.foot[1][2] + s.point_jacobians.foot[2][2]) + (s.point_jacobians.foot[0][3] + s.point_jacobians.foot[1][3]));
+  const T _sum_positions_22 = ((s.point_jacobians.foot[2][3] + s.point_jacobians.foot[0][4]) + (s.point_jacobians.foot[1][4] + s.point_jacobians.foot[2][4])) + ((s.point_jacobians.foot[0][5] + s.point_jacobians.foot[1][5]) + (s.point_jacobians.foot[2][5] + s.point_jacobians.toe[0][0]));
+  const T _sum_positions_23 = ((s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]) + (s.point_jacobians.toe[1][1] + s.point_jacobians.toe[2][1])) + ((s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]) + (s.point_jacobians.toe[2][2] + s.point_jacobians.toe[0][3]));
+  const T _sum_positions_24 = ((s.point_jacobians.toe[1][3] + s.point_jacobians.toe[2][3]) + (s.point_jacobians.toe[0][4] + s.point_jacobians.toe[1][4])) + ((s.point_jacobians.toe[2][4] + s.point_jacobians.toe[0][5]) + (s.point_jacobians.toe[1][5] + s.point_jacobians.toe[2][5]));
+  const T _sum_positions_25 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_26 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_27 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
+  const T _sum_positions_28 = _sum_positions_24;
+  const T _sum_positions = (_sum_positions_25 + _sum_positions_26) + (_sum_positions_27 + _sum_positions_28);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 7, Status::non_finite);
+  const T _sum_rates_0 = ((s.bodies.hip_yaw_link.vx + s.bodies.hip_yaw_link.vy) + (s.bodies.hip_yaw_link.ax + s.bodies.hip_yaw_link.ay)) + ((s.bodies.hip_yaw_link.wz + s.bodies.hip_yaw_link.alz) + (s.bodies.hip_roll_link.vx + s.bodies.hip_roll_link.vy));
+  const T _sum_rates_1 = ((s.bodies.hip_roll_link.vz + s.bodies.hip_roll_link.ax) + (s.bodies.hip_roll_link.ay + s.bodies.hip_roll_link.az)) + ((s.bodies.hip_roll_link.wx + s.bodies.hip_roll_link.wy) + (s.bodies.hip_roll_link.wz + s.bodies.hip_roll_link.alx));
+  const T _sum_rates_2 = ((s.bodies.hip_roll_link.aly + s.bodies.hip_roll_link.alz) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.thigh.vz + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.az));
+  const T _sum_rates_3 = ((s.bodies.thigh.wx + s.bodies.thigh.wy) + (s.bodies.thigh.wz + s.bodies.thigh.alx)) + ((s.bodies.thigh.aly + s.bodies.thigh.alz) + (s.bodies.calf.vx + s.bodies.calf.vy));
+  const T _sum_rates_4 = ((s.bodies.calf.vz + s.bodies.calf.ax) + (s.bodies.calf.ay + s.bodies.calf.az)) + ((s.bodies.calf.wx + s.bodies.calf.wy) + (s.bodies.calf.wz + s.bodies.calf.alx));
+  const T _sum_rates_5 = ((s.bodies.calf.aly + s.bodies.calf.alz) + (s.bodies.ankle_link.vx + s.bodies.ankle_link.vy)) + ((s.bodies.ankle_link.vz + s.bodies.ankle_link.ax) + (s.bodies.ankle_link.ay + s.bodies.ankle_link.az));
+  const T _sum_rates_6 = ((s.bodies.ankle_link.wx + s.bodies.ankle_link.wy) + (s.bodies.ankle_link.wz + s.bodies.ankle_link.alx)) + ((s.bodies.ankle_link.aly + s.bodies.ankle_link.alz) + (s.bodies.foot.vx + s.bodies.foot.vy));
+  const T _sum_rates_7 = ((s.bodies.foot.vz + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.az)) + ((s.bodies.foot.wx + s.bodies.foot.wy) + (s.bodies.foot.wz + s.bodies.foot.alx));
+  const T _sum_rates_8 = ((s.bodies.foot.aly + s.bodies.foot.alz) + (s.points.K.vx + s.points.K.vy)) + ((s.points.K.vz + s.points.K.ax) + (s.points.K.ay + s.points.K.az));
+  const T _sum_rates_9 = ((s.points.A.vx + s.points.A.vy) + (s.points.A.vz + s.points.A.ax)) + ((s.points.A.ay + s.points.A.az) + (s.points.foot.vx + s.points.foot.vy));
+  const T _sum_rates_10 = ((s.points.foot.vz + s.points.foot.ax) + (s.points.foot.ay + s.points.foot.az)) + ((s.points.toe.vx + s.points.toe.vy) + (s.points.toe.vz + s.points.toe.ax));
+  const T _sum_rates_11 = ((s.points.toe.ay + s.points.toe.az) + (s.joints.hip_yaw.qd + s.joints.hip_yaw.qdd)) + ((s.joints.hip_roll.qd + s.joints.hip_roll.qdd) + (s.joints.hip_pitch.qd + s.joints.hip_pitch.qdd));
+  const T _sum_rates_12 = ((s.joints.knee.qd + s.joints.knee.qdd) + (s.joints.ankle_pitch.qd + s.joints.ankle_pitch.qdd)) + ((s.joints.ankle_roll.qd + s.joints.ankle_roll.qdd) + (s.drivers.q1.qd + s.drivers.q1.qdd));
+  const T _sum_rates_13 = ((s.drivers.q2.qd + s.drivers.q2.qdd) + (s.drivers.q3.qd + s.drivers.q3.qdd)) + ((s.drivers.q4.qd + s.drivers.q4.qdd) + (s.drivers.q5.qd + s.drivers.q5.qdd));
+  const T _sum_rates_14 = s.drivers.q6.qd + s.drivers.q6.qdd;
+  const T _sum_rates_15 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_16 = (_sum_rates_8 + (_sum_rates_9 + _sum_rates_10)) + ((_sum_rates_11 + _sum_rates_12) + (_sum_rates_13 + _sum_rates_14));
+  const T _sum_rates = _sum_rates_15 + _sum_rates_16;
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics, screw Jacobians and the inverse dynamics: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
   // Total ops: 1690
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
@@ -1663,6 +1733,64 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.hip_yaw.mx = tm_hip_yaw_link_x;
   s.joints.hip_yaw.my = tm_hip_yaw_link_y;
   s.joints.hip_yaw.mz = T(0);
+  const T _sum_positions_0 = ((s.bodies.hip_yaw_link.x + s.bodies.hip_yaw_link.y) + (s.bodies.hip_yaw_link.R[0] + s.bodies.hip_yaw_link.R[1])) + ((s.bodies.hip_yaw_link.R[3] + s.bodies.hip_yaw_link.R[4]) + (s.bodies.hip_roll_link.x + s.bodies.hip_roll_link.y));
+  const T _sum_positions_1 = ((s.bodies.hip_roll_link.z + s.bodies.hip_roll_link.R[0]) + (s.bodies.hip_roll_link.R[1] + s.bodies.hip_roll_link.R[2])) + ((s.bodies.hip_roll_link.R[3] + s.bodies.hip_roll_link.R[4]) + (s.bodies.hip_roll_link.R[5] + s.bodies.hip_roll_link.R[7]));
+  const T _sum_positions_2 = ((s.bodies.hip_roll_link.R[8] + s.bodies.thigh.x) + (s.bodies.thigh.y + s.bodies.thigh.z)) + ((s.bodies.thigh.R[0] + s.bodies.thigh.R[1]) + (s.bodies.thigh.R[2] + s.bodies.thigh.R[3]));
+  const T _sum_positions_3 = ((s.bodies.thigh.R[4] + s.bodies.thigh.R[5]) + (s.bodies.thigh.R[6] + s.bodies.thigh.R[7])) + ((s.bodies.thigh.R[8] + s.bodies.calf.x) + (s.bodies.calf.y + s.bodies.calf.z));
+  const T _sum_positions_4 = ((s.bodies.calf.R[0] + s.bodies.calf.R[1]) + (s.bodies.calf.R[2] + s.bodies.calf.R[3])) + ((s.bodies.calf.R[4] + s.bodies.calf.R[5]) + (s.bodies.calf.R[6] + s.bodies.calf.R[7]));
+  const T _sum_positions_5 = ((s.bodies.calf.R[8] + s.bodies.ankle_link.x) + (s.bodies.ankle_link.y + s.bodies.ankle_link.z)) + ((s.bodies.ankle_link.R[0] + s.bodies.ankle_link.R[1]) + (s.bodies.ankle_link.R[2] + s.bodies.ankle_link.R[3]));
+  const T _sum_positions_6 = ((s.bodies.ankle_link.R[4] + s.bodies.ankle_link.R[5]) + (s.bodies.ankle_link.R[6] + s.bodies.ankle_link.R[7])) + ((s.bodies.ankle_link.R[8] + s.bodies.foot.x) + (s.bodies.foot.y + s.bodies.foot.z));
+  const T _sum_positions_7 = ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[2] + s.bodies.foot.R[3])) + ((s.bodies.foot.R[4] + s.bodies.foot.R[5]) + (s.bodies.foot.R[6] + s.bodies.foot.R[7]));
+  const T _sum_positions_8 = ((s.bodies.foot.R[8] + s.points.K.x) + (s.points.K.y + s.points.K.z)) + ((s.points.A.x + s.points.A.y) + (s.points.A.z + s.points.foot.x));
+  const T _sum_positions_9 = ((s.points.foot.y + s.points.foot.z) + (s.points.toe.x + s.points.toe.y)) + ((s.points.toe.z + s.joints.hip_yaw.q) + (s.joints.hip_roll.q + s.joints.hip_pitch.q));
+  const T _sum_positions_10 = ((s.joints.knee.q + s.joints.ankle_pitch.q) + (s.joints.ankle_roll.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.drivers.q4.q + s.drivers.q5.q));
+  const T _sum_positions_11 = ((s.drivers.q6.q + s.body_jacobians.hip_roll_link[0][1]) + (s.body_jacobians.hip_roll_link[1][1] + s.body_jacobians.thigh[0][1])) + ((s.body_jacobians.thigh[1][1] + s.body_jacobians.thigh[0][2]) + (s.body_jacobians.thigh[1][2] + s.body_jacobians.thigh[2][2]));
+  const T _sum_positions_12 = ((s.body_jacobians.calf[0][1] + s.body_jacobians.calf[1][1]) + (s.body_jacobians.calf[0][2] + s.body_jacobians.calf[1][2])) + ((s.body_jacobians.calf[2][2] + s.body_jacobians.calf[0][3]) + (s.body_jacobians.calf[1][3] + s.body_jacobians.calf[2][3]));
+  const T _sum_positions_13 = ((s.body_jacobians.calf[3][3] + s.body_jacobians.calf[4][3]) + (s.body_jacobians.calf[5][3] + s.body_jacobians.ankle_link[0][1])) + ((s.body_jacobians.ankle_link[1][1] + s.body_jacobians.ankle_link[0][2]) + (s.body_jacobians.ankle_link[1][2] + s.body_jacobians.ankle_link[2][2]));
+  const T _sum_positions_14 = ((s.body_jacobians.ankle_link[0][3] + s.body_jacobians.ankle_link[1][3]) + (s.body_jacobians.ankle_link[2][3] + s.body_jacobians.ankle_link[3][3])) + ((s.body_jacobians.ankle_link[4][3] + s.body_jacobians.ankle_link[5][3]) + (s.body_jacobians.ankle_link[0][4] + s.body_jacobians.ankle_link[1][4]));
+  const T _sum_positions_15 = ((s.body_jacobians.ankle_link[2][4] + s.body_jacobians.ankle_link[3][4]) + (s.body_jacobians.ankle_link[4][4] + s.body_jacobians.ankle_link[5][4])) + ((s.body_jacobians.foot[0][1] + s.body_jacobians.foot[1][1]) + (s.body_jacobians.foot[0][2] + s.body_jacobians.foot[1][2]));
+  const T _sum_positions_16 = ((s.body_jacobians.foot[2][2] + s.body_jacobians.foot[0][3]) + (s.body_jacobians.foot[1][3] + s.body_jacobians.foot[2][3])) + ((s.body_jacobians.foot[3][3] + s.body_jacobians.foot[4][3]) + (s.body_jacobians.foot[5][3] + s.body_jacobians.foot[0][4]));
+  const T _sum_positions_17 = ((s.body_jacobians.foot[1][4] + s.body_jacobians.foot[2][4]) + (s.body_jacobians.foot[3][4] + s.body_jacobians.foot[4][4])) + ((s.body_jacobians.foot[5][4] + s.body_jacobians.foot[0][5]) + (s.body_jacobians.foot[1][5] + s.body_jacobians.foot[2][5]));
+  const T _sum_positions_18 = ((s.body_jacobians.foot[3][5] + s.body_jacobians.foot[4][5]) + (s.body_jacobians.foot[5][5] + s.point_jacobians.K[0][0])) + ((s.point_jacobians.K[1][0] + s.point_jacobians.K[0][1]) + (s.point_jacobians.K[1][1] + s.point_jacobians.K[2][1]));
+  const T _sum_positions_19 = ((s.point_jacobians.K[0][2] + s.point_jacobians.K[1][2]) + (s.point_jacobians.K[2][2] + s.point_jacobians.A[0][0])) + ((s.point_jacobians.A[1][0] + s.point_jacobians.A[0][1]) + (s.point_jacobians.A[1][1] + s.point_jacobians.A[2][1]));
+  const T _sum_positions_20 = ((s.point_jacobians.A[0][2] + s.point_jacobians.A[1][2]) + (s.point_jacobians.A[2][2] + s.point_jacobians.A[0][3])) + ((s.point_jacobians.A[1][3] + s.point_jacobians.A[2][3]) + (s.point_jacobians.foot[0][0] + s.point_jacobians.foot[1][0]));
+  const T _sum_positions_21 = ((s.point_jacobians.foot[0][1] + s.point_jacobians.foot[1][1]) + (s.point_jacobians.foot[2][1] + s.point_jacobians.foot[0][2])) + ((s.point_jacobians.foot[1][2] + s.point_jacobians.foot[2][2]) + (s.point_jacobians.foot[0][3] + s.point_jacobians.foot[1][3]));
+  const T _sum_positions_22 = ((s.point_jacobians.foot[2][3] + s.point_jacobians.foot[0][4]) + (s.point_jacobians.foot[1][4] + s.point_jacobians.foot[2][4])) + ((s.point_jacobians.foot[0][5] + s.point_jacobians.foot[1][5]) + (s.point_jacobians.foot[2][5] + s.point_jacobians.toe[0][0]));
+  const T _sum_positions_23 = ((s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]) + (s.point_jacobians.toe[1][1] + s.point_jacobians.toe[2][1])) + ((s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]) + (s.point_jacobians.toe[2][2] + s.point_jacobians.toe[0][3]));
+  const T _sum_positions_24 = ((s.point_jacobians.toe[1][3] + s.point_jacobians.toe[2][3]) + (s.point_jacobians.toe[0][4] + s.point_jacobians.toe[1][4])) + ((s.point_jacobians.toe[2][4] + s.point_jacobians.toe[0][5]) + (s.point_jacobians.toe[1][5] + s.point_jacobians.toe[2][5]));
+  const T _sum_positions_25 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_26 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_27 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
+  const T _sum_positions_28 = _sum_positions_24;
+  const T _sum_positions = (_sum_positions_25 + _sum_positions_26) + (_sum_positions_27 + _sum_positions_28);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 7, Status::non_finite);
+  const T _sum_rates_0 = ((s.bodies.hip_yaw_link.vx + s.bodies.hip_yaw_link.vy) + (s.bodies.hip_yaw_link.ax + s.bodies.hip_yaw_link.ay)) + ((s.bodies.hip_yaw_link.wz + s.bodies.hip_yaw_link.alz) + (s.bodies.hip_roll_link.vx + s.bodies.hip_roll_link.vy));
+  const T _sum_rates_1 = ((s.bodies.hip_roll_link.vz + s.bodies.hip_roll_link.ax) + (s.bodies.hip_roll_link.ay + s.bodies.hip_roll_link.az)) + ((s.bodies.hip_roll_link.wx + s.bodies.hip_roll_link.wy) + (s.bodies.hip_roll_link.wz + s.bodies.hip_roll_link.alx));
+  const T _sum_rates_2 = ((s.bodies.hip_roll_link.aly + s.bodies.hip_roll_link.alz) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.thigh.vz + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.az));
+  const T _sum_rates_3 = ((s.bodies.thigh.wx + s.bodies.thigh.wy) + (s.bodies.thigh.wz + s.bodies.thigh.alx)) + ((s.bodies.thigh.aly + s.bodies.thigh.alz) + (s.bodies.calf.vx + s.bodies.calf.vy));
+  const T _sum_rates_4 = ((s.bodies.calf.vz + s.bodies.calf.ax) + (s.bodies.calf.ay + s.bodies.calf.az)) + ((s.bodies.calf.wx + s.bodies.calf.wy) + (s.bodies.calf.wz + s.bodies.calf.alx));
+  const T _sum_rates_5 = ((s.bodies.calf.aly + s.bodies.calf.alz) + (s.bodies.ankle_link.vx + s.bodies.ankle_link.vy)) + ((s.bodies.ankle_link.vz + s.bodies.ankle_link.ax) + (s.bodies.ankle_link.ay + s.bodies.ankle_link.az));
+  const T _sum_rates_6 = ((s.bodies.ankle_link.wx + s.bodies.ankle_link.wy) + (s.bodies.ankle_link.wz + s.bodies.ankle_link.alx)) + ((s.bodies.ankle_link.aly + s.bodies.ankle_link.alz) + (s.bodies.foot.vx + s.bodies.foot.vy));
+  const T _sum_rates_7 = ((s.bodies.foot.vz + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.az)) + ((s.bodies.foot.wx + s.bodies.foot.wy) + (s.bodies.foot.wz + s.bodies.foot.alx));
+  const T _sum_rates_8 = ((s.bodies.foot.aly + s.bodies.foot.alz) + (s.points.K.vx + s.points.K.vy)) + ((s.points.K.vz + s.points.K.ax) + (s.points.K.ay + s.points.K.az));
+  const T _sum_rates_9 = ((s.points.A.vx + s.points.A.vy) + (s.points.A.vz + s.points.A.ax)) + ((s.points.A.ay + s.points.A.az) + (s.points.foot.vx + s.points.foot.vy));
+  const T _sum_rates_10 = ((s.points.foot.vz + s.points.foot.ax) + (s.points.foot.ay + s.points.foot.az)) + ((s.points.toe.vx + s.points.toe.vy) + (s.points.toe.vz + s.points.toe.ax));
+  const T _sum_rates_11 = ((s.points.toe.ay + s.points.toe.az) + (s.joints.hip_yaw.qd + s.joints.hip_yaw.qdd)) + ((s.joints.hip_roll.qd + s.joints.hip_roll.qdd) + (s.joints.hip_pitch.qd + s.joints.hip_pitch.qdd));
+  const T _sum_rates_12 = ((s.joints.knee.qd + s.joints.knee.qdd) + (s.joints.ankle_pitch.qd + s.joints.ankle_pitch.qdd)) + ((s.joints.ankle_roll.qd + s.joints.ankle_roll.qdd) + (s.drivers.q1.qd + s.drivers.q1.qdd));
+  const T _sum_rates_13 = ((s.drivers.q2.qd + s.drivers.q2.qdd) + (s.drivers.q3.qd + s.drivers.q3.qdd)) + ((s.drivers.q4.qd + s.drivers.q4.qdd) + (s.drivers.q5.qd + s.drivers.q5.qdd));
+  const T _sum_rates_14 = s.drivers.q6.qd + s.drivers.q6.qdd;
+  const T _sum_rates_15 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_16 = (_sum_rates_8 + (_sum_rates_9 + _sum_rates_10)) + ((_sum_rates_11 + _sum_rates_12) + (_sum_rates_13 + _sum_rates_14));
+  const T _sum_rates = _sum_rates_15 + _sum_rates_16;
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 8, Status::non_finite);
+  const T _sum_forces_0 = ((s.drivers.q6.effort + s.joints.ankle_roll.fx) + (s.joints.ankle_roll.fy + s.joints.ankle_roll.fz)) + ((s.joints.ankle_roll.mx + s.joints.ankle_roll.my) + (s.joints.ankle_roll.mz + s.drivers.q5.effort));
+  const T _sum_forces_1 = ((s.joints.ankle_pitch.fx + s.joints.ankle_pitch.fy) + (s.joints.ankle_pitch.fz + s.joints.ankle_pitch.mx)) + ((s.joints.ankle_pitch.my + s.joints.ankle_pitch.mz) + (s.drivers.q4.effort + s.joints.knee.fx));
+  const T _sum_forces_2 = ((s.joints.knee.fy + s.joints.knee.fz) + (s.joints.knee.mx + s.joints.knee.my)) + ((s.joints.knee.mz + s.drivers.q3.effort) + (s.joints.hip_pitch.fx + s.joints.hip_pitch.fy));
+  const T _sum_forces_3 = ((s.joints.hip_pitch.fz + s.joints.hip_pitch.mx) + (s.joints.hip_pitch.my + s.joints.hip_pitch.mz)) + ((s.drivers.q2.effort + s.joints.hip_roll.fx) + (s.joints.hip_roll.fy + s.joints.hip_roll.fz));
+  const T _sum_forces_4 = ((s.joints.hip_roll.mx + s.joints.hip_roll.my) + (s.joints.hip_roll.mz + s.drivers.q1.effort)) + ((s.joints.hip_yaw.fx + s.joints.hip_yaw.fy) + (s.joints.hip_yaw.fz + s.joints.hip_yaw.mx));
+  const T _sum_forces_5 = s.joints.hip_yaw.my;
+  const T _sum_forces = (_sum_forces_0 + (_sum_forces_1 + _sum_forces_2)) + (_sum_forces_3 + (_sum_forces_4 + _sum_forces_5));
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 9, Status::non_finite);
 
   return Status::ok;
 }
@@ -1674,7 +1802,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
   // Total ops: 1419
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
@@ -2176,6 +2304,28 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.q3.effort = tau_hip_pitch;
   s.drivers.q2.effort = tau_hip_roll;
   s.drivers.q1.effort = tm_hip_yaw_link_z;
+  const T _sum_positions_0 = ((s.points.K.x + s.points.K.y) + (s.points.K.z + s.points.A.x)) + ((s.points.A.y + s.points.A.z) + (s.points.foot.x + s.points.foot.y));
+  const T _sum_positions_1 = ((s.points.foot.z + s.points.toe.x) + (s.points.toe.y + s.points.toe.z)) + ((s.body_jacobians.hip_roll_link[0][1] + s.body_jacobians.hip_roll_link[1][1]) + (s.body_jacobians.thigh[0][1] + s.body_jacobians.thigh[1][1]));
+  const T _sum_positions_2 = ((s.body_jacobians.thigh[0][2] + s.body_jacobians.thigh[1][2]) + (s.body_jacobians.thigh[2][2] + s.body_jacobians.calf[0][1])) + ((s.body_jacobians.calf[1][1] + s.body_jacobians.calf[0][2]) + (s.body_jacobians.calf[1][2] + s.body_jacobians.calf[2][2]));
+  const T _sum_positions_3 = ((s.body_jacobians.calf[0][3] + s.body_jacobians.calf[1][3]) + (s.body_jacobians.calf[2][3] + s.body_jacobians.calf[3][3])) + ((s.body_jacobians.calf[4][3] + s.body_jacobians.calf[5][3]) + (s.body_jacobians.ankle_link[0][1] + s.body_jacobians.ankle_link[1][1]));
+  const T _sum_positions_4 = ((s.body_jacobians.ankle_link[0][2] + s.body_jacobians.ankle_link[1][2]) + (s.body_jacobians.ankle_link[2][2] + s.body_jacobians.ankle_link[0][3])) + ((s.body_jacobians.ankle_link[1][3] + s.body_jacobians.ankle_link[2][3]) + (s.body_jacobians.ankle_link[3][3] + s.body_jacobians.ankle_link[4][3]));
+  const T _sum_positions_5 = ((s.body_jacobians.ankle_link[5][3] + s.body_jacobians.ankle_link[0][4]) + (s.body_jacobians.ankle_link[1][4] + s.body_jacobians.ankle_link[2][4])) + ((s.body_jacobians.ankle_link[3][4] + s.body_jacobians.ankle_link[4][4]) + (s.body_jacobians.ankle_link[5][4] + s.body_jacobians.foot[0][1]));
+  const T _sum_positions_6 = ((s.body_jacobians.foot[1][1] + s.body_jacobians.foot[0][2]) + (s.body_jacobians.foot[1][2] + s.body_jacobians.foot[2][2])) + ((s.body_jacobians.foot[0][3] + s.body_jacobians.foot[1][3]) + (s.body_jacobians.foot[2][3] + s.body_jacobians.foot[3][3]));
+  const T _sum_positions_7 = ((s.body_jacobians.foot[4][3] + s.body_jacobians.foot[5][3]) + (s.body_jacobians.foot[0][4] + s.body_jacobians.foot[1][4])) + ((s.body_jacobians.foot[2][4] + s.body_jacobians.foot[3][4]) + (s.body_jacobians.foot[4][4] + s.body_jacobians.foot[5][4]));
+  const T _sum_positions_8 = ((s.body_jacobians.foot[0][5] + s.body_jacobians.foot[1][5]) + (s.body_jacobians.foot[2][5] + s.body_jacobians.foot[3][5])) + ((s.body_jacobians.foot[4][5] + s.body_jacobians.foot[5][5]) + (s.point_jacobians.K[0][0] + s.point_jacobians.K[1][0]));
+  const T _sum_positions_9 = ((s.point_jacobians.K[0][1] + s.point_jacobians.K[1][1]) + (s.point_jacobians.K[2][1] + s.point_jacobians.K[0][2])) + ((s.point_jacobians.K[1][2] + s.point_jacobians.K[2][2]) + (s.point_jacobians.A[0][0] + s.point_jacobians.A[1][0]));
+  const T _sum_positions_10 = ((s.point_jacobians.A[0][1] + s.point_jacobians.A[1][1]) + (s.point_jacobians.A[2][1] + s.point_jacobians.A[0][2])) + ((s.point_jacobians.A[1][2] + s.point_jacobians.A[2][2]) + (s.point_jacobians.A[0][3] + s.point_jacobians.A[1][3]));
+  const T _sum_positions_11 = ((s.point_jacobians.A[2][3] + s.point_jacobians.foot[0][0]) + (s.point_jacobians.foot[1][0] + s.point_jacobians.foot[0][1])) + ((s.point_jacobians.foot[1][1] + s.point_jacobians.foot[2][1]) + (s.point_jacobians.foot[0][2] + s.point_jacobians.foot[1][2]));
+  const T _sum_positions_12 = ((s.point_jacobians.foot[2][2] + s.point_jacobians.foot[0][3]) + (s.point_jacobians.foot[1][3] + s.point_jacobians.foot[2][3])) + ((s.point_jacobians.foot[0][4] + s.point_jacobians.foot[1][4]) + (s.point_jacobians.foot[2][4] + s.point_jacobians.foot[0][5]));
+  const T _sum_positions_13 = ((s.point_jacobians.foot[1][5] + s.point_jacobians.foot[2][5]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[2][1] + s.point_jacobians.toe[0][2]));
+  const T _sum_positions_14 = ((s.point_jacobians.toe[1][2] + s.point_jacobians.toe[2][2]) + (s.point_jacobians.toe[0][3] + s.point_jacobians.toe[1][3])) + ((s.point_jacobians.toe[2][3] + s.point_jacobians.toe[0][4]) + (s.point_jacobians.toe[1][4] + s.point_jacobians.toe[2][4]));
+  const T _sum_positions_15 = s.point_jacobians.toe[0][5] + (s.point_jacobians.toe[1][5] + s.point_jacobians.toe[2][5]);
+  const T _sum_positions_16 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_17 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions = _sum_positions_16 + _sum_positions_17;
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 7, Status::non_finite);
+  const T _sum_forces = (s.drivers.q6.effort + (s.drivers.q5.effort + s.drivers.q4.effort)) + (s.drivers.q3.effort + (s.drivers.q2.effort + s.drivers.q1.effort));
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 9, Status::non_finite);
 
   return Status::ok;
 }
@@ -2185,6 +2335,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
 // driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 42;
 inline constexpr int ne_size = 42;
 inline constexpr const char* ne_unknowns[] = { "hip_yaw.fx", "hip_yaw.fy", "hip_yaw.fz", "hip_yaw.mx", "hip_yaw.my", "hip_yaw.mz", "hip_roll.fx", "hip_roll.fy", "hip_roll.fz", "hip_roll.mx", "hip_roll.my", "hip_roll.mz", "hip_pitch.fx", "hip_pitch.fy", "hip_pitch.fz", "hip_pitch.mx", "hip_pitch.my", "hip_pitch.mz", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "ankle_pitch.fx", "ankle_pitch.fy", "ankle_pitch.fz", "ankle_pitch.mx", "ankle_pitch.my", "ankle_pitch.mz", "ankle_roll.fx", "ankle_roll.fy", "ankle_roll.fz", "ankle_roll.mx", "ankle_roll.my", "ankle_roll.mz", "q1.effort", "q2.effort", "q3.effort", "q4.effort", "q5.effort", "q6.effort" };
@@ -2702,11 +2853,32 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[33] = M_foot_x;
   b[34] = M_foot_y;
   b[35] = M_foot_z;
+  const T _sum_forces_0 = ((A[163] + A[205]) + (A[415] + A[416])) + ((A[457] + A[458]) + (A[500] + A[649]));
+  const T _sum_forces_1 = ((A[650] + A[668]) + (A[669] + A[690])) + ((A[692] + A[710]) + (A[711] + A[732]));
+  const T _sum_forces_2 = ((A[733] + A[752]) + (A[753] + A[901])) + ((A[902] + A[907]) + (A[908] + A[921]));
+  const T _sum_forces_3 = ((A[922] + A[942]) + (A[944] + A[948])) + ((A[950] + A[963]) + (A[964] + A[984]));
+  const T _sum_forces_4 = ((A[985] + A[990]) + (A[991] + A[1005])) + ((A[1006] + A[1159]) + (A[1160] + A[1165]));
+  const T _sum_forces_5 = ((A[1166] + A[1174]) + (A[1175] + A[1200])) + ((A[1202] + A[1206]) + (A[1208] + A[1216]));
+  const T _sum_forces_6 = ((A[1217] + A[1242]) + (A[1243] + A[1248])) + ((A[1249] + A[1258]) + (A[1259] + A[1417]));
+  const T _sum_forces_7 = ((A[1418] + A[1427]) + (A[1458] + A[1460])) + ((A[1469] + A[1500]) + (A[1501] + A[1511]));
+  const T _sum_forces_8 = ((A[1563] + A[1564]) + (A[1611] + A[1612])) + ((A[1613] + A[1656]) + (A[1657] + A[1658]));
+  const T _sum_forces_9 = ((A[1659] + A[1660]) + (A[1661] + A[1704])) + ((A[1705] + A[1706]) + (A[1707] + A[1708]));
+  const T _sum_forces_10 = ((A[1709] + A[1752]) + (A[1753] + A[1754])) + ((A[1755] + A[1756]) + (A[1757] + b[0]));
+  const T _sum_forces_11 = ((b[1] + b[3]) + (b[4] + b[5])) + ((b[6] + b[7]) + (b[8] + b[9]));
+  const T _sum_forces_12 = ((b[10] + b[11]) + (b[12] + b[13])) + ((b[14] + b[15]) + (b[16] + b[17]));
+  const T _sum_forces_13 = ((b[18] + b[19]) + (b[20] + b[21])) + ((b[22] + b[23]) + (b[24] + b[25]));
+  const T _sum_forces_14 = ((b[26] + b[27]) + (b[28] + b[29])) + ((b[30] + b[31]) + (b[32] + b[33]));
+  const T _sum_forces_15 = b[34] + b[35];
+  const T _sum_forces_16 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+  const T _sum_forces_17 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
+  const T _sum_forces = _sum_forces_16 + _sum_forces_17;
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
 
-// evaluate() for n samples: status[i] for sample i (no heap; the caller owns the arrays).
+// evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
+// heap; the caller owns the arrays).
 template <class T>
 void evaluate_batch(const Params<T>& p, const Inputs<T>* in, long n, State<T>* out,
                     Status* status) noexcept {
@@ -2746,6 +2918,11 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.q6_dd = _tmp6;
 
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xda62f46139597f16ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

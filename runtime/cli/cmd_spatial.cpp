@@ -3,12 +3,14 @@
 // assembly and redundancy, the info JSON of DESIGN.md's "Spatial models" and the numeric sweep.
 #include "cli/cmd_spatial.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "cli/model_info.hpp"
 #include "model/spatial_graph.hpp"
+#include "ondemand/kernel_resolver.hpp"
 #include "report/csv_table.hpp"
 #include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
@@ -136,7 +138,7 @@ int run_spatial_check(const Args& args) {
   try {
     const gen::SpatialDerivation d = gen::derive_spatial(model, g);
     const std::string compiled =
-        find_compiled_kernel(model.common.name) ? " (compiled into this mechgen)" : "";
+        ondemand::current_compiled_kernel(model) ? " (compiled into this mechgen)" : "";
     if (d.closure_start.empty())
       out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
              " bodies by product of exponentials, rates outward, Newton-Euler inward" + compiled +
@@ -246,13 +248,8 @@ int run_spatial_sweep(const Args& args) {
   const bool generated = solver_option(args) != "numeric";
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
   const SpatialModel model = load_spatial(path);
-  const CompiledKernel* kernel = generated ? find_compiled_kernel(model.common.name) : nullptr;
-  if (generated && !kernel)
-    throw UsageError("no generated kernel for spatial model '" + model.common.name +
-                     "' in this build (pose drivers are not generated yet; a model must be listed "
-                     "to be compiled in): "
-                     "use --solver numeric, or add it to MECHGEN_SPATIAL_KERNEL_MODELS in "
-                     "generated/CMakeLists.txt");
+  // The current compiled-in kernel, else one built on demand (never one of another description).
+  const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;
   std::vector<double> parameters = model.common.default_parameters();
   apply_overrides(model.common, args.all("--set"), parameters);
   spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);
@@ -265,6 +262,18 @@ int run_spatial_sweep(const Args& args) {
       kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)
              : spatial::run_spatial_sweep(model, options);
   const double elapsed = seconds_since(start);
+  // A closed chain's kernel gives kinematics and driver efforts; its reactions are not generated
+  // yet (NaN by design): never written with exit 0.
+  if (kernel)
+    for (const std::vector<double>& row : result.rows)
+      for (size_t c = 0; c < row.size(); ++c)
+        if (!std::isfinite(row[c]))
+          throw ModelError(model.common.file.empty() ? SourceLoc{path, 0, 0}
+                                                     : SourceLoc{model.common.file, 0, 0},
+                           "the generated kernel of '" + model.common.name +
+                               "' (closed circuits) gives kinematics and driver efforts only: "
+                               "column " + result.columns[c] +
+                               " (a joint reaction) is not generated yet; use --solver numeric");
   const std::string out = args.get("--out");
   g_current_file = out;
   report::CsvTable table{out, result.columns, result.rows};

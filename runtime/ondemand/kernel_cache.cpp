@@ -16,6 +16,7 @@
 #include "model/fingerprint.hpp"
 #include "ondemand/data_paths.hpp"
 #include "ondemand/process.hpp"
+#include "spatial_emitter.hpp"
 
 namespace mechgen::ondemand {
 
@@ -89,19 +90,28 @@ const CompiledKernel* load(const fs::path& library, const Model& model, std::uin
 }
 
 // Generates and compiles the kernel into `library` (kernel_cache.hpp).
-void build(const Model& model, const fs::path& cache, const std::vector<std::string>& command,
-           const fs::path& library) {
+void build(const Model& model, gen::KernelKind kind, const fs::path& cache,
+           const std::vector<std::string>& command, const fs::path& library) {
   const fs::path dir = make_build_dir(cache, model.name);
   std::error_code ignored;
   try {
-    gen::generate(model, {model.file, dir.string(), templates_dir(), false});
+    const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false};
+    if (kind == gen::KernelKind::spatial)
+      gen::generate_spatial(options);  // reads model.file again: load() checks the fingerprint
+    else
+      gen::generate(model, options);
   } catch (const ModelError&) {
     fs::remove_all(dir, ignored);
     throw;
   } catch (const std::exception& error) {
     fs::remove_all(dir, ignored);
-    throw std::runtime_error("cannot generate a kernel for '" + model.name + "': " + error.what() +
-                             " (use --solver numeric)");
+    // The generator's own "FILE: error: " prefix is dropped (the command prints its own), and the
+    // advice is given once.
+    std::string why = error.what();
+    const std::string prefix = model.file + ": error: ";
+    if (why.rfind(prefix, 0) == 0) why.erase(0, prefix.size());
+    if (why.find("--solver numeric") == std::string::npos) why += " (use --solver numeric)";
+    throw std::runtime_error("cannot generate a kernel for '" + model.name + "': " + why);
   }
   std::vector<std::string> argv = command;
   const fs::path built = dir / (model.name + ".so");
@@ -157,7 +167,7 @@ std::vector<std::string> compile_command() {
 }
 
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
-                                    const std::string& reason) {
+                                    const std::string& reason, gen::KernelKind kind) {
   const fs::path cache = cache_dir();
   std::error_code error;
   fs::create_directories(cache, error);
@@ -178,7 +188,7 @@ const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprin
             << ", first use: " << std::flush;
   const auto start = std::chrono::steady_clock::now();
   try {
-    build(model, cache, command, library);
+    build(model, kind, cache, command, library);
   } catch (...) {
     std::cerr << "failed\n";
     throw;

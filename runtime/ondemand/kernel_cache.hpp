@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "kernel_fingerprint.hpp"
 #include "model/model.hpp"
 #include "sweep/compiled_kernel.hpp"
 
@@ -34,8 +35,10 @@ std::vector<std::string> compile_command();
 
 // The kernel of `model` whose fingerprint is `fingerprint`: loaded from the cache, else generated,
 // compiled (saying so on stderr, with the time it took) and cached. Throws std::runtime_error when
-// it cannot be generated, compiled (the message names the compiler's log file) or loaded.
+// it cannot be generated, compiled (the message names the compiler's log file) or loaded. A spatial
+// kernel (`kind`) is generated from the description's file, model.file, by the spatial emitter.
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
-                                    const std::string& reason);
+                                    const std::string& reason,
+                                    gen::KernelKind kind = gen::KernelKind::planar);
 
 }  // namespace mechgen::ondemand

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "model/model.hpp"
+#include "model/spatial_model.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::ondemand {
@@ -22,5 +23,12 @@ const CompiledKernel* current_compiled_kernel(const Model& model);
 // Thread-safe (one build at a time; a kernel is resolved once per process). Throws
 // std::runtime_error when no kernel can be had: the generated solver never falls back silently.
 const CompiledKernel& kernel_for(const Model& model);
+
+// The same for a spatial model (`dimension: spatial`): its kernels come from the spatial templates,
+// so their fingerprint is another (generator/kernel_fingerprint.hpp, KernelKind::spatial); an
+// on-demand one is generated from model.common.file.
+std::uint64_t expected_fingerprint(const SpatialModel& model);
+const CompiledKernel* current_compiled_kernel(const SpatialModel& model);
+const CompiledKernel& kernel_for(const SpatialModel& model);
 
 }  // namespace mechgen::ondemand

@@ -1,6 +1,7 @@
 // The spatial sweep through a generated kernel (spatial_kernel_sweep.hpp).
 #include "spatial/spatial_kernel_sweep.hpp"
 
+#include <cstdio>
 #include <sstream>
 
 namespace mechgen::spatial {
@@ -30,12 +31,20 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
     int group = -1;
     const int status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
     if (status != 0) {
+      // As the planar sweep words it (runtime/sweep/sweep.cpp): sample, time, status, group.
+      char time[32];
+      std::snprintf(time, sizeof time, "%.17g", t);
       std::ostringstream m;
-      m << "the generated kernel reports " << (status == 1 ? "unreachable" : "singular")
-        << " at t = " << t
-        << (group >= 0 && group < kernel.group_count
-                ? std::string(" in group '") + kernel.group_names[group] + "'"
-                : std::string(" (non-finite driver input)"));
+      m << "generated kernel: sample " << i + 1 << " of " << options.samples << ", t = " << time
+        << ": "
+        << (status == 1   ? "unreachable"
+            : status == 2 ? "singular"
+                          : "non-finite result");
+      if (group >= 0 && group < kernel.group_count) m << " in group " << kernel.group_names[group];
+      m << (status == 1   ? " (the mechanism cannot assemble there with these parameters)"
+            : status == 3 ? " (the parameters or the motion are too large for double precision: "
+                            "an output overflows)"
+                          : " (the configuration is singular there)");
       throw ModelError(file, m.str());
     }
     result.rows.push_back(std::move(row));

@@ -11,8 +11,9 @@ namespace mechgen::spatial {
 // The instant of sample i of the sweep (t0 and t1 included).
 double spatial_sample_time(const SpatialSweepOptions& options, int i);
 
-// Throws ModelError for a kernel whose columns are not the model's (a stale build) and for a
-// sample the kernel reports unreachable or singular (naming t and the failing group).
+// The kernel must be one of this description (ondemand::kernel_for). Throws ModelError for a
+// kernel whose columns are not the model's and for a sample the kernel reports unreachable,
+// singular or non-finite (naming the sample, its time and the failing group or stage).
 SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
                                             const SpatialSweepOptions& options,
                                             const CompiledKernel& kernel);

@@ -214,7 +214,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_link1_plate_link2_link3", "inputs", "positions", "rates", "forces" };
 
@@ -1859,8 +1860,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_link1_plate_link2_link3_converged = T(7.34734e-11) - _tmp337*_tmp337 - _tmp338*_tmp338 - _tmp339*_tmp339 - _tmp340*_tmp340;
   if (!(g2_link1_plate_link2_link3_converged > T(0))) return detail::failed(s, 1, Status::unreachable);
   if (!(g2_link1_plate_link2_link3_det != T(0))) return detail::failed(s, 1, Status::singular);
-  if (!(ne_pivot10 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot12 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot10 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne_pivot12 != T(0))) return detail::failed(s, 5, Status::singular);
   const T jD_fy = jC3_fy + link3_inertial_y;
   s.joints.jD.fy = jD_fy;
   const T jD_fx = jC3_fx + link3_inertial_x;
@@ -1873,9 +1874,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.jA.fy = jA_fy;
   const T jA_fx = crank_inertial_x + jP_fx;
   s.joints.jA.fx = jA_fx;
-  if (!(ne9 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne15 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne19 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne9 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne15 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne19 != T(0))) return detail::failed(s, 5, Status::singular);
   s.warm.g2_link1_plate_link2_link3_link1 = g2_link1_plate_link2_link3_link1_n10;
   s.warm.g2_link1_plate_link2_link3_plate = g2_link1_plate_link2_link3_plate_n10;
   s.warm.g2_link1_plate_link2_link3_link2 = g2_link1_plate_link2_link3_link2_n10;
@@ -2698,9 +2699,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T Tip_y = T(0.2)*c_plate + T(0.3)*s_plate + y_plate;
     out[65 * stride + i] = Tip_y;
     const T ne_pivot10 = P_x - C1_x;
-    failed = max(failed, (ne_pivot10 != T(0)) ? T(0) : T(8142850));
+    failed = max(failed, (ne_pivot10 != T(0)) ? T(0) : T(8142874));
     const T ne_pivot12 = T(0.32) - C2_x;
-    failed = max(failed, (ne_pivot12 != T(0)) ? T(0) : T(8138754));
+    failed = max(failed, (ne_pivot12 != T(0)) ? T(0) : T(8138778));
     const T _tmp324 = T(1)/ne_pivot12;
     const T ne8 = _tmp324;
     const T _tmp325 = T(1)/ne_pivot10;
@@ -2710,19 +2711,19 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne5 = -ne2;
     const T _tmp327 = C2_y + T(0.273);
     const T ne9 = ne5 - _tmp327*ne8;
-    failed = max(failed, (ne9 != T(0)) ? T(0) : T(8134658));
+    failed = max(failed, (ne9 != T(0)) ? T(0) : T(8134682));
     const T ne11 = -(C1_x - C2_x)*_tmp324;
     const T ne12 = C1_y - _tmp327*ne11 - C2_y;
     const T _tmp328 = T(1)/ne9;
     const T ne14 = ne12*_tmp328;
     const T ne6 = -ne2;
     const T ne15 = C1_y - C3_y - ne14*ne6;
-    failed = max(failed, (ne15 != T(0)) ? T(0) : T(8130562));
+    failed = max(failed, (ne15 != T(0)) ? T(0) : T(8130586));
     const T _tmp329 = T(1)/ne15;
     const T ne18 = (C3_y - T(0.18))*_tmp329;
     const T ne16 = C3_x - C1_x - ne14;
     const T ne19 = T(0.438) - C3_x - ne16*ne18;
-    failed = max(failed, (ne19 != T(0)) ? T(0) : T(8126466));
+    failed = max(failed, (ne19 != T(0)) ? T(0) : T(8126490));
     const T plate_inertial_y = p.m_p*(com_plate_y_dd + T(9.81));
     const T plate_inertial_x = p.m_p*com_plate_x_dd;
     const T link2_mass = T(0.32398919735077586)*p.bt*p.bw*p.rho;
@@ -3595,7 +3596,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x7afbb0b2f973791fULL;
+inline constexpr unsigned long long fingerprint = 0x216a6fd473e5ff0bULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

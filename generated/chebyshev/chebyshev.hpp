@@ -198,7 +198,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker", "inputs", "positions", "rates", "forces" };
 
@@ -549,8 +550,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
   s.joints.A_ground_crank.fx = A_ground_crank_fx;
   if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
-  if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne2 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne8 != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.coupler.x) + (s.bodies.coupler.y + s.bodies.coupler.cos_th));
   const T _sum_positions_1 = ((s.bodies.coupler.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th)) + ((s.bodies.rocker.sin_th + s.points.B.x) + (s.points.P.x + s.points.P.y));
   const T _sum_positions_2 = (s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y);
@@ -741,13 +742,13 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[30 * stride + i] = com_rocker_y_dd;
     const T ne1 = _tmp3;
     const T ne2 = -ne1;
-    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183810));
+    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183834));
     const T _tmp9 = T(1)/ne2;
     const T ne7 = M_y*_tmp9;
     const T ne4 = -_tmp4;
     const T ne5 = -ne4;
     const T ne8 = B_x - M_x - ne5*ne7;
-    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8179714));
+    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8179738));
     const T _tmp10 = sqrt(_tmp0);
     const T rocker_mass = T(2.5)*p.bar_t*p.bar_w*p.rho*_tmp10;
     const T rocker_inertial_x = rocker_mass*com_rocker_x_dd;
@@ -974,7 +975,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xfe11dea92dd13b93ULL;
+inline constexpr unsigned long long fingerprint = 0x545ec0b1c638ff47ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -232,16 +232,35 @@ struct State {
     T q[3] = {T(0.0), T(0.0), T(0.0)};
     T next[3], residual, det;
   } closure;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 4;
-// Solve groups in order (one per located body); State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "crank", "rocker", "coupler", "closure" };
+// The 4 solve groups in order (one per located body), then the stages checked
+// after them: "inputs" (a non-finite driver input: unreachable), "positions", "rates", "forces" (a
+// non-finite output of that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 8;
+inline constexpr const char* group_names[] = { "crank", "rocker", "coupler", "closure", "inputs", "positions", "rates", "forces" };
 
-// A driver motion outside its domain arrives here as NaN or infinity.
+namespace detail {
+// A failed check: the State is cleared (it would otherwise hold part of a configuration) and the
+// failing group recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
+// A driver motion outside its domain arrives here as NaN or infinity: the entries return
+// unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -255,7 +274,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 1182
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
@@ -734,6 +753,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.C[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_C_x;
   s.point_jacobians.M[0][0] = jv_coupler_0_x - jw_coupler_0_z*pt_M_y;
   s.point_jacobians.M[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_M_x;
+  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
+  const T _sum_positions_1 = ((s.bodies.coupler.R[0] + s.bodies.coupler.R[1]) + (s.bodies.coupler.R[3] + s.bodies.coupler.R[4])) + ((s.bodies.rocker.x + s.bodies.rocker.y) + (s.bodies.rocker.R[0] + s.bodies.rocker.R[1]));
+  const T _sum_positions_2 = ((s.bodies.rocker.R[3] + s.bodies.rocker.R[4]) + (s.points.B.x + s.points.P.x)) + ((s.points.P.y + s.points.C.x) + (s.points.C.y + s.points.M.x));
+  const T _sum_positions_3 = ((s.points.M.y + s.joints.A_ground_crank.q) + (s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q)) + ((s.joints.B_ground_rocker.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]));
+  const T _sum_positions_4 = ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.P[0][0])) + ((s.point_jacobians.P[1][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.M[0][0]));
+  const T _sum_positions_5 = s.point_jacobians.M[1][0];
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.residual)) + ((s.closure.det + s.bodies.crank.vx) + (s.bodies.crank.vy + s.bodies.crank.ax));
+  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.wz) + (s.bodies.crank.alz + s.bodies.coupler.vx)) + ((s.bodies.coupler.vy + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.wz));
+  const T _sum_rates_2 = ((s.bodies.coupler.alz + s.bodies.rocker.vx) + (s.bodies.rocker.vy + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.wz) + (s.bodies.rocker.alz + s.points.P.vx));
+  const T _sum_rates_3 = ((s.points.P.vy + s.points.P.ax) + (s.points.P.ay + s.points.C.vx)) + ((s.points.C.vy + s.points.C.ax) + (s.points.C.ay + s.points.M.vx));
+  const T _sum_rates_4 = ((s.points.M.vy + s.points.M.ax) + (s.points.M.ay + s.joints.A_ground_crank.qd)) + ((s.joints.A_ground_crank.qdd + s.joints.P_crank_coupler.qd) + (s.joints.P_crank_coupler.qdd + s.joints.M_rocker_coupler.qd));
+  const T _sum_rates_5 = (s.joints.M_rocker_coupler.qdd + s.joints.B_ground_rocker.qd) + (s.joints.B_ground_rocker.qdd + (s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd));
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -748,12 +783,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 }
 
 // Kinematics, screw Jacobians and the inverse dynamics: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 1263
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
@@ -1279,6 +1315,24 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.B_ground_rocker.mx = not_generated;
   s.joints.B_ground_rocker.my = not_generated;
   s.joints.B_ground_rocker.mz = not_generated;
+  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
+  const T _sum_positions_1 = ((s.bodies.coupler.R[0] + s.bodies.coupler.R[1]) + (s.bodies.coupler.R[3] + s.bodies.coupler.R[4])) + ((s.bodies.rocker.x + s.bodies.rocker.y) + (s.bodies.rocker.R[0] + s.bodies.rocker.R[1]));
+  const T _sum_positions_2 = ((s.bodies.rocker.R[3] + s.bodies.rocker.R[4]) + (s.points.B.x + s.points.P.x)) + ((s.points.P.y + s.points.C.x) + (s.points.C.y + s.points.M.x));
+  const T _sum_positions_3 = ((s.points.M.y + s.joints.A_ground_crank.q) + (s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q)) + ((s.joints.B_ground_rocker.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]));
+  const T _sum_positions_4 = ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.P[0][0])) + ((s.point_jacobians.P[1][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.M[0][0]));
+  const T _sum_positions_5 = s.point_jacobians.M[1][0];
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.residual)) + ((s.closure.det + s.bodies.crank.vx) + (s.bodies.crank.vy + s.bodies.crank.ax));
+  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.wz) + (s.bodies.crank.alz + s.bodies.coupler.vx)) + ((s.bodies.coupler.vy + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.wz));
+  const T _sum_rates_2 = ((s.bodies.coupler.alz + s.bodies.rocker.vx) + (s.bodies.rocker.vy + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.wz) + (s.bodies.rocker.alz + s.points.P.vx));
+  const T _sum_rates_3 = ((s.points.P.vy + s.points.P.ax) + (s.points.P.ay + s.points.C.vx)) + ((s.points.C.vy + s.points.C.ax) + (s.points.C.ay + s.points.M.vx));
+  const T _sum_rates_4 = ((s.points.M.vy + s.points.M.ax) + (s.points.M.ay + s.joints.A_ground_crank.qd)) + ((s.joints.A_ground_crank.qdd + s.joints.P_crank_coupler.qd) + (s.joints.P_crank_coupler.qdd + s.joints.M_rocker_coupler.qd));
+  const T _sum_rates_5 = (s.joints.M_rocker_coupler.qdd + s.joints.B_ground_rocker.qd) + (s.joints.B_ground_rocker.qdd + (s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd));
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
+  const T _sum_forces = s.drivers.crank_angle.effort;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -1299,7 +1353,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::cos;
   using detail::sin;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 1231
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
@@ -1678,6 +1732,15 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.point_jacobians.M[0][0] = jv_coupler_0_x - jw_coupler_0_z*pt_M_y;
   s.point_jacobians.M[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_M_x;
   s.drivers.crank_angle.effort = tau_crank_angle;
+  const T _sum_positions_0 = ((s.points.B.x + s.points.P.x) + (s.points.P.y + s.points.C.x)) + ((s.points.C.y + s.points.M.x) + (s.points.M.y + s.body_jacobians.coupler[2][0]));
+  const T _sum_positions_1 = ((s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0]) + (s.body_jacobians.rocker[2][0] + s.body_jacobians.rocker[4][0])) + ((s.point_jacobians.P[0][0] + s.point_jacobians.P[1][0]) + (s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]));
+  const T _sum_positions_2 = s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0];
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates = (s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + (s.closure.residual + s.closure.det));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
+  const T _sum_forces = s.drivers.crank_angle.effort;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -1696,6 +1759,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
 // driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 0;
 inline constexpr int ne_size = 0;
 inline constexpr const char* ne_unknowns[] = { nullptr };
@@ -1710,7 +1774,8 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   return Status::ok;
 }
 
-// evaluate() for n samples: status[i] for sample i (no heap; the caller owns the arrays).
+// evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
+// heap; the caller owns the arrays).
 template <class T>
 void evaluate_batch(const Params<T>& p, const Inputs<T>* in, long n, State<T>* out,
                     Status* status) noexcept {
@@ -1727,6 +1792,11 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.crank_angle_dd = T(0);
 
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xe84a6d6ff0187ba1ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

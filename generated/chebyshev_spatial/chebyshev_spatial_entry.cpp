@@ -56,7 +56,8 @@ static int evaluate_driven_row(const double* parameters, double t, const double*
   return evaluate_inputs(p, in, row, failed_group);
 }
 
-// n samples at times t[0..n): column c of sample i to out[c * n + i].
+// n samples at times t[0..n): column c of sample i to out[c * n + i]; status[i] and group[i] per
+// sample (a failed sample's columns are garbage).
 static void evaluate_batch_rows(const double* parameters, const double* t, long n, double* out,
                                 int* status, int* group) {
   double row[column_count];
@@ -72,8 +73,18 @@ const CompiledKernel& compiled_kernel() {
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 1,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     0 /* fingerprint: none for spatial kernels yet */};
+                                     fingerprint};
   return kernel;
 }
 
 }  // namespace mechgen::gen::chebyshev_spatial
+
+#if defined(MECHGEN_KERNEL_SHARED)
+// The one symbol of a kernel built as a shared library by mechgen on demand (built with hidden
+// visibility, so nothing else can clash with the mechgen binary's own kernels): the kernel when
+// the loader's CompiledKernel layout is `abi`, else null.
+extern "C" __attribute__((visibility("default"))) const mechgen::CompiledKernel*
+mechgen_kernel_entry(int abi) {
+  return abi == mechgen::kCompiledKernelAbi ? &mechgen::gen::chebyshev_spatial::compiled_kernel() : nullptr;
+}
+#endif

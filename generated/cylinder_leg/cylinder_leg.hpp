@@ -228,7 +228,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_thigh_barrel1_rod1", "g2_shank_rod2_barrel2", "inputs", "positions", "rates", "forces" };
 
@@ -917,10 +918,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.barrel1.vx = com_barrel1_x_d;
   const T com_barrel1_y_d = T(0.08)*s_barrel1_d;
   s.bodies.barrel1.vy = com_barrel1_y_d;
-  if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne20 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne28 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne35 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne8 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne20 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne28 != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne35 != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.l1.q + s.drivers.l2.q) + (s.bodies.thigh.x + s.bodies.thigh.y)) + ((s.bodies.thigh.cos_th + s.bodies.thigh.sin_th) + (s.bodies.shank.x + s.bodies.shank.y));
   const T _sum_positions_1 = ((s.bodies.shank.cos_th + s.bodies.shank.sin_th) + (s.bodies.barrel1.x + s.bodies.barrel1.y)) + ((s.bodies.barrel1.cos_th + s.bodies.barrel1.sin_th) + (s.bodies.rod1.x + s.bodies.rod1.y));
   const T _sum_positions_2 = ((s.bodies.rod1.cos_th + s.bodies.rod1.sin_th) + (s.bodies.barrel2.x + s.bodies.barrel2.y)) + ((s.bodies.barrel2.cos_th + s.bodies.barrel2.sin_th) + (s.bodies.rod2.x + s.bodies.rod2.y));
@@ -1254,7 +1255,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp25 = stroke1_normal_x*y_rod1;
     const T _tmp26 = T1_x - x_rod1;
     const T ne8 = _tmp23 + _tmp24*stroke1_normal_x + _tmp25 - _tmp26*c_barrel1;
-    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8175618));
+    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8175642));
     const T ne15 = -T1_x;
     const T ne12 = -T1_y*stroke1_normal_x;
     const T ne16 = ne12 - c_barrel1*ne15;
@@ -1266,12 +1267,12 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp29 = c_barrel1*y_rod1;
     const T ne9 = _tmp28 + _tmp24*c_barrel1 + _tmp29 - _tmp26*s_barrel1;
     const T ne20 = ne17 - ne19*ne9;
-    failed = max(failed, (ne20 != T(0)) ? T(0) : T(8171522));
+    failed = max(failed, (ne20 != T(0)) ? T(0) : T(8171546));
     const T ne26 = _tmp12;
     const T ne22 = -_tmp13;
     const T ne24 = c_rod2*ne22;
     const T ne28 = ne24 + ne26*s_rod2;
-    failed = max(failed, (ne28 != T(0)) ? T(0) : T(8167426));
+    failed = max(failed, (ne28 != T(0)) ? T(0) : T(8167450));
     const T _tmp30 = F_x - x_rod2;
     const T _tmp31 = S_y - y_rod2;
     const T _tmp32 = _tmp31*c_rod2;
@@ -1288,7 +1289,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne23 = ne22*stroke2_normal_x;
     const T ne27 = c_rod2*ne26 + ne23;
     const T ne35 = ne31 - ne27*ne34;
-    failed = max(failed, (ne35 != T(0)) ? T(0) : T(8163330));
+    failed = max(failed, (ne35 != T(0)) ? T(0) : T(8163354));
     const T rod2_inertial_y = p.m_r*(com_rod2_y_dd + T(9.81));
     const T rod2_inertial_x = p.m_r*com_rod2_x_dd;
     const T _tmp39 = T(1)/T(12);
@@ -1716,7 +1717,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x3503ac9fed6e505cULL;
+inline constexpr unsigned long long fingerprint = 0x12a14c1cc6d3b860ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 19;

@@ -204,7 +204,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_rocker_block", "inputs", "positions", "rates", "forces" };
 
@@ -531,7 +532,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T O_crank_fx = A_block_fx + crank_inertial_x;
   s.joints.O_crank.fx = O_crank_fx;
   if (!(g2_rocker_block_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
-  if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne2 != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th));
   const T _sum_positions_1 = ((s.bodies.rocker.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.points.B.x) + (s.points.A.x + s.points.A.y));
   const T _sum_positions_2 = (s.points.E.x + s.points.E.y) + (s.points.S.x + s.points.S.y);
@@ -710,7 +711,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp6 = (S_x - p.d)*c_rocker;
     const T _tmp7 = S_y*slide_normal_x;
     const T ne2 = (A_y - S_y)*slide_normal_x + _tmp7 - (A_x - S_x)*c_rocker - _tmp6;
-    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8187906));
+    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8187930));
     const T block_inertial_y = p.m_b*(com_block_y_dd + T(9.81));
     const T block_inertial_x = p.m_b*com_block_x_dd;
     const T block_inertia = T(0.00010833333333333333)*p.m_b;
@@ -932,7 +933,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x15bacff02aadb571ULL;
+inline constexpr unsigned long long fingerprint = 0xca444d12cca2e565ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 11;

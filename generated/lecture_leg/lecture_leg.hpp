@@ -223,16 +223,35 @@ struct State {
     T ankle[3][primary_count] = {};
     T toe[3][primary_count] = {};
   } point_jacobians;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 3;
-// Solve groups in order (one per located body); State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "thigh", "shank", "foot" };
+// The 3 solve groups in order (one per located body), then the stages checked
+// after them: "inputs" (a non-finite driver input: unreachable), "positions", "rates", "forces" (a
+// non-finite output of that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 7;
+inline constexpr const char* group_names[] = { "thigh", "shank", "foot", "inputs", "positions", "rates", "forces" };
 
-// A driver motion outside its domain arrives here as NaN or infinity.
+namespace detail {
+// A failed check: the State is cleared (it would otherwise hold part of a configuration) and the
+// failing group recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
+// A driver motion outside its domain arrives here as NaN or infinity: the entries return
+// unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -245,7 +264,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 196
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -472,17 +491,34 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[1][1] = pt_toe_x + sv_j2_y;
   s.point_jacobians.toe[0][2] = sv_j3_x - pt_toe_y;
   s.point_jacobians.toe[1][2] = pt_toe_x + sv_j3_y;
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.thigh.R[3] + s.bodies.thigh.R[4]) + (s.bodies.shank.x + s.bodies.shank.y));
+  const T _sum_positions_1 = ((s.bodies.shank.R[0] + s.bodies.shank.R[1]) + (s.bodies.shank.R[3] + s.bodies.shank.R[4])) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.bodies.foot.R[0] + s.bodies.foot.R[1]));
+  const T _sum_positions_2 = ((s.bodies.foot.R[3] + s.bodies.foot.R[4]) + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
+  const T _sum_positions_3 = ((s.joints.j1.q + s.joints.j2.q) + (s.joints.j3.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_4 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
+  const T _sum_positions_5 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
+  const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
+  const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
+  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j1.qd + s.joints.j1.qdd));
+  const T _sum_rates_4 = ((s.joints.j2.qd + s.joints.j2.qdd) + (s.joints.j3.qd + s.joints.j3.qdd)) + ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd));
+  const T _sum_rates_5 = s.drivers.q3.qd + s.drivers.q3.qdd;
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
 }
 
 // Kinematics, screw Jacobians and the inverse dynamics: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 285
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -769,6 +805,26 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.j1.mx = T(0);
   s.joints.j1.my = T(0);
   s.joints.j1.mz = T(0);
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.thigh.R[3] + s.bodies.thigh.R[4]) + (s.bodies.shank.x + s.bodies.shank.y));
+  const T _sum_positions_1 = ((s.bodies.shank.R[0] + s.bodies.shank.R[1]) + (s.bodies.shank.R[3] + s.bodies.shank.R[4])) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.bodies.foot.R[0] + s.bodies.foot.R[1]));
+  const T _sum_positions_2 = ((s.bodies.foot.R[3] + s.bodies.foot.R[4]) + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
+  const T _sum_positions_3 = ((s.joints.j1.q + s.joints.j2.q) + (s.joints.j3.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_4 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
+  const T _sum_positions_5 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
+  const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
+  const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
+  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j1.qd + s.joints.j1.qdd));
+  const T _sum_rates_4 = ((s.joints.j2.qd + s.joints.j2.qdd) + (s.joints.j3.qd + s.joints.j3.qdd)) + ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd));
+  const T _sum_rates_5 = s.drivers.q3.qd + s.drivers.q3.qdd;
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_forces_0 = ((s.drivers.q3.effort + s.joints.j3.fx) + (s.joints.j3.fy + s.joints.j3.mz)) + ((s.drivers.q2.effort + s.joints.j2.fx) + (s.joints.j2.fy + s.joints.j2.mz));
+  const T _sum_forces_1 = s.drivers.q1.effort + (s.joints.j1.fx + s.joints.j1.fy);
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
 }
@@ -780,7 +836,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 235
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -921,6 +977,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.q3.effort = tau_j3;
   s.drivers.q2.effort = tau_j2;
   s.drivers.q1.effort = tm_thigh_z;
+  const T _sum_positions_0 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_1 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
+  const T _sum_positions_2 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_forces = s.drivers.q3.effort + (s.drivers.q2.effort + s.drivers.q1.effort);
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
 }
@@ -930,6 +993,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
 // driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 21;
 inline constexpr int ne_size = 21;
 inline constexpr const char* ne_unknowns[] = { "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "q1.effort", "q2.effort", "q3.effort" };
@@ -1099,11 +1163,18 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[12] = F_foot_x;
   b[13] = F_foot_y;
   b[17] = M_foot_z;
+  const T _sum_forces_0 = ((A[71] + A[92]) + (A[111] + A[112])) + ((A[197] + A[203]) + (A[218] + A[224]));
+  const T _sum_forces_1 = ((A[237] + A[238]) + (A[243] + A[244])) + ((A[329] + A[350]) + (A[369] + A[370]));
+  const T _sum_forces_2 = ((A[405] + A[406]) + (A[432] + A[433])) + ((b[0] + b[1]) + (b[5] + b[6]));
+  const T _sum_forces_3 = (b[7] + b[11]) + (b[12] + (b[13] + b[17]));
+  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
 }
 
-// evaluate() for n samples: status[i] for sample i (no heap; the caller owns the arrays).
+// evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
+// heap; the caller owns the arrays).
 template <class T>
 void evaluate_batch(const Params<T>& p, const Inputs<T>* in, long n, State<T>* out,
                     Status* status) noexcept {
@@ -1131,6 +1202,11 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.q3_dd = -T(0.1)*_tmp3*_tmp2;
 
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0x0928ea29cbdf5259ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

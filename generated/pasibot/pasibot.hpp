@@ -283,7 +283,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 13 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 17;
 inline constexpr const char* group_names[] = { "g1_l8", "g2_l7_l9", "g3_l6_l3", "g4_l10", "g5_l5_l12", "g6_l4_l2", "g7_l1_l11", "g8_l7p_l9p", "g9_l6p_l3p", "g10_l10p", "g11_l5p_l12p", "g12_l4p_l2p", "g13_l11p_l1p", "inputs", "positions", "rates", "forces" };
 
@@ -3629,26 +3630,26 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(g13_l11p_l1p_disc > T(0))) return detail::failed(s, 12, Status::unreachable);
   const T S_10_12_fx = R_12_5_fx + ne161 - R_12_11_fy*ne160;
   s.joints.S_10_12.fx = S_10_12_fx;
-  if (!(ne2 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot32 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne2 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot32 != T(0))) return detail::failed(s, 16, Status::singular);
   const T R_12_11_fx = -(R_12_11_fy*ne5 - ne6)*_tmp314;
   s.joints.R_12_11.fx = R_12_11_fx;
-  if (!(ne_pivot35 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne191 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot35 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne191 != T(0))) return detail::failed(s, 16, Status::singular);
   const T Sp_10p_12p_fy = Fp_11p_1p_fy + Rp_12p_5p_fy + ne143;
   s.joints.Sp_10p_12p.fy = Sp_10p_12p_fy;
   const T Sp_10p_12p_fx = Fp_11p_1p_fx + Rp_12p_5p_fx + ne137;
   s.joints.Sp_10p_12p.fx = Sp_10p_12p_fx;
   const T S_10_12_fy = R_12_11_fy + R_12_5_fy + l12_inertial_y;
   s.joints.S_10_12.fy = S_10_12_fy;
-  if (!(ne_pivot40 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne225 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne231 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot44 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne253 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot49 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne287 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot53 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot40 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne225 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne231 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot44 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne253 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot49 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne287 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot53 != T(0))) return detail::failed(s, 16, Status::singular);
   const T Cp_3p_10p_fy = Sp_10p_12p_fy + l10p_inertial_y - _tmp397;
   s.joints.Cp_3p_10p.fy = Cp_3p_10p_fy;
   const T Cp_3p_10p_fx = Sp_10p_12p_fx + l10p_inertial_x - _tmp396;
@@ -3657,9 +3658,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.C_3_10.fy = C_3_10_fy;
   const T C_3_10_fx = S_10_12_fx + l10_inertial_x - _tmp394;
   s.joints.C_3_10.fx = C_3_10_fx;
-  if (!(ne321 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot55 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne_pivot57 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne321 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot55 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne_pivot57 != T(0))) return detail::failed(s, 16, Status::singular);
   const T cw_l8 = c_l1*c_l8_rel + s_l1*s_l8_rel;
   s.bodies.l8.cos_th = cw_l8;
   const T sw_l8 = c_l1*s_l8_rel - c_l8_rel*s_l1;
@@ -3748,7 +3749,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.l1p.cos_th = cw_l1p;
   const T sw_l1p = c_l1*s_l1p - c_l1p*s_l1;
   s.bodies.l1p.sin_th = sw_l1p;
-  if (!(ne_pivot58 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot58 != T(0))) return detail::failed(s, 16, Status::singular);
   const T Jp_3p_2p_fy = ne155 - Fp_11p_1p_fy - Lp_4p_2p_fy;
   s.joints.Jp_3p_2p.fy = Jp_3p_2p_fy;
   const T Jp_3p_2p_fx = ne149 - Fp_11p_1p_fx - Lp_4p_2p_fx;
@@ -3761,9 +3762,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.A_13_8.fy = A_13_8_fy;
   const T A_13_8_fx = P_8_7_fx + Pp_8_7p_fx + l8_inertial_x;
   s.joints.A_13_8.fx = A_13_8_fx;
-  if (!(ne358 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne349 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne72 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne358 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne349 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne72 != T(0))) return detail::failed(s, 16, Status::singular);
   const T ww_l8 = in.theta8_d - w_l1;
   s.bodies.l8.w = ww_l8;
   const T ww_l7 = w_l7 - w_l1;
@@ -3810,7 +3811,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.l11p.w = ww_l11p;
   const T ww_l1p = w_l1p - w_l1;
   s.bodies.l1p.w = ww_l1p;
-  if (!(ne_pivot63 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot63 != T(0))) return detail::failed(s, 16, Status::singular);
   const T Ep_2p_1p_fy = l1p_inertial_y - Fp_11p_1p_fy;
   s.joints.Ep_2p_1p.fy = Ep_2p_1p_fy;
   const T Ep_2p_1p_fx = l1p_inertial_x - Fp_11p_1p_fx;
@@ -3855,11 +3856,11 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.F_11_1.fy = F_11_1_fy;
   const T F_11_1_fx = R_12_11_fx - l11_inertial_x;
   s.joints.F_11_1.fx = F_11_1_fx;
-  if (!(ne408 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne424 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne408 != T(0))) return detail::failed(s, 16, Status::singular);
+  if (!(ne424 != T(0))) return detail::failed(s, 16, Status::singular);
   const T ww_l13 = -w_l1;
   s.bodies.l13.w = ww_l13;
-  if (!(ne431 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne431 != T(0))) return detail::failed(s, 16, Status::singular);
   const T _sum_positions_0 = ((s.drivers.theta8.q + s.bodies.l13.x) + (s.bodies.l13.y + s.bodies.l13.cos_th)) + ((s.bodies.l13.sin_th + s.bodies.l8.x) + (s.bodies.l8.y + s.bodies.l8.cos_th));
   const T _sum_positions_1 = ((s.bodies.l8.sin_th + s.bodies.l7.x) + (s.bodies.l7.y + s.bodies.l7.cos_th)) + ((s.bodies.l7.sin_th + s.bodies.l9.x) + (s.bodies.l9.y + s.bodies.l9.cos_th));
   const T _sum_positions_2 = ((s.bodies.l9.sin_th + s.bodies.l6.x) + (s.bodies.l6.y + s.bodies.l6.cos_th)) + ((s.bodies.l6.sin_th + s.bodies.l3.x) + (s.bodies.l3.y + s.bodies.l3.cos_th));
@@ -5354,23 +5355,23 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[257 * stride + i] = Fp_y;
     const T ne1 = R_y - F_y;
     const T ne2 = -ne1;
-    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8101890));
+    failed = max(failed, (ne2 != T(0)) ? T(0) : T(8101958));
     const T ne_pivot32 = L_y - D_y;
-    failed = max(failed, (ne_pivot32 != T(0)) ? T(0) : T(8097794));
+    failed = max(failed, (ne_pivot32 != T(0)) ? T(0) : T(8097862));
     const T ne_pivot35 = M_y - B_y;
-    failed = max(failed, (ne_pivot35 != T(0)) ? T(0) : T(8093698));
+    failed = max(failed, (ne_pivot35 != T(0)) ? T(0) : T(8093766));
     const T _tmp308 = T(1)/ne_pivot35;
     const T ne190 = -(M_y - P_y)*_tmp308;
     const T _tmp309 = B_x - M_x;
     const T ne191 = M_x - _tmp309*ne190 - P_x;
-    failed = max(failed, (ne191 != T(0)) ? T(0) : T(8089602));
+    failed = max(failed, (ne191 != T(0)) ? T(0) : T(8089670));
     const T ne_pivot40 = R_x - J_x;
-    failed = max(failed, (ne_pivot40 != T(0)) ? T(0) : T(8085506));
+    failed = max(failed, (ne_pivot40 != T(0)) ? T(0) : T(8085574));
     const T _tmp310 = T(1)/ne_pivot40;
     const T ne224 = -(R_x - S_x)*_tmp310;
     const T _tmp311 = J_y - R_y;
     const T ne225 = R_y - _tmp311*ne224 - S_y;
-    failed = max(failed, (ne225 != T(0)) ? T(0) : T(8081410));
+    failed = max(failed, (ne225 != T(0)) ? T(0) : T(8081478));
     const T ne214 = C_x - S_x;
     const T ne221 = ne214*_tmp310;
     const T _tmp312 = C_y - S_y;
@@ -5388,53 +5389,53 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne162 = (R_y - S_y)*_tmp314;
     const T ne163 = S_x - R_x - ne162*ne5;
     const T ne231 = ne216 - ne163*ne230;
-    failed = max(failed, (ne231 != T(0)) ? T(0) : T(8077314));
+    failed = max(failed, (ne231 != T(0)) ? T(0) : T(8077382));
     const T ne_pivot44 = Mp_y - B_y;
-    failed = max(failed, (ne_pivot44 != T(0)) ? T(0) : T(8073218));
+    failed = max(failed, (ne_pivot44 != T(0)) ? T(0) : T(8073286));
     const T _tmp315 = T(1)/ne_pivot44;
     const T ne252 = -(Mp_y - Pp_y)*_tmp315;
     const T _tmp316 = B_x - Mp_x;
     const T ne253 = Mp_x - _tmp316*ne252 - Pp_x;
-    failed = max(failed, (ne253 != T(0)) ? T(0) : T(8069122));
+    failed = max(failed, (ne253 != T(0)) ? T(0) : T(8069190));
     const T ne_pivot49 = Rp_x - Jp_x;
-    failed = max(failed, (ne_pivot49 != T(0)) ? T(0) : T(8065026));
+    failed = max(failed, (ne_pivot49 != T(0)) ? T(0) : T(8065094));
     const T _tmp317 = Rp_x - Sp_x;
     const T _tmp318 = T(1)/ne_pivot49;
     const T ne286 = -_tmp317*_tmp318;
     const T _tmp319 = Jp_y - Rp_y;
     const T ne287 = Rp_y - _tmp319*ne286 - Sp_y;
-    failed = max(failed, (ne287 != T(0)) ? T(0) : T(8060930));
+    failed = max(failed, (ne287 != T(0)) ? T(0) : T(8060998));
     const T ne_pivot53 = Fp_y - Rp_y;
-    failed = max(failed, (ne_pivot53 != T(0)) ? T(0) : T(8056834));
+    failed = max(failed, (ne_pivot53 != T(0)) ? T(0) : T(8056902));
     const T _tmp320 = T(1)/ne_pivot53;
     const T ne320 = (Ep_y - Fp_y)*_tmp320;
     const T _tmp321 = Fp_x - Rp_x;
     const T ne321 = _tmp321*ne320 + Fp_x - Ep_x;
-    failed = max(failed, (ne321 != T(0)) ? T(0) : T(8052738));
+    failed = max(failed, (ne321 != T(0)) ? T(0) : T(8052806));
     const T Sp_13_10p_normal_x = -sw_l13;
     const T _tmp322 = Cp_x - Sp_x;
     const T _tmp323 = Cp_y - Sp_y;
     const T ne_pivot55 = _tmp323*Sp_13_10p_normal_x - _tmp322*c_l1;
-    failed = max(failed, (ne_pivot55 != T(0)) ? T(0) : T(8048642));
+    failed = max(failed, (ne_pivot55 != T(0)) ? T(0) : T(8048710));
     const T ne_pivot57 = Kp_y - D_y;
-    failed = max(failed, (ne_pivot57 != T(0)) ? T(0) : T(8044546));
+    failed = max(failed, (ne_pivot57 != T(0)) ? T(0) : T(8044614));
     const T ne_pivot58 = Jp_y - Lp_y;
-    failed = max(failed, (ne_pivot58 != T(0)) ? T(0) : T(8040450));
+    failed = max(failed, (ne_pivot58 != T(0)) ? T(0) : T(8040518));
     const T _tmp324 = T(1)/ne_pivot58;
     const T ne357 = -(D_y - Lp_y)*_tmp324;
     const T _tmp325 = Jp_x - Lp_x;
     const T ne358 = _tmp325*ne357 + D_x - Lp_x;
-    failed = max(failed, (ne358 != T(0)) ? T(0) : T(8036354));
+    failed = max(failed, (ne358 != T(0)) ? T(0) : T(8036422));
     const T _tmp326 = T(1)/ne_pivot57;
     const T ne348 = (Cp_y - Kp_y)*_tmp326;
     const T _tmp327 = D_x - Kp_x;
     const T ne349 = Kp_x - _tmp327*ne348 - Cp_x;
-    failed = max(failed, (ne349 != T(0)) ? T(0) : T(8032258));
+    failed = max(failed, (ne349 != T(0)) ? T(0) : T(8032326));
     const T ne71 = J_y - E_y;
     const T ne72 = -ne71;
-    failed = max(failed, (ne72 != T(0)) ? T(0) : T(8028162));
+    failed = max(failed, (ne72 != T(0)) ? T(0) : T(8028230));
     const T ne_pivot63 = K_y - D_y;
-    failed = max(failed, (ne_pivot63 != T(0)) ? T(0) : T(8024066));
+    failed = max(failed, (ne_pivot63 != T(0)) ? T(0) : T(8024134));
     const T _tmp328 = A_y - P_y;
     const T ne175 = -_tmp328;
     const T _tmp329 = A_y - B_y;
@@ -5456,7 +5457,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T S_13_10_normal_x = -sw_l13;
     const T ne398 = (A_x - S_x)*c_l1 + S_13_10_normal_x*ne395 - (A_y - S_y)*S_13_10_normal_x;
     const T ne408 = c_l1*ne405 + ne398;
-    failed = max(failed, (ne408 != T(0)) ? T(0) : T(8019970));
+    failed = max(failed, (ne408 != T(0)) ? T(0) : T(8020038));
     const T _tmp333 = T(1)/ne72;
     const T ne375 = -_tmp333;
     const T ne75 = E_x - J_x;
@@ -5493,7 +5494,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne397 = ne169 - ne166*ne395;
     const T ne407 = ne397 + ne405;
     const T ne424 = ne415 - ne407*ne422;
-    failed = max(failed, (ne424 != T(0)) ? T(0) : T(8015874));
+    failed = max(failed, (ne424 != T(0)) ? T(0) : T(8015942));
     const T _tmp340 = C_y - J_y;
     const T ne379 = -_tmp340*_tmp333;
     const T ne380 = C_x - J_x - ne379*ne76;
@@ -5534,7 +5535,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne401 = ne384 + ne390;
     const T ne423 = ne401 - ne406*ne422;
     const T ne431 = ne427 - ne423*ne430;
-    failed = max(failed, (ne431 != T(0)) ? T(0) : T(8011778));
+    failed = max(failed, (ne431 != T(0)) ? T(0) : T(8011846));
     const T _tmp345 = T(1)/ne358;
     const T ne364 = _tmp345;
     const T ne150 = Ep_y - Jp_y;
@@ -7621,7 +7622,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x5420b49ba6d428b9ULL;
+inline constexpr unsigned long long fingerprint = 0xbb5c11bc0a07b77dULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

@@ -226,7 +226,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_coupler_rocker", "inputs", "positions", "rates", "forces" };
 
@@ -390,7 +391,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   const T S_y = -p.c;
   s.points.S.y = S_y;
-  if (!(M_y != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(M_y != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.coupler.x) + (s.bodies.coupler.y + s.bodies.coupler.cos_th));
   const T _sum_positions_1 = ((s.bodies.coupler.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th)) + ((s.bodies.rocker.sin_th + s.points.B.x) + (s.points.S.x + s.points.S.y));
   const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.M.x + s.points.M.y)) + ((s.points.C.x + s.points.C.y) + (s.points.R.x + s.points.R.y));
@@ -601,8 +602,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T A_ground_crank_fx = P_crank_coupler_fx + crank_inertial_x;
   s.joints.A_ground_crank.fx = A_ground_crank_fx;
   if (!(g2_coupler_rocker_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
-  if (!(M_y != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(ne8 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(M_y != T(0))) return detail::failed(s, 5, Status::singular);
+  if (!(ne8 != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.coupler.x) + (s.bodies.coupler.y + s.bodies.coupler.cos_th));
   const T _sum_positions_1 = ((s.bodies.coupler.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th)) + ((s.bodies.rocker.sin_th + s.points.B.x) + (s.points.S.x + s.points.S.y));
   const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.M.x + s.points.M.y)) + ((s.points.C.x + s.points.C.y) + (s.points.R.x + s.points.R.y));
@@ -795,7 +796,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[44 * stride + i] = R_x;
     const T R_y = -T(0.5)*p.c*c_rocker;
     out[45 * stride + i] = R_y;
-    failed = max(failed, (M_y != T(0)) ? T(0) : T(8183810));
+    failed = max(failed, (M_y != T(0)) ? T(0) : T(8183834));
     const T ne1 = _tmp5;
     const T ne2 = -ne1;
     const T _tmp16 = T(1)/M_y;
@@ -803,7 +804,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T ne4 = -_tmp3;
     const T ne5 = -ne4;
     const T ne8 = _tmp4*ne7 + ne5;
-    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8179714));
+    failed = max(failed, (ne8 != T(0)) ? T(0) : T(8179738));
     const T spring_d_y = R_y - S_y;
     const T spring_d_x = R_x - S_x;
     const T spring_length = sqrt(spring_d_x*spring_d_x + spring_d_y*spring_d_y);
@@ -1057,7 +1058,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x9444c1d2905c62f3ULL;
+inline constexpr unsigned long long fingerprint = 0xa5cd64fe42aa4ee7ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 14;

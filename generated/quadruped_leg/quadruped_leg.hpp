@@ -336,16 +336,35 @@ struct State {
     T q[24] = {T(-0.012685980514781018), T(-0.08337488972024684), T(-0.4760039937669238), T(-0.392629104046677), T(3.9860627762258414e-20), T(-0.39262910404667684), T(-2.33513155751659e-19), T(0.3926291040466768), T(3.313282896946004e-19), T(-0.010092885865430529), T(-9.152101152640766e-21), T(-5.248757161194311e-20), T(0.07328200385481631), T(9.123143668184774e-20), T(-0.03571159670914986), T(-6.325231183497818e-19), T(3.1229536850619025e-19), T(0.4402923970577739), T(4.348146434349636e-19), T(-0.0010834286315873482), T(-8.696533047216142e-23), T(-0.01160255188319367), T(-3.578397058740295e-24), T(9.462753191483704e-23)};
     T next[24], residual, det;
   } closure;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 12;
-// Solve groups in order (one per located body); State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "frame", "barrel3", "thigh", "crank", "barrel1", "barrel2", "rod3", "shank", "rod1", "coupler", "rod2", "closure" };
+// The 12 solve groups in order (one per located body), then the stages checked
+// after them: "inputs" (a non-finite driver input: unreachable), "positions", "rates", "forces" (a
+// non-finite output of that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 16;
+inline constexpr const char* group_names[] = { "frame", "barrel3", "thigh", "crank", "barrel1", "barrel2", "rod3", "shank", "rod1", "coupler", "rod2", "closure", "inputs", "positions", "rates", "forces" };
 
-// A driver motion outside its domain arrives here as NaN or infinity.
+namespace detail {
+// A failed check: the State is cleared (it would otherwise hold part of a configuration) and the
+// failing group recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
+// A driver motion outside its domain arrives here as NaN or infinity: the entries return
+// unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -360,7 +379,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 12, Status::unreachable);
   // Total ops: 48098
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
@@ -7934,6 +7953,92 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.D[2][1] = jv_shank_1_z - jw_shank_1_y*pt_D_x;
   s.point_jacobians.D[1][2] = -pt_D_z*sen2_x0;
   s.point_jacobians.D[2][2] = pt_D_y*sen2_x0;
+  const T _sum_positions_0 = ((s.bodies.frame.y + s.bodies.frame.z) + (s.bodies.frame.R[4] + s.bodies.frame.R[5])) + ((s.bodies.frame.R[7] + s.bodies.frame.R[8]) + (s.bodies.thigh.x + s.bodies.thigh.y));
+  const T _sum_positions_1 = ((s.bodies.thigh.z + s.bodies.thigh.R[0]) + (s.bodies.thigh.R[2] + s.bodies.thigh.R[3])) + ((s.bodies.thigh.R[4] + s.bodies.thigh.R[5]) + (s.bodies.thigh.R[6] + s.bodies.thigh.R[7]));
+  const T _sum_positions_2 = ((s.bodies.thigh.R[8] + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.z)) + ((s.bodies.crank.R[0] + s.bodies.crank.R[2]) + (s.bodies.crank.R[3] + s.bodies.crank.R[4]));
+  const T _sum_positions_3 = ((s.bodies.crank.R[5] + s.bodies.crank.R[6]) + (s.bodies.crank.R[7] + s.bodies.crank.R[8])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.z + s.bodies.shank.R[0]));
+  const T _sum_positions_4 = ((s.bodies.shank.R[2] + s.bodies.shank.R[3]) + (s.bodies.shank.R[4] + s.bodies.shank.R[5])) + ((s.bodies.shank.R[6] + s.bodies.shank.R[7]) + (s.bodies.shank.R[8] + s.bodies.coupler.x));
+  const T _sum_positions_5 = ((s.bodies.coupler.y + s.bodies.coupler.z) + (s.bodies.coupler.R[0] + s.bodies.coupler.R[1])) + ((s.bodies.coupler.R[2] + s.bodies.coupler.R[3]) + (s.bodies.coupler.R[4] + s.bodies.coupler.R[5]));
+  const T _sum_positions_6 = ((s.bodies.coupler.R[6] + s.bodies.coupler.R[7]) + (s.bodies.coupler.R[8] + s.bodies.barrel1.x)) + ((s.bodies.barrel1.y + s.bodies.barrel1.z) + (s.bodies.barrel1.R[0] + s.bodies.barrel1.R[1]));
+  const T _sum_positions_7 = ((s.bodies.barrel1.R[2] + s.bodies.barrel1.R[3]) + (s.bodies.barrel1.R[4] + s.bodies.barrel1.R[5])) + ((s.bodies.barrel1.R[6] + s.bodies.barrel1.R[7]) + (s.bodies.barrel1.R[8] + s.bodies.rod1.x));
+  const T _sum_positions_8 = ((s.bodies.rod1.y + s.bodies.rod1.z) + (s.bodies.rod1.R[0] + s.bodies.rod1.R[1])) + ((s.bodies.rod1.R[2] + s.bodies.rod1.R[3]) + (s.bodies.rod1.R[4] + s.bodies.rod1.R[5]));
+  const T _sum_positions_9 = ((s.bodies.rod1.R[6] + s.bodies.rod1.R[7]) + (s.bodies.rod1.R[8] + s.bodies.barrel2.x)) + ((s.bodies.barrel2.y + s.bodies.barrel2.z) + (s.bodies.barrel2.R[0] + s.bodies.barrel2.R[1]));
+  const T _sum_positions_10 = ((s.bodies.barrel2.R[2] + s.bodies.barrel2.R[3]) + (s.bodies.barrel2.R[4] + s.bodies.barrel2.R[5])) + ((s.bodies.barrel2.R[6] + s.bodies.barrel2.R[7]) + (s.bodies.barrel2.R[8] + s.bodies.rod2.x));
+  const T _sum_positions_11 = ((s.bodies.rod2.y + s.bodies.rod2.z) + (s.bodies.rod2.R[0] + s.bodies.rod2.R[1])) + ((s.bodies.rod2.R[2] + s.bodies.rod2.R[3]) + (s.bodies.rod2.R[4] + s.bodies.rod2.R[5]));
+  const T _sum_positions_12 = ((s.bodies.rod2.R[6] + s.bodies.rod2.R[7]) + (s.bodies.rod2.R[8] + s.bodies.barrel3.x)) + ((s.bodies.barrel3.y + s.bodies.barrel3.z) + (s.bodies.barrel3.R[0] + s.bodies.barrel3.R[1]));
+  const T _sum_positions_13 = ((s.bodies.barrel3.R[3] + s.bodies.barrel3.R[4]) + (s.bodies.barrel3.R[5] + s.bodies.barrel3.R[6])) + ((s.bodies.barrel3.R[7] + s.bodies.barrel3.R[8]) + (s.bodies.rod3.x + s.bodies.rod3.y));
+  const T _sum_positions_14 = ((s.bodies.rod3.z + s.bodies.rod3.R[0]) + (s.bodies.rod3.R[1] + s.bodies.rod3.R[2])) + ((s.bodies.rod3.R[3] + s.bodies.rod3.R[4]) + (s.bodies.rod3.R[5] + s.bodies.rod3.R[6]));
+  const T _sum_positions_15 = ((s.bodies.rod3.R[7] + s.bodies.rod3.R[8]) + (s.points.M.y + s.points.M.z)) + ((s.points.Q.y + s.points.Q.z) + (s.points.H.x + s.points.H.y));
+  const T _sum_positions_16 = ((s.points.H.z + s.points.F.x) + (s.points.F.y + s.points.F.z)) + ((s.points.N.y + s.points.N.z) + (s.points.A.x + s.points.A.y));
+  const T _sum_positions_17 = ((s.points.A.z + s.points.G.x) + (s.points.G.y + s.points.G.z)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.points.B.x));
+  const T _sum_positions_18 = ((s.points.B.y + s.points.B.z) + (s.points.D.x + s.points.D.y)) + ((s.points.D.z + s.joints.swing.q) + (s.joints.hip.q + s.joints.crank_pivot.q));
+  const T _sum_positions_19 = ((s.joints.knee.q + s.joints.coupler_B.q1) + (s.joints.coupler_B.q2 + s.joints.coupler_B.q3)) + ((s.joints.coupler_C.q1 + s.joints.coupler_C.q2) + (s.joints.cyl1_base.q1 + s.joints.cyl1_base.q2));
+  const T _sum_positions_20 = ((s.joints.cyl1.q + s.joints.cyl1_end.q1) + (s.joints.cyl1_end.q2 + s.joints.cyl1_end.q3)) + ((s.joints.cyl2_base.q1 + s.joints.cyl2_base.q2) + (s.joints.cyl2.q + s.joints.cyl2_end.q1));
+  const T _sum_positions_21 = ((s.joints.cyl2_end.q2 + s.joints.cyl2_end.q3) + (s.joints.cyl3_base.q1 + s.joints.cyl3_base.q2)) + ((s.joints.cyl3.q + s.joints.cyl3_end.q1) + (s.joints.cyl3_end.q2 + s.joints.cyl3_end.q3));
+  const T _sum_positions_22 = ((s.drivers.l1.q + s.drivers.l2.q) + (s.drivers.l3.q + s.body_jacobians.frame[0][2])) + ((s.body_jacobians.thigh[1][0] + s.body_jacobians.thigh[2][0]) + (s.body_jacobians.thigh[3][0] + s.body_jacobians.thigh[1][1]));
+  const T _sum_positions_23 = ((s.body_jacobians.thigh[2][1] + s.body_jacobians.thigh[3][1]) + (s.body_jacobians.thigh[0][2] + s.body_jacobians.crank[1][1])) + ((s.body_jacobians.crank[2][1] + s.body_jacobians.crank[3][1]) + (s.body_jacobians.crank[0][2] + s.body_jacobians.shank[1][0]));
+  const T _sum_positions_24 = ((s.body_jacobians.shank[2][0] + s.body_jacobians.shank[3][0]) + (s.body_jacobians.shank[4][0] + s.body_jacobians.shank[5][0])) + ((s.body_jacobians.shank[1][1] + s.body_jacobians.shank[2][1]) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_25 = ((s.body_jacobians.shank[5][1] + s.body_jacobians.shank[0][2]) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
+  const T _sum_positions_26 = ((s.body_jacobians.coupler[0][1] + s.body_jacobians.coupler[1][1]) + (s.body_jacobians.coupler[2][1] + s.body_jacobians.coupler[3][1])) + ((s.body_jacobians.coupler[4][1] + s.body_jacobians.coupler[5][1]) + (s.body_jacobians.coupler[0][2] + s.body_jacobians.barrel1[0][0]));
+  const T _sum_positions_27 = ((s.body_jacobians.barrel1[1][0] + s.body_jacobians.barrel1[2][0]) + (s.body_jacobians.barrel1[3][0] + s.body_jacobians.barrel1[4][0])) + ((s.body_jacobians.barrel1[5][0] + s.body_jacobians.barrel1[0][1]) + (s.body_jacobians.barrel1[1][1] + s.body_jacobians.barrel1[2][1]));
+  const T _sum_positions_28 = ((s.body_jacobians.barrel1[3][1] + s.body_jacobians.barrel1[4][1]) + (s.body_jacobians.barrel1[5][1] + s.body_jacobians.barrel1[0][2])) + ((s.body_jacobians.rod1[0][0] + s.body_jacobians.rod1[1][0]) + (s.body_jacobians.rod1[2][0] + s.body_jacobians.rod1[3][0]));
+  const T _sum_positions_29 = ((s.body_jacobians.rod1[4][0] + s.body_jacobians.rod1[5][0]) + (s.body_jacobians.rod1[0][1] + s.body_jacobians.rod1[1][1])) + ((s.body_jacobians.rod1[2][1] + s.body_jacobians.rod1[3][1]) + (s.body_jacobians.rod1[4][1] + s.body_jacobians.rod1[5][1]));
+  const T _sum_positions_30 = ((s.body_jacobians.rod1[0][2] + s.body_jacobians.barrel2[0][1]) + (s.body_jacobians.barrel2[1][1] + s.body_jacobians.barrel2[2][1])) + ((s.body_jacobians.barrel2[3][1] + s.body_jacobians.barrel2[4][1]) + (s.body_jacobians.barrel2[5][1] + s.body_jacobians.barrel2[0][2]));
+  const T _sum_positions_31 = ((s.body_jacobians.rod2[0][1] + s.body_jacobians.rod2[1][1]) + (s.body_jacobians.rod2[2][1] + s.body_jacobians.rod2[3][1])) + ((s.body_jacobians.rod2[4][1] + s.body_jacobians.rod2[5][1]) + (s.body_jacobians.rod2[0][2] + s.body_jacobians.barrel3[0][2]));
+  const T _sum_positions_32 = ((s.body_jacobians.barrel3[1][2] + s.body_jacobians.barrel3[2][2]) + (s.body_jacobians.barrel3[3][2] + s.body_jacobians.barrel3[4][2])) + ((s.body_jacobians.barrel3[5][2] + s.body_jacobians.rod3[0][2]) + (s.body_jacobians.rod3[1][2] + s.body_jacobians.rod3[2][2]));
+  const T _sum_positions_33 = ((s.body_jacobians.rod3[3][2] + s.body_jacobians.rod3[4][2]) + (s.body_jacobians.rod3[5][2] + s.point_jacobians.Q[1][2])) + ((s.point_jacobians.Q[2][2] + s.point_jacobians.H[1][2]) + (s.point_jacobians.H[2][2] + s.point_jacobians.F[1][2]));
+  const T _sum_positions_34 = ((s.point_jacobians.F[2][2] + s.point_jacobians.N[1][2]) + (s.point_jacobians.N[2][2] + s.point_jacobians.A[0][0])) + ((s.point_jacobians.A[1][0] + s.point_jacobians.A[2][0]) + (s.point_jacobians.A[0][1] + s.point_jacobians.A[1][1]));
+  const T _sum_positions_35 = ((s.point_jacobians.A[2][1] + s.point_jacobians.A[1][2]) + (s.point_jacobians.A[2][2] + s.point_jacobians.G[0][0])) + ((s.point_jacobians.G[1][0] + s.point_jacobians.G[2][0]) + (s.point_jacobians.G[0][1] + s.point_jacobians.G[1][1]));
+  const T _sum_positions_36 = ((s.point_jacobians.G[2][1] + s.point_jacobians.G[1][2]) + (s.point_jacobians.G[2][2] + s.point_jacobians.C[0][1])) + ((s.point_jacobians.C[1][1] + s.point_jacobians.C[2][1]) + (s.point_jacobians.C[1][2] + s.point_jacobians.C[2][2]));
+  const T _sum_positions_37 = ((s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.B[2][0] + s.point_jacobians.B[0][1])) + ((s.point_jacobians.B[1][1] + s.point_jacobians.B[2][1]) + (s.point_jacobians.B[1][2] + s.point_jacobians.B[2][2]));
+  const T _sum_positions_38 = ((s.point_jacobians.D[0][0] + s.point_jacobians.D[1][0]) + (s.point_jacobians.D[2][0] + s.point_jacobians.D[0][1])) + ((s.point_jacobians.D[1][1] + s.point_jacobians.D[2][1]) + (s.point_jacobians.D[1][2] + s.point_jacobians.D[2][2]));
+  const T _sum_positions_39 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_40 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_41 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
+  const T _sum_positions_42 = ((_sum_positions_24 + _sum_positions_25) + (_sum_positions_26 + _sum_positions_27)) + ((_sum_positions_28 + _sum_positions_29) + (_sum_positions_30 + _sum_positions_31));
+  const T _sum_positions_43 = (_sum_positions_32 + (_sum_positions_33 + _sum_positions_34)) + ((_sum_positions_35 + _sum_positions_36) + (_sum_positions_37 + _sum_positions_38));
+  const T _sum_positions = (_sum_positions_39 + _sum_positions_40) + (_sum_positions_41 + (_sum_positions_42 + _sum_positions_43));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 13, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.next[6] + s.closure.next[7]));
+  const T _sum_rates_1 = ((s.closure.next[8] + s.closure.next[9]) + (s.closure.next[10] + s.closure.next[11])) + ((s.closure.next[12] + s.closure.next[13]) + (s.closure.next[14] + s.closure.next[15]));
+  const T _sum_rates_2 = ((s.closure.next[16] + s.closure.next[17]) + (s.closure.next[18] + s.closure.next[19])) + ((s.closure.next[20] + s.closure.next[21]) + (s.closure.next[22] + s.closure.next[23]));
+  const T _sum_rates_3 = ((s.closure.residual + s.closure.det) + (s.bodies.frame.vy + s.bodies.frame.vz)) + ((s.bodies.frame.ay + s.bodies.frame.az) + (s.bodies.frame.wx + s.bodies.frame.alx));
+  const T _sum_rates_4 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.vz + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.thigh.az) + (s.bodies.thigh.wx + s.bodies.thigh.wy));
+  const T _sum_rates_5 = ((s.bodies.thigh.wz + s.bodies.thigh.alx) + (s.bodies.thigh.aly + s.bodies.thigh.alz)) + ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.vz + s.bodies.crank.ax));
+  const T _sum_rates_6 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.crank.wx + s.bodies.crank.wy)) + ((s.bodies.crank.wz + s.bodies.crank.alx) + (s.bodies.crank.aly + s.bodies.crank.alz));
+  const T _sum_rates_7 = ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.vz + s.bodies.shank.ax)) + ((s.bodies.shank.ay + s.bodies.shank.az) + (s.bodies.shank.wx + s.bodies.shank.wy));
+  const T _sum_rates_8 = ((s.bodies.shank.wz + s.bodies.shank.alx) + (s.bodies.shank.aly + s.bodies.shank.alz)) + ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.vz + s.bodies.coupler.ax));
+  const T _sum_rates_9 = ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.coupler.wx + s.bodies.coupler.wy)) + ((s.bodies.coupler.wz + s.bodies.coupler.alx) + (s.bodies.coupler.aly + s.bodies.coupler.alz));
+  const T _sum_rates_10 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.vz + s.bodies.barrel1.ax)) + ((s.bodies.barrel1.ay + s.bodies.barrel1.az) + (s.bodies.barrel1.wx + s.bodies.barrel1.wy));
+  const T _sum_rates_11 = ((s.bodies.barrel1.wz + s.bodies.barrel1.alx) + (s.bodies.barrel1.aly + s.bodies.barrel1.alz)) + ((s.bodies.rod1.vx + s.bodies.rod1.vy) + (s.bodies.rod1.vz + s.bodies.rod1.ax));
+  const T _sum_rates_12 = ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.rod1.wx + s.bodies.rod1.wy)) + ((s.bodies.rod1.wz + s.bodies.rod1.alx) + (s.bodies.rod1.aly + s.bodies.rod1.alz));
+  const T _sum_rates_13 = ((s.bodies.barrel2.vx + s.bodies.barrel2.vy) + (s.bodies.barrel2.vz + s.bodies.barrel2.ax)) + ((s.bodies.barrel2.ay + s.bodies.barrel2.az) + (s.bodies.barrel2.wx + s.bodies.barrel2.wy));
+  const T _sum_rates_14 = ((s.bodies.barrel2.wz + s.bodies.barrel2.alx) + (s.bodies.barrel2.aly + s.bodies.barrel2.alz)) + ((s.bodies.rod2.vx + s.bodies.rod2.vy) + (s.bodies.rod2.vz + s.bodies.rod2.ax));
+  const T _sum_rates_15 = ((s.bodies.rod2.ay + s.bodies.rod2.az) + (s.bodies.rod2.wx + s.bodies.rod2.wy)) + ((s.bodies.rod2.wz + s.bodies.rod2.alx) + (s.bodies.rod2.aly + s.bodies.rod2.alz));
+  const T _sum_rates_16 = ((s.bodies.barrel3.vx + s.bodies.barrel3.vy) + (s.bodies.barrel3.vz + s.bodies.barrel3.ax)) + ((s.bodies.barrel3.ay + s.bodies.barrel3.az) + (s.bodies.barrel3.wx + s.bodies.barrel3.wy));
+  const T _sum_rates_17 = ((s.bodies.barrel3.wz + s.bodies.barrel3.alx) + (s.bodies.barrel3.aly + s.bodies.barrel3.alz)) + ((s.bodies.rod3.vx + s.bodies.rod3.vy) + (s.bodies.rod3.vz + s.bodies.rod3.ax));
+  const T _sum_rates_18 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.bodies.rod3.wx + s.bodies.rod3.wy)) + ((s.bodies.rod3.wz + s.bodies.rod3.alx) + (s.bodies.rod3.aly + s.bodies.rod3.alz));
+  const T _sum_rates_19 = ((s.points.Q.vy + s.points.Q.vz) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.vy + s.points.H.vz) + (s.points.H.ay + s.points.H.az));
+  const T _sum_rates_20 = ((s.points.F.vy + s.points.F.vz) + (s.points.F.ay + s.points.F.az)) + ((s.points.N.vy + s.points.N.vz) + (s.points.N.ay + s.points.N.az));
+  const T _sum_rates_21 = ((s.points.A.vx + s.points.A.vy) + (s.points.A.vz + s.points.A.ax)) + ((s.points.A.ay + s.points.A.az) + (s.points.G.vx + s.points.G.vy));
+  const T _sum_rates_22 = ((s.points.G.vz + s.points.G.ax) + (s.points.G.ay + s.points.G.az)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
+  const T _sum_rates_23 = ((s.points.C.ay + s.points.C.az) + (s.points.B.vx + s.points.B.vy)) + ((s.points.B.vz + s.points.B.ax) + (s.points.B.ay + s.points.B.az));
+  const T _sum_rates_24 = ((s.points.D.vx + s.points.D.vy) + (s.points.D.vz + s.points.D.ax)) + ((s.points.D.ay + s.points.D.az) + (s.joints.swing.qd + s.joints.swing.qdd));
+  const T _sum_rates_25 = ((s.joints.hip.qd + s.joints.hip.qdd) + (s.joints.crank_pivot.qd + s.joints.crank_pivot.qdd)) + ((s.joints.knee.qd + s.joints.knee.qdd) + (s.joints.coupler_B.q1d + s.joints.coupler_B.q1dd));
+  const T _sum_rates_26 = ((s.joints.coupler_B.q2d + s.joints.coupler_B.q2dd) + (s.joints.coupler_B.q3d + s.joints.coupler_B.q3dd)) + ((s.joints.coupler_C.q1d + s.joints.coupler_C.q1dd) + (s.joints.coupler_C.q2d + s.joints.coupler_C.q2dd));
+  const T _sum_rates_27 = ((s.joints.cyl1_base.q1d + s.joints.cyl1_base.q1dd) + (s.joints.cyl1_base.q2d + s.joints.cyl1_base.q2dd)) + ((s.joints.cyl1.qd + s.joints.cyl1.qdd) + (s.joints.cyl1_end.q1d + s.joints.cyl1_end.q1dd));
+  const T _sum_rates_28 = ((s.joints.cyl1_end.q2d + s.joints.cyl1_end.q2dd) + (s.joints.cyl1_end.q3d + s.joints.cyl1_end.q3dd)) + ((s.joints.cyl2_base.q1d + s.joints.cyl2_base.q1dd) + (s.joints.cyl2_base.q2d + s.joints.cyl2_base.q2dd));
+  const T _sum_rates_29 = ((s.joints.cyl2.qd + s.joints.cyl2.qdd) + (s.joints.cyl2_end.q1d + s.joints.cyl2_end.q1dd)) + ((s.joints.cyl2_end.q2d + s.joints.cyl2_end.q2dd) + (s.joints.cyl2_end.q3d + s.joints.cyl2_end.q3dd));
+  const T _sum_rates_30 = ((s.joints.cyl3_base.q1d + s.joints.cyl3_base.q1dd) + (s.joints.cyl3_base.q2d + s.joints.cyl3_base.q2dd)) + ((s.joints.cyl3.qd + s.joints.cyl3.qdd) + (s.joints.cyl3_end.q1d + s.joints.cyl3_end.q1dd));
+  const T _sum_rates_31 = ((s.joints.cyl3_end.q2d + s.joints.cyl3_end.q2dd) + (s.joints.cyl3_end.q3d + s.joints.cyl3_end.q3dd)) + ((s.drivers.l1.qd + s.drivers.l1.qdd) + (s.drivers.l2.qd + s.drivers.l2.qdd));
+  const T _sum_rates_32 = s.drivers.l3.qd + s.drivers.l3.qdd;
+  const T _sum_rates_33 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_34 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_35 = ((_sum_rates_16 + _sum_rates_17) + (_sum_rates_18 + _sum_rates_19)) + ((_sum_rates_20 + _sum_rates_21) + (_sum_rates_22 + _sum_rates_23));
+  const T _sum_rates_36 = ((_sum_rates_24 + _sum_rates_25) + (_sum_rates_26 + _sum_rates_27)) + ((_sum_rates_28 + _sum_rates_29) + (_sum_rates_30 + _sum_rates_31));
+  const T _sum_rates_37 = _sum_rates_32;
+  const T _sum_rates = (_sum_rates_33 + _sum_rates_34) + (_sum_rates_35 + (_sum_rates_36 + _sum_rates_37));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 14, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -7948,13 +8053,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 }
 
 // Kinematics, screw Jacobians and the inverse dynamics: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 12, Status::unreachable);
   // Total ops: 49339
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
@@ -15828,6 +15934,94 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.cyl3_end.mx = not_generated;
   s.joints.cyl3_end.my = not_generated;
   s.joints.cyl3_end.mz = not_generated;
+  const T _sum_positions_0 = ((s.bodies.frame.y + s.bodies.frame.z) + (s.bodies.frame.R[4] + s.bodies.frame.R[5])) + ((s.bodies.frame.R[7] + s.bodies.frame.R[8]) + (s.bodies.thigh.x + s.bodies.thigh.y));
+  const T _sum_positions_1 = ((s.bodies.thigh.z + s.bodies.thigh.R[0]) + (s.bodies.thigh.R[2] + s.bodies.thigh.R[3])) + ((s.bodies.thigh.R[4] + s.bodies.thigh.R[5]) + (s.bodies.thigh.R[6] + s.bodies.thigh.R[7]));
+  const T _sum_positions_2 = ((s.bodies.thigh.R[8] + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.z)) + ((s.bodies.crank.R[0] + s.bodies.crank.R[2]) + (s.bodies.crank.R[3] + s.bodies.crank.R[4]));
+  const T _sum_positions_3 = ((s.bodies.crank.R[5] + s.bodies.crank.R[6]) + (s.bodies.crank.R[7] + s.bodies.crank.R[8])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.z + s.bodies.shank.R[0]));
+  const T _sum_positions_4 = ((s.bodies.shank.R[2] + s.bodies.shank.R[3]) + (s.bodies.shank.R[4] + s.bodies.shank.R[5])) + ((s.bodies.shank.R[6] + s.bodies.shank.R[7]) + (s.bodies.shank.R[8] + s.bodies.coupler.x));
+  const T _sum_positions_5 = ((s.bodies.coupler.y + s.bodies.coupler.z) + (s.bodies.coupler.R[0] + s.bodies.coupler.R[1])) + ((s.bodies.coupler.R[2] + s.bodies.coupler.R[3]) + (s.bodies.coupler.R[4] + s.bodies.coupler.R[5]));
+  const T _sum_positions_6 = ((s.bodies.coupler.R[6] + s.bodies.coupler.R[7]) + (s.bodies.coupler.R[8] + s.bodies.barrel1.x)) + ((s.bodies.barrel1.y + s.bodies.barrel1.z) + (s.bodies.barrel1.R[0] + s.bodies.barrel1.R[1]));
+  const T _sum_positions_7 = ((s.bodies.barrel1.R[2] + s.bodies.barrel1.R[3]) + (s.bodies.barrel1.R[4] + s.bodies.barrel1.R[5])) + ((s.bodies.barrel1.R[6] + s.bodies.barrel1.R[7]) + (s.bodies.barrel1.R[8] + s.bodies.rod1.x));
+  const T _sum_positions_8 = ((s.bodies.rod1.y + s.bodies.rod1.z) + (s.bodies.rod1.R[0] + s.bodies.rod1.R[1])) + ((s.bodies.rod1.R[2] + s.bodies.rod1.R[3]) + (s.bodies.rod1.R[4] + s.bodies.rod1.R[5]));
+  const T _sum_positions_9 = ((s.bodies.rod1.R[6] + s.bodies.rod1.R[7]) + (s.bodies.rod1.R[8] + s.bodies.barrel2.x)) + ((s.bodies.barrel2.y + s.bodies.barrel2.z) + (s.bodies.barrel2.R[0] + s.bodies.barrel2.R[1]));
+  const T _sum_positions_10 = ((s.bodies.barrel2.R[2] + s.bodies.barrel2.R[3]) + (s.bodies.barrel2.R[4] + s.bodies.barrel2.R[5])) + ((s.bodies.barrel2.R[6] + s.bodies.barrel2.R[7]) + (s.bodies.barrel2.R[8] + s.bodies.rod2.x));
+  const T _sum_positions_11 = ((s.bodies.rod2.y + s.bodies.rod2.z) + (s.bodies.rod2.R[0] + s.bodies.rod2.R[1])) + ((s.bodies.rod2.R[2] + s.bodies.rod2.R[3]) + (s.bodies.rod2.R[4] + s.bodies.rod2.R[5]));
+  const T _sum_positions_12 = ((s.bodies.rod2.R[6] + s.bodies.rod2.R[7]) + (s.bodies.rod2.R[8] + s.bodies.barrel3.x)) + ((s.bodies.barrel3.y + s.bodies.barrel3.z) + (s.bodies.barrel3.R[0] + s.bodies.barrel3.R[1]));
+  const T _sum_positions_13 = ((s.bodies.barrel3.R[3] + s.bodies.barrel3.R[4]) + (s.bodies.barrel3.R[5] + s.bodies.barrel3.R[6])) + ((s.bodies.barrel3.R[7] + s.bodies.barrel3.R[8]) + (s.bodies.rod3.x + s.bodies.rod3.y));
+  const T _sum_positions_14 = ((s.bodies.rod3.z + s.bodies.rod3.R[0]) + (s.bodies.rod3.R[1] + s.bodies.rod3.R[2])) + ((s.bodies.rod3.R[3] + s.bodies.rod3.R[4]) + (s.bodies.rod3.R[5] + s.bodies.rod3.R[6]));
+  const T _sum_positions_15 = ((s.bodies.rod3.R[7] + s.bodies.rod3.R[8]) + (s.points.M.y + s.points.M.z)) + ((s.points.Q.y + s.points.Q.z) + (s.points.H.x + s.points.H.y));
+  const T _sum_positions_16 = ((s.points.H.z + s.points.F.x) + (s.points.F.y + s.points.F.z)) + ((s.points.N.y + s.points.N.z) + (s.points.A.x + s.points.A.y));
+  const T _sum_positions_17 = ((s.points.A.z + s.points.G.x) + (s.points.G.y + s.points.G.z)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.points.B.x));
+  const T _sum_positions_18 = ((s.points.B.y + s.points.B.z) + (s.points.D.x + s.points.D.y)) + ((s.points.D.z + s.joints.swing.q) + (s.joints.hip.q + s.joints.crank_pivot.q));
+  const T _sum_positions_19 = ((s.joints.knee.q + s.joints.coupler_B.q1) + (s.joints.coupler_B.q2 + s.joints.coupler_B.q3)) + ((s.joints.coupler_C.q1 + s.joints.coupler_C.q2) + (s.joints.cyl1_base.q1 + s.joints.cyl1_base.q2));
+  const T _sum_positions_20 = ((s.joints.cyl1.q + s.joints.cyl1_end.q1) + (s.joints.cyl1_end.q2 + s.joints.cyl1_end.q3)) + ((s.joints.cyl2_base.q1 + s.joints.cyl2_base.q2) + (s.joints.cyl2.q + s.joints.cyl2_end.q1));
+  const T _sum_positions_21 = ((s.joints.cyl2_end.q2 + s.joints.cyl2_end.q3) + (s.joints.cyl3_base.q1 + s.joints.cyl3_base.q2)) + ((s.joints.cyl3.q + s.joints.cyl3_end.q1) + (s.joints.cyl3_end.q2 + s.joints.cyl3_end.q3));
+  const T _sum_positions_22 = ((s.drivers.l1.q + s.drivers.l2.q) + (s.drivers.l3.q + s.body_jacobians.frame[0][2])) + ((s.body_jacobians.thigh[1][0] + s.body_jacobians.thigh[2][0]) + (s.body_jacobians.thigh[3][0] + s.body_jacobians.thigh[1][1]));
+  const T _sum_positions_23 = ((s.body_jacobians.thigh[2][1] + s.body_jacobians.thigh[3][1]) + (s.body_jacobians.thigh[0][2] + s.body_jacobians.crank[1][1])) + ((s.body_jacobians.crank[2][1] + s.body_jacobians.crank[3][1]) + (s.body_jacobians.crank[0][2] + s.body_jacobians.shank[1][0]));
+  const T _sum_positions_24 = ((s.body_jacobians.shank[2][0] + s.body_jacobians.shank[3][0]) + (s.body_jacobians.shank[4][0] + s.body_jacobians.shank[5][0])) + ((s.body_jacobians.shank[1][1] + s.body_jacobians.shank[2][1]) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_25 = ((s.body_jacobians.shank[5][1] + s.body_jacobians.shank[0][2]) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
+  const T _sum_positions_26 = ((s.body_jacobians.coupler[0][1] + s.body_jacobians.coupler[1][1]) + (s.body_jacobians.coupler[2][1] + s.body_jacobians.coupler[3][1])) + ((s.body_jacobians.coupler[4][1] + s.body_jacobians.coupler[5][1]) + (s.body_jacobians.coupler[0][2] + s.body_jacobians.barrel1[0][0]));
+  const T _sum_positions_27 = ((s.body_jacobians.barrel1[1][0] + s.body_jacobians.barrel1[2][0]) + (s.body_jacobians.barrel1[3][0] + s.body_jacobians.barrel1[4][0])) + ((s.body_jacobians.barrel1[5][0] + s.body_jacobians.barrel1[0][1]) + (s.body_jacobians.barrel1[1][1] + s.body_jacobians.barrel1[2][1]));
+  const T _sum_positions_28 = ((s.body_jacobians.barrel1[3][1] + s.body_jacobians.barrel1[4][1]) + (s.body_jacobians.barrel1[5][1] + s.body_jacobians.barrel1[0][2])) + ((s.body_jacobians.rod1[0][0] + s.body_jacobians.rod1[1][0]) + (s.body_jacobians.rod1[2][0] + s.body_jacobians.rod1[3][0]));
+  const T _sum_positions_29 = ((s.body_jacobians.rod1[4][0] + s.body_jacobians.rod1[5][0]) + (s.body_jacobians.rod1[0][1] + s.body_jacobians.rod1[1][1])) + ((s.body_jacobians.rod1[2][1] + s.body_jacobians.rod1[3][1]) + (s.body_jacobians.rod1[4][1] + s.body_jacobians.rod1[5][1]));
+  const T _sum_positions_30 = ((s.body_jacobians.rod1[0][2] + s.body_jacobians.barrel2[0][1]) + (s.body_jacobians.barrel2[1][1] + s.body_jacobians.barrel2[2][1])) + ((s.body_jacobians.barrel2[3][1] + s.body_jacobians.barrel2[4][1]) + (s.body_jacobians.barrel2[5][1] + s.body_jacobians.barrel2[0][2]));
+  const T _sum_positions_31 = ((s.body_jacobians.rod2[0][1] + s.body_jacobians.rod2[1][1]) + (s.body_jacobians.rod2[2][1] + s.body_jacobians.rod2[3][1])) + ((s.body_jacobians.rod2[4][1] + s.body_jacobians.rod2[5][1]) + (s.body_jacobians.rod2[0][2] + s.body_jacobians.barrel3[0][2]));
+  const T _sum_positions_32 = ((s.body_jacobians.barrel3[1][2] + s.body_jacobians.barrel3[2][2]) + (s.body_jacobians.barrel3[3][2] + s.body_jacobians.barrel3[4][2])) + ((s.body_jacobians.barrel3[5][2] + s.body_jacobians.rod3[0][2]) + (s.body_jacobians.rod3[1][2] + s.body_jacobians.rod3[2][2]));
+  const T _sum_positions_33 = ((s.body_jacobians.rod3[3][2] + s.body_jacobians.rod3[4][2]) + (s.body_jacobians.rod3[5][2] + s.point_jacobians.Q[1][2])) + ((s.point_jacobians.Q[2][2] + s.point_jacobians.H[1][2]) + (s.point_jacobians.H[2][2] + s.point_jacobians.F[1][2]));
+  const T _sum_positions_34 = ((s.point_jacobians.F[2][2] + s.point_jacobians.N[1][2]) + (s.point_jacobians.N[2][2] + s.point_jacobians.A[0][0])) + ((s.point_jacobians.A[1][0] + s.point_jacobians.A[2][0]) + (s.point_jacobians.A[0][1] + s.point_jacobians.A[1][1]));
+  const T _sum_positions_35 = ((s.point_jacobians.A[2][1] + s.point_jacobians.A[1][2]) + (s.point_jacobians.A[2][2] + s.point_jacobians.G[0][0])) + ((s.point_jacobians.G[1][0] + s.point_jacobians.G[2][0]) + (s.point_jacobians.G[0][1] + s.point_jacobians.G[1][1]));
+  const T _sum_positions_36 = ((s.point_jacobians.G[2][1] + s.point_jacobians.G[1][2]) + (s.point_jacobians.G[2][2] + s.point_jacobians.C[0][1])) + ((s.point_jacobians.C[1][1] + s.point_jacobians.C[2][1]) + (s.point_jacobians.C[1][2] + s.point_jacobians.C[2][2]));
+  const T _sum_positions_37 = ((s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.B[2][0] + s.point_jacobians.B[0][1])) + ((s.point_jacobians.B[1][1] + s.point_jacobians.B[2][1]) + (s.point_jacobians.B[1][2] + s.point_jacobians.B[2][2]));
+  const T _sum_positions_38 = ((s.point_jacobians.D[0][0] + s.point_jacobians.D[1][0]) + (s.point_jacobians.D[2][0] + s.point_jacobians.D[0][1])) + ((s.point_jacobians.D[1][1] + s.point_jacobians.D[2][1]) + (s.point_jacobians.D[1][2] + s.point_jacobians.D[2][2]));
+  const T _sum_positions_39 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_40 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_41 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
+  const T _sum_positions_42 = ((_sum_positions_24 + _sum_positions_25) + (_sum_positions_26 + _sum_positions_27)) + ((_sum_positions_28 + _sum_positions_29) + (_sum_positions_30 + _sum_positions_31));
+  const T _sum_positions_43 = (_sum_positions_32 + (_sum_positions_33 + _sum_positions_34)) + ((_sum_positions_35 + _sum_positions_36) + (_sum_positions_37 + _sum_positions_38));
+  const T _sum_positions = (_sum_positions_39 + _sum_positions_40) + (_sum_positions_41 + (_sum_positions_42 + _sum_positions_43));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 13, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.next[6] + s.closure.next[7]));
+  const T _sum_rates_1 = ((s.closure.next[8] + s.closure.next[9]) + (s.closure.next[10] + s.closure.next[11])) + ((s.closure.next[12] + s.closure.next[13]) + (s.closure.next[14] + s.closure.next[15]));
+  const T _sum_rates_2 = ((s.closure.next[16] + s.closure.next[17]) + (s.closure.next[18] + s.closure.next[19])) + ((s.closure.next[20] + s.closure.next[21]) + (s.closure.next[22] + s.closure.next[23]));
+  const T _sum_rates_3 = ((s.closure.residual + s.closure.det) + (s.bodies.frame.vy + s.bodies.frame.vz)) + ((s.bodies.frame.ay + s.bodies.frame.az) + (s.bodies.frame.wx + s.bodies.frame.alx));
+  const T _sum_rates_4 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.vz + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.thigh.az) + (s.bodies.thigh.wx + s.bodies.thigh.wy));
+  const T _sum_rates_5 = ((s.bodies.thigh.wz + s.bodies.thigh.alx) + (s.bodies.thigh.aly + s.bodies.thigh.alz)) + ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.vz + s.bodies.crank.ax));
+  const T _sum_rates_6 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.crank.wx + s.bodies.crank.wy)) + ((s.bodies.crank.wz + s.bodies.crank.alx) + (s.bodies.crank.aly + s.bodies.crank.alz));
+  const T _sum_rates_7 = ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.vz + s.bodies.shank.ax)) + ((s.bodies.shank.ay + s.bodies.shank.az) + (s.bodies.shank.wx + s.bodies.shank.wy));
+  const T _sum_rates_8 = ((s.bodies.shank.wz + s.bodies.shank.alx) + (s.bodies.shank.aly + s.bodies.shank.alz)) + ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.vz + s.bodies.coupler.ax));
+  const T _sum_rates_9 = ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.coupler.wx + s.bodies.coupler.wy)) + ((s.bodies.coupler.wz + s.bodies.coupler.alx) + (s.bodies.coupler.aly + s.bodies.coupler.alz));
+  const T _sum_rates_10 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.vz + s.bodies.barrel1.ax)) + ((s.bodies.barrel1.ay + s.bodies.barrel1.az) + (s.bodies.barrel1.wx + s.bodies.barrel1.wy));
+  const T _sum_rates_11 = ((s.bodies.barrel1.wz + s.bodies.barrel1.alx) + (s.bodies.barrel1.aly + s.bodies.barrel1.alz)) + ((s.bodies.rod1.vx + s.bodies.rod1.vy) + (s.bodies.rod1.vz + s.bodies.rod1.ax));
+  const T _sum_rates_12 = ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.rod1.wx + s.bodies.rod1.wy)) + ((s.bodies.rod1.wz + s.bodies.rod1.alx) + (s.bodies.rod1.aly + s.bodies.rod1.alz));
+  const T _sum_rates_13 = ((s.bodies.barrel2.vx + s.bodies.barrel2.vy) + (s.bodies.barrel2.vz + s.bodies.barrel2.ax)) + ((s.bodies.barrel2.ay + s.bodies.barrel2.az) + (s.bodies.barrel2.wx + s.bodies.barrel2.wy));
+  const T _sum_rates_14 = ((s.bodies.barrel2.wz + s.bodies.barrel2.alx) + (s.bodies.barrel2.aly + s.bodies.barrel2.alz)) + ((s.bodies.rod2.vx + s.bodies.rod2.vy) + (s.bodies.rod2.vz + s.bodies.rod2.ax));
+  const T _sum_rates_15 = ((s.bodies.rod2.ay + s.bodies.rod2.az) + (s.bodies.rod2.wx + s.bodies.rod2.wy)) + ((s.bodies.rod2.wz + s.bodies.rod2.alx) + (s.bodies.rod2.aly + s.bodies.rod2.alz));
+  const T _sum_rates_16 = ((s.bodies.barrel3.vx + s.bodies.barrel3.vy) + (s.bodies.barrel3.vz + s.bodies.barrel3.ax)) + ((s.bodies.barrel3.ay + s.bodies.barrel3.az) + (s.bodies.barrel3.wx + s.bodies.barrel3.wy));
+  const T _sum_rates_17 = ((s.bodies.barrel3.wz + s.bodies.barrel3.alx) + (s.bodies.barrel3.aly + s.bodies.barrel3.alz)) + ((s.bodies.rod3.vx + s.bodies.rod3.vy) + (s.bodies.rod3.vz + s.bodies.rod3.ax));
+  const T _sum_rates_18 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.bodies.rod3.wx + s.bodies.rod3.wy)) + ((s.bodies.rod3.wz + s.bodies.rod3.alx) + (s.bodies.rod3.aly + s.bodies.rod3.alz));
+  const T _sum_rates_19 = ((s.points.Q.vy + s.points.Q.vz) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.vy + s.points.H.vz) + (s.points.H.ay + s.points.H.az));
+  const T _sum_rates_20 = ((s.points.F.vy + s.points.F.vz) + (s.points.F.ay + s.points.F.az)) + ((s.points.N.vy + s.points.N.vz) + (s.points.N.ay + s.points.N.az));
+  const T _sum_rates_21 = ((s.points.A.vx + s.points.A.vy) + (s.points.A.vz + s.points.A.ax)) + ((s.points.A.ay + s.points.A.az) + (s.points.G.vx + s.points.G.vy));
+  const T _sum_rates_22 = ((s.points.G.vz + s.points.G.ax) + (s.points.G.ay + s.points.G.az)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
+  const T _sum_rates_23 = ((s.points.C.ay + s.points.C.az) + (s.points.B.vx + s.points.B.vy)) + ((s.points.B.vz + s.points.B.ax) + (s.points.B.ay + s.points.B.az));
+  const T _sum_rates_24 = ((s.points.D.vx + s.points.D.vy) + (s.points.D.vz + s.points.D.ax)) + ((s.points.D.ay + s.points.D.az) + (s.joints.swing.qd + s.joints.swing.qdd));
+  const T _sum_rates_25 = ((s.joints.hip.qd + s.joints.hip.qdd) + (s.joints.crank_pivot.qd + s.joints.crank_pivot.qdd)) + ((s.joints.knee.qd + s.joints.knee.qdd) + (s.joints.coupler_B.q1d + s.joints.coupler_B.q1dd));
+  const T _sum_rates_26 = ((s.joints.coupler_B.q2d + s.joints.coupler_B.q2dd) + (s.joints.coupler_B.q3d + s.joints.coupler_B.q3dd)) + ((s.joints.coupler_C.q1d + s.joints.coupler_C.q1dd) + (s.joints.coupler_C.q2d + s.joints.coupler_C.q2dd));
+  const T _sum_rates_27 = ((s.joints.cyl1_base.q1d + s.joints.cyl1_base.q1dd) + (s.joints.cyl1_base.q2d + s.joints.cyl1_base.q2dd)) + ((s.joints.cyl1.qd + s.joints.cyl1.qdd) + (s.joints.cyl1_end.q1d + s.joints.cyl1_end.q1dd));
+  const T _sum_rates_28 = ((s.joints.cyl1_end.q2d + s.joints.cyl1_end.q2dd) + (s.joints.cyl1_end.q3d + s.joints.cyl1_end.q3dd)) + ((s.joints.cyl2_base.q1d + s.joints.cyl2_base.q1dd) + (s.joints.cyl2_base.q2d + s.joints.cyl2_base.q2dd));
+  const T _sum_rates_29 = ((s.joints.cyl2.qd + s.joints.cyl2.qdd) + (s.joints.cyl2_end.q1d + s.joints.cyl2_end.q1dd)) + ((s.joints.cyl2_end.q2d + s.joints.cyl2_end.q2dd) + (s.joints.cyl2_end.q3d + s.joints.cyl2_end.q3dd));
+  const T _sum_rates_30 = ((s.joints.cyl3_base.q1d + s.joints.cyl3_base.q1dd) + (s.joints.cyl3_base.q2d + s.joints.cyl3_base.q2dd)) + ((s.joints.cyl3.qd + s.joints.cyl3.qdd) + (s.joints.cyl3_end.q1d + s.joints.cyl3_end.q1dd));
+  const T _sum_rates_31 = ((s.joints.cyl3_end.q2d + s.joints.cyl3_end.q2dd) + (s.joints.cyl3_end.q3d + s.joints.cyl3_end.q3dd)) + ((s.drivers.l1.qd + s.drivers.l1.qdd) + (s.drivers.l2.qd + s.drivers.l2.qdd));
+  const T _sum_rates_32 = s.drivers.l3.qd + s.drivers.l3.qdd;
+  const T _sum_rates_33 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_34 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_35 = ((_sum_rates_16 + _sum_rates_17) + (_sum_rates_18 + _sum_rates_19)) + ((_sum_rates_20 + _sum_rates_21) + (_sum_rates_22 + _sum_rates_23));
+  const T _sum_rates_36 = ((_sum_rates_24 + _sum_rates_25) + (_sum_rates_26 + _sum_rates_27)) + ((_sum_rates_28 + _sum_rates_29) + (_sum_rates_30 + _sum_rates_31));
+  const T _sum_rates_37 = _sum_rates_32;
+  const T _sum_rates = (_sum_rates_33 + _sum_rates_34) + (_sum_rates_35 + (_sum_rates_36 + _sum_rates_37));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 14, Status::non_finite);
+  const T _sum_forces = s.drivers.l1.effort + (s.drivers.l2.effort + s.drivers.l3.effort);
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 15, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -15849,7 +16043,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 12, Status::unreachable);
   // Total ops: 49139
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
@@ -23190,6 +23384,39 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.l1.effort = tau_l1;
   s.drivers.l2.effort = tau_l2;
   s.drivers.l3.effort = tau_l3;
+  const T _sum_positions_0 = ((s.points.M.y + s.points.M.z) + (s.points.Q.y + s.points.Q.z)) + ((s.points.H.x + s.points.H.y) + (s.points.H.z + s.points.F.x));
+  const T _sum_positions_1 = ((s.points.F.y + s.points.F.z) + (s.points.N.y + s.points.N.z)) + ((s.points.A.x + s.points.A.y) + (s.points.A.z + s.points.G.x));
+  const T _sum_positions_2 = ((s.points.G.y + s.points.G.z) + (s.points.C.x + s.points.C.y)) + ((s.points.C.z + s.points.B.x) + (s.points.B.y + s.points.B.z));
+  const T _sum_positions_3 = ((s.points.D.x + s.points.D.y) + (s.points.D.z + s.body_jacobians.frame[0][2])) + ((s.body_jacobians.thigh[1][0] + s.body_jacobians.thigh[2][0]) + (s.body_jacobians.thigh[3][0] + s.body_jacobians.thigh[1][1]));
+  const T _sum_positions_4 = ((s.body_jacobians.thigh[2][1] + s.body_jacobians.thigh[3][1]) + (s.body_jacobians.thigh[0][2] + s.body_jacobians.crank[1][1])) + ((s.body_jacobians.crank[2][1] + s.body_jacobians.crank[3][1]) + (s.body_jacobians.crank[0][2] + s.body_jacobians.shank[1][0]));
+  const T _sum_positions_5 = ((s.body_jacobians.shank[2][0] + s.body_jacobians.shank[3][0]) + (s.body_jacobians.shank[4][0] + s.body_jacobians.shank[5][0])) + ((s.body_jacobians.shank[1][1] + s.body_jacobians.shank[2][1]) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
+  const T _sum_positions_6 = ((s.body_jacobians.shank[5][1] + s.body_jacobians.shank[0][2]) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
+  const T _sum_positions_7 = ((s.body_jacobians.coupler[0][1] + s.body_jacobians.coupler[1][1]) + (s.body_jacobians.coupler[2][1] + s.body_jacobians.coupler[3][1])) + ((s.body_jacobians.coupler[4][1] + s.body_jacobians.coupler[5][1]) + (s.body_jacobians.coupler[0][2] + s.body_jacobians.barrel1[0][0]));
+  const T _sum_positions_8 = ((s.body_jacobians.barrel1[1][0] + s.body_jacobians.barrel1[2][0]) + (s.body_jacobians.barrel1[3][0] + s.body_jacobians.barrel1[4][0])) + ((s.body_jacobians.barrel1[5][0] + s.body_jacobians.barrel1[0][1]) + (s.body_jacobians.barrel1[1][1] + s.body_jacobians.barrel1[2][1]));
+  const T _sum_positions_9 = ((s.body_jacobians.barrel1[3][1] + s.body_jacobians.barrel1[4][1]) + (s.body_jacobians.barrel1[5][1] + s.body_jacobians.barrel1[0][2])) + ((s.body_jacobians.rod1[0][0] + s.body_jacobians.rod1[1][0]) + (s.body_jacobians.rod1[2][0] + s.body_jacobians.rod1[3][0]));
+  const T _sum_positions_10 = ((s.body_jacobians.rod1[4][0] + s.body_jacobians.rod1[5][0]) + (s.body_jacobians.rod1[0][1] + s.body_jacobians.rod1[1][1])) + ((s.body_jacobians.rod1[2][1] + s.body_jacobians.rod1[3][1]) + (s.body_jacobians.rod1[4][1] + s.body_jacobians.rod1[5][1]));
+  const T _sum_positions_11 = ((s.body_jacobians.rod1[0][2] + s.body_jacobians.barrel2[0][1]) + (s.body_jacobians.barrel2[1][1] + s.body_jacobians.barrel2[2][1])) + ((s.body_jacobians.barrel2[3][1] + s.body_jacobians.barrel2[4][1]) + (s.body_jacobians.barrel2[5][1] + s.body_jacobians.barrel2[0][2]));
+  const T _sum_positions_12 = ((s.body_jacobians.rod2[0][1] + s.body_jacobians.rod2[1][1]) + (s.body_jacobians.rod2[2][1] + s.body_jacobians.rod2[3][1])) + ((s.body_jacobians.rod2[4][1] + s.body_jacobians.rod2[5][1]) + (s.body_jacobians.rod2[0][2] + s.body_jacobians.barrel3[0][2]));
+  const T _sum_positions_13 = ((s.body_jacobians.barrel3[1][2] + s.body_jacobians.barrel3[2][2]) + (s.body_jacobians.barrel3[3][2] + s.body_jacobians.barrel3[4][2])) + ((s.body_jacobians.barrel3[5][2] + s.body_jacobians.rod3[0][2]) + (s.body_jacobians.rod3[1][2] + s.body_jacobians.rod3[2][2]));
+  const T _sum_positions_14 = ((s.body_jacobians.rod3[3][2] + s.body_jacobians.rod3[4][2]) + (s.body_jacobians.rod3[5][2] + s.point_jacobians.Q[1][2])) + ((s.point_jacobians.Q[2][2] + s.point_jacobians.H[1][2]) + (s.point_jacobians.H[2][2] + s.point_jacobians.F[1][2]));
+  const T _sum_positions_15 = ((s.point_jacobians.F[2][2] + s.point_jacobians.N[1][2]) + (s.point_jacobians.N[2][2] + s.point_jacobians.A[0][0])) + ((s.point_jacobians.A[1][0] + s.point_jacobians.A[2][0]) + (s.point_jacobians.A[0][1] + s.point_jacobians.A[1][1]));
+  const T _sum_positions_16 = ((s.point_jacobians.A[2][1] + s.point_jacobians.A[1][2]) + (s.point_jacobians.A[2][2] + s.point_jacobians.G[0][0])) + ((s.point_jacobians.G[1][0] + s.point_jacobians.G[2][0]) + (s.point_jacobians.G[0][1] + s.point_jacobians.G[1][1]));
+  const T _sum_positions_17 = ((s.point_jacobians.G[2][1] + s.point_jacobians.G[1][2]) + (s.point_jacobians.G[2][2] + s.point_jacobians.C[0][1])) + ((s.point_jacobians.C[1][1] + s.point_jacobians.C[2][1]) + (s.point_jacobians.C[1][2] + s.point_jacobians.C[2][2]));
+  const T _sum_positions_18 = ((s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.B[2][0] + s.point_jacobians.B[0][1])) + ((s.point_jacobians.B[1][1] + s.point_jacobians.B[2][1]) + (s.point_jacobians.B[1][2] + s.point_jacobians.B[2][2]));
+  const T _sum_positions_19 = ((s.point_jacobians.D[0][0] + s.point_jacobians.D[1][0]) + (s.point_jacobians.D[2][0] + s.point_jacobians.D[0][1])) + ((s.point_jacobians.D[1][1] + s.point_jacobians.D[2][1]) + (s.point_jacobians.D[1][2] + s.point_jacobians.D[2][2]));
+  const T _sum_positions_20 = ((_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3)) + ((_sum_positions_4 + _sum_positions_5) + (_sum_positions_6 + _sum_positions_7));
+  const T _sum_positions_21 = ((_sum_positions_8 + _sum_positions_9) + (_sum_positions_10 + _sum_positions_11)) + ((_sum_positions_12 + _sum_positions_13) + (_sum_positions_14 + _sum_positions_15));
+  const T _sum_positions_22 = (_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19);
+  const T _sum_positions = _sum_positions_20 + (_sum_positions_21 + _sum_positions_22);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 13, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.next[6] + s.closure.next[7]));
+  const T _sum_rates_1 = ((s.closure.next[8] + s.closure.next[9]) + (s.closure.next[10] + s.closure.next[11])) + ((s.closure.next[12] + s.closure.next[13]) + (s.closure.next[14] + s.closure.next[15]));
+  const T _sum_rates_2 = ((s.closure.next[16] + s.closure.next[17]) + (s.closure.next[18] + s.closure.next[19])) + ((s.closure.next[20] + s.closure.next[21]) + (s.closure.next[22] + s.closure.next[23]));
+  const T _sum_rates_3 = s.closure.residual + s.closure.det;
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 14, Status::non_finite);
+  const T _sum_forces = s.drivers.l1.effort + (s.drivers.l2.effort + s.drivers.l3.effort);
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 15, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -23208,6 +23435,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
 // driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 0;
 inline constexpr int ne_size = 0;
 inline constexpr const char* ne_unknowns[] = { nullptr };
@@ -23222,7 +23450,8 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   return Status::ok;
 }
 
-// evaluate() for n samples: status[i] for sample i (no heap; the caller owns the arrays).
+// evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
+// heap; the caller owns the arrays).
 template <class T>
 void evaluate_batch(const Params<T>& p, const Inputs<T>* in, long n, State<T>* out,
                     Status* status) noexcept {
@@ -23251,6 +23480,11 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.l3_dd = -T(0.02)*_tmp3*_tmp1;
 
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xe64fc5ad930dc006ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 25;

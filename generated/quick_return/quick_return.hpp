@@ -208,7 +208,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 3 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 7;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_lever", "g3_block_ram", "inputs", "positions", "rates", "forces" };
 
@@ -548,8 +549,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T block_slide_m = _tmp7;
   s.joints.block_slide.m = block_slide_m;
   if (!(g3_block_ram_cross != T(0))) return detail::failed(s, 2, Status::singular);
-  if (!(ne_pivot11 != T(0))) return detail::failed(s, -1, Status::singular);
-  if (!(block_slide_normal_x != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot11 != T(0))) return detail::failed(s, 6, Status::singular);
+  if (!(block_slide_normal_x != T(0))) return detail::failed(s, 6, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.lever.x) + (s.bodies.lever.y + s.bodies.lever.cos_th));
   const T _sum_positions_1 = ((s.bodies.lever.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.bodies.ram.x) + (s.bodies.ram.y + s.points.O.y));
   const T _sum_positions_2 = ((s.points.P.x + s.points.P.y) + (s.points.E.x + s.points.E.y)) + ((s.points.C.x + s.points.C.y) + (s.points.Tool.x + s.points.Tool.y));
@@ -732,9 +733,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T crank_pin_normal_x = -s_lever;
     const T _tmp3 = P_x*c_lever;
     const T ne_pivot11 = P_y*crank_pin_normal_x - _tmp3;
-    failed = max(failed, (ne_pivot11 != T(0)) ? T(0) : T(8183810));
+    failed = max(failed, (ne_pivot11 != T(0)) ? T(0) : T(8183838));
     const T block_slide_normal_x = -s_lever;
-    failed = max(failed, (block_slide_normal_x != T(0)) ? T(0) : T(8179714));
+    failed = max(failed, (block_slide_normal_x != T(0)) ? T(0) : T(8179742));
     const T ram_inertial_x = p.m_r*C_x_dd;
     const T block_inertial_x = p.m_b*C_x_dd;
     const T ne4 = block_inertial_x + p.F_cut + ram_inertial_x;
@@ -959,7 +960,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd757f4b49e0656a6ULL;
+inline constexpr unsigned long long fingerprint = 0x6ca6849498b1b3c2ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

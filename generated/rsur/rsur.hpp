@@ -232,16 +232,35 @@ struct State {
     T q[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
     T next[6], residual, det;
   } closure;
-  int failed_group = -1;  // the solve group that failed, when the status is not ok
+  int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
 
-enum class Status : int { ok = 0, unreachable = 1, singular = 2 };
+// non_finite: every check passed but an output is infinite or NaN (parameters or inputs so large
+// that the arithmetic overflows); failed_group then names the stage (positions, rates, forces).
+enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 };
 
-inline constexpr int group_count = 4;
-// Solve groups in order (one per located body); State::failed_group indexes this table.
-inline constexpr const char* group_names[] = { "crank", "rocker", "coupler", "closure" };
+// The 4 solve groups in order (one per located body), then the stages checked
+// after them: "inputs" (a non-finite driver input: unreachable), "positions", "rates", "forces" (a
+// non-finite output of that stage: non_finite). State::failed_group indexes this table.
+inline constexpr int group_count = 8;
+inline constexpr const char* group_names[] = { "crank", "rocker", "coupler", "closure", "inputs", "positions", "rates", "forces" };
 
-// A driver motion outside its domain arrives here as NaN or infinity.
+namespace detail {
+// A failed check: the State is cleared (it would otherwise hold part of a configuration) and the
+// failing group recorded. Out of line and cold: the straight-line code only branches here.
+template <class T>
+#if defined(__GNUC__)
+__attribute__((cold, noinline))
+#endif
+Status failed(State<T>& s, int group, Status status) noexcept {
+  s = State<T>{};
+  s.failed_group = group;
+  return status;
+}
+}  // namespace detail
+
+// A driver motion outside its domain arrives here as NaN or infinity: the entries return
+// unreachable with the "inputs" stage as failed group.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
   using std::isfinite;
@@ -255,7 +274,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 5332
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
@@ -1405,6 +1424,25 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.C[0][0] = jv_coupler_0_x + jw_coupler_0_y*pt_C_z - jw_coupler_0_z*pt_C_y;
   s.point_jacobians.C[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_C_x - jw_coupler_0_x*pt_C_z;
   s.point_jacobians.C[2][0] = jv_coupler_0_z + jw_coupler_0_x*pt_C_y - jw_coupler_0_y*pt_C_x;
+  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
+  const T _sum_positions_1 = ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2])) + ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6]));
+  const T _sum_positions_2 = ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z)) + ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.bodies.rocker.R[7] + s.bodies.rocker.R[8]));
+  const T _sum_positions_3 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.joints.jA.q));
+  const T _sum_positions_4 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0]));
+  const T _sum_positions_5 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
+  const T _sum_positions_6 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + ((_sum_positions_3 + _sum_positions_4) + (_sum_positions_5 + _sum_positions_6));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
+  const T _sum_rates_1 = ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.crank.wz + s.bodies.crank.alz) + (s.bodies.coupler.vx + s.bodies.coupler.vy));
+  const T _sum_rates_2 = ((s.bodies.coupler.vz + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az)) + ((s.bodies.coupler.wx + s.bodies.coupler.wy) + (s.bodies.coupler.wz + s.bodies.coupler.alx));
+  const T _sum_rates_3 = ((s.bodies.coupler.aly + s.bodies.coupler.alz) + (s.bodies.rocker.vy + s.bodies.rocker.vz)) + ((s.bodies.rocker.ay + s.bodies.rocker.az) + (s.bodies.rocker.wx + s.bodies.rocker.alx));
+  const T _sum_rates_4 = ((s.points.B.vx + s.points.B.vy) + (s.points.B.ax + s.points.B.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
+  const T _sum_rates_5 = ((s.points.C.ay + s.points.C.az) + (s.joints.jA.qd + s.joints.jA.qdd)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
+  const T _sum_rates_6 = ((s.joints.jB.q3d + s.joints.jB.q3dd) + (s.joints.jC.q1d + s.joints.jC.q1dd)) + ((s.joints.jC.q2d + s.joints.jC.q2dd) + (s.joints.jD.qd + s.joints.jD.qdd));
+  const T _sum_rates_7 = s.drivers.theta.qd + s.drivers.theta.qdd;
+  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -1419,13 +1457,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 }
 
 // Kinematics, screw Jacobians and the inverse dynamics: every joint reaction and driver effort.
+// `ok` means every output is finite: the last checks sum each stage's outputs (output_checks.hpp).
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 5884
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
@@ -2672,6 +2711,27 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.jD.mx = not_generated;
   s.joints.jD.my = not_generated;
   s.joints.jD.mz = not_generated;
+  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
+  const T _sum_positions_1 = ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2])) + ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6]));
+  const T _sum_positions_2 = ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z)) + ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.bodies.rocker.R[7] + s.bodies.rocker.R[8]));
+  const T _sum_positions_3 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.joints.jA.q));
+  const T _sum_positions_4 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0]));
+  const T _sum_positions_5 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
+  const T _sum_positions_6 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + ((_sum_positions_3 + _sum_positions_4) + (_sum_positions_5 + _sum_positions_6));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
+  const T _sum_rates_1 = ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.crank.wz + s.bodies.crank.alz) + (s.bodies.coupler.vx + s.bodies.coupler.vy));
+  const T _sum_rates_2 = ((s.bodies.coupler.vz + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az)) + ((s.bodies.coupler.wx + s.bodies.coupler.wy) + (s.bodies.coupler.wz + s.bodies.coupler.alx));
+  const T _sum_rates_3 = ((s.bodies.coupler.aly + s.bodies.coupler.alz) + (s.bodies.rocker.vy + s.bodies.rocker.vz)) + ((s.bodies.rocker.ay + s.bodies.rocker.az) + (s.bodies.rocker.wx + s.bodies.rocker.alx));
+  const T _sum_rates_4 = ((s.points.B.vx + s.points.B.vy) + (s.points.B.ax + s.points.B.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
+  const T _sum_rates_5 = ((s.points.C.ay + s.points.C.az) + (s.joints.jA.qd + s.joints.jA.qdd)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
+  const T _sum_rates_6 = ((s.joints.jB.q3d + s.joints.jB.q3dd) + (s.joints.jC.q1d + s.joints.jC.q1dd)) + ((s.joints.jC.q2d + s.joints.jC.q2dd) + (s.joints.jD.qd + s.joints.jD.qdd));
+  const T _sum_rates_7 = s.drivers.theta.qd + s.drivers.theta.qdd;
+  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
+  const T _sum_forces = s.drivers.theta.effort;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -2693,7 +2753,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 5840
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
@@ -3791,6 +3851,15 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.point_jacobians.C[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_C_x - jw_coupler_0_x*pt_C_z;
   s.point_jacobians.C[2][0] = jv_coupler_0_z + jw_coupler_0_x*pt_C_y - jw_coupler_0_y*pt_C_x;
   s.drivers.theta.effort = tau_theta;
+  const T _sum_positions_0 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.body_jacobians.coupler[0][0]));
+  const T _sum_positions_1 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
+  const T _sum_positions_2 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
+  const T _sum_forces = s.drivers.theta.effort;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
@@ -3809,6 +3878,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
 // driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 0;
 inline constexpr int ne_size = 0;
 inline constexpr const char* ne_unknowns[] = { nullptr };
@@ -3823,7 +3893,8 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   return Status::ok;
 }
 
-// evaluate() for n samples: status[i] for sample i (no heap; the caller owns the arrays).
+// evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
+// heap; the caller owns the arrays).
 template <class T>
 void evaluate_batch(const Params<T>& p, const Inputs<T>* in, long n, State<T>* out,
                     Status* status) noexcept {
@@ -3840,6 +3911,11 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
   in.theta_dd = T(0);
 
 }
+
+// What this kernel was generated from: a hash of the model's description (its parsed form:
+// comments and layout aside), the templates and the generator's emission version. mechgen runs a
+// kernel only for a description with the same fingerprint.
+inline constexpr unsigned long long fingerprint = 0xb27c055f1a96e2c1ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -205,7 +205,8 @@ enum class Status : int { ok = 0, unreachable = 1, singular = 2, non_finite = 3 
 
 // The 2 solve groups in order, then the stages checked after them: "inputs"
 // (a non-finite driver input: unreachable), "positions", "rates", "forces" (a non-finite output of
-// that stage: non_finite). State::failed_group indexes this table.
+// that stage: non_finite; "forces" also for a singular Newton-Euler pivot). State::failed_group
+// indexes this table.
 inline constexpr int group_count = 6;
 inline constexpr const char* group_names[] = { "g1_crank", "g2_rod_slider", "inputs", "positions", "rates", "forces" };
 
@@ -491,7 +492,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T O_ground_crank_fx = P_crank_rod_fx + crank_inertial_x;
   s.joints.O_ground_crank.fx = O_ground_crank_fx;
   if (!(g2_rod_slider_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
-  if (!(ne_pivot9 != T(0))) return detail::failed(s, -1, Status::singular);
+  if (!(ne_pivot9 != T(0))) return detail::failed(s, 5, Status::singular);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rod.x) + (s.bodies.rod.y + s.bodies.rod.cos_th));
   const T _sum_positions_1 = (s.bodies.rod.sin_th + (s.bodies.slider.x + s.points.G.x)) + (s.points.P.x + (s.points.P.y + s.points.Q.x));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
@@ -649,7 +650,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T G_x = T(3)*p.r + p.L;
     out[34 * stride + i] = G_x;
     const T ne_pivot9 = _tmp2;
-    failed = max(failed, (ne_pivot9 != T(0)) ? T(0) : T(8187906));
+    failed = max(failed, (ne_pivot9 != T(0)) ? T(0) : T(8187930));
     const T ne1 = -P_y;
     const T spring_d_x = g2_rod_slider_lambda - G_x;
     const T spring_length = sqrt(spring_d_x*spring_d_x);
@@ -851,7 +852,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xe5bb10d5333a3d1eULL;
+inline constexpr unsigned long long fingerprint = 0xf2f5697fbd51bb4aULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;

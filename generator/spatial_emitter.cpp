@@ -271,12 +271,16 @@ class SpatialEmitter {
   void closure(std::map<std::string, std::string>& v) const {
     v["closure_fields"] = "";
     v["closure_check"] = "";
+    v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
     if (d_.closure_start.empty()) return;
     std::string start;
     for (const double q : d_.closure_start)
       start += (start.empty() ? "" : ", ") + number_literal(q);
     const std::string n = std::to_string(d_.closure_start.size());
+    // The closure is the last solve group (the stages inputs, positions, ... follow it).
+    const std::string closure_group = std::to_string(d_.groups.size() - 1);
+    v["keep_warm_start"] = "  cleared.closure = s.closure;  // the warm start survives a failure\n";
     v["closure_fields"] =
         "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "
         "t0\n  // by default, replaced by every call that closes the circuits), the last call's "
@@ -288,10 +292,13 @@ class SpatialEmitter {
         "  using std::abs;\n"
         "  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *\n"
         "                                   std::numeric_limits<T>::epsilon()))\n"
-        "    return s.failed_group = group_count - 1, Status::unreachable;\n"
+        "    return s.failed_group = " +
+        closure_group +
+        ", Status::unreachable;\n"
         "  if (!(abs(s.closure.det) > " +
         number_literal(1e-9 * std::abs(d_.closure_det)) +
-        "))\n    return s.failed_group = group_count - 1, Status::singular;\n"
+        "))\n    return s.failed_group = " + closure_group +
+        ", Status::singular;\n"
         "  for (int i = 0; i < " +
         n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
     v["entry_state"] =

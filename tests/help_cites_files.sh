@@ -14,6 +14,10 @@ for command in "" $commands; do
     stem=$(basename "$file"); stem=${stem%%.*}
     [[ $stem =~ ^[A-Z0-9_]+$ && $file != *.md ]] && continue  # FILE.csv, MODEL.yaml: arguments
     [[ $file == out/* || $file == /* ]] && continue  # outputs the command writes
+    [[ $file =~ ^[A-Z][A-Z0-9]*[_./] ]] && continue    # PREFIX_frontal.svg, DIR/...: placeholders
+    # A bare name that is not a document (gait.csv, walk.svg): a file the command writes into the
+    # folder it is given; files of the repository are cited with their folder (docs/..., models/...).
+    [[ $file != */* && $file != *.md ]] && continue
     cited=$((cited + 1))
     if [[ ! -e $root/$file ]]; then
       echo "mechgen ${command:-} --help cites '$file', which is not in the repository" >&2

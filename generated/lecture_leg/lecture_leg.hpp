@@ -244,7 +244,8 @@ template <class T>
 __attribute__((cold, noinline))
 #endif
 Status failed(State<T>& s, int group, Status status) noexcept {
-  s = State<T>{};
+  State<T> cleared{};
+  s = cleared;
   s.failed_group = group;
   return status;
 }
@@ -1206,7 +1207,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x0928ea29cbdf5259ULL;
+inline constexpr unsigned long long fingerprint = 0x1168f0259f8b7e65ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

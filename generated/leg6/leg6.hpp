@@ -275,7 +275,8 @@ template <class T>
 __attribute__((cold, noinline))
 #endif
 Status failed(State<T>& s, int group, Status status) noexcept {
-  s = State<T>{};
+  State<T> cleared{};
+  s = cleared;
   s.failed_group = group;
   return status;
 }
@@ -2922,7 +2923,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xb8c3093c65957f72ULL;
+inline constexpr unsigned long long fingerprint = 0xd9de7cafb8fcb1baULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -272,7 +272,8 @@ int run_spatial_sweep(const Args& args) {
                                                      : SourceLoc{model.common.file, 0, 0},
                            "the generated kernel of '" + model.common.name +
                                "' (closed circuits) gives kinematics and driver efforts only: "
-                               "column " + result.columns[c] +
+                               "column " +
+                               result.columns[c] +
                                " (a joint reaction) is not generated yet; use --solver numeric");
   const std::string out = args.get("--out");
   g_current_file = out;

@@ -521,8 +521,11 @@ int dispatch(int argc, char** argv) {
         return 0;
       }
       // Every output path is checked before any computation (the files are written atomically).
+      // (humanoid-gait's --out is a folder it fills: it checks it itself.)
+      const bool out_is_folder = std::string(c.name) == "humanoid-gait";
       for (const char* option : {"--out", "--over-time", "--diagram-out", "--plot"})
-        for (const std::string& path : args.all(option)) report::check_output_path(path);
+        if (!(out_is_folder && std::string(option) == "--out"))
+          for (const std::string& path : args.all(option)) report::check_output_path(path);
       return c.run(args);
     } catch (const UsageError& error) {
       std::cerr << "mechgen " << c.name << ": error: " << error.what() << " (see mechgen " << c.name

@@ -1,6 +1,9 @@
 // A twin with joint drivers following a pose-driven spatial model (follow.hpp).
 #include "analysis/follow.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "spatial/driven_solve.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
@@ -37,9 +40,18 @@ FollowResult follow(const SpatialModel& driven, const SpatialModel& twin,
            twin_state);
   const auto n = static_cast<Eigen::Index>(source.size());
   Eigen::VectorXd q(n), qd(n), qdd(n);
+  // The pose-driven model is followed in steps of at most 1/256 of the step's duration whatever
+  // the samples asked for: from a sample far back its Newton-Raphson may land on another
+  // assembly branch (seen with 5 samples of the quadruped swing, depending on round-off).
+  const double max_dt = (t1 - t0) / 256;
+  double t_prev = t0;
   for (int k = 0; k < options.samples; ++k) {
     const double t = options.samples == 1 ? t0 : t0 + (t1 - t0) * k / (options.samples - 1);
+    const int substeps =
+        k == 0 ? 1 : std::max(1, static_cast<int>(std::ceil((t - t_prev) / max_dt)));
+    for (int i = 1; i < substeps; ++i) ik.solve(t_prev + (t - t_prev) * i / substeps, s);
     ik.solve(t, s);
+    t_prev = t;
     for (Eigen::Index i = 0; i < n; ++i) {
       const int c = source[static_cast<size_t>(i)];
       q[i] = s.q[c], qd[i] = s.qd[c], qdd[i] = s.qdd[c];

@@ -162,7 +162,7 @@ TEST(SpatialKinematics, PoseDrivenLegReachesItsTarget) {
   SpatialState s;
   for (const double t : {0.0, 0.5, 1.3}) {
     solver.solve(t, s);
-    const int foot = model.body_index("foot");
+    const int foot = model.body_index("foot_link");
     const V3 x = solver.point_position(s, foot, solver.instance().points[6][0]);
     EXPECT_NEAR(x[0], 0.02 * std::sin(3 * t), 1e-12);
     EXPECT_NEAR(x[1], 0.01 * std::sin(3 * t), 1e-12);

@@ -13,11 +13,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "ondemand_test_support.hpp"
+#include "report/csv_table.hpp"
 
 namespace mechgen {
 namespace {
@@ -33,26 +33,6 @@ fs::path fresh_dir(const std::string& what) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-// A sweep CSV: header and rows. Read here rather than with report::read_csv, which rejects a
-// repeated column name, and leg6's foot body and foot point both have `foot.x`.
-struct Csv {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-};
-Csv read_sweep(const fs::path& path) {
-  std::ifstream in(path);
-  Csv csv;
-  std::string line;
-  for (bool first = true; std::getline(in, line); first = false) {
-    std::stringstream cells(line);
-    std::vector<double> row;
-    for (std::string cell; std::getline(cells, cell, ',');)
-      first ? csv.header.push_back(cell) : row.push_back(std::stod(cell));
-    if (!first) csv.rows.push_back(row);
-  }
-  return csv;
 }
 
 // Runs the mechgen binary; returns its exit code, with its stderr in `err`.
@@ -84,8 +64,8 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
   ASSERT_EQ(mechgen(common + " --solver numeric --out " + (dir / "numeric.csv").string(), dir, err),
             0)
       << err;
-  const Csv generated = read_sweep(dir / "second.csv");
-  const Csv numeric = read_sweep(dir / "numeric.csv");
+  const report::CsvTable generated = report::read_csv((dir / "second.csv").string());
+  const report::CsvTable numeric = report::read_csv((dir / "numeric.csv").string());
   ASSERT_EQ(generated.header, numeric.header);
   ASSERT_EQ(generated.rows.size(), 41u);
   ASSERT_EQ(numeric.rows.size(), 41u);

@@ -348,7 +348,8 @@ Command humanoid_gait_command() {
            {"--waist", "", true},
            {"--right-foot", "", true},
            {"--left-foot", "", true}},
-          &run_humanoid_gait};
+          &run_humanoid_gait,
+          /*out_is_folder=*/true};
 }
 
 }  // namespace mechgen::cli

@@ -521,10 +521,8 @@ int dispatch(int argc, char** argv) {
         return 0;
       }
       // Every output path is checked before any computation (the files are written atomically).
-      // (humanoid-gait's --out is a folder it fills: it checks it itself.)
-      const bool out_is_folder = std::string(c.name) == "humanoid-gait";
       for (const char* option : {"--out", "--over-time", "--diagram-out", "--plot"})
-        if (!(out_is_folder && std::string(option) == "--out"))
+        if (!(c.out_is_folder && std::string(option) == "--out"))
           for (const std::string& path : args.all(option)) report::check_output_path(path);
       return c.run(args);
     } catch (const UsageError& error) {

@@ -57,6 +57,7 @@ class SpatialReader {
                    std::string& point_name) const;
 
   void read_body(const YAML::Node& node);
+  void check_point_names() const;
   void read_mass(const YAML::Node& node, SpatialBody& body);
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
@@ -558,6 +559,17 @@ void SpatialReader::read_load(const YAML::Node& node) {
   m_.loads.push_back(f);
 }
 
+// A point named like a body would give the sweep CSV two `<name>.x` columns (the point and the
+// body's centre of mass): a reader of the CSV by column name would silently get one of them.
+void SpatialReader::check_point_names() const {
+  for (const SpatialBody& body : m_.bodies)
+    for (const SpatialPoint& p : body.points)
+      if (const auto at = names_.find(p.name); at != names_.end() && at->second == "body")
+        throw ModelError(p.local.x.loc, "point '" + p.name + "' of body '" + body.name +
+                                            "' has the name of a body: their CSV columns '" +
+                                            p.name + ".x', ... would collide; rename one");
+}
+
 SpatialModel SpatialReader::read(const YAML::Node& root) {
   m_.gravity = root["gravity"] ? vector3(root["gravity"], "gravity", false)
                                : constant_vec(0, 0, -9.81, y_.loc(root));
@@ -574,6 +586,7 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
     if (!list.IsSequence()) fail(list, std::string(key) + " must be a list");
     for (const auto& item : list) (this->*read_item)(item);
     if (m_.ground < 0) fail(list, "no ground body (mark one body 'ground: true')");
+    if (key == std::string("bodies")) check_point_names();
   }
   build_spatial_graph(m_);  // a body not connected to the ground, a rigid circuit: errors now
   return m_;

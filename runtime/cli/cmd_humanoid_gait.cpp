@@ -124,15 +124,21 @@ std::string animated_drawing(const std::string& title,
     const int axis = view == 0 ? 0 : 1;
     const double x0 = view == 0 ? pad - lo[0] * scale : side_w + pad - lo[1] * scale;
     for (size_t k = 0; k < nl; ++k) {
-      std::string values[4];
+      std::string values[4], first[4];
       for (const auto& f : frames) {
         const auto& l = f[k];
         const double v[4] = {x0 + l[static_cast<size_t>(axis)] * scale, floor_y - l[2] * scale,
                              x0 + l[static_cast<size_t>(3 + axis)] * scale, floor_y - l[5] * scale};
-        for (int i = 0; i < 4; ++i) values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
+        for (int i = 0; i < 4; ++i) {
+          if (values[i].empty()) first[i] = fixed(v[i], 5);
+          values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
+        }
       }
-      out += "<line stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
+      // The first frame as the line's own attributes: a viewer without SMIL shows the start pose.
       const char* attr[4] = {"x1", "y1", "x2", "y2"};
+      out += "<line";
+      for (int i = 0; i < 4; ++i) out += " " + std::string(attr[i]) + "=\"" + first[i] + "\"";
+      out += " stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
       for (int i = 0; i < 4; ++i)
         out += "<animate attributeName=\"" + std::string(attr[i]) + "\" dur=\"" +
                fixed(duration, 6) + "s\" repeatCount=\"indefinite\" values=\"" + values[i] + "\"/>";

@@ -72,11 +72,7 @@ std::string spatial_output_checks(
     OutputStage stage = OutputStage::none) {
   std::vector<CheckedOutput> checked;
   for (const SpatialOutput& o : outputs)
-    // A closed chain's reactions are not generated yet: NaN by design (`not_generated`), so they
-    // are not checked; the runtime refuses to write them (runtime/cli/cmd_spatial.cpp).
-    if (!GiNaC::is_a<GiNaC::numeric>(o.value) &&
-        !(GiNaC::is_a<GiNaC::symbol>(o.value) &&
-          GiNaC::ex_to<GiNaC::symbol>(o.value).get_name() == "not_generated"))
+    if (!GiNaC::is_a<GiNaC::numeric>(o.value))
       checked.push_back(
           {stage == OutputStage::none ? spatial_stage_of(o.target) : stage, o.target});
   return output_checks(checked, "  ", check_line);
@@ -193,11 +189,12 @@ class SpatialEmitter {
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       bodies.push_back("    BodyState<T> " + b.name + ";");
-      body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
+      if (m_.emits_jacobian(b.name))
+        body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
     }
     for (const auto& [point, body] : m_.named_points()) {
       points.push_back("    PointState<T> " + point + ";");
-      if (!m_.bodies[static_cast<size_t>(body)].ground)
+      if (!m_.bodies[static_cast<size_t>(body)].ground && m_.emits_jacobian(point))
         point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
     }
     for (const SpatialJoint& j : m_.joints) {
@@ -307,9 +304,6 @@ class SpatialEmitter {
         "static thread_local State<T> s;\n"
         "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
         "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
-    const std::string nan =
-        "\n  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();";
-    for (const char* k : {"kinematics_using", "evaluate_using", "control_using"}) v[k] += nan;
   }
 
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.

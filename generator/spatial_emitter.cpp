@@ -66,15 +66,27 @@ std::string using_std(const CodeBlock& code) {
 
 // The finiteness checks of these outputs (output_checks.hpp), each stage's failure through
 // `check_line`; every output in `stage` when one is given (the Newton-Euler system's A and b).
+// A value written to several outputs (a screw in every body's Jacobian beyond its joint, a point
+// and its Jacobian's entry, up to sign) is checked once, in the earliest stage that writes it:
+// its copies are finite exactly when it is, and a failure names the same stage.
 std::string spatial_output_checks(
     const std::vector<SpatialOutput>& outputs,
     const std::function<std::string(OutputStage, const std::string& condition)>& check_line,
     OutputStage stage = OutputStage::none) {
+  std::map<ex, CheckedOutput, GiNaC::ex_is_less> first;  // per value (sign aside)
+  std::vector<ex> order;
+  for (const SpatialOutput& o : outputs) {
+    if (GiNaC::is_a<GiNaC::numeric>(o.value)) continue;
+    const OutputStage at = stage == OutputStage::none ? spatial_stage_of(o.target) : stage;
+    const ex key = first.count(-o.value) ? ex(-o.value) : o.value;
+    const auto [it, inserted] = first.emplace(key, CheckedOutput{at, o.target});
+    if (inserted)
+      order.push_back(key);
+    else if (at < it->second.stage)
+      it->second = {at, o.target};
+  }
   std::vector<CheckedOutput> checked;
-  for (const SpatialOutput& o : outputs)
-    if (!GiNaC::is_a<GiNaC::numeric>(o.value))
-      checked.push_back(
-          {stage == OutputStage::none ? spatial_stage_of(o.target) : stage, o.target});
+  for (const ex& key : order) checked.push_back(first.at(key));
   return output_checks(checked, "  ", check_line);
 }
 
@@ -174,7 +186,7 @@ class SpatialEmitter {
                        "_dd = T(0);");
       drivers.push_back("    DriverState<T> " + d.name + ";");
       for (const char* suffix : {"", "_d", "_dd"})
-        checks += std::string(" && isfinite(in.") + d.name + suffix + ")";
+        checks += std::string(" + T(0) * in.") + d.name + suffix;
       motion.assign("in." + d.name, d.value.ex.subs(rename));
       motion.assign("in." + d.name + "_d", d.value_d.subs(rename));
       motion.assign("in." + d.name + "_dd", d.value_dd.subs(rename));

@@ -262,11 +262,11 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }  // namespace detail
 
 // A driver motion outside its domain arrives here as NaN or infinity: the entries return
-// unreachable with the "inputs" stage as failed group.
+// unreachable with the "inputs" stage as failed group. 0 * x is 0 for every finite x (no
+// overflow) and NaN for an infinite or NaN one: one test for all inputs, no branch per input.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.theta) && isfinite(in.theta_d) && isfinite(in.theta_dd);
+  return T(0) * in.t + T(0) * in.theta + T(0) * in.theta_d + T(0) * in.theta_dd == T(0);
 }
 
 // Positions, velocities and accelerations of every body, point and driver, and the screw
@@ -1425,24 +1425,21 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.C[0][0] = jv_coupler_0_x + jw_coupler_0_y*pt_C_z - jw_coupler_0_z*pt_C_y;
   s.point_jacobians.C[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_C_x - jw_coupler_0_x*pt_C_z;
   s.point_jacobians.C[2][0] = jv_coupler_0_z + jw_coupler_0_x*pt_C_y - jw_coupler_0_y*pt_C_x;
-  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
-  const T _sum_positions_1 = ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2])) + ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6]));
-  const T _sum_positions_2 = ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z)) + ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.bodies.rocker.R[7] + s.bodies.rocker.R[8]));
-  const T _sum_positions_3 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.joints.jA.q));
-  const T _sum_positions_4 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0]));
-  const T _sum_positions_5 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
-  const T _sum_positions_6 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + ((_sum_positions_3 + _sum_positions_4) + (_sum_positions_5 + _sum_positions_6));
+  const T _sum_positions_0 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.bodies.crank.x + s.bodies.crank.y));
+  const T _sum_positions_1 = ((s.bodies.crank.R[0] + s.bodies.crank.R[1]) + (s.bodies.coupler.x + s.bodies.coupler.y)) + ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2]));
+  const T _sum_positions_2 = ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6])) + ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z));
+  const T _sum_positions_3 = ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.points.D.y + s.points.D.z)) + ((s.points.B.x + s.points.B.y) + (s.points.C.x + s.points.C.y));
+  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
+  const T _sum_positions_5 = (s.body_jacobians.rocker[0][0] + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0])) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
-  const T _sum_rates_1 = ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.crank.wz + s.bodies.crank.alz) + (s.bodies.coupler.vx + s.bodies.coupler.vy));
-  const T _sum_rates_2 = ((s.bodies.coupler.vz + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az)) + ((s.bodies.coupler.wx + s.bodies.coupler.wy) + (s.bodies.coupler.wz + s.bodies.coupler.alx));
-  const T _sum_rates_3 = ((s.bodies.coupler.aly + s.bodies.coupler.alz) + (s.bodies.rocker.vy + s.bodies.rocker.vz)) + ((s.bodies.rocker.ay + s.bodies.rocker.az) + (s.bodies.rocker.wx + s.bodies.rocker.alx));
-  const T _sum_rates_4 = ((s.points.B.vx + s.points.B.vy) + (s.points.B.ax + s.points.B.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
-  const T _sum_rates_5 = ((s.points.C.ay + s.points.C.az) + (s.joints.jA.qd + s.joints.jA.qdd)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
-  const T _sum_rates_6 = ((s.joints.jB.q3d + s.joints.jB.q3dd) + (s.joints.jC.q1d + s.joints.jC.q1dd)) + ((s.joints.jC.q2d + s.joints.jC.q2dd) + (s.joints.jD.qd + s.joints.jD.qdd));
-  const T _sum_rates_7 = s.drivers.theta.qd + s.drivers.theta.qdd;
-  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.vz + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.coupler.wx + s.bodies.coupler.wy));
+  const T _sum_rates_2 = ((s.bodies.coupler.wz + s.bodies.coupler.alx) + (s.bodies.coupler.aly + s.bodies.coupler.alz)) + ((s.bodies.rocker.vy + s.bodies.rocker.vz) + (s.bodies.rocker.ay + s.bodies.rocker.az));
+  const T _sum_rates_3 = ((s.bodies.rocker.wx + s.bodies.rocker.alx) + (s.points.B.vx + s.points.B.vy)) + ((s.points.B.ax + s.points.B.ay) + (s.points.C.vx + s.points.C.vy));
+  const T _sum_rates_4 = ((s.points.C.vz + s.points.C.ax) + (s.points.C.ay + s.points.C.az)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
+  const T _sum_rates_5 = (s.joints.jB.q3d + (s.joints.jB.q3dd + s.joints.jC.q1d)) + (s.joints.jC.q1dd + (s.joints.jC.q2d + s.joints.jC.q2dd));
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -2759,30 +2756,26 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.jD.mx = rx_jD_m_x;
   s.joints.jD.my = rx_jD_m_y;
   s.joints.jD.mz = rx_jD_m_z;
-  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
-  const T _sum_positions_1 = ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2])) + ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6]));
-  const T _sum_positions_2 = ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z)) + ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.bodies.rocker.R[7] + s.bodies.rocker.R[8]));
-  const T _sum_positions_3 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.joints.jA.q));
-  const T _sum_positions_4 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0]));
-  const T _sum_positions_5 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
-  const T _sum_positions_6 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + ((_sum_positions_3 + _sum_positions_4) + (_sum_positions_5 + _sum_positions_6));
+  const T _sum_positions_0 = ((s.joints.jB.q1 + s.joints.jB.q2) + (s.joints.jB.q3 + s.joints.jC.q1)) + ((s.joints.jC.q2 + s.joints.jD.q) + (s.bodies.crank.x + s.bodies.crank.y));
+  const T _sum_positions_1 = ((s.bodies.crank.R[0] + s.bodies.crank.R[1]) + (s.bodies.coupler.x + s.bodies.coupler.y)) + ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2]));
+  const T _sum_positions_2 = ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6])) + ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z));
+  const T _sum_positions_3 = ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.points.D.y + s.points.D.z)) + ((s.points.B.x + s.points.B.y) + (s.points.C.x + s.points.C.y));
+  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
+  const T _sum_positions_5 = (s.body_jacobians.rocker[0][0] + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0])) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
-  const T _sum_rates_1 = ((s.bodies.crank.vx + s.bodies.crank.vy) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.crank.wz + s.bodies.crank.alz) + (s.bodies.coupler.vx + s.bodies.coupler.vy));
-  const T _sum_rates_2 = ((s.bodies.coupler.vz + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az)) + ((s.bodies.coupler.wx + s.bodies.coupler.wy) + (s.bodies.coupler.wz + s.bodies.coupler.alx));
-  const T _sum_rates_3 = ((s.bodies.coupler.aly + s.bodies.coupler.alz) + (s.bodies.rocker.vy + s.bodies.rocker.vz)) + ((s.bodies.rocker.ay + s.bodies.rocker.az) + (s.bodies.rocker.wx + s.bodies.rocker.alx));
-  const T _sum_rates_4 = ((s.points.B.vx + s.points.B.vy) + (s.points.B.ax + s.points.B.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.C.ax));
-  const T _sum_rates_5 = ((s.points.C.ay + s.points.C.az) + (s.joints.jA.qd + s.joints.jA.qdd)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
-  const T _sum_rates_6 = ((s.joints.jB.q3d + s.joints.jB.q3dd) + (s.joints.jC.q1d + s.joints.jC.q1dd)) + ((s.joints.jC.q2d + s.joints.jC.q2dd) + (s.joints.jD.qd + s.joints.jD.qdd));
-  const T _sum_rates_7 = s.drivers.theta.qd + s.drivers.theta.qdd;
-  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.vz + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.coupler.wx + s.bodies.coupler.wy));
+  const T _sum_rates_2 = ((s.bodies.coupler.wz + s.bodies.coupler.alx) + (s.bodies.coupler.aly + s.bodies.coupler.alz)) + ((s.bodies.rocker.vy + s.bodies.rocker.vz) + (s.bodies.rocker.ay + s.bodies.rocker.az));
+  const T _sum_rates_3 = ((s.bodies.rocker.wx + s.bodies.rocker.alx) + (s.points.B.vx + s.points.B.vy)) + ((s.points.B.ax + s.points.B.ay) + (s.points.C.vx + s.points.C.vy));
+  const T _sum_rates_4 = ((s.points.C.vz + s.points.C.ax) + (s.points.C.ay + s.points.C.az)) + ((s.joints.jB.q1d + s.joints.jB.q1dd) + (s.joints.jB.q2d + s.joints.jB.q2dd));
+  const T _sum_rates_5 = (s.joints.jB.q3d + (s.joints.jB.q3dd + s.joints.jC.q1d)) + (s.joints.jC.q1dd + (s.joints.jC.q2d + s.joints.jC.q2dd));
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.theta.effort + s.joints.jA.fx) + (s.joints.jA.fy + s.joints.jA.fz)) + ((s.joints.jA.mx + s.joints.jA.my) + (s.joints.jA.mz + s.joints.jB.fx));
   const T _sum_forces_1 = ((s.joints.jB.fy + s.joints.jB.fz) + (s.joints.jB.mx + s.joints.jB.my)) + ((s.joints.jB.mz + s.joints.jC.fx) + (s.joints.jC.fy + s.joints.jC.fz));
-  const T _sum_forces_2 = ((s.joints.jC.mx + s.joints.jC.my) + (s.joints.jC.mz + s.joints.jD.fx)) + ((s.joints.jD.fy + s.joints.jD.fz) + (s.joints.jD.mx + s.joints.jD.my));
-  const T _sum_forces_3 = s.joints.jD.mz;
-  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
+  const T _sum_forces_2 = ((s.joints.jC.mx + s.joints.jC.my) + (s.joints.jC.mz + s.joints.jD.fy)) + ((s.joints.jD.fz + s.joints.jD.mx) + (s.joints.jD.my + s.joints.jD.mz));
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -3904,7 +3897,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.theta.effort = tau_theta;
   const T _sum_positions_0 = ((s.points.D.y + s.points.D.z) + (s.points.B.x + s.points.B.y)) + ((s.points.C.x + s.points.C.y) + (s.points.C.z + s.body_jacobians.coupler[0][0]));
   const T _sum_positions_1 = ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.coupler[5][0] + s.body_jacobians.rocker[0][0]) + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0]));
-  const T _sum_positions_2 = (s.point_jacobians.B[0][0] + s.point_jacobians.B[1][0]) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions_2 = s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]);
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.next[3])) + ((s.closure.next[4] + s.closure.next[5]) + (s.closure.residual + s.closure.det));
@@ -3966,7 +3959,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xc1850c8dda6db58dULL;
+inline constexpr unsigned long long fingerprint = 0x3c966df2e33d1385ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

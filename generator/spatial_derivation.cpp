@@ -115,6 +115,11 @@ class Builder {
       throw std::runtime_error(file +
                                "spatial kernels are generated for joint drivers; pose drivers "
                                "are not generated yet (use --solver numeric)");
+    // The kernels' Newton-Euler has no applied loads: refused rather than silently left out.
+    if (!m_.loads.empty())
+      throw std::runtime_error(
+          file + "applied loads ('forces:', first '" + m_.loads[0].name +
+          "') are not in generated spatial kernels yet (use --solver numeric)");
     for (const SpatialColumn& c : g_.columns)
       if (c.driver < 0 && !closed())
         throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +

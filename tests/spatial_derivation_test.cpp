@@ -243,6 +243,23 @@ TEST(SpatialDerivation, KernelJacobiansNamesAreChecked) {
   }
 }
 
+// A model with applied loads is refused (the kernels' Newton-Euler has none) with a message that
+// names the load and says what to use instead, never a kernel that silently leaves it out.
+TEST(SpatialDerivation, AppliedLoadsAreRefusedNotLeftOut) {
+  const SpatialModel model = read_spatial_model_text(
+      std::string(kTree) +
+          "forces:\n  - {name: push, type: force, body: r3, point: tip, value: [0, 0, -5]}\n",
+      "tree_kinds.yaml");
+  try {
+    derive_spatial(model, build_spatial_graph(model));
+    ADD_FAILURE() << "a model with applied loads was generated";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'push'"), std::string::npos) << what;
+    EXPECT_NE(what.find("--solver numeric"), std::string::npos) << what;
+  }
+}
+
 // A closed chain's reactions (N_s transposed, minimum norm over the redundant rows' null space)
 // evaluated numerically against the numeric solver's A x = b along the step: chebyshev_spatial
 // with gravity tilted out of its plane, so that its three redundant components (fz, mx, my of

@@ -1,11 +1,11 @@
 // rsur/generated: the generated closed-chain kernel (generated/rsur/rsur.hpp) per sample,
 // evaluate(): 5 unrolled Newton-Raphson steps on the closure from the previous sample's
 // secondary coordinates, Davies' velocities and accelerations, every body's pose, twist and twist
-// rate, the named points, the screw Jacobians and the driver effort (virtual power; joint
-// reactions are not generated for closed chains yet). rsur/numeric_kinematics: the reference
-// solver's SpatialSolver::solve on the same walk (Newton closure from the previous sample, Davies'
-// velocities, exact accelerations), the like-for-like baseline; rsur/numeric
-// (bench/spatial_bench.cpp) adds its inverse dynamics. The model's step walked forth and back;
+// rate, the named points, the screw Jacobians, the driver effort (virtual power) and every joint
+// reaction (N_s transposed). rsur/numeric_kinematics: the reference solver's
+// SpatialSolver::solve on the same walk (Newton closure from the previous sample, Davies'
+// velocities, exact accelerations); rsur/numeric (bench/spatial_bench.cpp) adds its inverse
+// dynamics: the like-for-like baseline of evaluate(). The model's step walked forth and back;
 // checked equal to the numeric solver (1e-9) before timing.
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,7 @@
 // Symbolic derivation of a spatial tree's kernel (spatial_derivation.hpp).
 #include "spatial_derivation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -114,6 +115,11 @@ class Builder {
       throw std::runtime_error(file +
                                "spatial kernels are generated for joint drivers; pose drivers "
                                "are not generated yet (use --solver numeric)");
+    // The kernels' Newton-Euler has no applied loads: refused rather than silently left out.
+    if (!m_.loads.empty())
+      throw std::runtime_error(
+          file + "applied loads ('forces:', first '" + m_.loads[0].name +
+          "') are not in generated spatial kernels yet (use --solver numeric)");
     for (const SpatialColumn& c : g_.columns)
       if (c.driver < 0 && !closed())
         throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +
@@ -631,7 +637,7 @@ class Builder {
     }
     for (size_t b = 0; b < m_.bodies.size(); ++b) {
       const SpatialBody& body = m_.bodies[b];
-      if (body.ground || body.is_virtual) continue;
+      if (body.ground || body.is_virtual || !m_.emits_jacobian(body.name)) continue;
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const auto c = static_cast<size_t>(g_.primary[k]);
         const ex sign = g_.path_sign[b][c];
@@ -645,7 +651,7 @@ class Builder {
       }
     }
     for (const auto& [point, b] : m_.named_points()) {
-      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      if (m_.bodies[static_cast<size_t>(b)].ground || !m_.emits_jacobian(point)) continue;
       const V& x = point_.at(point);
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const auto c = static_cast<size_t>(g_.primary[k]);
@@ -675,7 +681,7 @@ class Builder {
             t = t + (g_.path_sign[b][c] * sensitivity_[c][k]) * cols_[c].screw;
         J[b].push_back(named("jw_" + body.name + "_" + std::to_string(k),
                              "jv_" + body.name + "_" + std::to_string(k), t));
-        if (body.is_virtual) continue;
+        if (body.is_virtual || !m_.emits_jacobian(body.name)) continue;
         for (int r = 0; r < 6; ++r)
           output(out_.jacobians,
                  "s.body_jacobians." + body.name + "[" + std::to_string(r) + "][" +
@@ -684,7 +690,7 @@ class Builder {
       }
     }
     for (const auto& [point, b] : m_.named_points()) {
-      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      if (m_.bodies[static_cast<size_t>(b)].ground || !m_.emits_jacobian(point)) continue;
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const V v = geometry::point_velocity(J[static_cast<size_t>(b)][k], point_.at(point));
         for (int r = 0; r < 3; ++r)
@@ -698,8 +704,7 @@ class Builder {
 
   // A closed chain's driver efforts by virtual power: effort k = sum_b W_b . J_bk, each body's
   // rate of momentum minus gravity W_b (about the ground origin) against column k of its twist
-  // Jacobian (unique even where the circuits are redundant). The reactions are not generated yet:
-  // NaN (`not_generated`, a local of the entry points).
+  // Jacobian (unique even where the circuits are redundant); then the reactions.
   void closed_efforts() {
     momentum_.assign(m_.bodies.size(), Wrench{});
     std::vector<ex> effort(g_.primary.size(), 0);
@@ -712,13 +717,157 @@ class Builder {
     for (size_t k = 0; k < g_.primary.size(); ++k) {
       const SpatialDriver& d =
           m_.drivers[static_cast<size_t>(g_.columns[static_cast<size_t>(g_.primary[k])].driver)];
-      output(out_.dynamics, "s.drivers." + d.name + ".effort", named("tau_" + d.name, effort[k]));
+      effort[k] = named("tau_" + d.name, effort[k]);
+      output(out_.dynamics, "s.drivers." + d.name + ".effort", effort[k]);
     }
-    const symbol nan("not_generated");
-    for (const SpatialJoint& joint : m_.joints)
-      if (!joint.is_virtual)
-        for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
-          output(out_.dynamics, "s.joints." + joint.name + "." + f, nan);
+    closed_reactions(effort);
+  }
+
+  // A closed chain's reactions, as the numeric solver defines them (A x = b, minimum norm where
+  // redundant). Each circuit's chord carries an unknown wrench y_c (first body on second, about
+  // the ground origin); a tree joint transmits what the tree's backward pass gives plus the
+  // wrenches of the chords whose circuits pass through it (the circuit's column signs), so "no
+  // work on a secondary screw" is N_s^T y = r: Davies' network transposed, solved through the
+  // same fixed-order elimination (lu_, transposed). Rows the pivot order dropped (redundant
+  // closure rows) leave y free along N_s's left null space (one direction per dropped row); the
+  // minimum-norm reactions are the particular one (y zero there) minus its projection on that
+  // space: a d x d Gram solve, symmetric positive definite, in a fixed order.
+  void closed_reactions(const std::vector<ex>& tau) {
+    const size_t nb = m_.bodies.size(), nj = m_.joints.size();
+    std::vector<Wrench> transmitted(nb);  // on each body's subtree, from the tree alone
+    for (auto it = g_.order.rbegin(); it != g_.order.rend(); ++it) {
+      const auto b = static_cast<size_t>(*it);
+      if (*it == m_.ground) continue;
+      Wrench T = momentum_[b];
+      for (size_t ch = 0; ch < nb; ++ch)
+        if (g_.parent[ch] == *it) T = T + transmitted[ch];
+      transmitted[b] = {named("tf_" + body_name(*it), T.f), named("tm_" + body_name(*it), T.m)};
+    }
+    // Per joint: the tree's wrench of its first body on its second, its effort wrench, and the
+    // sign of each circuit's chord wrench in it.
+    std::vector<Wrench> tree(nj), effort(nj);
+    std::vector<std::vector<int>> coef(nj, std::vector<int>(g_.chords.size(), 0));
+    joint_point_.assign(nj, V{});
+    for (size_t j = 0; j < nj; ++j) joint_point_[j] = joint_point(static_cast<int>(j));
+    for (size_t b = 0; b < nb; ++b) {
+      if (static_cast<int>(b) == m_.ground) continue;
+      const auto j = static_cast<size_t>(g_.parent_joint[b]);
+      const int sign = m_.joints[j].first == g_.parent[b] ? 1 : -1;
+      tree[j] = sign == 1 ? transmitted[b] : Wrench{-transmitted[b].f, -transmitted[b].m};
+      for (size_t c = 0; c < g_.chords.size(); ++c) {
+        const SpatialJoint& chord = m_.joints[static_cast<size_t>(g_.chords[c])];
+        coef[j][c] = sign * (in_subtree(chord.first, static_cast<int>(b)) -
+                             in_subtree(chord.second, static_cast<int>(b)));
+      }
+    }
+    for (size_t c = 0; c < g_.chords.size(); ++c) coef[static_cast<size_t>(g_.chords[c])][c] = 1;
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const auto c = static_cast<size_t>(g_.primary[k]);
+      const auto j = static_cast<size_t>(g_.columns[c].joint);
+      const Wrench e = unit_effort(cols_[c], joint_point_[j]);
+      effort[j] = effort[j] + Wrench{tau[k] * e.f, tau[k] * e.m};
+    }
+    // r: per elimination unknown (a secondary column of joint j), what the tree and the efforts
+    // leave: <$, E_j - W_tree_j>.
+    std::vector<ex> r;
+    for (const size_t i : pivot_columns_) {
+      const auto c = static_cast<size_t>(g_.secondary[i]);
+      const auto j = static_cast<size_t>(g_.columns[c].joint);
+      r.push_back(geometry::reciprocal(cols_[c].screw,
+                                       Wrench{effort[j].f - tree[j].f, effort[j].m - tree[j].m}));
+    }
+    const std::vector<Wrench> x =
+        chord_reactions(solve_transposed(lu_, r, "rct_"), "rx", tree, effort, coef);
+    // The null space: per dropped row, y = e_row - (S^-T N_s[row]^T on the pivot rows).
+    std::vector<std::vector<Wrench>> z;
+    const std::vector<Wrench> none(nj);
+    for (size_t row = 0; row < network_.size(); ++row) {
+      if (std::find(pivot_rows_.begin(), pivot_rows_.end(), row) != pivot_rows_.end()) continue;
+      const std::string n = "null" + std::to_string(z.size());
+      std::vector<ex> b;
+      for (const size_t i : pivot_columns_)
+        b.push_back(-network_[row][static_cast<size_t>(g_.secondary[i])]);
+      std::vector<ex> y = solve_transposed(lu_, b, n + "_");
+      y.push_back(1);
+      z.push_back(chord_reactions(y, n, none, none, coef, row));
+    }
+    // Minimum norm: x - Z (Z^T Z)^-1 Z^T x over every joint's six components.
+    auto dot = [&](const std::vector<Wrench>& a, const std::vector<Wrench>& b) {
+      ex sum = 0;
+      for (size_t j = 0; j < nj; ++j)
+        sum += geometry::dot(a[j].f, b[j].f) + geometry::dot(a[j].m, b[j].m);
+      return sum;
+    };
+    std::vector<std::vector<ex>> gram(z.size(), std::vector<ex>(z.size()));
+    std::vector<ex> rhs;
+    for (size_t a = 0; a < z.size(); ++a) {
+      for (size_t b = 0; b < z.size(); ++b)
+        gram[a][b] =
+            b < a ? gram[b][a]
+                  : named("gram" + std::to_string(a) + "_" + std::to_string(b), dot(z[a], z[b]));
+      rhs.push_back(named("gram_rhs" + std::to_string(a), -dot(z[a], x)));
+    }
+    const std::vector<ex> alpha = solve(factor(gram, "gram_"), rhs, "gram_");
+    for (size_t j = 0; j < nj; ++j) {
+      const SpatialJoint& joint = m_.joints[j];
+      if (joint.is_virtual) continue;
+      Wrench w = x[j];
+      for (size_t a = 0; a < z.size(); ++a)
+        w = w + Wrench{alpha[a] * z[a][j].f, alpha[a] * z[a][j].m};
+      const std::string o = "s.joints." + joint.name + ".";
+      output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, w.f));
+      output(out_.dynamics, o, {"mx", "my", "mz"}, named("rm_" + joint.name, w.m));
+    }
+  }
+
+  // Every joint's reaction (force, moment at its point) from the chords' wrenches y (per network
+  // row: the pivot rows' in elimination order, then `extra`'s), the tree's wrench and the
+  // efforts: W_j = tree_j + sum_c coef_jc y_c - effort_j.
+  std::vector<Wrench> chord_reactions(const std::vector<ex>& y, const std::string& prefix,
+                                      const std::vector<Wrench>& tree,
+                                      const std::vector<Wrench>& effort,
+                                      const std::vector<std::vector<int>>& coef, size_t extra = 0) {
+    std::vector<Wrench> chord(g_.chords.size());
+    auto place = [&](size_t row, const ex& value) {
+      Wrench& w = chord[row / 6];
+      (row % 6 < 3 ? w.m[row % 6] : w.f[row % 6 - 3]) += value;  // N's rows: w then v
+    };
+    for (size_t k = 0; k < pivot_rows_.size(); ++k) place(pivot_rows_[k], y[k]);
+    if (y.size() > pivot_rows_.size()) place(extra, y.back());
+    std::vector<Wrench> out;
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      Wrench w{tree[j].f - effort[j].f, tree[j].m - effort[j].m};
+      for (size_t c = 0; c < chord.size(); ++c)
+        if (coef[j][c] != 0)
+          w = w + Wrench{ex(coef[j][c]) * chord[c].f, ex(coef[j][c]) * chord[c].m};
+      const std::string n = prefix + "_" + m_.joints[j].name;
+      const V f = named(n + "_f", w.f);
+      out.push_back({f, named(n + "_m", w.m - geometry::cross(joint_point_[j], f))});
+    }
+    return out;
+  }
+
+  // Solves S^T y = b with S = L U the elimination `lu` (U^T z = b forward, then L^T y = z).
+  std::vector<ex> solve_transposed(const Lu& lu, std::vector<ex> b, const std::string& prefix) {
+    const size_t n = b.size();
+    for (size_t k = 0; k < n; ++k) {
+      ex sum = b[k];
+      for (size_t i = 0; i < k; ++i) sum -= lu.a[i][k] * b[i];
+      b[k] = named(prefix + "z" + std::to_string(k), sum * lu.inv[k]);
+    }
+    for (size_t k = n; k-- > 0;) {
+      ex sum = b[k];
+      for (size_t i = k + 1; i < n; ++i) sum -= lu.f[i][k] * b[i];
+      b[k] = named(prefix + "y" + std::to_string(k), sum);
+    }
+    return b;
+  }
+
+  // Whether body b lies in the subtree of body root (root itself included).
+  int in_subtree(int b, int root) const {
+    for (; b >= 0; b = g_.parent[static_cast<size_t>(b)])
+      if (b == root) return 1;
+    return 0;
   }
 
   // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
@@ -766,27 +915,34 @@ class Builder {
     }
   }
 
+  // Joint j's point s0, carried by its second body.
+  V joint_point(int j) {
+    const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+    return named("P_" + joint.name,
+                 geometry::apply(D_[static_cast<size_t>(joint.second)],
+                                 n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
+                                                   : cols_[c0_of(j)].axis.s0));
+  }
+  // The wrench of a unit effort on a coordinate: a couple about its axis (rotation, helical) or
+  // a force along it through the joint point (translation), as the numeric solver's.
+  static Wrench unit_effort(const Column& col, const V& P) {
+    if (col.axis.kind == geometry::ScrewKind::translation)
+      return {col.screw.v, geometry::cross(P, col.screw.v)};
+    return {V{0, 0, 0}, col.screw.w};
+  }
+
   // The wrench the parent applies on its child through joint j: the efforts of its driven
   // coordinates (reciprocal products with their screws) and the remaining reaction.
   void joint_loads(int j, int parent, const Wrench& on_child) {
     const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     // The wrench of the joint's first body on its second.
     const Wrench W = joint.first == parent ? on_child : Wrench{-on_child.f, -on_child.m};
-    const V P = named("P_" + joint.name,
-                      geometry::apply(D_[static_cast<size_t>(joint.second)],
-                                      n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
-                                                        : cols_[c0_of(j)].axis.s0));
+    const V P = joint_point(j);
     joint_point_[static_cast<size_t>(j)] = P;
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     const size_t n = joint.columns.size();
     std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort
-    for (size_t k = 0; k < n; ++k) {
-      const Column& col = cols_[c0 + k];
-      if (col.axis.kind == geometry::ScrewKind::translation)
-        unit_effort.push_back({col.screw.v, geometry::cross(P, col.screw.v)});
-      else
-        unit_effort.push_back({V{0, 0, 0}, col.screw.w});
-    }
+    for (size_t k = 0; k < n; ++k) unit_effort.push_back(this->unit_effort(cols_[c0 + k], P));
     // $_i . W = sum_k tau_k ($_i . e_k): one equation per coordinate (the reaction does no work
     // on the joint's screws). A single coordinate has $ . e = 1.
     std::vector<ex> tau(n);
@@ -869,11 +1025,7 @@ class Builder {
       const SpatialColumn& sc = g_.columns[static_cast<size_t>(g_.primary[k])];
       const SpatialJoint& joint = m_.joints[static_cast<size_t>(sc.joint)];
       const Column& col = cols_[static_cast<size_t>(g_.primary[k])];
-      const Wrench w =
-          col.axis.kind == geometry::ScrewKind::translation
-              ? Wrench{col.screw.v,
-                       geometry::cross(joint_point_[static_cast<size_t>(sc.joint)], col.screw.v)}
-              : Wrench{V{0, 0, 0}, col.screw.w};
+      const Wrench w = unit_effort(col, joint_point_[static_cast<size_t>(sc.joint)]);
       const int c = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(k);
       out_.ne_unknowns.push_back(m_.drivers[static_cast<size_t>(sc.driver)].name + ".effort");
       add_wrench(joint.second, c, 1, w);

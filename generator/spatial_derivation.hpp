@@ -11,6 +11,10 @@
 //  - inverse dynamics by a recursive backward pass: each body's rate of momentum plus what its
 //    children draw, transmitted through its tree joint; a driven coordinate's effort is the
 //    reciprocal product of its screw with that wrench, the rest is the joint's reaction.
+//  - closed chains: secondary coordinates by unrolled Newton steps on the closure, Davies' rates
+//    through a fixed-order elimination of N_s, efforts by virtual power, and the reactions from
+//    the chords' wrenches through N_s transposed (the same elimination), projected off the
+//    redundant rows' null space to the numeric solver's minimum-norm ones.
 // Every intermediate is a named definition (an expanded expression of earlier names).
 #pragma once
 

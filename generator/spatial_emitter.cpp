@@ -66,19 +66,27 @@ std::string using_std(const CodeBlock& code) {
 
 // The finiteness checks of these outputs (output_checks.hpp), each stage's failure through
 // `check_line`; every output in `stage` when one is given (the Newton-Euler system's A and b).
+// A value written to several outputs (a screw in every body's Jacobian beyond its joint, a point
+// and its Jacobian's entry, up to sign) is checked once, in the earliest stage that writes it:
+// its copies are finite exactly when it is, and a failure names the same stage.
 std::string spatial_output_checks(
     const std::vector<SpatialOutput>& outputs,
     const std::function<std::string(OutputStage, const std::string& condition)>& check_line,
     OutputStage stage = OutputStage::none) {
+  std::map<ex, CheckedOutput, GiNaC::ex_is_less> first;  // per value (sign aside)
+  std::vector<ex> order;
+  for (const SpatialOutput& o : outputs) {
+    if (GiNaC::is_a<GiNaC::numeric>(o.value)) continue;
+    const OutputStage at = stage == OutputStage::none ? spatial_stage_of(o.target) : stage;
+    const ex key = first.count(-o.value) ? ex(-o.value) : o.value;
+    const auto [it, inserted] = first.emplace(key, CheckedOutput{at, o.target});
+    if (inserted)
+      order.push_back(key);
+    else if (at < it->second.stage)
+      it->second = {at, o.target};
+  }
   std::vector<CheckedOutput> checked;
-  for (const SpatialOutput& o : outputs)
-    // A closed chain's reactions are not generated yet: NaN by design (`not_generated`), so they
-    // are not checked; the runtime refuses to write them (runtime/cli/cmd_spatial.cpp).
-    if (!GiNaC::is_a<GiNaC::numeric>(o.value) &&
-        !(GiNaC::is_a<GiNaC::symbol>(o.value) &&
-          GiNaC::ex_to<GiNaC::symbol>(o.value).get_name() == "not_generated"))
-      checked.push_back(
-          {stage == OutputStage::none ? spatial_stage_of(o.target) : stage, o.target});
+  for (const ex& key : order) checked.push_back(first.at(key));
   return output_checks(checked, "  ", check_line);
 }
 
@@ -178,7 +186,7 @@ class SpatialEmitter {
                        "_dd = T(0);");
       drivers.push_back("    DriverState<T> " + d.name + ";");
       for (const char* suffix : {"", "_d", "_dd"})
-        checks += std::string(" && isfinite(in.") + d.name + suffix + ")";
+        checks += std::string(" + T(0) * in.") + d.name + suffix;
       motion.assign("in." + d.name, d.value.ex.subs(rename));
       motion.assign("in." + d.name + "_d", d.value_d.subs(rename));
       motion.assign("in." + d.name + "_dd", d.value_dd.subs(rename));
@@ -193,11 +201,12 @@ class SpatialEmitter {
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       bodies.push_back("    BodyState<T> " + b.name + ";");
-      body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
+      if (m_.emits_jacobian(b.name))
+        body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
     }
     for (const auto& [point, body] : m_.named_points()) {
       points.push_back("    PointState<T> " + point + ";");
-      if (!m_.bodies[static_cast<size_t>(body)].ground)
+      if (!m_.bodies[static_cast<size_t>(body)].ground && m_.emits_jacobian(point))
         point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
     }
     for (const SpatialJoint& j : m_.joints) {
@@ -307,9 +316,6 @@ class SpatialEmitter {
         "static thread_local State<T> s;\n"
         "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
         "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
-    const std::string nan =
-        "\n  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();";
-    for (const char* k : {"kinematics_using", "evaluate_using", "control_using"}) v[k] += nan;
   }
 
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.

@@ -146,7 +146,7 @@ int run_spatial_check(const Args& args) {
     else
       out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
              " secondary coordinates by unrolled Newton-Raphson, Davies' rates by a fixed-pivot "
-             "elimination, efforts by virtual power (reactions not generated yet)" +
+             "elimination, efforts by virtual power, reactions through N_s transposed" +
              compiled + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
@@ -262,19 +262,6 @@ int run_spatial_sweep(const Args& args) {
       kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)
              : spatial::run_spatial_sweep(model, options);
   const double elapsed = seconds_since(start);
-  // A closed chain's kernel gives kinematics and driver efforts; its reactions are not generated
-  // yet (NaN by design): never written with exit 0.
-  if (kernel)
-    for (const std::vector<double>& row : result.rows)
-      for (size_t c = 0; c < row.size(); ++c)
-        if (!std::isfinite(row[c]))
-          throw ModelError(model.common.file.empty() ? SourceLoc{path, 0, 0}
-                                                     : SourceLoc{model.common.file, 0, 0},
-                           "the generated kernel of '" + model.common.name +
-                               "' (closed circuits) gives kinematics and driver efforts only: "
-                               "column " +
-                               result.columns[c] +
-                               " (a joint reaction) is not generated yet; use --solver numeric");
   const std::string out = args.get("--out");
   g_current_file = out;
   report::CsvTable table{out, result.columns, result.rows};

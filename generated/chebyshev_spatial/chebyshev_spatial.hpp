@@ -20,7 +20,7 @@
 //   crank: revolute 'A_ground_crank' from 'ground' (product of exponentials)
 //   rocker: revolute 'B_ground_rocker' from 'ground' (product of exponentials)
 //   coupler: revolute 'P_crank_coupler' from 'crank' (product of exponentials)
-//   closure: 3 secondary coordinates, 6 closure rows, pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
+//   closure: 3 secondary coordinates, 6 closure rows; Newton fallback on 3 coordinates, 6 rows; Davies' pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
 #pragma once
 
 #include <cmath>
@@ -225,7 +225,7 @@ struct State {
     T C[3][primary_count] = {};
     T M[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {

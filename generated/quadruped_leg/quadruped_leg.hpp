@@ -28,7 +28,7 @@
 //   rod1: spherical 'cyl1_end' from 'thigh' (product of exponentials)
 //   coupler: universal 'coupler_C' from 'crank' (product of exponentials)
 //   rod2: spherical 'cyl2_end' from 'crank' (product of exponentials)
-//   closure: 24 secondary coordinates, 24 closure rows, pivot order from 72 samples (smallest pivot 0.7 of its column)
+//   closure: 24 secondary coordinates, 24 closure rows; Newton fallback on 24 coordinates, 24 rows; Davies' pivot order from 72 samples (smallest pivot 0.7 of its column)
 #pragma once
 
 #include <cmath>
@@ -329,7 +329,7 @@ struct State {
     T B[3][primary_count] = {};
     T D[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {

@@ -20,7 +20,7 @@
 //   crank: revolute 'jA' from 'ground' (product of exponentials)
 //   rocker: revolute 'jD' from 'ground' (product of exponentials)
 //   coupler: spherical 'jB' from 'crank' (product of exponentials)
-//   closure: 6 secondary coordinates, 6 closure rows, pivot order from 72 samples (smallest pivot 0.0035 of its column)
+//   closure: 6 secondary coordinates, 6 closure rows; Newton fallback on 6 coordinates, 6 rows; Davies' pivot order from 72 samples (smallest pivot 0.0035 of its column)
 #pragma once
 
 #include <cmath>
@@ -225,7 +225,7 @@ struct State {
     T B[3][primary_count] = {};
     T C[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {

@@ -1,0 +1,22 @@
+// Closed-form inverse kinematics of pose-driven limbs (issue 11: "a pose-driven limb: the joint
+// angles in closed form where the chain allows it"), recognised from the geometry of a circuit:
+// a serial limb of real revolute joints (the circuit's only real secondary coordinates) closed by
+// a rest of known motion (primary coordinates, such as a pose driver's prescribed ones, and that
+// pose driver's free virtual coordinates).
+#pragma once
+
+#include <optional>
+
+#include "spatial_closed_forms.hpp"
+
+namespace mechgen::gen {
+
+// Three revolutes with parallel axes n; the rest moves in the limb's plane (rotations about n,
+// translations normal to n) and its free virtual coordinates are the translation along n and
+// the rotations about two axes normal to n, all zero at the solution (seed 003's leg with its
+// foot pose-driven: x, y and the foot angle). The middle angle by the law of cosines (branch
+// from the assembly), the first from the hip-to-ankle direction, the last from the prescribed
+// rotation. Unreachable (|cos| > 1) is reported through the group's reach value.
+std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& context, int circuit);
+
+}  // namespace mechgen::gen

@@ -6,7 +6,7 @@
 namespace mechgen::gen {
 
 const std::vector<ClosedFormSolver>& closed_form_solvers() {
-  static const std::vector<ClosedFormSolver> solvers{planar_limb_ik};
+  static const std::vector<ClosedFormSolver> solvers{planar_limb_ik, six_revolute_limb_ik};
   return solvers;
 }
 

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <string>
 
 namespace mechgen::gen {
 
@@ -156,6 +158,42 @@ V named_vector(const ClosedFormContext& c, const std::string& name, const V& v) 
   return {c.named(name + "_x", v[0]), c.named(name + "_y", v[1]), c.named(name + "_z", v[2])};
 }
 
+// Paden-Kahan subproblems on axes through the origin of the vectors given (directions unit).
+// 1: the angle about w that takes x to y (their components normal to w).
+ex rotation_taking(const V& w, const V& x, const V& y) {
+  return GiNaC::atan2(geometry::dot(w, geometry::cross(x, y)),
+                      geometry::dot(x, y) - geometry::dot(w, x) * geometry::dot(w, y));
+}
+
+// A limb joint's screw seen along the limb: rotation by theta = direction * q about the axis.
+struct LimbAxis {
+  V w, r;         // direction, a point
+  ex direction;   // +1 or -1
+  size_t column;  // graph column
+};
+
+// Axis points are named parameter expressions: the layout is recognised at the default
+// parameters (a --set that breaks it leaves the circuit open, which the closure check reports
+// as unreachable).
+bool small(const ClosedFormContext& c, const ex& e) {
+  return std::abs(c.at_assembly(e)) < 1e-9;
+}
+bool meets(const ClosedFormContext& c, const LimbAxis& a, const LimbAxis& b) {
+  const V n = geometry::cross(a.w, b.w);
+  return !(small(c, n[0]) && small(c, n[1]) && small(c, n[2])) &&
+         small(c, geometry::dot(b.r - a.r, n));
+}
+// The point where two meeting axes cross.
+V crossing(const LimbAxis& a, const LimbAxis& b) {
+  const V n = geometry::cross(a.w, b.w);
+  const ex t = geometry::dot(geometry::cross(b.r - a.r, b.w), n) / geometry::dot(n, n);
+  return a.r + t * a.w;
+}
+bool passes_through(const ClosedFormContext& c, const LimbAxis& a, const V& x) {
+  const V d = geometry::cross(x - a.r, a.w);
+  return small(c, d[0]) && small(c, d[1]) && small(c, d[2]);
+}
+
 }  // namespace
 
 std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& c, int circuit) {
@@ -258,6 +296,150 @@ std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& c, int ci
              " (parallel axes) in closed form: law of cosines (branch " + (branch > 0 ? "+" : "-") +
              " from the assembly), free virtual coordinates zero";
   return out;
+}
+
+namespace {
+
+// Pieper's 6R inverse kinematics on the limb `axes` (in order from the limb's start), whose
+// motion is T; nullopt when the layout does not fit.
+struct SixR {
+  const ClosedFormContext& c;
+  std::string prefix;
+  ClosedFormGroup out;
+  std::vector<int> branches;
+
+  // Chooses between the two branches of a square root by the assembly: the one whose angles
+  // `angles(sign)` are nearest (modulo 2 pi) to the assembly's `target`.
+  int branch(const std::function<std::vector<ex>(int)>& angles, const std::vector<double>& target) {
+    double best = 1e300;
+    int chosen = 1;
+    for (const int sign : {1, -1}) {
+      const std::vector<ex> a = angles(sign);
+      double off = 0;
+      for (size_t i = 0; i < a.size(); ++i) {
+        const double v = c.at_assembly(a[i]);
+        off += std::abs(target[i] - v - kTwoPi * turns(target[i], v));
+      }
+      if (off < best) best = off, chosen = sign;
+    }
+    branches.push_back(chosen);
+    return chosen;
+  }
+  ex angle(const std::string& name, const ex& value, double target) {
+    return c.named(prefix + name, plus_turns(value, turns(target, c.at_assembly(value))));
+  }
+  // Subproblem 2: angles (a1, a2) about w1 then w2 (meeting) with R1(a1) R2(a2) u = v.
+  std::vector<ex> two_axes(const std::string& name, const V& w1, const V& w2, const V& u,
+                           const V& v, const std::vector<double>& target) {
+    const ex k = geometry::dot(w1, w2);
+    const ex den = c.named(prefix + name + "_den", k * k - 1);
+    const ex alpha =
+        c.named(prefix + name + "_alpha", (k * geometry::dot(w2, u) - geometry::dot(w1, v)) / den);
+    const ex beta =
+        c.named(prefix + name + "_beta", (k * geometry::dot(w1, v) - geometry::dot(w2, u)) / den);
+    const V n = geometry::cross(w1, w2);
+    const ex gamma2 = c.named(prefix + name + "_reach", (geometry::dot(u, u) - alpha * alpha -
+                                                         beta * beta - 2 * alpha * beta * k) /
+                                                            geometry::dot(n, n));
+    out.reach.push_back(gamma2);
+    const ex root = c.named(prefix + name + "_root", GiNaC::sqrt(gamma2));
+    const auto angles = [&](int sign) {
+      const V z = alpha * w1 + beta * w2 + (sign * root) * n;
+      return std::vector<ex>{rotation_taking(w1, z, v), rotation_taking(w2, u, z)};
+    };
+    const std::vector<ex> a = angles(branch(angles, target));
+    return {angle(name + "_a1", a[0], target[0]), angle(name + "_a2", a[1], target[1])};
+  }
+};
+
+std::optional<std::vector<LimbAxis>> pieper_layout(const ClosedFormContext& c,
+                                                   const std::vector<Step>& limb) {
+  std::vector<LimbAxis> axes;
+  for (const Step& s : limb) {
+    const auto col = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
+    axes.push_back({c.columns[col].axis.s, c.columns[col].axis.s0, ex(s.direction), col});
+  }
+  if (!meets(c, axes[3], axes[4]) || !meets(c, axes[4], axes[5]) || !meets(c, axes[0], axes[1]))
+    return std::nullopt;
+  const V W = crossing(axes[3], axes[4]), O = crossing(axes[0], axes[1]);
+  if (!passes_through(c, axes[5], W) || passes_through(c, axes[2], O)) return std::nullopt;
+  return axes;
+}
+
+}  // namespace
+
+std::optional<ClosedFormGroup> six_revolute_limb_ik(const ClosedFormContext& c, int circuit) {
+  const std::optional<LimbCircuit> found = limb_circuit(c, circuit);
+  if (!found || found->limb.size() != 6 || !found->free.empty()) return std::nullopt;
+  LimbCircuit lc = *found;
+  // The limb's motion from its start to its end is the inverse of the rest's; seen from the
+  // other end, the rest's motion itself.
+  const Pose rest = rest_motion(c, lc);
+  Pose T = geometry::inverse(rest);
+  std::optional<std::vector<LimbAxis>> axes = pieper_layout(c, lc.limb);
+  if (!axes) {
+    std::vector<Step> reversed(lc.limb.rbegin(), lc.limb.rend());
+    for (Step& s : reversed) s.direction = -s.direction;
+    axes = pieper_layout(c, reversed);
+    if (!axes) return std::nullopt;
+    lc.limb = reversed;
+    T = rest;
+  }
+  const std::vector<LimbAxis>& a = *axes;
+  SixR ik{c, group_name(c, lc, circuit) + "_", {}, {}};
+  ik.out.name = group_name(c, lc, circuit);
+  std::vector<double> target;  // the assembly's angles theta_i = direction_i q_i
+  for (const LimbAxis& x : a) target.push_back(c.at_assembly(x.direction) * c.assembly_q[x.column]);
+  const V W = named_vector(c, ik.prefix + "wrist_ref", crossing(a[3], a[4]));
+  const V O = named_vector(c, ik.prefix + "base_ref", crossing(a[0], a[1]));
+  const V Wt = named_vector(c, ik.prefix + "wrist", geometry::apply(T, W));
+  // Subproblem 3: the third angle makes |R3 (W - r3) + r3 - O| = |Wt - O|.
+  const V u = W - a[2].r, v = O - a[2].r;
+  const ex wu = geometry::dot(a[2].w, u), wv = geometry::dot(a[2].w, v);
+  const ex uu = c.named(ik.prefix + "arm_u", geometry::dot(u, u) - wu * wu);
+  const ex vv = c.named(ik.prefix + "arm_v", geometry::dot(v, v) - wv * wv);
+  const V d = Wt - O;
+  const ex delta2 = geometry::dot(d, d) - (wu - wv) * (wu - wv);
+  const ex cos_phi = c.named(ik.prefix + "cos", (uu + vv - delta2) / (2 * GiNaC::sqrt(uu * vv)));
+  const ex reach = c.named(ik.prefix + "reach", 1 - cos_phi * cos_phi);
+  ik.out.reach.push_back(reach);
+  const ex theta0 =
+      GiNaC::atan2(geometry::dot(a[2].w, geometry::cross(u, v)), geometry::dot(u, v) - wu * wv);
+  const ex sin_phi = c.named(ik.prefix + "sin", GiNaC::sqrt(reach));
+  const auto third = [&](int sign) {
+    return std::vector<ex>{theta0 - GiNaC::atan2(sign * sin_phi, cos_phi)};
+  };
+  const ex t3 = ik.angle("theta3", third(ik.branch(third, {target[2]}))[0], target[2]);
+  const geometry::Mat3<ex> R3 = geometry::rodrigues(a[2].w, t3);
+  const V p3 = named_vector(c, ik.prefix + "wrist_3", R3 * u + a[2].r - O);
+  const std::vector<ex> t12 = ik.two_axes("theta12", a[0].w, a[1].w, p3, d, {target[0], target[1]});
+  // The last three take the rest of the orientation: R4 R5 R6 = (R1 R2 R3)^T T.R.
+  const geometry::Mat3<ex> R123 =
+      geometry::rodrigues(a[0].w, t12[0]) * geometry::rodrigues(a[1].w, t12[1]) * R3;
+  geometry::Mat3<ex> Rr = geometry::transpose(R123) * T.R;
+  for (size_t k = 0; k < 9; ++k)
+    Rr.m[k] = c.named(ik.prefix + "R_" + std::to_string(k / 3) + std::to_string(k % 3), Rr.m[k]);
+  const std::vector<ex> t45 =
+      ik.two_axes("theta45", a[3].w, a[4].w, a[5].w, Rr * a[5].w, {target[3], target[4]});
+  const geometry::Mat3<ex> R45 =
+      geometry::rodrigues(a[3].w, t45[0]) * geometry::rodrigues(a[4].w, t45[1]);
+  const ex t6 =
+      ik.angle("theta6", rotation_taking(a[5].w, a[4].w, geometry::transpose(R45) * (Rr * a[4].w)),
+               target[5]);
+  const std::vector<ex> theta{t12[0], t12[1], t3, t45[0], t45[1], t6};
+  std::string joints;
+  for (size_t i = 0; i < 6; ++i) {
+    ik.out.coordinates.emplace_back(static_cast<int>(a[i].column),
+                                    (a[i].direction * theta[i]).expand());
+    joints += (i ? ", " : "") + c.model.joints[static_cast<size_t>(lc.limb[i].joint)].name;
+  }
+  std::string signs;
+  for (const int b : ik.branches) signs += b > 0 ? "+" : "-";
+  ik.out.plan = "pose-driven 6R limb " + joints +
+                " in closed form (Pieper: the first two axes and the last three meet; Paden-Kahan "
+                "subproblems 3, 2, 2, 1; branches " +
+                signs + " from the assembly)";
+  return ik.out;
 }
 
 }  // namespace mechgen::gen

@@ -19,4 +19,14 @@ namespace mechgen::gen {
 // rotation. Unreachable (|cos| > 1) is reported through the group's reach value.
 std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& context, int circuit);
 
+// Six revolutes in Pieper's layout, from either end: the last three axes meet at a point W (a
+// spherical wrist, or a humanoid's hip seen from the foot), the first two meet at a point O (a
+// shoulder, or an ankle's pitch and roll) and the third misses O (an elbow or a knee); the rest
+// fully prescribed (a pose driver giving position and orientation). The third angle from |W - O|
+// (Paden-Kahan subproblem 3), the first two from W's direction (subproblem 2), the last three
+// from the remaining rotation (subproblems 2 and 1); each branch from the assembly. Bioloid's
+// legs (hip yaw, roll, pitch meeting; knee; ankle pitch and roll meeting) and its arms (shoulder
+// pitch and roll meeting; elbow; the seed's three added wrist joints meeting).
+std::optional<ClosedFormGroup> six_revolute_limb_ik(const ClosedFormContext& context, int circuit);
+
 }  // namespace mechgen::gen

@@ -11,7 +11,7 @@
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
-#include "spatial_closed_forms.hpp"
+#include "spatial_circuit_solvers.hpp"
 #include "spatial_primary_inputs.hpp"
 
 namespace mechgen::gen {
@@ -443,14 +443,14 @@ class Builder {
     return a;
   }
 
-  // The closed-form solvers (spatial_closed_forms.hpp) tried on each circuit, first match wins:
+  // The closed-form solvers (spatial_circuit_solvers.hpp) tried on each circuit, first match wins:
   // each defines some secondary coordinates from the primary inputs. Returns per secondary
   // coordinate its value (empty: left to Newton) and per circuit whether it is closed.
   std::vector<std::optional<ex>> solve_in_closed_form(size_t start,
                                                       std::vector<bool>& circuit_closed) {
     std::vector<std::optional<ex>> value(g_.secondary.size());
     circuit_closed.assign(g_.chords.size(), false);
-    ClosedFormContext context{m_, g_, {}, {}, {}, {}};
+    CircuitSolverContext context{m_, g_, {}, {}, {}, {}};
     for (const Column& c : cols_) context.columns.push_back({c.axis, c.q, c.displacement});
     for (size_t c = 0; c < cols_.size(); ++c)
       context.assembly_q.push_back(assembly_.q[static_cast<Eigen::Index>(c)]);
@@ -469,8 +469,8 @@ class Builder {
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       secondary_index[static_cast<size_t>(g_.secondary[i])] = static_cast<int>(i);
     for (size_t ci = 0; ci < g_.chords.size(); ++ci)
-      for (const ClosedFormSolver& solver : closed_form_solvers()) {
-        const std::optional<ClosedFormGroup> group = solver(context, static_cast<int>(ci));
+      for (const CircuitSolver& solver : circuit_solvers()) {
+        const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
         if (!group) continue;
         circuit_closed[ci] = true;
         const int index = static_cast<int>(out_.groups.size());

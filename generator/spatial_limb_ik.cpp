@@ -67,7 +67,7 @@ std::vector<Step> loop(const SpatialModel& m, const SpatialGraph& g, int circuit
   return steps;
 }
 
-std::optional<LimbCircuit> limb_circuit(const ClosedFormContext& c, int circuit) {
+std::optional<LimbCircuit> limb_circuit(const CircuitSolverContext& c, int circuit) {
   const SpatialModel& m = c.model;
   const SpatialGraph& g = c.graph;
   const std::vector<Step> steps = loop(m, g, circuit);
@@ -128,7 +128,7 @@ std::optional<LimbCircuit> limb_circuit(const ClosedFormContext& c, int circuit)
 
 // The rest's motion from the limb's end back to its start with the free columns at zero; the
 // limb's own motion from its start to its end is its inverse.
-Pose rest_motion(const ClosedFormContext& c, const LimbCircuit& lc) {
+Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc) {
   Pose M;
   for (const Step& s : lc.rest) {
     const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
@@ -141,7 +141,7 @@ Pose rest_motion(const ClosedFormContext& c, const LimbCircuit& lc) {
   return {M.R, M.p};
 }
 
-std::string group_name(const ClosedFormContext& c, const LimbCircuit& lc, int circuit) {
+std::string group_name(const CircuitSolverContext& c, const LimbCircuit& lc, int circuit) {
   return lc.pose_driver >= 0
              ? "ik_" + c.model.pose_drivers[static_cast<size_t>(lc.pose_driver)].name
              : "ik_circuit" + std::to_string(circuit);
@@ -154,7 +154,7 @@ double turns(double target, double value) {
 ex plus_turns(const ex& e, double k) {
   return k == 0 ? e : e + static_cast<long>(k) * 2 * GiNaC::Pi;
 }
-V named_vector(const ClosedFormContext& c, const std::string& name, const V& v) {
+V named_vector(const CircuitSolverContext& c, const std::string& name, const V& v) {
   return {c.named(name + "_x", v[0]), c.named(name + "_y", v[1]), c.named(name + "_z", v[2])};
 }
 
@@ -175,10 +175,10 @@ struct LimbAxis {
 // Axis points are named parameter expressions: the layout is recognised at the default
 // parameters (a --set that breaks it leaves the circuit open, which the closure check reports
 // as unreachable).
-bool small(const ClosedFormContext& c, const ex& e) {
+bool small(const CircuitSolverContext& c, const ex& e) {
   return std::abs(c.at_assembly(e)) < 1e-9;
 }
-bool meets(const ClosedFormContext& c, const LimbAxis& a, const LimbAxis& b) {
+bool meets(const CircuitSolverContext& c, const LimbAxis& a, const LimbAxis& b) {
   const V n = geometry::cross(a.w, b.w);
   return !(small(c, n[0]) && small(c, n[1]) && small(c, n[2])) &&
          small(c, geometry::dot(b.r - a.r, n));
@@ -189,14 +189,14 @@ V crossing(const LimbAxis& a, const LimbAxis& b) {
   const ex t = geometry::dot(geometry::cross(b.r - a.r, b.w), n) / geometry::dot(n, n);
   return a.r + t * a.w;
 }
-bool passes_through(const ClosedFormContext& c, const LimbAxis& a, const V& x) {
+bool passes_through(const CircuitSolverContext& c, const LimbAxis& a, const V& x) {
   const V d = geometry::cross(x - a.r, a.w);
   return small(c, d[0]) && small(c, d[1]) && small(c, d[2]);
 }
 
 }  // namespace
 
-std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& c, int circuit) {
+std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, int circuit) {
   const std::optional<LimbCircuit> found = limb_circuit(c, circuit);
   if (!found || found->limb.size() != 3) return std::nullopt;
   const LimbCircuit& lc = *found;
@@ -221,7 +221,7 @@ std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& c, int ci
     const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
     for (size_t i = 0; i < j.columns.size(); ++i) {
       const size_t col = column(s) + i;
-      const ClosureColumn& cc = c.columns[col];
+      const CircuitColumn& cc = c.columns[col];
       const bool primary = g.columns[col].primary;
       const ex along = geometry::dot(cc.axis.s, n).expand();
       if (cc.axis.kind == geometry::ScrewKind::helical) return std::nullopt;
@@ -281,7 +281,7 @@ std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& c, int ci
   const ex theta3_0 = phi - theta1 - theta2;
   const double theta3_asm = c.at_assembly(sign[2]) * c.assembly_q[column(lc.limb[2])];
   const ex theta3 = plus_turns(theta3_0, turns(theta3_asm, c.at_assembly(theta3_0)));
-  ClosedFormGroup out;
+  CircuitClosedForm out;
   out.name = name;
   const std::vector<ex> theta{theta1, theta2, theta3};
   std::string joints;
@@ -303,9 +303,9 @@ namespace {
 // Pieper's 6R inverse kinematics on the limb `axes` (in order from the limb's start), whose
 // motion is T; nullopt when the layout does not fit.
 struct SixR {
-  const ClosedFormContext& c;
+  const CircuitSolverContext& c;
   std::string prefix;
-  ClosedFormGroup out;
+  CircuitClosedForm out;
   std::vector<int> branches;
 
   // Chooses between the two branches of a square root by the assembly: the one whose angles
@@ -352,7 +352,7 @@ struct SixR {
   }
 };
 
-std::optional<std::vector<LimbAxis>> pieper_layout(const ClosedFormContext& c,
+std::optional<std::vector<LimbAxis>> pieper_layout(const CircuitSolverContext& c,
                                                    const std::vector<Step>& limb) {
   std::vector<LimbAxis> axes;
   for (const Step& s : limb) {
@@ -368,7 +368,7 @@ std::optional<std::vector<LimbAxis>> pieper_layout(const ClosedFormContext& c,
 
 }  // namespace
 
-std::optional<ClosedFormGroup> six_revolute_limb_ik(const ClosedFormContext& c, int circuit) {
+std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext& c, int circuit) {
   const std::optional<LimbCircuit> found = limb_circuit(c, circuit);
   if (!found || found->limb.size() != 6 || !found->free.empty()) return std::nullopt;
   LimbCircuit lc = *found;

@@ -7,7 +7,7 @@
 
 #include <optional>
 
-#include "spatial_closed_forms.hpp"
+#include "spatial_circuit_solvers.hpp"
 
 namespace mechgen::gen {
 
@@ -17,7 +17,7 @@ namespace mechgen::gen {
 // foot pose-driven: x, y and the foot angle). The middle angle by the law of cosines (branch
 // from the assembly), the first from the hip-to-ankle direction, the last from the prescribed
 // rotation. Unreachable (|cos| > 1) is reported through the group's reach value.
-std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& context, int circuit);
+std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& context, int circuit);
 
 // Six revolutes in Pieper's layout, from either end: the last three axes meet at a point W (a
 // spherical wrist, or a humanoid's hip seen from the foot), the first two meet at a point O (a
@@ -27,6 +27,7 @@ std::optional<ClosedFormGroup> planar_limb_ik(const ClosedFormContext& context, 
 // from the remaining rotation (subproblems 2 and 1); each branch from the assembly. Bioloid's
 // legs (hip yaw, roll, pitch meeting; knee; ankle pitch and roll meeting) and its arms (shoulder
 // pitch and roll meeting; elbow; the seed's three added wrist joints meeting).
-std::optional<ClosedFormGroup> six_revolute_limb_ik(const ClosedFormContext& context, int circuit);
+std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext& context,
+                                                      int circuit);
 
 }  // namespace mechgen::gen

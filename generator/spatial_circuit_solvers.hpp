@@ -19,7 +19,7 @@
 
 namespace mechgen::gen {
 
-struct ClosureColumn {
+struct CircuitColumn {
   geometry::ScrewAxis<GiNaC::ex> axis;     // at the reference pose (named parameter expressions)
   GiNaC::ex q;                             // the coordinate (a primary one: from the inputs)
   geometry::Pose<GiNaC::ex> displacement;  // exp(screw q), sine and cosine named
@@ -27,26 +27,26 @@ struct ClosureColumn {
 
 // What a solver sees of the derivation: the columns (graph order), a way to name definitions,
 // and the numeric assembly (default parameters, t0) to choose branches from.
-struct ClosedFormContext {
+struct CircuitSolverContext {
   const SpatialModel& model;
   const SpatialGraph& graph;
-  std::vector<ClosureColumn> columns;
+  std::vector<CircuitColumn> columns;
   std::vector<double> assembly_q;  // per column
   std::function<GiNaC::ex(const std::string&, const GiNaC::ex&)> named;
   std::function<double(const GiNaC::ex&)> at_assembly;  // an expression's value there
 };
 
-struct ClosedFormGroup {
+struct CircuitClosedForm {
   std::string name;  // the kernel's group (failed_group when unreachable)
   std::string plan;  // one line for the banner and `check`
   std::vector<std::pair<int, GiNaC::ex>> coordinates;  // graph column, its value
   std::vector<GiNaC::ex> reach;  // defined names that must be >= 0, else unreachable
 };
 
-using ClosedFormSolver =
-    std::function<std::optional<ClosedFormGroup>(const ClosedFormContext&, int circuit)>;
+using CircuitSolver =
+    std::function<std::optional<CircuitClosedForm>(const CircuitSolverContext&, int circuit)>;
 
 // Every closed-form solver, in the order they are tried on each circuit.
-const std::vector<ClosedFormSolver>& closed_form_solvers();
+const std::vector<CircuitSolver>& circuit_solvers();
 
 }  // namespace mechgen::gen

@@ -42,10 +42,19 @@ struct SpatialDerivation {
   std::vector<std::string> groups;        // one per located body: "thigh"
   std::vector<std::string> plan;          // one line per group, for the banner
   int primary_count = 0;
-  // Closed chains: the secondary coordinates at the assembly (default parameters, t0), the
-  // State's default warm start. Empty for a tree.
+  // Closed chains: the secondary coordinates left to the Newton fallback at the assembly
+  // (default parameters, t0), the State's default warm start. Empty for a tree and for a closed
+  // chain solved in closed form throughout.
   std::vector<double> closure_start;
   double closure_det = 0;  // det of the eliminated N_s there
+  bool closed_chain = false;
+  // Closed-form groups' reachability: each value must be >= 0, else the kernel returns
+  // unreachable naming groups[group] (a law of cosines' 1 - cos^2, before its square root).
+  struct Guard {
+    GiNaC::ex value;  // a defined name
+    int group = -1;
+  };
+  std::vector<Guard> guards;
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
   // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint
@@ -56,11 +65,13 @@ struct SpatialDerivation {
   std::vector<GiNaC::ex> ne_rhs;
 };
 
-// Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd`.
+// Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd` (a pose
+// coordinate: `in.<pose>_<coordinate>`).
 GiNaC::exmap spatial_parameter_symbols(const SpatialModel& model);
 
-// Throws std::runtime_error (naming what is missing) for a model with pose drivers or a closed
-// chain whose N_s is singular at the assembly.
+// Throws std::runtime_error (naming what is missing) for a tree with an undriven coordinate or a
+// closed chain with no pivot order that stays regular over its step. Pose drivers' prescribed
+// coordinates are inputs like joint drivers (spatial_primary_inputs.hpp).
 SpatialDerivation derive_spatial(const SpatialModel& model, const SpatialGraph& graph);
 
 }  // namespace mechgen::gen

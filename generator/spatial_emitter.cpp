@@ -16,6 +16,7 @@
 #include "model/spatial_graph.hpp"
 #include "output_checks.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_primary_inputs.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
@@ -103,12 +104,15 @@ std::string kernel_math_functions(const std::string& templates_dir) {
 
 class SpatialEmitter {
  public:
-  SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d) : m_(model), d_(d) {
+  SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d)
+      : m_(model), d_(d), inputs_(spatial_primary_inputs(model, build_spatial_graph(model))) {
     for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
   }
 
   // Only the definitions the outputs read, in program order, then the outputs.
-  CodeBlock block(const std::vector<SpatialOutput>& outputs) const {
+  // A closed-form group's reach value is checked right after its definition (before any square
+  // root of it) in the entry points that have a State.
+  CodeBlock block(const std::vector<SpatialOutput>& outputs, bool guards = true) const {
     std::set<ex, GiNaC::ex_is_less> needed;
     std::vector<ex> pending;
     for (const SpatialOutput& o : outputs) pending.push_back(o.value);
@@ -123,8 +127,15 @@ class SpatialEmitter {
       }
     }
     CodeBlock code;
-    for (const auto& [symbol, value] : d_.definitions)
-      if (needed.count(symbol)) code.define(symbol.get_name(), value);
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!needed.count(symbol)) continue;
+      code.define(symbol.get_name(), value);
+      for (const SpatialDerivation::Guard& g : d_.guards)
+        if (guards && g.value == symbol)
+          code.guard(
+              symbol, ">=",
+              "return detail::failed(s, " + std::to_string(g.group) + ", Status::unreachable);");
+    }
     // A structurally zero Jacobian entry is zero from the State's construction: never written.
     for (const SpatialOutput& o : outputs)
       if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
@@ -181,13 +192,13 @@ class SpatialEmitter {
     CodeBlock motion;
     GiNaC::exmap rename = spatial_parameter_symbols(m_);
     rename[m_.common.t] = GiNaC::symbol("t");
-    for (const SpatialDriver& d : m_.drivers) {
+    for (const SpatialPrimaryInput& d : inputs_) {
       inputs.push_back("  T " + d.name + " = T(0), " + d.name + "_d = T(0), " + d.name +
                        "_dd = T(0);");
       drivers.push_back("    DriverState<T> " + d.name + ";");
       for (const char* suffix : {"", "_d", "_dd"})
         checks += std::string(" + T(0) * in.") + d.name + suffix;
-      motion.assign("in." + d.name, d.value.ex.subs(rename));
+      motion.assign("in." + d.name, d.value.subs(rename));
       motion.assign("in." + d.name + "_d", d.value_d.subs(rename));
       motion.assign("in." + d.name + "_dd", d.value_dd.subs(rename));
     }
@@ -247,7 +258,7 @@ class SpatialEmitter {
       system.push_back({"A[" + std::to_string(index) + "]", value});
     for (size_t r = 0; r < d_.ne_rhs.size(); ++r)
       if (!d_.ne_rhs[r].is_zero()) system.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
-    const CodeBlock ne = block(system);
+    const CodeBlock ne = block(system, false);
     v["ne_using"] = using_std(ne);
     v["ne_ops"] = std::to_string(ne.op_count());
     v["ne_body"] = ne.render("  ") + spatial_output_checks(
@@ -282,19 +293,26 @@ class SpatialEmitter {
     v["closure_check"] = "";
     v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
-    if (d_.closure_start.empty()) return;
+    if (!d_.closed_chain) return;
     std::string start;
     for (const double q : d_.closure_start)
       start += (start.empty() ? "" : ", ") + number_literal(q);
     const std::string n = std::to_string(d_.closure_start.size());
     // The closure is the last solve group (the stages inputs, positions, ... follow it).
     const std::string closure_group = std::to_string(d_.groups.size() - 1);
-    v["keep_warm_start"] = "  cleared.closure = s.closure;  // the warm start survives a failure\n";
+    // Solved in closed form throughout: no warm start, only the closure's checks.
+    const bool newton = !d_.closure_start.empty();
+    v["keep_warm_start"] =
+        newton ? "  cleared.closure = s.closure;  // the warm start survives a failure\n" : "";
     v["closure_fields"] =
-        "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "
-        "t0\n  // by default, replaced by every call that closes the circuits), the last call's "
-        "result,\n  // squared closure error and det N_s.\n  struct {\n    T q[" +
-        n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n  } closure;\n";
+        newton
+            ? "  // The closure: secondary coordinates left to Newton-Raphson (the warm start, "
+              "the assembly at t0\n  // by default, replaced by every call that closes the "
+              "circuits), the last call's result,\n  // squared closure error and det N_s.\n"
+              "  struct {\n    T q[" +
+                  n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n  } closure;\n"
+            : "  // The closure (every circuit in closed form): squared closure error and det "
+              "N_s.\n  struct {\n    T residual, det;\n  } closure;\n";
     v["closure_check"] =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
@@ -306,16 +324,16 @@ class SpatialEmitter {
         ", Status::unreachable;\n"
         "  if (!(abs(s.closure.det) > " +
         number_literal(1e-9 * std::abs(d_.closure_det)) +
-        "))\n    return s.failed_group = " + closure_group +
-        ", Status::singular;\n"
-        "  for (int i = 0; i < " +
-        n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
-    v["entry_state"] =
-        "// A closed chain's warm start carries over from one call to the next (per thread and "
-        "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
-        "static thread_local State<T> s;\n"
-        "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
-        "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
+        "))\n    return s.failed_group = " + closure_group + ", Status::singular;\n" +
+        (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
+                : "");
+    if (newton)
+      v["entry_state"] =
+          "// A closed chain's warm start carries over from one call to the next (per thread and "
+          "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
+          "static thread_local State<T> s;\n"
+          "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
+          "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
   }
 
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.
@@ -325,9 +343,9 @@ class SpatialEmitter {
       body.push_back("  row[" + std::to_string(names.size()) + "] = " + source + ";");
       names.push_back(name);
     };
-    for (const SpatialDriver& d : m_.drivers)
+    for (const SpatialPrimaryInput& d : inputs_)
       for (const char* f : {"q", "qd", "qdd", "effort"})
-        column(d.name + "." + f, "s.drivers." + d.name + "." + f);
+        column(d.column + "." + f, "s.drivers." + d.name + "." + f);
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       const std::string s = "s.bodies." + b.name + ".";
@@ -359,6 +377,7 @@ class SpatialEmitter {
 
   const SpatialModel& m_;
   const SpatialDerivation& d_;
+  std::vector<SpatialPrimaryInput> inputs_;  // joint drivers, then prescribed pose coordinates
   std::map<ex, ex, GiNaC::ex_is_less> definition_;
 };
 
@@ -378,16 +397,18 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                    render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
                                    header, "spatial_kernel.hpp.in")});
   std::string driven;
-  for (size_t i = 0; i < model.drivers.size(); ++i)
+  const std::vector<SpatialPrimaryInput> inputs =
+      spatial_primary_inputs(model, build_spatial_graph(model));
+  for (size_t i = 0; i < inputs.size(); ++i)
     for (size_t k = 0; k < 3; ++k)
-      driven += std::string(driven.empty() ? "" : "\n") + "in." + model.drivers[i].name +
+      driven += std::string(driven.empty() ? "" : "\n") + "in." + inputs[i].name +
                 (k == 0   ? ""
                  : k == 1 ? "_d"
                           : "_dd") +
                 " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
   const std::map<std::string, std::string> entry{
       {"model", values.at("model")},     {"source", values.at("source")},
-      {"command", values.at("command")}, {"driver_count", std::to_string(model.drivers.size())},
+      {"command", values.at("command")}, {"driver_count", std::to_string(inputs.size())},
       {"driven_inputs", driven},         {"entry_state", values.at("entry_state")}};
   files.push_back(
       {model.common.name + "_entry.cpp",

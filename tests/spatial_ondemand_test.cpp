@@ -2,7 +2,7 @@
 // folder and edited but not renamed makes the compiled-in leg6 kernel stale; `mechgen sweep
 // --solver generated` builds, caches and runs a kernel of the edited description (never the stale
 // one), equal to `--solver numeric`, and a second run loads it from the cache. A spatial model the
-// generator cannot handle (pose drivers) is a clear error, never a stale kernel nor a fallback.
+// generator cannot handle (nothing driven) is a clear error, never a stale kernel nor a fallback.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -111,18 +111,23 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
 }
 
 TEST(SpatialOnDemand, ModelTheGeneratorCannotHandleIsAClearErrorNeverAFallback) {
-  // bioloid has pose drivers, which spatial kernels do not generate yet.
-  const fs::path dir = fresh_dir("bioloid");
+  // A body welded to the ground: a valid model with nothing driven, so no kernel to generate.
+  const fs::path dir = fresh_dir("weld");
+  {
+    std::ofstream model(dir / "weld.yaml");
+    model << "name: weld\ndimension: spatial\nbodies:\n  - {name: g, ground: true}\n"
+             "  - {name: a, mass: {mass: 1, com: [0, 0, 0], inertia: [1, 1, 1]}}\njoints:\n"
+             "  - {name: j, type: fixed, first: g, second: a, s0: [0, 0, 0]}\n"
+             "step: {t0: 0, t1: 1}\n";
+  }
   std::string err;
-  const std::string out = (dir / "bioloid.csv").string();
-  EXPECT_EQ(mechgen("sweep " + std::string(MECHGEN_SOURCE_DIR) +
-                        "/models/bioloid.yaml --samples 3 "
-                        "--cache " +
+  const std::string out = (dir / "weld.csv").string();
+  EXPECT_EQ(mechgen("sweep " + (dir / "weld.yaml").string() + " --samples 3 --cache " +
                         (dir / "cache").string() + " --out " + out,
                     dir, err),
             1);
-  EXPECT_NE(err.find("cannot generate a kernel for 'bioloid'"), std::string::npos) << err;
-  EXPECT_NE(err.find("pose drivers"), std::string::npos) << err;
+  EXPECT_NE(err.find("cannot generate a kernel for 'weld'"), std::string::npos) << err;
+  EXPECT_NE(err.find("nothing to generate"), std::string::npos) << err;
   // The advice once, the file once (the generator's own prefix is not repeated).
   const auto advice = err.find("--solver numeric");
   ASSERT_NE(advice, std::string::npos) << err;

@@ -20,7 +20,7 @@
 //   crank: revolute 'A_ground_crank' from 'ground' (product of exponentials)
 //   rocker: revolute 'B_ground_rocker' from 'ground' (product of exponentials)
 //   coupler: revolute 'P_crank_coupler' from 'crank' (product of exponentials)
-//   closure: 3 secondary coordinates, 6 closure rows, pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
+//   closure: 3 secondary coordinates, 6 closure rows; Newton fallback on 3 coordinates, 6 rows; Davies' pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
 #pragma once
 
 #include <cmath>
@@ -225,7 +225,7 @@ struct State {
     T C[3][primary_count] = {};
     T M[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {
@@ -757,8 +757,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_0 = ((s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q) + (s.joints.B_ground_rocker.q + s.bodies.crank.x)) + ((s.bodies.crank.y + s.bodies.crank.R[0]) + (s.bodies.crank.R[1] + s.bodies.coupler.x));
   const T _sum_positions_1 = ((s.bodies.coupler.y + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[3])) + ((s.bodies.coupler.R[4] + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.R[0]));
   const T _sum_positions_2 = ((s.bodies.rocker.R[1] + s.points.B.x) + (s.points.P.x + s.points.P.y)) + ((s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y));
-  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.rocker[2][0] + s.body_jacobians.rocker[4][0]) + (s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]));
-  const T _sum_positions_4 = s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0];
+  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0])) + ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.C[0][0]));
+  const T _sum_positions_4 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
@@ -1342,8 +1342,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_0 = ((s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q) + (s.joints.B_ground_rocker.q + s.bodies.crank.x)) + ((s.bodies.crank.y + s.bodies.crank.R[0]) + (s.bodies.crank.R[1] + s.bodies.coupler.x));
   const T _sum_positions_1 = ((s.bodies.coupler.y + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[3])) + ((s.bodies.coupler.R[4] + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.R[0]));
   const T _sum_positions_2 = ((s.bodies.rocker.R[1] + s.points.B.x) + (s.points.P.x + s.points.P.y)) + ((s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y));
-  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0])) + ((s.body_jacobians.rocker[2][0] + s.body_jacobians.rocker[4][0]) + (s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]));
-  const T _sum_positions_4 = s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0];
+  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0])) + ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.C[0][0]));
+  const T _sum_positions_4 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));

@@ -495,8 +495,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
   const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
   const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_3 = ((s.joints.j3.q + s.body_jacobians.shank[3][1]) + (s.body_jacobians.shank[4][1] + s.body_jacobians.foot[3][2])) + ((s.body_jacobians.foot[4][2] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1]));
-  const T _sum_positions_4 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
+  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
+  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
@@ -807,8 +807,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
   const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
   const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_3 = ((s.joints.j3.q + s.body_jacobians.shank[3][1]) + (s.body_jacobians.shank[4][1] + s.body_jacobians.foot[3][2])) + ((s.body_jacobians.foot[4][2] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1]));
-  const T _sum_positions_4 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
+  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
+  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));

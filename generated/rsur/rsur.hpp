@@ -20,7 +20,7 @@
 //   crank: revolute 'jA' from 'ground' (product of exponentials)
 //   rocker: revolute 'jD' from 'ground' (product of exponentials)
 //   coupler: spherical 'jB' from 'crank' (product of exponentials)
-//   closure: 6 secondary coordinates, 6 closure rows, pivot order from 72 samples (smallest pivot 0.0035 of its column)
+//   closure: 6 secondary coordinates, 6 closure rows; Newton fallback on 6 coordinates, 6 rows; Davies' pivot order from 72 samples (smallest pivot 0.0035 of its column)
 #pragma once
 
 #include <cmath>
@@ -225,7 +225,7 @@ struct State {
     T B[3][primary_count] = {};
     T C[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {
@@ -1429,8 +1429,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_1 = ((s.bodies.crank.R[0] + s.bodies.crank.R[1]) + (s.bodies.coupler.x + s.bodies.coupler.y)) + ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2]));
   const T _sum_positions_2 = ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6])) + ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z));
   const T _sum_positions_3 = ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.points.D.y + s.points.D.z)) + ((s.points.B.x + s.points.B.y) + (s.points.C.x + s.points.C.y));
-  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
-  const T _sum_positions_5 = (s.body_jacobians.rocker[0][0] + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0])) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0])) + ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0]));
+  const T _sum_positions_5 = (s.body_jacobians.coupler[5][0] + (s.body_jacobians.rocker[0][0] + s.body_jacobians.rocker[4][0])) + ((s.body_jacobians.rocker[5][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
   const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
@@ -2760,8 +2760,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_1 = ((s.bodies.crank.R[0] + s.bodies.crank.R[1]) + (s.bodies.coupler.x + s.bodies.coupler.y)) + ((s.bodies.coupler.z + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[2]));
   const T _sum_positions_2 = ((s.bodies.coupler.R[3] + s.bodies.coupler.R[4]) + (s.bodies.coupler.R[5] + s.bodies.coupler.R[6])) + ((s.bodies.coupler.R[7] + s.bodies.coupler.R[8]) + (s.bodies.rocker.y + s.bodies.rocker.z));
   const T _sum_positions_3 = ((s.bodies.rocker.R[4] + s.bodies.rocker.R[5]) + (s.points.D.y + s.points.D.z)) + ((s.points.B.x + s.points.B.y) + (s.points.C.x + s.points.C.y));
-  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.body_jacobians.coupler[0][0] + s.body_jacobians.coupler[1][0])) + ((s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]) + (s.body_jacobians.coupler[4][0] + s.body_jacobians.coupler[5][0]));
-  const T _sum_positions_5 = (s.body_jacobians.rocker[0][0] + (s.body_jacobians.rocker[4][0] + s.body_jacobians.rocker[5][0])) + (s.point_jacobians.C[0][0] + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
+  const T _sum_positions_4 = ((s.points.C.z + s.joints.jA.q) + (s.drivers.theta.q + s.body_jacobians.coupler[0][0])) + ((s.body_jacobians.coupler[1][0] + s.body_jacobians.coupler[2][0]) + (s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0]));
+  const T _sum_positions_5 = (s.body_jacobians.coupler[5][0] + (s.body_jacobians.rocker[0][0] + s.body_jacobians.rocker[4][0])) + ((s.body_jacobians.rocker[5][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
   const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));

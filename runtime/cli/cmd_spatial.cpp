@@ -139,15 +139,21 @@ int run_spatial_check(const Args& args) {
     const gen::SpatialDerivation d = gen::derive_spatial(model, g);
     const std::string compiled =
         ondemand::current_compiled_kernel(model) ? " (compiled into this mechgen)" : "";
-    if (d.closure_start.empty())
+    const size_t newton = d.closure_start.size(), secondary = g.secondary.size();
+    if (!d.closed_chain)
       out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
              " bodies by product of exponentials, rates outward, Newton-Euler inward" + compiled +
              "\n";
     else
-      out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
-             " secondary coordinates by unrolled Newton-Raphson, Davies' rates by a fixed-pivot "
-             "elimination, efforts by virtual power, reactions through N_s transposed" +
+      out += "generated kernel: closed chain, " + std::to_string(secondary) +
+             " secondary coordinates (" + std::to_string(secondary - newton) + " in closed form, " +
+             std::to_string(newton) +
+             " by unrolled Newton-Raphson), Davies' rates by a fixed-pivot elimination, efforts "
+             "by virtual power, reactions through N_s transposed" +
              compiled + "\n";
+    // The closed-form groups and the closure (docs/spatial_kernels.md).
+    for (const std::string& line : d.plan)
+      if (line.rfind("ik_", 0) == 0 || line.rfind("closure:", 0) == 0) out += "  " + line + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";

@@ -1,0 +1,13 @@
+// The closed-form solvers tried on each circuit (spatial_circuit_solvers.hpp).
+#include "spatial_circuit_solvers.hpp"
+
+#include "spatial_limb_ik.hpp"
+
+namespace mechgen::gen {
+
+const std::vector<CircuitSolver>& circuit_solvers() {
+  static const std::vector<CircuitSolver> solvers{planar_limb_ik, six_revolute_limb_ik};
+  return solvers;
+}
+
+}  // namespace mechgen::gen

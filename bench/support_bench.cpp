@@ -7,8 +7,11 @@
 //  - generated_control: its control(): Jacobians and joint torques (no reactions, no floor wrench);
 //  - generated_runtime: spatial::SupportKernel::loads, what `mechgen humanoid-gait` calls (the
 //    placement read off the state, the compiled kernel's row, the torques and floor wrench);
-//  - numeric: spatial::single_support_dynamics (floating_base.hpp) on the solved state (the
-//    kinematics already done: body wrenches and the recursion only).
+//  - numeric: spatial::single_support_dynamics (floating_base.hpp) on the solved whole-body state
+//    (the kinematics already done: body wrenches and the recursion only);
+//  - numeric_tree: the numeric reference solver on the welded tree from the kernel's own inputs
+//    (positions, twists and twist rates from the joint angles, rates and accelerations, then its
+//    dense Newton-Euler solve: every torque and reaction), the same work as `generated`.
 // The generated torques are checked equal to the numeric ones (1e-9) before timing.
 #include <benchmark/benchmark.h>
 
@@ -20,6 +23,7 @@
 #include "model/support_model.hpp"
 #include "spatial/floating_base.hpp"
 #include "spatial/humanoid_gait.hpp"
+#include "spatial/spatial_dynamics.hpp"
 #include "spatial/support_kernel.hpp"
 
 namespace mechgen::bench {
@@ -30,8 +34,10 @@ namespace k = gen::bioloid_support_r_foot;
 // The real joints of models/bioloid.yaml, each driven by <joint>_drive in the kernel.
 #define MECHGEN_BIOLOID_JOINTS                                                               \
   X(RL1)                                                                                     \
-  X(RL2) X(RL3) X(RL4) X(RL5) X(RL6) X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) X(RA1) X(RA2) \
-      X(RA3) X(RA4) X(RA5) X(RA6) X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
+  X(RL2)                                                                                     \
+  X(RL3)                                                                                     \
+  X(RL4) X(RL5) X(RL6) X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) X(RA1) X(RA2) X(RA3) X(RA4) \
+      X(RA5) X(RA6) X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
 
 struct Support {
   SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
@@ -127,6 +133,33 @@ void check(const Support& b) {
     size_t i = 0;
     for (auto _ : state) {
       benchmark::DoNotOptimize(support.loads(b->states[i]));
+      i = (i + 1) % b->states.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark("bioloid_support/numeric_tree", [b](benchmark::State& state) {
+    // The welded tree placed where the samples' foot is (it stands still over the step).
+    std::vector<double> params = b->solver.parameters();
+    params.insert(params.end(), {b->params[0].support_x, b->params[0].support_y,
+                                 b->params[0].support_z, b->params[0].support_heading});
+    const spatial::SpatialSolver tree(b->welded, params);
+    const SpatialGraph& g = tree.graph();
+    const auto n = static_cast<Eigen::Index>(g.primary.size());
+    std::vector<Eigen::VectorXd> q, qd, qdd;
+    for (const spatial::SpatialState& s : b->states) {
+      q.emplace_back(n), qd.emplace_back(n), qdd.emplace_back(n);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const SpatialColumn& c = g.columns[static_cast<size_t>(g.primary[static_cast<size_t>(k)])];
+        const int j = b->model.joint_index(b->welded.joints[static_cast<size_t>(c.joint)].name);
+        const int col = b->solver.graph().joint_column[static_cast<size_t>(j)] + c.index;
+        q.back()[k] = s.q[col], qd.back()[k] = s.qd[col], qdd.back()[k] = s.qdd[col];
+      }
+    }
+    spatial::SpatialState s;
+    tree.solve(0, q[0], qd[0], qdd[0], s);
+    size_t i = 0;
+    for (auto _ : state) {
+      tree.solve(b->states[i].t, q[i], qd[i], qdd[i], s);
+      benchmark::DoNotOptimize(spatial::inverse_dynamics(tree, s));
       i = (i + 1) % b->states.size();
     }
   })->Unit(benchmark::kNanosecond);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #include "model/support_model.hpp"
@@ -85,6 +86,9 @@ TEST(SupportKernel, TorquesFloorWrenchAndZmpEqualTheNumericTreeDynamicsAlongTheG
   }
   EXPECT_GT(samples[0], 0);
   EXPECT_GT(samples[1], 0);
+  std::cout << "generated - numeric over " << samples[0] + samples[1] << " samples: torques "
+            << worst_tau << " N m (largest torque " << largest_tau << "), floor force " << worst_f
+            << " N, moment " << worst_m << " N m, ZMP " << worst_zmp << " m\n";
   EXPECT_GT(largest_tau, 0.05);  // the comparison is not of zeros
   EXPECT_LT(worst_tau, 1e-9);
   EXPECT_LT(worst_f, 1e-9);
@@ -127,47 +131,52 @@ TEST(SupportKernel, FloorWrenchIsTheMomentumRateOfAllBodiesMinusGravity) {
   const Walk w;
   SpatialState s;
   double worst_f = 0, worst_m = 0;
-  for (int side = 0; side < 2; ++side) {
-    const SpatialModel welded = weld_support(w.model, w.name(side));
-    const CompiledKernel& kernel = ondemand::kernel_for(welded, w.name(side));
+  std::vector<SpatialModel> welded;
+  for (int side = 0; side < 2; ++side) welded.push_back(weld_support(w.model, w.name(side)));
+  int samples[2] = {0, 0};
+  // In time order: the whole-body solve starts from the previous sample.
+  for (const double t : w.times(3)) {
+    w.gait.solve(t, s);
+    const int side = w.gait.support(t);
+    ++samples[side];
+    const CompiledKernel& kernel = ondemand::kernel_for(welded[side], w.name(side));
     const std::string weld = support_weld_name(w.name(side));
-    for (const double t : w.times(3)) {
-      if (w.gait.support(t) != side) continue;
-      w.gait.solve(t, s);
-      // Placed away from the origin and turned: the wrench balance holds in any placement.
-      const double placement[4] = {0.3, -0.2, 0.0, 0.7};
-      const KernelRow r = kernel_row(w, welded, kernel, s, placement);
-      std::vector<double> params = w.solver.parameters();
-      params.insert(params.end(), placement, placement + 4);
-      const SpatialSolver placed(welded, params);
-      const SpatialInstance& in = placed.instance();
-      V3 f{0, 0, 0}, m{0, 0, 0};
-      for (size_t b = 0; b < welded.bodies.size(); ++b) {
-        if (welded.bodies[b].ground) continue;
-        const std::string& n = welded.bodies[b].name;
-        const V3 c{r.at(n + ".x"), r.at(n + ".y"), r.at(n + ".z")};
-        const V3 a{r.at(n + ".ax"), r.at(n + ".ay"), r.at(n + ".az")};
-        const V3 om{r.at(n + ".wx"), r.at(n + ".wy"), r.at(n + ".wz")};
-        const V3 al{r.at(n + ".alx"), r.at(n + ".aly"), r.at(n + ".alz")};
-        const double qw = r.at(n + ".qw"), qx = r.at(n + ".qx"), qy = r.at(n + ".qy"),
-                     qz = r.at(n + ".qz");
-        M3 R;
-        R.m = {
-            1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz),     2 * (qx * qz + qw * qy),
-            2 * (qx * qy + qw * qz),     1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx),
-            2 * (qx * qz - qw * qy),     2 * (qy * qz + qw * qx),     1 - 2 * (qx * qx + qy * qy)};
-        const M3 I = R * in.inertia[b] * geometry::transpose(R);
-        const V3 F = in.mass[b] * (a - in.gravity);
-        f = f + F;
-        m = m + I * al + geometry::cross(om, I * om) + geometry::cross(c, F);
-      }
-      const V3 floor_f{r.at(weld + ".fx"), r.at(weld + ".fy"), r.at(weld + ".fz")};
-      const V3 floor_m = V3{r.at(weld + ".mx"), r.at(weld + ".my"), r.at(weld + ".mz")} +
-                         geometry::cross(V3{placement[0], placement[1], placement[2]}, floor_f);
-      worst_f = std::max(worst_f, largest(floor_f, f));
-      worst_m = std::max(worst_m, largest(floor_m, m));
+    // Placed away from the origin and turned: the wrench balance holds in any placement.
+    const double placement[4] = {0.3, -0.2, 0.0, 0.7};
+    const KernelRow r = kernel_row(w, welded[side], kernel, s, placement);
+    std::vector<double> params = w.solver.parameters();
+    params.insert(params.end(), placement, placement + 4);
+    const SpatialSolver placed(welded[side], params);
+    const SpatialInstance& in = placed.instance();
+    V3 f{0, 0, 0}, m{0, 0, 0};
+    for (size_t b = 0; b < welded[side].bodies.size(); ++b) {
+      if (welded[side].bodies[b].ground) continue;
+      const std::string& n = welded[side].bodies[b].name;
+      const V3 c{r.at(n + ".x"), r.at(n + ".y"), r.at(n + ".z")};
+      const V3 a{r.at(n + ".ax"), r.at(n + ".ay"), r.at(n + ".az")};
+      const V3 om{r.at(n + ".wx"), r.at(n + ".wy"), r.at(n + ".wz")};
+      const V3 al{r.at(n + ".alx"), r.at(n + ".aly"), r.at(n + ".alz")};
+      const double qw = r.at(n + ".qw"), qx = r.at(n + ".qx"), qy = r.at(n + ".qy"),
+                   qz = r.at(n + ".qz");
+      M3 R;
+      R.m = {1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz),     2 * (qx * qz + qw * qy),
+             2 * (qx * qy + qw * qz),     1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx),
+             2 * (qx * qz - qw * qy),     2 * (qy * qz + qw * qx),     1 - 2 * (qx * qx + qy * qy)};
+      const M3 I = R * in.inertia[b] * geometry::transpose(R);
+      const V3 F = in.mass[b] * (a - in.gravity);
+      f = f + F;
+      m = m + I * al + geometry::cross(om, I * om) + geometry::cross(c, F);
     }
+    const V3 floor_f{r.at(weld + ".fx"), r.at(weld + ".fy"), r.at(weld + ".fz")};
+    const V3 floor_m = V3{r.at(weld + ".mx"), r.at(weld + ".my"), r.at(weld + ".mz")} +
+                       geometry::cross(V3{placement[0], placement[1], placement[2]}, floor_f);
+    worst_f = std::max(worst_f, largest(floor_f, f));
+    worst_m = std::max(worst_m, largest(floor_m, m));
   }
+  std::cout << "floor wrench - momentum rate of all bodies: force " << worst_f << " N, moment "
+            << worst_m << " N m\n";
+  EXPECT_GT(samples[0], 0);
+  EXPECT_GT(samples[1], 0);
   EXPECT_LT(worst_f, 1e-10);
   EXPECT_LT(worst_m, 1e-10);
 }
@@ -193,6 +202,8 @@ TEST(SupportKernel, TheHeadingTurnsTheFloorWrenchAndLeavesTheTorques) {
         std::max({worst_w, std::abs(c * a.at(x) - sn * a.at(y) - b.at(x)),
                   std::abs(sn * a.at(x) + c * a.at(y) - b.at(y)), std::abs(a.at(z) - b.at(z))});
   }
+  std::cout << "turned by " << psi << " rad: torques " << worst_tau << " N m, wrench " << worst_w
+            << "\n";
   EXPECT_GT(std::abs(a.at(weld + ".fx")) + std::abs(a.at(weld + ".mx")), 1e-3);
   EXPECT_LT(worst_tau, 1e-10);
   EXPECT_LT(worst_w, 1e-10);

@@ -32,12 +32,13 @@ namespace {
 namespace k = gen::bioloid_support_r_foot;
 
 // The real joints of models/bioloid.yaml, each driven by <joint>_drive in the kernel.
-#define MECHGEN_BIOLOID_JOINTS                                                               \
-  X(RL1)                                                                                     \
-  X(RL2)                                                                                     \
-  X(RL3)                                                                                     \
-  X(RL4) X(RL5) X(RL6) X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) X(RA1) X(RA2) X(RA3) X(RA4) \
-      X(RA5) X(RA6) X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
+// clang-format off
+#define MECHGEN_BIOLOID_JOINTS \
+  X(RL1) X(RL2) X(RL3) X(RL4) X(RL5) X(RL6) \
+  X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) \
+  X(RA1) X(RA2) X(RA3) X(RA4) X(RA5) X(RA6) \
+  X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
+// clang-format on
 
 struct Support {
   SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
@@ -172,6 +173,7 @@ void check(const Support& b) {
   })->Unit(benchmark::kNanosecond);
   return true;
 }();
+#undef MECHGEN_BIOLOID_JOINTS
 
 }  // namespace
 }  // namespace mechgen::bench

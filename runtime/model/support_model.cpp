@@ -50,6 +50,14 @@ std::string support_model_name(const std::string& model, const std::string& supp
   return model + "_support_" + support;
 }
 
+std::optional<std::pair<std::string, std::string>> split_support_model_name(
+    const std::string& name) {
+  const std::string mark = "_support_";
+  const auto at = name.rfind(mark);
+  if (at == std::string::npos || at == 0 || at + mark.size() == name.size()) return std::nullopt;
+  return std::make_pair(name.substr(0, at), name.substr(at + mark.size()));
+}
+
 std::string support_driver_name(const SpatialJoint& joint, size_t k) {
   return joint.columns.size() == 1 ? joint.name + "_drive"
                                    : joint.name + "_" + std::to_string(k + 1) + "_drive";

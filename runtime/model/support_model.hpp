@@ -21,7 +21,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "model/spatial_model.hpp"
 
@@ -33,6 +35,10 @@ inline constexpr const char* kSupportPlacement[4] = {"support_x", "support_y", "
 
 // `<model>_support_<body>`: the welded model's name, so its kernel's.
 std::string support_model_name(const std::string& model, const std::string& support);
+// The inverse: {model, body} for a name of that form (the last "_support_" splits it), else
+// nullopt. What a compiled-in kernel's name says about the description it comes from.
+std::optional<std::pair<std::string, std::string>> split_support_model_name(
+    const std::string& name);
 // The driver of coordinate k of a real joint (above).
 std::string support_driver_name(const SpatialJoint& joint, size_t k);
 // The weld's name, `<support>_weld`.

@@ -36,8 +36,8 @@ the waist and both feet planned in the inertial frame and fed to their 3P3R virt
 other pose drivers (hands) carried with the waist; Davies' method (numeric reference solver)
 gives every real joint. The joint torques and the floor wrench come from the generated
 single-support kernels (`mechgen generate MODEL.yaml --support FOOT`, one per foot, compiled in
-or built on first use), or with --solver numeric from the numeric tree dynamics. The model supplies the parameters step_length, step_time, swing_height
-and steps. Writes into DIR:
+or built on first use), or with --solver numeric from the numeric tree dynamics. The model
+supplies the parameters step_length, step_time, swing_height and steps. Writes into DIR:
   gait.csv                 t, step, support (0 right, 1 left), per real joint J: J.q, J.qd,
                            J.torque (single support, support foot as ground); com.x/y/z,
                            floor.fx/fy/fz/mx/my/mz (on the support foot, about the origin),
@@ -179,7 +179,6 @@ int run_humanoid_gait(const Args& args) {
   std::vector<SpatialModel> welded;
   std::vector<spatial::SupportKernel> kernels;
   if (solver_name == "generated") {
-    welded.reserve(2);
     for (int side = 0; side < 2; ++side) {
       const int foot = model.pose_drivers[static_cast<size_t>(gait.foot_driver(side))].second;
       const std::string& name = model.bodies[static_cast<size_t>(foot)].name;

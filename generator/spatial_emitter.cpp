@@ -14,6 +14,7 @@
 #include "kernel_fingerprint.hpp"
 #include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
+#include "model/support_model.hpp"
 #include "output_checks.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_primary_inputs.hpp"
@@ -418,13 +419,17 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
 }
 
 GenerateResult generate_spatial(const GenerateOptions& options) {
-  const SpatialModel model = read_spatial_model(options.model_path);
+  const SpatialModel model =
+      options.support.empty()
+          ? read_spatial_model(options.model_path)
+          : weld_support(read_spatial_model(options.model_path), options.support);
   const SpatialGraph graph = build_spatial_graph(model);
   const SpatialDerivation derivation = derive_spatial(model, graph);
   EmitOptions emit;
   emit.templates_dir = options.templates_dir;
   emit.source = display_path(options.model_path);
-  emit.command = "build/mechgen generate " + emit.source;
+  emit.command = "build/mechgen generate " + emit.source +
+                 (options.support.empty() ? "" : " --support " + options.support);
   emit.fingerprint =
       kernel_fingerprint(model.common, options.templates_dir, false, KernelKind::spatial);
   GenerateResult result{model.common.name, {}, derivation.plan};

@@ -12,6 +12,7 @@
 
 #include "model/model.hpp"
 #include "model/spatial_model.hpp"
+#include "model/support_model.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen {
@@ -81,6 +82,11 @@ void expect_honest(const CompiledKernel& k, int status, int group, const std::ve
 
 // The defaults of a shipped model, planar or spatial.
 std::vector<double> shipped_defaults(const std::string& name) {
+  if (const auto support = split_support_model_name(name))
+    return weld_support(read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/" +
+                                           support->first + ".yaml"),
+                        support->second)
+        .common.default_parameters();
   const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml";
   return is_spatial_description(path) ? read_spatial_model(path).common.default_parameters()
                                       : read_model(path).default_parameters();

@@ -13,6 +13,8 @@
 #include "spatial/humanoid_gait.hpp"
 #include "spatial/leg_ik.hpp"
 #include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_sweep.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::spatial {
 namespace {
@@ -350,6 +352,65 @@ TEST(BioloidGait, PolygonMarginIsTheDistanceToTheNearestEdge) {
   for (size_t i = 0; i < 4; ++i)
     area += hull[i][0] * hull[(i + 1) % 4][1] - hull[(i + 1) % 4][0] * hull[i][1];
   EXPECT_NEAR(area / 2, 0.006, 1e-15);
+}
+
+// The generated whole-body kernel (bioloid compiled in: four 6R limbs in closed form from the
+// virtual chains' poses, Davies' rates through the block-diagonal N_s) driven by the gait's
+// primary motion equals the numeric gait: every real joint's angle, velocity and acceleration.
+TEST(BioloidGait, GeneratedWholeBodyKernelEqualsTheNumericGait) {
+  const Walk w;
+  const CompiledKernel* kernel = find_compiled_kernel("bioloid");
+  ASSERT_NE(kernel, nullptr);
+  const std::vector<std::string> columns = spatial_column_names(w.model);
+  auto at = [&](const std::string& name) {
+    const auto it = std::find(columns.begin(), columns.end(), name);
+    EXPECT_NE(it, columns.end()) << name;
+    return static_cast<size_t>(it - columns.begin());
+  };
+  // The kernel's inputs: joint drivers, then each pose driver's prescribed coordinates (absolute
+  // values: the virtual coordinate plus its reference), in the sweep's driver column order.
+  std::vector<std::pair<std::string, int>> inputs;  // column prefix, graph column
+  const SpatialGraph& g = w.solver.graph();
+  for (const SpatialDriver& d : w.model.drivers)
+    inputs.emplace_back(d.name, g.joint_column[static_cast<size_t>(d.joint)] + d.column);
+  for (const PoseDriver& pd : w.model.pose_drivers)
+    for (const PoseCoordinate& pc : pd.coordinates)
+      if (pc.value)
+        inputs.emplace_back(pd.name + "." + pc.name, g.joint_column[static_cast<size_t>(pc.joint)]);
+  ASSERT_EQ(static_cast<int>(inputs.size()), kernel->driver_count);
+  // The references, from the model's own motion at t0: absolute (kernel) minus coordinate.
+  const std::vector<double> parameters = w.model.common.default_parameters();
+  std::vector<double> row(columns.size());
+  int group = -1;
+  SpatialState s;
+  w.solver.solve(0, s);
+  ASSERT_EQ(kernel->evaluate_double(parameters.data(), 0, row.data(), &group), 0);
+  std::vector<double> reference;
+  for (const auto& [prefix, c] : inputs) reference.push_back(row[at(prefix + ".q")] - s.q[c]);
+  double worst_q = 0, worst_qd = 0, worst_qdd = 0;
+  for (const double t : w.times(8)) {
+    w.solve(t, s);
+    std::vector<double> drivers;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const int c = inputs[i].second;
+      drivers.insert(drivers.end(), {s.q[c] + reference[i], s.qd[c], s.qdd[c]});
+    }
+    ASSERT_EQ(
+        kernel->evaluate_driven_double(parameters.data(), t, drivers.data(), row.data(), &group), 0)
+        << t;
+    for (const SpatialJoint& j : w.model.joints) {
+      if (j.is_virtual || j.columns.size() != 1) continue;
+      const int c = g.joint_column[static_cast<size_t>(w.model.joint_index(j.name))];
+      worst_q = std::max(worst_q, std::abs(row[at(j.name + ".q")] - s.q[c]));
+      worst_qd = std::max(worst_qd, std::abs(row[at(j.name + ".qd")] - s.qd[c]));
+      worst_qdd = std::max(worst_qdd, std::abs(row[at(j.name + ".qdd")] - s.qdd[c]));
+    }
+  }
+  EXPECT_LT(worst_q, 1e-9);
+  EXPECT_LT(worst_qd, 1e-9);
+  EXPECT_LT(worst_qdd, 1e-8);
+  std::cout << "gait through the generated bioloid kernel against the numeric gait: q " << worst_q
+            << ", q' " << worst_qd << ", q'' " << worst_qdd << "\n";
 }
 
 }  // namespace

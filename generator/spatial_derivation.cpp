@@ -10,6 +10,7 @@
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_closed_form.hpp"
 
 namespace mechgen::gen {
 
@@ -307,13 +308,7 @@ class Builder {
     for (int sample = 0; sample < kPivotSamples; ++sample) {
       solver.solve(sweep.t0 + (sweep.t1 - sweep.t0) * sample / kPivotSamples, st);
       if (sample == 0) assembly = st;
-      GiNaC::exmap num;
-      for (size_t i = 0; i < m_.common.parameters.size(); ++i)
-        num[params_.at(m_.common.parameters[i].symbol)] = GiNaC::numeric(defaults[i]);
-      for (size_t c = 0; c < cols_.size(); ++c)
-        num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
-      for (size_t k = start; k < out_.definitions.size(); ++k)
-        num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
+      const GiNaC::exmap num = numeric_values(st, defaults, start);
       std::vector<std::vector<double>> m(rows, std::vector<double>(ns));
       for (size_t r = 0; r < rows; ++r)
         for (size_t i = 0; i < ns; ++i)
@@ -382,6 +377,74 @@ class Builder {
                         (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
   }
 
+  // Every parameter, coordinate and definition from `start` on at the numeric pose st.
+  GiNaC::exmap numeric_values(const spatial::SpatialState& st, const std::vector<double>& defaults,
+                              size_t start) const {
+    GiNaC::exmap num;
+    for (size_t i = 0; i < m_.common.parameters.size(); ++i)
+      num[params_.at(m_.common.parameters[i].symbol)] = GiNaC::numeric(defaults[i]);
+    for (size_t c = 0; c < cols_.size(); ++c)
+      num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
+    for (size_t k = start; k < out_.definitions.size(); ++k)
+      num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
+    return num;
+  }
+
+  // The closed-form pre-pass (spatial_closed_form.hpp): its groups when they define every
+  // secondary coordinate, else none (the Newton-Raphson closure then takes them all).
+  std::vector<ClosedFormGroup> closed_form(size_t start) {
+    const std::vector<double> defaults = m_.common.default_parameters();
+    const spatial::SpatialSolver solver(m_, defaults);
+    spatial::SpatialState st;
+    solver.solve(spatial::default_spatial_sweep(m_, defaults).t0, st);
+    ClosureContext ctx{m_, g_, {}, {}, {}, D_, {}, numeric_values(st, defaults, start), {}};
+    for (size_t c = 0; c < cols_.size(); ++c) {
+      ctx.axes.push_back(cols_[c].axis);
+      ctx.q.push_back(cols_[c].q);
+      ctx.assembly_q.push_back(st.q[static_cast<Eigen::Index>(c)]);
+      ctx.known.push_back(g_.columns[c].driver >= 0);
+    }
+    ctx.warm.assign(cols_.size(), 0);
+    for (size_t i = 0; i < g_.secondary.size(); ++i) {
+      const symbol w("s.closure.q[" + std::to_string(i) + "]");
+      ctx.warm[static_cast<size_t>(g_.secondary[i])] = w;
+      ctx.assembly[w] = ctx.assembly_q[static_cast<size_t>(g_.secondary[i])];
+    }
+    std::vector<ClosedFormGroup> groups = closed_form_groups(ctx);
+    for (const int c : g_.secondary)
+      if (!ctx.known[static_cast<size_t>(c)]) return {};
+    for (const ClosedFormGroup& group : groups) {
+      out_.groups.push_back(group.name);
+      out_.plan.push_back(group.plan);
+    }
+    return groups;
+  }
+
+  // Definitions in an order where each follows those it reads: passes over the list in order,
+  // each emitting what is ready (deterministic).
+  void emit_in_dependency_order(std::vector<std::pair<symbol, ex>> items) {
+    std::set<ex, GiNaC::ex_is_less> pending;
+    for (const auto& item : items) pending.insert(item.first);
+    while (!items.empty()) {
+      std::vector<std::pair<symbol, ex>> rest;
+      for (auto& item : items) {
+        bool ready = true;
+        for (auto it = item.second.preorder_begin(); it != item.second.preorder_end() && ready;
+             ++it)
+          ready = !(GiNaC::is_a<symbol>(*it) && pending.count(*it) > 0);
+        if (!ready) {
+          rest.push_back(std::move(item));
+          continue;
+        }
+        pending.erase(item.first);
+        out_.definitions.push_back(std::move(item));
+      }
+      if (rest.size() == items.size())
+        throw std::logic_error("closed-form positions: definitions read each other");
+      items = std::move(rest);
+    }
+  }
+
   // Unknown k of the elimination is secondary coordinate pivot_columns_[k].
   std::vector<ex> unpermute(const std::vector<ex>& x) const {
     std::vector<ex> y(x.size());
@@ -406,6 +469,8 @@ class Builder {
   static constexpr int kNewtonSteps = 5;
   void close_positions(size_t start) {
     circuit_rows();
+    // Before the pivot choice: the groups' names precede the "closure" group.
+    const std::vector<ClosedFormGroup> groups = closed_form(start);
     choose_pivots(start);
     std::vector<std::pair<symbol, ex>> chain(
         out_.definitions.begin() + static_cast<std::ptrdiff_t>(start), out_.definitions.end());
@@ -425,6 +490,39 @@ class Builder {
       }
     }
     const size_t ns = g_.secondary.size();
+    if (!groups.empty()) {
+      out_.plan.push_back("closure positions: closed form in " + std::to_string(groups.size()) +
+                          " groups, no Newton-Raphson");
+      out_.closed_form_groups = static_cast<int>(groups.size());
+      std::vector<std::pair<symbol, ex>> items;
+      for (size_t k = 0; k < groups.size(); ++k) {
+        items.insert(items.end(), groups[k].definitions.begin(), groups[k].definitions.end());
+        for (const ex& r : groups[k].reach) {
+          output(out_.kinematics,
+                 "s.closure.reach[" + std::to_string(out_.reach_group.size()) + "]", r);
+          out_.reach_group.push_back(static_cast<int>(out_.groups.size() - groups.size() - 1 + k));
+        }
+      }
+      // The tree's cosines and sines of the coordinates the groups have without trigonometry.
+      std::map<ex, ex, GiNaC::ex_is_less> trig;
+      for (const ClosedFormGroup& group : groups)
+        for (const auto& [c, cs] : group.cos_sin) {
+          trig[GiNaC::cos(cols_[static_cast<size_t>(c)].q)] = cs.first;
+          trig[GiNaC::sin(cols_[static_cast<size_t>(c)].q)] = cs.second;
+        }
+      for (const auto& [sym, value] : dependent) {
+        const auto it = trig.find(value);
+        items.emplace_back(sym, it == trig.end() ? value : it->second);
+      }
+      emit_in_dependency_order(std::move(items));
+      for (size_t i = 0; i < ns; ++i)
+        output(out_.kinematics, "s.closure.next[" + std::to_string(i) + "]",
+               cols_[static_cast<size_t>(g_.secondary[i])].q);
+      closure_residual();
+      return;
+    }
+    out_.plan.push_back("closure positions: " + std::to_string(kNewtonSteps) +
+                        " unrolled Newton-Raphson steps from the warm start");
     std::vector<ex> q(ns);
     for (size_t i = 0; i < ns; ++i) q[i] = symbol("s.closure.q[" + std::to_string(i) + "]");
     for (int step = 0; step < kNewtonSteps; ++step) {
@@ -451,6 +549,9 @@ class Builder {
              cols_[static_cast<size_t>(g_.secondary[i])].q);
     }
     for (const auto& definition : dependent) out_.definitions.push_back(definition);
+    closure_residual();
+  }
+  void closure_residual() {
     ex sum = 0;
     for (const ex& r : residual_) sum += r * r;
     output(out_.kinematics, "s.closure.residual", named("closure_residual", sum));

@@ -42,6 +42,11 @@ struct SpatialDerivation {
   // State's default warm start. Empty for a tree.
   std::vector<double> closure_start;
   double closure_det = 0;  // det of the eliminated N_s there
+  // Closed-form position groups (spatial_closed_form.hpp; 0: Newton-Raphson closes every
+  // circuit) and, per `s.closure.reach[k]` output (a group's discriminant, >= 0 where it closes),
+  // the index of its group in `groups`.
+  int closed_form_groups = 0;
+  std::vector<int> reach_group;
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
   // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint

@@ -253,6 +253,17 @@ class SpatialEmitter {
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
     v["control_body"] = lean.render("  ") + spatial_output_checks(control, stage_check);
+    // A workspace's sample: the named points' positions alone (no rates, Jacobians or forces),
+    // with what closes the circuits' positions checked.
+    std::vector<SpatialOutput> placed;
+    for (const SpatialOutput& o : d_.kinematics)
+      if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
+          o.target.rfind(d_.closed_form_groups > 0 ? "s.closure.reach[" : "s.closure.", 0) == 0)
+        placed.push_back(o);
+    const CodeBlock positions = block(placed);
+    v["positions_using"] = using_std(positions);
+    v["positions_ops"] = std::to_string(positions.op_count());
+    v["positions_body"] = positions.render("  ") + spatial_output_checks(placed, stage_check);
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
     v["kinematics_body"] = kin.render("  ") + spatial_output_checks(kinematic, stage_check);
@@ -271,6 +282,7 @@ class SpatialEmitter {
   void closure(std::map<std::string, std::string>& v) const {
     v["closure_fields"] = "";
     v["closure_check"] = "";
+    v["positions_check"] = "";
     v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
     if (d_.closure_start.empty()) return;
@@ -281,12 +293,25 @@ class SpatialEmitter {
     // The closure is the last solve group (the stages inputs, positions, ... follow it).
     const std::string closure_group = std::to_string(d_.groups.size() - 1);
     v["keep_warm_start"] = "  cleared.closure = s.closure;  // the warm start survives a failure\n";
+    // Closed-form groups: each discriminant must be >= 0, else the group cannot close.
+    std::string reach_field, reach_checks;
+    if (!d_.reach_group.empty()) {
+      reach_field = "    T reach[" + std::to_string(d_.reach_group.size()) +
+                    "];  // closed-form groups' discriminants (>= 0: the group closes)\n";
+      reach_checks = "  // Unreachable: a closed-form group's discriminant is negative.\n";
+      for (size_t k = 0; k < d_.reach_group.size(); ++k)
+        reach_checks += "  if (!(s.closure.reach[" + std::to_string(k) +
+                        "] >= T(0))) return s.failed_group = " + std::to_string(d_.reach_group[k]) +
+                        ", Status::unreachable;\n";
+    }
     v["closure_fields"] =
         "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "
         "t0\n  // by default, replaced by every call that closes the circuits), the last call's "
         "result,\n  // squared closure error and det N_s.\n  struct {\n    T q[" +
-        n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n  } closure;\n";
+        n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n" + reach_field +
+        "  } closure;\n";
     v["closure_check"] =
+        reach_checks +
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
         "  using std::abs;\n"
@@ -301,6 +326,8 @@ class SpatialEmitter {
         ", Status::singular;\n"
         "  for (int i = 0; i < " +
         n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
+    // Closed-form positions need only their discriminants checked.
+    v["positions_check"] = reach_checks.empty() ? v["closure_check"] : reach_checks;
     v["entry_state"] =
         "// A closed chain's warm start carries over from one call to the next (per thread and "
         "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
@@ -379,10 +406,32 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                  : k == 1 ? "_d"
                           : "_dd") +
                 " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
+  // The positions-only batch: driver k's coordinate of sample i at q[k * n + i]; point c's axis
+  // a to out[(3 c + a) n + i].
+  std::string batch_inputs, batch_points, point_names;
+  for (size_t i = 0; i < model.drivers.size(); ++i)
+    batch_inputs += std::string(batch_inputs.empty() ? "" : "\n    ") + "in." +
+                    model.drivers[i].name + " = q[" + std::to_string(i) + " * n + i];";
+  size_t point_count = 0;
+  for (const auto& [point, body] : model.named_points()) {
+    for (size_t a = 0; a < 3; ++a)
+      batch_points += std::string(batch_points.empty() ? "" : "\n    ") + "out[" +
+                      std::to_string(3 * point_count + a) + " * n + i] = s.points." + point + "." +
+                      "xyz"[a] + ";";
+    point_names += std::string(point_names.empty() ? "" : ", ") + "\"" + point + "\"";
+    ++point_count;
+  }
   const std::map<std::string, std::string> entry{
-      {"model", values.at("model")},     {"source", values.at("source")},
-      {"command", values.at("command")}, {"driver_count", std::to_string(model.drivers.size())},
-      {"driven_inputs", driven},         {"entry_state", values.at("entry_state")}};
+      {"model", values.at("model")},
+      {"source", values.at("source")},
+      {"command", values.at("command")},
+      {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven},
+      {"entry_state", values.at("entry_state")},
+      {"batch_inputs", batch_inputs},
+      {"batch_points", batch_points},
+      {"point_count", std::to_string(point_count)},
+      {"point_names", point_names.empty() ? "nullptr" : point_names}};
   files.push_back(
       {model.common.name + "_entry.cpp",
        render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,

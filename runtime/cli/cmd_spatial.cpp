@@ -145,9 +145,18 @@ int run_spatial_check(const Args& args) {
              "\n";
     else
       out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
-             " secondary coordinates by unrolled Newton-Raphson, Davies' rates by a fixed-pivot "
-             "elimination, efforts by virtual power (reactions not generated yet)" +
+             " secondary coordinates " +
+             (d.closed_form_groups > 0
+                  ? "in closed form (" + std::to_string(d.closed_form_groups) + " groups)"
+                  : std::string("by unrolled Newton-Raphson")) +
+             ", Davies' rates by a fixed-pivot elimination, efforts by virtual power (reactions "
+             "not generated yet)" +
              compiled + "\n";
+    for (int k = 0; k < d.closed_form_groups; ++k)
+      out += "  " +
+             d.plan[d.plan.size() - 2 - static_cast<size_t>(d.closed_form_groups) +
+                    static_cast<size_t>(k)] +
+             "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";

@@ -99,8 +99,60 @@ class SpatialEmitter {
     for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
   }
 
-  // Only the definitions the outputs read, in program order, then the outputs.
-  CodeBlock block(const std::vector<SpatialOutput>& outputs) const {
+  // The positions-only entry in two parts: the definitions that read the parameters alone,
+  // computed once per parameter set into PositionConstants (a workspace's batch places millions
+  // of samples with one parameter set), and what each sample computes from them.
+  void hoisted_positions(const std::vector<SpatialOutput>& outputs,
+                         std::map<std::string, std::string>& v) const {
+    const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
+    std::set<ex, GiNaC::ex_is_less> varying;
+    auto reads = [](const ex& e, const std::function<bool(const ex&)>& test) {
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::symbol>(*it) && test(*it)) return true;
+      return false;
+    };
+    // Varying: reads a driver input or the State (the warm start), directly or through another.
+    for (const auto& [symbol, value] : d_.definitions)
+      if (needed.count(symbol) && reads(value, [&](const ex& x) {
+            const std::string n = GiNaC::ex_to<GiNaC::symbol>(x).get_name();
+            return n.rfind("in.", 0) == 0 || n.rfind("s.", 0) == 0 || varying.count(x) > 0;
+          }))
+        varying.insert(symbol);
+    std::set<ex, GiNaC::ex_is_less> frontier;  // constants a sample reads
+    auto constant_read = [&](const ex& e) {
+      reads(e, [&](const ex& x) {
+        if (needed.count(x) && !varying.count(x) && definition_.count(x)) frontier.insert(x);
+        return false;
+      });
+    };
+    for (const auto& [symbol, value] : d_.definitions)
+      if (varying.count(symbol)) constant_read(value);
+    for (const SpatialOutput& o : outputs) constant_read(o.value);
+    CodeBlock constants, sample;
+    GiNaC::exmap hoist;
+    std::vector<std::string> fields;
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!needed.count(symbol) || varying.count(symbol)) continue;
+      constants.define(symbol.get_name(), value);
+      if (!frontier.count(symbol)) continue;
+      constants.assign("k." + symbol.get_name(), symbol);
+      hoist[symbol] = GiNaC::symbol("k." + symbol.get_name());
+      fields.push_back("  T " + symbol.get_name() + ";");
+    }
+    for (const auto& [symbol, value] : d_.definitions)
+      if (varying.count(symbol)) sample.define(symbol.get_name(), value.subs(hoist));
+    for (const SpatialOutput& o : outputs) sample.assign(o.target, o.value.subs(hoist));
+    v["position_constant_fields"] = lines(fields);
+    v["position_constants_using"] = using_std(constants);
+    v["position_constants_ops"] = std::to_string(constants.op_count());
+    v["position_constants_body"] = constants.render("  ");
+    v["positions_using"] = using_std(sample);
+    v["positions_ops"] = std::to_string(sample.op_count());
+    v["positions_body"] = sample.render("  ");
+  }
+
+  // Every symbol the outputs read, through the definitions.
+  std::set<ex, GiNaC::ex_is_less> needed_symbols(const std::vector<SpatialOutput>& outputs) const {
     std::set<ex, GiNaC::ex_is_less> needed;
     std::vector<ex> pending;
     for (const SpatialOutput& o : outputs) pending.push_back(o.value);
@@ -114,6 +166,12 @@ class SpatialEmitter {
           pending.push_back(def->second);
       }
     }
+    return needed;
+  }
+
+  // Only the definitions the outputs read, in program order, then the outputs.
+  CodeBlock block(const std::vector<SpatialOutput>& outputs) const {
+    const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
     CodeBlock code;
     for (const auto& [symbol, value] : d_.definitions)
       if (needed.count(symbol)) code.define(symbol.get_name(), value);
@@ -260,10 +318,8 @@ class SpatialEmitter {
       if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
           o.target.rfind(d_.closed_form_groups > 0 ? "s.closure.reach[" : "s.closure.", 0) == 0)
         placed.push_back(o);
-    const CodeBlock positions = block(placed);
-    v["positions_using"] = using_std(positions);
-    v["positions_ops"] = std::to_string(positions.op_count());
-    v["positions_body"] = positions.render("  ") + spatial_output_checks(placed, stage_check);
+    hoisted_positions(placed, v);
+    v["positions_body"] += spatial_output_checks(placed, stage_check);
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
     v["kinematics_body"] = kin.render("  ") + spatial_output_checks(kinematic, stage_check);
@@ -301,8 +357,8 @@ class SpatialEmitter {
       reach_checks = "  // Unreachable: a closed-form group's discriminant is negative.\n";
       for (size_t k = 0; k < d_.reach_group.size(); ++k)
         reach_checks += "  if (!(s.closure.reach[" + std::to_string(k) +
-                        "] >= T(0))) return s.failed_group = " + std::to_string(d_.reach_group[k]) +
-                        ", Status::unreachable;\n";
+                        "] >= T(0)))\n    return detail::failed(s, " +
+                        std::to_string(d_.reach_group[k]) + ", Status::unreachable);\n";
     }
     v["closure_fields"] =
         "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "

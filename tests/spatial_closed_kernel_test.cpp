@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 
 #include "rsur/rsur.hpp"
 #include "spatial/spatial_kernel_sweep.hpp"
@@ -38,13 +39,25 @@ std::vector<double> changed_parameters(const SpatialModel& model) {
 // numeric sweep: every kinematic column and the driver efforts to 1e-9 of its scale (the
 // column's largest magnitude, at least 1 % of the largest of its kind, as the leg6 test); the
 // reactions are not generated for closed chains yet and must be NaN.
-void sweep_equals_numeric(const std::string& name) {
+// Random geometry: every parameter by up to +-3 %, drawn from `seed`.
+std::vector<double> perturbed_parameters(const SpatialModel& model, unsigned seed) {
+  std::vector<double> p = model.common.default_parameters();
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> factor(0.97, 1.03);
+  for (double& value : p) value *= factor(random);
+  return p;
+}
+
+void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  for (const std::vector<double>& parameters :
-       {model.common.default_parameters(), changed_parameters(model)}) {
+  std::vector<std::vector<double>> sets{model.common.default_parameters(),
+                                        changed_parameters(model)};
+  for (int k = 0; k < perturbed; ++k)
+    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
+  for (const std::vector<double>& parameters : sets) {
     const SpatialSweepOptions options = default_spatial_sweep(model, parameters);
     const SpatialSweepResult numeric = run_spatial_sweep(model, options);
     const SpatialSweepResult generated = run_spatial_kernel_sweep(model, options, *kernel);
@@ -99,6 +112,13 @@ TEST(SpatialClosedKernel, ChebyshevSpatialSweepColumnsEqualTheNumericSweep) {
 // coordinates, three drivers.
 TEST(SpatialClosedKernel, QuadrupedLegSweepColumnsEqualTheNumericSweep) {
   sweep_equals_numeric("quadruped_leg");
+}
+
+// Property: the closed-form groups (rsur's RSUR link, the quadruped leg's cylinders and coupler)
+// equal the numeric solver on perturbed geometry too.
+TEST(SpatialClosedKernel, ClosedFormGroupsEqualTheNumericSweepOnPerturbedGeometry) {
+  sweep_equals_numeric("rsur", 4);
+  sweep_equals_numeric("quadruped_leg", 4);
 }
 
 // rsur's screw Jacobians (through Davies' sensitivity -N_s^-1 N_p) against the numeric

@@ -1757,10 +1757,41 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
-// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample. The
-// drivers' rates are not read.
+// What point_positions() computes from the parameters alone, once per parameter set.
 template <class T>
-Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
+struct PositionConstants {
+  T n0_ipiv0;
+  T n1_ipiv0;
+  T n2_ipiv0;
+  T n3_ipiv0;
+  T n4_ipiv0;
+  T lu_ipiv0;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 0
+  const T n0_ipiv0 = -T(1);
+  k.n0_ipiv0 = n0_ipiv0;
+  const T n1_ipiv0 = -T(1);
+  k.n1_ipiv0 = n1_ipiv0;
+  const T n2_ipiv0 = -T(1);
+  k.n2_ipiv0 = n2_ipiv0;
+  const T n3_ipiv0 = -T(1);
+  k.n3_ipiv0 = n3_ipiv0;
+  const T n4_ipiv0 = -T(1);
+  k.n4_ipiv0 = n4_ipiv0;
+  const T lu_ipiv0 = -T(1);
+  k.lu_ipiv0 = lu_ipiv0;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
@@ -1795,10 +1826,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_wz_n0 = T(0.5)*X0_R_10_n0 - T(0.5)*X0_R_01_n0;
   const T X0_vx_n0 = R_coupler_00_n0*p_coupler_x_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_01_n0*cos_B_ground_rocker_n0*p_coupler_x_n0*sin_M_rocker_coupler_n0 + R_coupler_01_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0*sin_B_ground_rocker_n0 + R_coupler_10_n0*p_coupler_y_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*cos_B_ground_rocker_n0*p_coupler_y_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0*sin_B_ground_rocker_n0 + _tmp3 + p_rocker_x_n0 - R_coupler_00_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0 - R_coupler_10_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0 - T(1.5)*p.l*cos_B_ground_rocker_n0*sin_M_rocker_coupler_n0 - T(1.5)*p.l*cos_M_rocker_coupler_n0*sin_B_ground_rocker_n0;
   const T X0_vy_n0 = R_coupler_01_n0*p_coupler_x_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*p_coupler_y_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + T(1.5)*p.l*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0 + p_rocker_y_n0 - R_coupler_00_n0*cos_B_ground_rocker_n0*p_coupler_x_n0*sin_M_rocker_coupler_n0 - R_coupler_00_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0*sin_B_ground_rocker_n0 - R_coupler_01_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0 - R_coupler_10_n0*cos_B_ground_rocker_n0*p_coupler_y_n0*sin_M_rocker_coupler_n0 - R_coupler_10_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0*sin_B_ground_rocker_n0 - R_coupler_11_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0 - _tmp2 - T(1.5)*p.l*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0;
-  const T n0_ipiv0 = -T(1);
-  const T n0_f1_0 = -n0_ipiv0*sv_P_crank_coupler_x;
+  const T n0_f1_0 = -k.n0_ipiv0*sv_P_crank_coupler_x;
   const T n0_a0_1_1 = sv_M_rocker_coupler_x_n0 - n0_f1_0;
-  const T n0_f2_0 = -n0_ipiv0*sv_P_crank_coupler_y;
+  const T n0_f2_0 = -k.n0_ipiv0*sv_P_crank_coupler_y;
   const T n0_a0_2_1 = sv_M_rocker_coupler_y_n0 - n0_f2_0;
   const T n0_a0_2_2 = -_tmp0 - n0_f2_0;
   const T n0_ipiv1 = T(1)/n0_a0_1_1;
@@ -1810,7 +1840,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T n0_b1_2 = n0_b0_2 - n0_b0_1*n0_f2_1;
   const T n0_x2 = n0_b1_2*n0_ipiv2;
   const T n0_x1 = n0_b0_1*n0_ipiv1 + n0_f1_0*n0_ipiv1*n0_x2;
-  const T n0_x0 = -n0_ipiv0*X0_wz_n0 - n0_ipiv0*n0_x1 - n0_ipiv0*n0_x2;
+  const T n0_x0 = -X0_wz_n0*k.n0_ipiv0 - k.n0_ipiv0*n0_x1 - k.n0_ipiv0*n0_x2;
   const T q_P_crank_coupler_n0 = n0_x0 + s.closure.q[0];
   const T q_M_rocker_coupler_n0 = n0_x1 + s.closure.q[1];
   const T q_B_ground_rocker_n0 = n0_x2 + s.closure.q[2];
@@ -1838,10 +1868,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_wz_n1 = T(0.5)*X0_R_10_n1 - T(0.5)*X0_R_01_n1;
   const T X0_vx_n1 = R_coupler_00_n1*p_coupler_x_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_01_n1*cos_B_ground_rocker_n1*p_coupler_x_n1*sin_M_rocker_coupler_n1 + R_coupler_01_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1*sin_B_ground_rocker_n1 + R_coupler_10_n1*p_coupler_y_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*cos_B_ground_rocker_n1*p_coupler_y_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1*sin_B_ground_rocker_n1 + _tmp6 + p_rocker_x_n1 - R_coupler_00_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1 - R_coupler_10_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1 - T(1.5)*p.l*cos_B_ground_rocker_n1*sin_M_rocker_coupler_n1 - T(1.5)*p.l*cos_M_rocker_coupler_n1*sin_B_ground_rocker_n1;
   const T X0_vy_n1 = R_coupler_01_n1*p_coupler_x_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*p_coupler_y_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + T(1.5)*p.l*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1 + p_rocker_y_n1 - R_coupler_00_n1*cos_B_ground_rocker_n1*p_coupler_x_n1*sin_M_rocker_coupler_n1 - R_coupler_00_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1*sin_B_ground_rocker_n1 - R_coupler_01_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1 - R_coupler_10_n1*cos_B_ground_rocker_n1*p_coupler_y_n1*sin_M_rocker_coupler_n1 - R_coupler_10_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1*sin_B_ground_rocker_n1 - R_coupler_11_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1 - _tmp5 - T(1.5)*p.l*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1;
-  const T n1_ipiv0 = -T(1);
-  const T n1_f1_0 = -n1_ipiv0*sv_P_crank_coupler_x;
+  const T n1_f1_0 = -k.n1_ipiv0*sv_P_crank_coupler_x;
   const T n1_a0_1_1 = sv_M_rocker_coupler_x_n1 - n1_f1_0;
-  const T n1_f2_0 = -n1_ipiv0*sv_P_crank_coupler_y;
+  const T n1_f2_0 = -k.n1_ipiv0*sv_P_crank_coupler_y;
   const T n1_a0_2_1 = sv_M_rocker_coupler_y_n1 - n1_f2_0;
   const T n1_a0_2_2 = -_tmp0 - n1_f2_0;
   const T n1_ipiv1 = T(1)/n1_a0_1_1;
@@ -1853,7 +1882,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T n1_b1_2 = n1_b0_2 - n1_b0_1*n1_f2_1;
   const T n1_x2 = n1_b1_2*n1_ipiv2;
   const T n1_x1 = n1_b0_1*n1_ipiv1 + n1_f1_0*n1_ipiv1*n1_x2;
-  const T n1_x0 = -n1_ipiv0*X0_wz_n1 - n1_ipiv0*n1_x1 - n1_ipiv0*n1_x2;
+  const T n1_x0 = -X0_wz_n1*k.n1_ipiv0 - k.n1_ipiv0*n1_x1 - k.n1_ipiv0*n1_x2;
   const T q_P_crank_coupler_n1 = n1_x0 + q_P_crank_coupler_n0;
   const T q_M_rocker_coupler_n1 = n1_x1 + q_M_rocker_coupler_n0;
   const T q_B_ground_rocker_n1 = n1_x2 + q_B_ground_rocker_n0;
@@ -1881,10 +1910,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_wz_n2 = T(0.5)*X0_R_10_n2 - T(0.5)*X0_R_01_n2;
   const T X0_vx_n2 = R_coupler_00_n2*p_coupler_x_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_01_n2*cos_B_ground_rocker_n2*p_coupler_x_n2*sin_M_rocker_coupler_n2 + R_coupler_01_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2*sin_B_ground_rocker_n2 + R_coupler_10_n2*p_coupler_y_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*cos_B_ground_rocker_n2*p_coupler_y_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2*sin_B_ground_rocker_n2 + _tmp9 + p_rocker_x_n2 - R_coupler_00_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2 - R_coupler_10_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2 - T(1.5)*p.l*cos_B_ground_rocker_n2*sin_M_rocker_coupler_n2 - T(1.5)*p.l*cos_M_rocker_coupler_n2*sin_B_ground_rocker_n2;
   const T X0_vy_n2 = R_coupler_01_n2*p_coupler_x_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*p_coupler_y_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + T(1.5)*p.l*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2 + p_rocker_y_n2 - R_coupler_00_n2*cos_B_ground_rocker_n2*p_coupler_x_n2*sin_M_rocker_coupler_n2 - R_coupler_00_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2*sin_B_ground_rocker_n2 - R_coupler_01_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2 - R_coupler_10_n2*cos_B_ground_rocker_n2*p_coupler_y_n2*sin_M_rocker_coupler_n2 - R_coupler_10_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2*sin_B_ground_rocker_n2 - R_coupler_11_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2 - _tmp8 - T(1.5)*p.l*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2;
-  const T n2_ipiv0 = -T(1);
-  const T n2_f1_0 = -n2_ipiv0*sv_P_crank_coupler_x;
+  const T n2_f1_0 = -k.n2_ipiv0*sv_P_crank_coupler_x;
   const T n2_a0_1_1 = sv_M_rocker_coupler_x_n2 - n2_f1_0;
-  const T n2_f2_0 = -n2_ipiv0*sv_P_crank_coupler_y;
+  const T n2_f2_0 = -k.n2_ipiv0*sv_P_crank_coupler_y;
   const T n2_a0_2_1 = sv_M_rocker_coupler_y_n2 - n2_f2_0;
   const T n2_a0_2_2 = -_tmp0 - n2_f2_0;
   const T n2_ipiv1 = T(1)/n2_a0_1_1;
@@ -1896,7 +1924,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T n2_b1_2 = n2_b0_2 - n2_b0_1*n2_f2_1;
   const T n2_x2 = n2_b1_2*n2_ipiv2;
   const T n2_x1 = n2_b0_1*n2_ipiv1 + n2_f1_0*n2_ipiv1*n2_x2;
-  const T n2_x0 = -n2_ipiv0*X0_wz_n2 - n2_ipiv0*n2_x1 - n2_ipiv0*n2_x2;
+  const T n2_x0 = -X0_wz_n2*k.n2_ipiv0 - k.n2_ipiv0*n2_x1 - k.n2_ipiv0*n2_x2;
   const T q_P_crank_coupler_n2 = n2_x0 + q_P_crank_coupler_n1;
   const T q_M_rocker_coupler_n2 = n2_x1 + q_M_rocker_coupler_n1;
   const T q_B_ground_rocker_n2 = n2_x2 + q_B_ground_rocker_n1;
@@ -1924,10 +1952,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_wz_n3 = T(0.5)*X0_R_10_n3 - T(0.5)*X0_R_01_n3;
   const T X0_vx_n3 = R_coupler_00_n3*p_coupler_x_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_01_n3*cos_B_ground_rocker_n3*p_coupler_x_n3*sin_M_rocker_coupler_n3 + R_coupler_01_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3*sin_B_ground_rocker_n3 + R_coupler_10_n3*p_coupler_y_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*cos_B_ground_rocker_n3*p_coupler_y_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3*sin_B_ground_rocker_n3 + _tmp12 + p_rocker_x_n3 - R_coupler_00_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3 - R_coupler_10_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3 - T(1.5)*p.l*cos_B_ground_rocker_n3*sin_M_rocker_coupler_n3 - T(1.5)*p.l*cos_M_rocker_coupler_n3*sin_B_ground_rocker_n3;
   const T X0_vy_n3 = R_coupler_01_n3*p_coupler_x_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*p_coupler_y_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + T(1.5)*p.l*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3 + p_rocker_y_n3 - R_coupler_00_n3*cos_B_ground_rocker_n3*p_coupler_x_n3*sin_M_rocker_coupler_n3 - R_coupler_00_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3*sin_B_ground_rocker_n3 - R_coupler_01_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3 - R_coupler_10_n3*cos_B_ground_rocker_n3*p_coupler_y_n3*sin_M_rocker_coupler_n3 - R_coupler_10_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3*sin_B_ground_rocker_n3 - R_coupler_11_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3 - _tmp11 - T(1.5)*p.l*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3;
-  const T n3_ipiv0 = -T(1);
-  const T n3_f1_0 = -n3_ipiv0*sv_P_crank_coupler_x;
+  const T n3_f1_0 = -k.n3_ipiv0*sv_P_crank_coupler_x;
   const T n3_a0_1_1 = sv_M_rocker_coupler_x_n3 - n3_f1_0;
-  const T n3_f2_0 = -n3_ipiv0*sv_P_crank_coupler_y;
+  const T n3_f2_0 = -k.n3_ipiv0*sv_P_crank_coupler_y;
   const T n3_a0_2_1 = sv_M_rocker_coupler_y_n3 - n3_f2_0;
   const T n3_a0_2_2 = -_tmp0 - n3_f2_0;
   const T n3_ipiv1 = T(1)/n3_a0_1_1;
@@ -1939,7 +1966,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T n3_b1_2 = n3_b0_2 - n3_b0_1*n3_f2_1;
   const T n3_x2 = n3_b1_2*n3_ipiv2;
   const T n3_x1 = n3_b0_1*n3_ipiv1 + n3_f1_0*n3_ipiv1*n3_x2;
-  const T n3_x0 = -n3_ipiv0*X0_wz_n3 - n3_ipiv0*n3_x1 - n3_ipiv0*n3_x2;
+  const T n3_x0 = -X0_wz_n3*k.n3_ipiv0 - k.n3_ipiv0*n3_x1 - k.n3_ipiv0*n3_x2;
   const T q_P_crank_coupler_n3 = n3_x0 + q_P_crank_coupler_n2;
   const T q_M_rocker_coupler_n3 = n3_x1 + q_M_rocker_coupler_n2;
   const T q_B_ground_rocker_n3 = n3_x2 + q_B_ground_rocker_n2;
@@ -1967,10 +1994,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_wz_n4 = T(0.5)*X0_R_10_n4 - T(0.5)*X0_R_01_n4;
   const T X0_vx_n4 = R_coupler_00_n4*p_coupler_x_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_01_n4*cos_B_ground_rocker_n4*p_coupler_x_n4*sin_M_rocker_coupler_n4 + R_coupler_01_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4*sin_B_ground_rocker_n4 + R_coupler_10_n4*p_coupler_y_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*cos_B_ground_rocker_n4*p_coupler_y_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4*sin_B_ground_rocker_n4 + _tmp15 + p_rocker_x_n4 - R_coupler_00_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4 - R_coupler_10_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4 - T(1.5)*p.l*cos_B_ground_rocker_n4*sin_M_rocker_coupler_n4 - T(1.5)*p.l*cos_M_rocker_coupler_n4*sin_B_ground_rocker_n4;
   const T X0_vy_n4 = R_coupler_01_n4*p_coupler_x_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*p_coupler_y_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + T(1.5)*p.l*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4 + p_rocker_y_n4 - R_coupler_00_n4*cos_B_ground_rocker_n4*p_coupler_x_n4*sin_M_rocker_coupler_n4 - R_coupler_00_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4*sin_B_ground_rocker_n4 - R_coupler_01_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4 - R_coupler_10_n4*cos_B_ground_rocker_n4*p_coupler_y_n4*sin_M_rocker_coupler_n4 - R_coupler_10_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4*sin_B_ground_rocker_n4 - R_coupler_11_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4 - _tmp14 - T(1.5)*p.l*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4;
-  const T n4_ipiv0 = -T(1);
-  const T n4_f1_0 = -n4_ipiv0*sv_P_crank_coupler_x;
+  const T n4_f1_0 = -k.n4_ipiv0*sv_P_crank_coupler_x;
   const T n4_a0_1_1 = sv_M_rocker_coupler_x_n4 - n4_f1_0;
-  const T n4_f2_0 = -n4_ipiv0*sv_P_crank_coupler_y;
+  const T n4_f2_0 = -k.n4_ipiv0*sv_P_crank_coupler_y;
   const T n4_a0_2_1 = sv_M_rocker_coupler_y_n4 - n4_f2_0;
   const T n4_a0_2_2 = -_tmp0 - n4_f2_0;
   const T n4_ipiv1 = T(1)/n4_a0_1_1;
@@ -1982,7 +2008,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T n4_b1_2 = n4_b0_2 - n4_b0_1*n4_f2_1;
   const T n4_x2 = n4_b1_2*n4_ipiv2;
   const T n4_x1 = n4_b0_1*n4_ipiv1 + n4_f1_0*n4_ipiv1*n4_x2;
-  const T n4_x0 = -n4_ipiv0*X0_wz_n4 - n4_ipiv0*n4_x1 - n4_ipiv0*n4_x2;
+  const T n4_x0 = -X0_wz_n4*k.n4_ipiv0 - k.n4_ipiv0*n4_x1 - k.n4_ipiv0*n4_x2;
   const T q_P_crank_coupler_n4 = n4_x0 + q_P_crank_coupler_n3;
   const T q_M_rocker_coupler_n4 = n4_x1 + q_M_rocker_coupler_n3;
   const T q_B_ground_rocker_n4 = n4_x2 + q_B_ground_rocker_n3;
@@ -2014,10 +2040,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp18 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp17 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
-  const T lu_ipiv0 = -T(1);
-  const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
+  const T lu_f1_0 = -k.lu_ipiv0*sv_P_crank_coupler_x;
   const T lu_a0_1_1 = sv_M_rocker_coupler_x - lu_f1_0;
-  const T lu_f2_0 = -lu_ipiv0*sv_P_crank_coupler_y;
+  const T lu_f2_0 = -k.lu_ipiv0*sv_P_crank_coupler_y;
   const T lu_a0_2_1 = sv_M_rocker_coupler_y - lu_f2_0;
   const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
   const T lu_ipiv1 = T(1)/lu_a0_1_1;
@@ -2066,6 +2091,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   for (int i = 0; i < 3; ++i) s.closure.q[i] = s.closure.next[i];
   return Status::ok;
 }
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
+}
 
 // The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
@@ -2109,7 +2140,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xf476d86d0aa74bcaULL;
+inline constexpr unsigned long long fingerprint = 0x415d23d3c0be8bc1ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

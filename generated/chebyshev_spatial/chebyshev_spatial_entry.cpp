@@ -72,11 +72,13 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
 static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
                                   int* status) {
   const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
   State<double> s;
   Inputs<double> in;
   for (long i = 0; i < n; ++i) {
     in.crank_angle = q[0 * n + i];
-    status[i] = static_cast<int>(point_positions(p, in, s));
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
     out[0 * n + i] = s.points.A.x;
         out[1 * n + i] = s.points.A.y;
         out[2 * n + i] = s.points.A.z;

@@ -989,10 +989,24 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
-// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample. The
-// drivers' rates are not read.
+// What point_positions() computes from the parameters alone, once per parameter set.
 template <class T>
-Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
+struct PositionConstants {
+
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 0
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
@@ -1043,6 +1057,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
 }
 
 // The Newton-Euler system itself, A x = b (21 x 21, A row-major), as the numeric
@@ -1263,7 +1283,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xe84b733033827942ULL;
+inline constexpr unsigned long long fingerprint = 0x94e9995cf8d84489ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -2331,15 +2331,45 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
-// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample. The
-// drivers' rates are not read.
+// What point_positions() computes from the parameters alone, once per parameter set.
 template <class T>
-Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
+struct PositionConstants {
+  T s0_ankle_pitch_z;
+  T s0_ankle_roll_z;
+  T pt_local_A_z;
+  T pt_local_foot_z;
+  T pt_local_toe_z;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 3
+  const T _tmp0 = p.l1 + p.l2;
+  const T s0_ankle_pitch_z = -_tmp0;
+  k.s0_ankle_pitch_z = s0_ankle_pitch_z;
+  const T s0_ankle_roll_z = -_tmp0;
+  k.s0_ankle_roll_z = s0_ankle_roll_z;
+  const T pt_local_A_z = -_tmp0;
+  k.pt_local_A_z = pt_local_A_z;
+  const T _tmp1 = p.l1 + p.l2 + p.l3;
+  const T pt_local_foot_z = -_tmp1;
+  k.pt_local_foot_z = pt_local_foot_z;
+  const T pt_local_toe_z = -_tmp1;
+  k.pt_local_toe_z = pt_local_toe_z;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
-  // Total ops: 171
+  // Total ops: 168
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
   const T cos_hip_roll = cos(in.q2);
@@ -2348,11 +2378,8 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T sin_hip_pitch = sin(in.q3);
   const T cos_knee = cos(in.q4);
   const T sin_knee = sin(in.q4);
-  const T _tmp0 = p.l1 + p.l2;
-  const T s0_ankle_pitch_z = -_tmp0;
   const T cos_ankle_pitch = cos(in.q5);
   const T sin_ankle_pitch = sin(in.q5);
-  const T s0_ankle_roll_z = -_tmp0;
   const T cos_ankle_roll = cos(in.q6);
   const T sin_ankle_roll = sin(in.q6);
   const T R_hip_roll_link_01 = -cos_hip_roll*sin_hip_yaw;
@@ -2371,43 +2398,39 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T R_calf_12 = R_thigh_10*sin_knee + R_thigh_12*cos_knee;
   const T R_calf_20 = R_thigh_20*cos_knee - R_thigh_22*sin_knee;
   const T R_calf_22 = R_thigh_20*sin_knee + R_thigh_22*cos_knee;
-  const T _tmp1 = p.l1*R_thigh_02;
-  const T p_calf_x = p.l1*R_thigh_00*sin_knee + p.l1*R_thigh_02*cos_knee - _tmp1;
-  const T _tmp2 = p.l1*R_thigh_12;
-  const T p_calf_y = p.l1*R_thigh_10*sin_knee + p.l1*R_thigh_12*cos_knee - _tmp2;
-  const T _tmp3 = p.l1*R_thigh_22;
-  const T p_calf_z = p.l1*R_thigh_20*sin_knee + p.l1*R_thigh_22*cos_knee - _tmp3;
+  const T _tmp0 = p.l1*R_thigh_02;
+  const T p_calf_x = p.l1*R_thigh_00*sin_knee + p.l1*R_thigh_02*cos_knee - _tmp0;
+  const T _tmp1 = p.l1*R_thigh_12;
+  const T p_calf_y = p.l1*R_thigh_10*sin_knee + p.l1*R_thigh_12*cos_knee - _tmp1;
+  const T _tmp2 = p.l1*R_thigh_22;
+  const T p_calf_z = p.l1*R_thigh_20*sin_knee + p.l1*R_thigh_22*cos_knee - _tmp2;
   const T R_ankle_link_00 = R_calf_00*cos_ankle_pitch - R_calf_02*sin_ankle_pitch;
   const T R_ankle_link_02 = R_calf_00*sin_ankle_pitch + R_calf_02*cos_ankle_pitch;
   const T R_ankle_link_10 = R_calf_10*cos_ankle_pitch - R_calf_12*sin_ankle_pitch;
   const T R_ankle_link_12 = R_calf_10*sin_ankle_pitch + R_calf_12*cos_ankle_pitch;
   const T R_ankle_link_20 = R_calf_20*cos_ankle_pitch - R_calf_22*sin_ankle_pitch;
   const T R_ankle_link_22 = R_calf_20*sin_ankle_pitch + R_calf_22*cos_ankle_pitch;
-  const T p_ankle_link_x = s0_ankle_pitch_z*R_calf_02 + p_calf_x - s0_ankle_pitch_z*R_calf_00*sin_ankle_pitch - s0_ankle_pitch_z*R_calf_02*cos_ankle_pitch;
-  const T p_ankle_link_y = s0_ankle_pitch_z*R_calf_12 + p_calf_y - s0_ankle_pitch_z*R_calf_10*sin_ankle_pitch - s0_ankle_pitch_z*R_calf_12*cos_ankle_pitch;
-  const T p_ankle_link_z = s0_ankle_pitch_z*R_calf_22 + p_calf_z - s0_ankle_pitch_z*R_calf_20*sin_ankle_pitch - s0_ankle_pitch_z*R_calf_22*cos_ankle_pitch;
+  const T p_ankle_link_x = R_calf_02*k.s0_ankle_pitch_z + p_calf_x - R_calf_00*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_02*cos_ankle_pitch*k.s0_ankle_pitch_z;
+  const T p_ankle_link_y = R_calf_12*k.s0_ankle_pitch_z + p_calf_y - R_calf_10*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_12*cos_ankle_pitch*k.s0_ankle_pitch_z;
+  const T p_ankle_link_z = R_calf_22*k.s0_ankle_pitch_z + p_calf_z - R_calf_20*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_22*cos_ankle_pitch*k.s0_ankle_pitch_z;
   const T R_foot_02 = R_ankle_link_02*cos_ankle_roll - R_hip_roll_link_01*sin_ankle_roll;
   const T R_foot_12 = R_ankle_link_12*cos_ankle_roll - R_hip_roll_link_11*sin_ankle_roll;
   const T R_foot_22 = R_ankle_link_22*cos_ankle_roll - sin_ankle_roll*sin_hip_roll;
-  const T p_foot_x = s0_ankle_roll_z*R_ankle_link_02 + s0_ankle_roll_z*R_hip_roll_link_01*sin_ankle_roll + p_ankle_link_x - s0_ankle_roll_z*R_ankle_link_02*cos_ankle_roll;
-  const T p_foot_y = s0_ankle_roll_z*R_ankle_link_12 + s0_ankle_roll_z*R_hip_roll_link_11*sin_ankle_roll + p_ankle_link_y - s0_ankle_roll_z*R_ankle_link_12*cos_ankle_roll;
-  const T p_foot_z = s0_ankle_roll_z*R_ankle_link_22 + p_ankle_link_z + s0_ankle_roll_z*sin_ankle_roll*sin_hip_roll - s0_ankle_roll_z*R_ankle_link_22*cos_ankle_roll;
-  const T pt_K_x = -_tmp1;
-  const T pt_K_y = -_tmp2;
-  const T pt_K_z = -_tmp3;
-  const T pt_local_A_z = -_tmp0;
-  const T pt_A_x = pt_local_A_z*R_calf_02 + p_calf_x;
-  const T pt_A_y = pt_local_A_z*R_calf_12 + p_calf_y;
-  const T pt_A_z = pt_local_A_z*R_calf_22 + p_calf_z;
-  const T _tmp4 = p.l1 + p.l2 + p.l3;
-  const T pt_local_foot_z = -_tmp4;
-  const T pt_foot_x = pt_local_foot_z*R_foot_02 + p_foot_x;
-  const T pt_foot_y = pt_local_foot_z*R_foot_12 + p_foot_y;
-  const T pt_foot_z = pt_local_foot_z*R_foot_22 + p_foot_z;
-  const T pt_local_toe_z = -_tmp4;
-  const T pt_toe_x = pt_local_toe_z*R_foot_02 + T(0.06)*R_ankle_link_00 + p_foot_x;
-  const T pt_toe_y = pt_local_toe_z*R_foot_12 + T(0.06)*R_ankle_link_10 + p_foot_y;
-  const T pt_toe_z = pt_local_toe_z*R_foot_22 + T(0.06)*R_ankle_link_20 + p_foot_z;
+  const T p_foot_x = R_ankle_link_02*k.s0_ankle_roll_z + R_hip_roll_link_01*k.s0_ankle_roll_z*sin_ankle_roll + p_ankle_link_x - R_ankle_link_02*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T p_foot_y = R_ankle_link_12*k.s0_ankle_roll_z + R_hip_roll_link_11*k.s0_ankle_roll_z*sin_ankle_roll + p_ankle_link_y - R_ankle_link_12*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T p_foot_z = R_ankle_link_22*k.s0_ankle_roll_z + k.s0_ankle_roll_z*sin_ankle_roll*sin_hip_roll + p_ankle_link_z - R_ankle_link_22*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T pt_K_x = -_tmp0;
+  const T pt_K_y = -_tmp1;
+  const T pt_K_z = -_tmp2;
+  const T pt_A_x = R_calf_02*k.pt_local_A_z + p_calf_x;
+  const T pt_A_y = R_calf_12*k.pt_local_A_z + p_calf_y;
+  const T pt_A_z = R_calf_22*k.pt_local_A_z + p_calf_z;
+  const T pt_foot_x = R_foot_02*k.pt_local_foot_z + p_foot_x;
+  const T pt_foot_y = R_foot_12*k.pt_local_foot_z + p_foot_y;
+  const T pt_foot_z = R_foot_22*k.pt_local_foot_z + p_foot_z;
+  const T pt_toe_x = R_foot_02*k.pt_local_toe_z + T(0.06)*R_ankle_link_00 + p_foot_x;
+  const T pt_toe_y = R_foot_12*k.pt_local_toe_z + T(0.06)*R_ankle_link_10 + p_foot_y;
+  const T pt_toe_z = R_foot_22*k.pt_local_toe_z + T(0.06)*R_ankle_link_20 + p_foot_z;
   s.points.H.x = T(0);
   s.points.H.y = T(0);
   s.points.H.z = T(0);
@@ -2429,6 +2452,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
 }
 
 // The Newton-Euler system itself, A x = b (42 x 42, A row-major), as the numeric
@@ -3023,7 +3052,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x542749bb40e56357ULL;
+inline constexpr unsigned long long fingerprint = 0xa47ff6d1402b3dfcULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -82,6 +82,8 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
 static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
                                   int* status) {
   const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
   State<double> s;
   Inputs<double> in;
   for (long i = 0; i < n; ++i) {
@@ -91,7 +93,7 @@ static void point_positions_batch(const double* parameters, const double* q, lon
         in.q4 = q[3 * n + i];
         in.q5 = q[4 * n + i];
         in.q6 = q[5 * n + i];
-    status[i] = static_cast<int>(point_positions(p, in, s));
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
     out[0 * n + i] = s.points.H.x;
         out[1 * n + i] = s.points.H.y;
         out[2 * n + i] = s.points.H.z;

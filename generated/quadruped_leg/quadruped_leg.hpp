@@ -3305,14 +3305,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[2] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[3] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[4] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[5] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[6] >= T(0))) return s.failed_group = 14, Status::unreachable;
-  if (!(s.closure.reach[7] >= T(0))) return s.failed_group = 14, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[2] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[3] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[4] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[5] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[6] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
+  if (!(s.closure.reach[7] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -6553,14 +6561,22 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 19, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[2] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[3] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[4] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[5] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[6] >= T(0))) return s.failed_group = 14, Status::unreachable;
-  if (!(s.closure.reach[7] >= T(0))) return s.failed_group = 14, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[2] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[3] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[4] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[5] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[6] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
+  if (!(s.closure.reach[7] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -9213,14 +9229,22 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 19, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[2] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[3] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[4] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[5] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[6] >= T(0))) return s.failed_group = 14, Status::unreachable;
-  if (!(s.closure.reach[7] >= T(0))) return s.failed_group = 14, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[2] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[3] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[4] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[5] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[6] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
+  if (!(s.closure.reach[7] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -9233,170 +9257,295 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
-// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample. The
-// drivers' rates are not read.
+// What point_positions() computes from the parameters alone, once per parameter set.
 template <class T>
-Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
+struct PositionConstants {
+  T s0_knee_x;
+  T s0_knee_z;
+  T s0_coupler_B_1_x;
+  T s0_coupler_B_1_z;
+  T s0_coupler_C_1_x;
+  T s0_coupler_C_1_z;
+  T s0_cyl1_base_1_z;
+  T s_cyl1_x;
+  T s_cyl1_z;
+  T s0_cyl1_end_1_x;
+  T s0_cyl1_end_1_z;
+  T s0_cyl2_base_1_z;
+  T s_cyl2_x;
+  T s_cyl2_z;
+  T s0_cyl2_end_1_x;
+  T s0_cyl2_end_1_z;
+  T s0_cyl3_base_1_y;
+  T s_cyl3_y;
+  T s_cyl3_z;
+  T cf_swing_d0_z;
+  T cf_swing_len0;
+  T cf_swing_e_y;
+  T cf_swing_e_z;
+  T cf_swing_A;
+  T cf_swing_B;
+  T cf_swing_r2;
+  T cf_hip_d0_x;
+  T cf_hip_d0_z;
+  T cf_hip_len0;
+  T cf_hip_v_z;
+  T cf_hip_sxv_x;
+  T cf_hip_e_x;
+  T cf_crank_pivot_d0_x;
+  T cf_crank_pivot_d0_z;
+  T cf_crank_pivot_len0;
+  T cf_crank_pivot_v_z;
+  T cf_crank_pivot_sxv_x;
+  T cf_crank_pivot_e_x;
+  T cf_knee_d0_x;
+  T cf_knee_d0_z;
+  T cf_knee_len0_sq;
+  T cf_knee_v_x;
+  T cf_knee_v_z;
+  T cf_knee_sxv_x;
+  T cf_knee_beta;
+  T pt_local_M_y;
+  T pt_local_M_z;
+  T pt_local_H_x;
+  T pt_local_H_z;
+  T pt_local_F_x;
+  T pt_local_F_z;
+  T pt_local_G_x;
+  T pt_local_G_z;
+  T pt_local_D_x;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  // Total ops: 143
+  const T _tmp0 = cos(-p.theta1_0);
+  const T s0_knee_x = _tmp0*p.b;
+  k.s0_knee_x = s0_knee_x;
+  const T _tmp1 = sin(-p.theta1_0);
+  const T s0_knee_z = -p.b*_tmp1 - p.h;
+  k.s0_knee_z = s0_knee_z;
+  const T _tmp2 = cos(-p.theta12_0)*p.a;
+  const T s0_coupler_B_1_x = _tmp2 + cos(p.theta1_0)*p.b;
+  k.s0_coupler_B_1_x = s0_coupler_B_1_x;
+  const T _tmp3 = p.a*sin(-p.theta12_0);
+  const T s0_coupler_B_1_z = p.b*sin(p.theta1_0) - _tmp3 - p.h;
+  k.s0_coupler_B_1_z = s0_coupler_B_1_z;
+  const T s0_coupler_C_1_x = _tmp2;
+  k.s0_coupler_C_1_x = s0_coupler_C_1_x;
+  const T _tmp4 = _tmp3 + p.h;
+  const T s0_coupler_C_1_z = -_tmp4;
+  k.s0_coupler_C_1_z = s0_coupler_C_1_z;
+  const T _tmp5 = cos(p.theta8);
+  const T s0_cyl1_base_1_x = _tmp5*p.d;
+  const T _tmp6 = sin(p.theta8);
+  const T s0_cyl1_base_1_z = p.d*_tmp6 - p.h;
+  k.s0_cyl1_base_1_z = s0_cyl1_base_1_z;
+  const T _tmp7 = p.theta1_0 - p.theta5;
+  const T _tmp8 = T(1)/sqrt(p.d*p.d + p.f*p.f - T(2)*cos(p.theta1_0 - p.theta5 - p.theta8)*p.d*p.f);
+  const T s_cyl1_x = cos(_tmp7)*p.f*_tmp8 - _tmp5*p.d*_tmp8;
+  k.s_cyl1_x = s_cyl1_x;
+  const T s_cyl1_z = p.f*sin(_tmp7)*_tmp8 - p.d*_tmp6*_tmp8;
+  k.s_cyl1_z = s_cyl1_z;
+  const T _tmp9 = cos(p.theta5);
+  const T _tmp10 = sin(p.theta5);
+  const T s0_cyl1_end_1_x = _tmp0*_tmp9*p.f - p.f*_tmp1*_tmp10;
+  k.s0_cyl1_end_1_x = s0_cyl1_end_1_x;
+  const T s0_cyl1_end_1_z = -_tmp0*p.f*_tmp10 - _tmp9*p.f*_tmp1 - p.h;
+  k.s0_cyl1_end_1_z = s0_cyl1_end_1_z;
+  const T _tmp11 = cos(p.theta7);
+  const T s0_cyl2_base_1_x = _tmp11*p.e;
+  const T _tmp12 = sin(p.theta7);
+  const T s0_cyl2_base_1_z = p.e*_tmp12 - p.h;
+  k.s0_cyl2_base_1_z = s0_cyl2_base_1_z;
+  const T _tmp13 = T(1)/sqrt(p.a*p.a + p.e*p.e - T(2)*cos(p.theta12_0 - p.theta7)*p.a*p.e);
+  const T s_cyl2_x = cos(p.theta12_0)*p.a*_tmp13 - _tmp11*p.e*_tmp13;
+  k.s_cyl2_x = s_cyl2_x;
+  const T s_cyl2_z = p.a*sin(p.theta12_0)*_tmp13 - p.e*_tmp12*_tmp13;
+  k.s_cyl2_z = s_cyl2_z;
+  const T s0_cyl2_end_1_x = _tmp2;
+  k.s0_cyl2_end_1_x = s0_cyl2_end_1_x;
+  const T s0_cyl2_end_1_z = -_tmp4;
+  k.s0_cyl2_end_1_z = s0_cyl2_end_1_z;
+  const T _tmp14 = cos(p.theta11);
+  const T s0_cyl3_base_1_y = _tmp14*p.i;
+  k.s0_cyl3_base_1_y = s0_cyl3_base_1_y;
+  const T _tmp15 = sin(p.theta11);
+  const T s0_cyl3_base_1_z = p.i*_tmp15;
+  const T _tmp16 = T(1)/sqrt(p.i*p.i + p.j*p.j - T(2)*p.i*p.j*_tmp15);
+  const T s_cyl3_y = -_tmp14*p.i*_tmp16;
+  k.s_cyl3_y = s_cyl3_y;
+  const T s_cyl3_z = p.j*_tmp16 - p.i*_tmp15*_tmp16;
+  k.s_cyl3_z = s_cyl3_z;
+  const T cf_swing_d0_z = s0_cyl3_base_1_z - p.j;
+  k.cf_swing_d0_z = cf_swing_d0_z;
+  const T cf_swing_len0_sq = cf_swing_d0_z*cf_swing_d0_z + s0_cyl3_base_1_y*s0_cyl3_base_1_y;
+  const T cf_swing_len0 = sqrt(cf_swing_len0_sq);
+  k.cf_swing_len0 = cf_swing_len0;
+  const T cf_swing_sxv_y = -p.j;
+  const T cf_swing_e_y = -s0_cyl3_base_1_y;
+  k.cf_swing_e_y = cf_swing_e_y;
+  const T cf_swing_e_z = -s0_cyl3_base_1_z;
+  k.cf_swing_e_z = cf_swing_e_z;
+  const T cf_swing_A = T(2)*cf_swing_e_z*p.j;
+  k.cf_swing_A = cf_swing_A;
+  const T cf_swing_B = T(2)*cf_swing_e_y*cf_swing_sxv_y;
+  k.cf_swing_B = cf_swing_B;
+  const T cf_swing_r2 = cf_swing_A*cf_swing_A + cf_swing_B*cf_swing_B;
+  k.cf_swing_r2 = cf_swing_r2;
+  const T cf_hip_d0_x = s0_cyl1_base_1_x - s0_cyl1_end_1_x;
+  k.cf_hip_d0_x = cf_hip_d0_x;
+  const T cf_hip_d0_z = s0_cyl1_base_1_z - s0_cyl1_end_1_z;
+  k.cf_hip_d0_z = cf_hip_d0_z;
+  const T cf_hip_len0_sq = cf_hip_d0_x*cf_hip_d0_x + cf_hip_d0_z*cf_hip_d0_z;
+  const T cf_hip_len0 = sqrt(cf_hip_len0_sq);
+  k.cf_hip_len0 = cf_hip_len0;
+  const T cf_hip_v_z = p.h + s0_cyl1_end_1_z;
+  k.cf_hip_v_z = cf_hip_v_z;
+  const T cf_hip_sxv_x = -cf_hip_v_z;
+  k.cf_hip_sxv_x = cf_hip_sxv_x;
+  const T cf_hip_e_x = -s0_cyl1_base_1_x;
+  k.cf_hip_e_x = cf_hip_e_x;
+  const T cf_crank_pivot_d0_x = s0_cyl2_base_1_x - s0_cyl2_end_1_x;
+  k.cf_crank_pivot_d0_x = cf_crank_pivot_d0_x;
+  const T cf_crank_pivot_d0_z = s0_cyl2_base_1_z - s0_cyl2_end_1_z;
+  k.cf_crank_pivot_d0_z = cf_crank_pivot_d0_z;
+  const T cf_crank_pivot_len0_sq = cf_crank_pivot_d0_x*cf_crank_pivot_d0_x + cf_crank_pivot_d0_z*cf_crank_pivot_d0_z;
+  const T cf_crank_pivot_len0 = sqrt(cf_crank_pivot_len0_sq);
+  k.cf_crank_pivot_len0 = cf_crank_pivot_len0;
+  const T cf_crank_pivot_v_z = p.h + s0_cyl2_end_1_z;
+  k.cf_crank_pivot_v_z = cf_crank_pivot_v_z;
+  const T cf_crank_pivot_sxv_x = -cf_crank_pivot_v_z;
+  k.cf_crank_pivot_sxv_x = cf_crank_pivot_sxv_x;
+  const T cf_crank_pivot_e_x = -s0_cyl2_base_1_x;
+  k.cf_crank_pivot_e_x = cf_crank_pivot_e_x;
+  const T cf_knee_d0_x = s0_coupler_C_1_x - s0_coupler_B_1_x;
+  k.cf_knee_d0_x = cf_knee_d0_x;
+  const T cf_knee_d0_z = s0_coupler_C_1_z - s0_coupler_B_1_z;
+  k.cf_knee_d0_z = cf_knee_d0_z;
+  const T cf_knee_len0_sq = cf_knee_d0_x*cf_knee_d0_x + cf_knee_d0_z*cf_knee_d0_z;
+  k.cf_knee_len0_sq = cf_knee_len0_sq;
+  const T cf_knee_v_x = s0_coupler_B_1_x - s0_knee_x;
+  k.cf_knee_v_x = cf_knee_v_x;
+  const T cf_knee_v_z = s0_coupler_B_1_z - s0_knee_z;
+  k.cf_knee_v_z = cf_knee_v_z;
+  const T cf_knee_sxv_x = -cf_knee_v_z;
+  k.cf_knee_sxv_x = cf_knee_sxv_x;
+  const T cf_knee_beta = -cf_knee_d0_z;
+  k.cf_knee_beta = cf_knee_beta;
+  const T pt_local_M_y = s0_cyl3_base_1_y;
+  k.pt_local_M_y = pt_local_M_y;
+  const T pt_local_M_z = s0_cyl3_base_1_z;
+  k.pt_local_M_z = pt_local_M_z;
+  const T pt_local_H_x = s0_cyl1_base_1_x;
+  k.pt_local_H_x = pt_local_H_x;
+  const T pt_local_H_z = s0_cyl1_base_1_z;
+  k.pt_local_H_z = pt_local_H_z;
+  const T pt_local_F_x = s0_cyl2_base_1_x;
+  k.pt_local_F_x = pt_local_F_x;
+  const T pt_local_F_z = s0_cyl2_base_1_z;
+  k.pt_local_F_z = pt_local_F_z;
+  const T pt_local_G_x = _tmp9*p.f;
+  k.pt_local_G_x = pt_local_G_x;
+  const T pt_local_G_z = -p.f*_tmp10;
+  k.pt_local_G_z = pt_local_G_z;
+  const T pt_local_D_x = p.a + p.c;
+  k.pt_local_D_x = pt_local_D_x;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using std::abs;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 699
-  const T _tmp0 = cos(-p.theta1_0);
-  const T s0_knee_x = _tmp0*p.b;
-  const T _tmp1 = sin(-p.theta1_0);
-  const T s0_knee_z = -p.b*_tmp1 - p.h;
-  const T _tmp2 = cos(-p.theta12_0);
-  const T _tmp3 = _tmp2*p.a;
-  const T _tmp4 = cos(p.theta1_0);
-  const T s0_coupler_B_1_x = _tmp3 + _tmp4*p.b;
-  const T _tmp5 = sin(-p.theta12_0);
-  const T _tmp6 = p.a*_tmp5;
-  const T _tmp7 = sin(p.theta1_0);
-  const T s0_coupler_B_1_z = p.b*_tmp7 - _tmp6 - p.h;
-  const T s0_coupler_C_1_x = _tmp3;
-  const T _tmp8 = _tmp6 + p.h;
-  const T s0_coupler_C_1_z = -_tmp8;
-  const T _tmp9 = cos(p.theta8);
-  const T s0_cyl1_base_1_x = _tmp9*p.d;
-  const T _tmp10 = sin(p.theta8);
-  const T s0_cyl1_base_1_z = p.d*_tmp10 - p.h;
-  const T _tmp11 = p.theta1_0 - p.theta5;
-  const T _tmp12 = T(1)/sqrt(p.d*p.d + p.f*p.f - T(2)*cos(p.theta1_0 - p.theta5 - p.theta8)*p.d*p.f);
-  const T s_cyl1_x = cos(_tmp11)*p.f*_tmp12 - _tmp9*p.d*_tmp12;
-  const T s_cyl1_z = p.f*sin(_tmp11)*_tmp12 - p.d*_tmp10*_tmp12;
-  const T _tmp13 = cos(p.theta5);
-  const T _tmp14 = sin(p.theta5);
-  const T s0_cyl1_end_1_x = _tmp0*_tmp13*p.f - p.f*_tmp1*_tmp14;
-  const T s0_cyl1_end_1_z = -_tmp0*p.f*_tmp14 - _tmp13*p.f*_tmp1 - p.h;
-  const T _tmp15 = cos(p.theta7);
-  const T s0_cyl2_base_1_x = _tmp15*p.e;
-  const T _tmp16 = sin(p.theta7);
-  const T s0_cyl2_base_1_z = p.e*_tmp16 - p.h;
-  const T _tmp17 = T(1)/sqrt(p.a*p.a + p.e*p.e - T(2)*cos(p.theta12_0 - p.theta7)*p.a*p.e);
-  const T s_cyl2_x = cos(p.theta12_0)*p.a*_tmp17 - _tmp15*p.e*_tmp17;
-  const T s_cyl2_z = p.a*sin(p.theta12_0)*_tmp17 - p.e*_tmp16*_tmp17;
-  const T s0_cyl2_end_1_x = _tmp3;
-  const T s0_cyl2_end_1_z = -_tmp8;
-  const T _tmp18 = cos(p.theta11);
-  const T s0_cyl3_base_1_y = _tmp18*p.i;
-  const T _tmp19 = sin(p.theta11);
-  const T s0_cyl3_base_1_z = p.i*_tmp19;
-  const T _tmp20 = p.j*p.j;
-  const T _tmp21 = T(1)/sqrt(p.i*p.i + _tmp20 - T(2)*p.i*p.j*_tmp19);
-  const T s_cyl3_y = -_tmp18*p.i*_tmp21;
-  const T s_cyl3_z = p.j*_tmp21 - p.i*_tmp19*_tmp21;
-  const T cf_swing_d0_z = s0_cyl3_base_1_z - p.j;
-  const T cf_swing_len0_sq = cf_swing_d0_z*cf_swing_d0_z + s0_cyl3_base_1_y*s0_cyl3_base_1_y;
-  const T cf_swing_len0 = sqrt(cf_swing_len0_sq);
-  const T _tmp22 = T(1)/cf_swing_len0;
-  const T cf_swing_len = cf_swing_len0 - cf_swing_d0_z*s_cyl3_z*_tmp22*in.l3 - s0_cyl3_base_1_y*s_cyl3_y*_tmp22*in.l3;
-  const T cf_swing_len_ratio = _tmp22*cf_swing_len;
-  const T cf_swing_sxv_y = -p.j;
-  const T cf_swing_e_y = -s0_cyl3_base_1_y;
-  const T cf_swing_e_z = -s0_cyl3_base_1_z;
-  const T cf_swing_A = T(2)*cf_swing_e_z*p.j;
-  const T cf_swing_B = T(2)*cf_swing_e_y*cf_swing_sxv_y;
-  const T cf_swing_C = cf_swing_len*cf_swing_len - cf_swing_e_y*cf_swing_e_y - cf_swing_e_z*cf_swing_e_z - _tmp20;
-  const T cf_swing_r2 = cf_swing_A*cf_swing_A + cf_swing_B*cf_swing_B;
-  const T cf_swing_disc = cf_swing_r2 - cf_swing_C*cf_swing_C;
+  // Total ops: 565
+  const T _tmp0 = T(1)/k.cf_swing_len0;
+  const T cf_swing_len = k.cf_swing_len0 - in.l3*k.cf_swing_d0_z*k.s_cyl3_z*_tmp0 - in.l3*k.s0_cyl3_base_1_y*k.s_cyl3_y*_tmp0;
+  const T cf_swing_len_ratio = cf_swing_len*_tmp0;
+  const T cf_swing_C = cf_swing_len*cf_swing_len - k.cf_swing_e_y*k.cf_swing_e_y - k.cf_swing_e_z*k.cf_swing_e_z - p.j*p.j;
+  const T cf_swing_disc = k.cf_swing_r2 - cf_swing_C*cf_swing_C;
   const T cf_swing_root = sqrt(T(0.5)*abs(cf_swing_disc) + T(0.5)*cf_swing_disc);
-  const T _tmp23 = T(1)/cf_swing_r2;
-  const T cf_swing_cos = cf_swing_A*_tmp23*cf_swing_C + cf_swing_B*_tmp23*cf_swing_root;
-  const T cf_swing_sin = cf_swing_B*_tmp23*cf_swing_C - cf_swing_A*_tmp23*cf_swing_root;
-  const T cf_swing_p_y = -s0_cyl3_base_1_y*cf_swing_len_ratio;
+  const T _tmp1 = T(1)/k.cf_swing_r2;
+  const T cf_swing_cos = cf_swing_C*k.cf_swing_A*_tmp1 + cf_swing_root*k.cf_swing_B*_tmp1;
+  const T cf_swing_sin = cf_swing_C*k.cf_swing_B*_tmp1 - cf_swing_root*k.cf_swing_A*_tmp1;
+  const T cf_swing_p_y = -cf_swing_len_ratio*k.s0_cyl3_base_1_y;
   const T cf_swing_u_disc = cf_swing_p_y*cf_swing_p_y;
-  const T cf_hip_d0_x = s0_cyl1_base_1_x - s0_cyl1_end_1_x;
-  const T cf_hip_d0_z = s0_cyl1_base_1_z - s0_cyl1_end_1_z;
-  const T cf_hip_len0_sq = cf_hip_d0_x*cf_hip_d0_x + cf_hip_d0_z*cf_hip_d0_z;
-  const T cf_hip_len0 = sqrt(cf_hip_len0_sq);
-  const T _tmp24 = T(1)/cf_hip_len0;
-  const T cf_hip_len = cf_hip_len0 - cf_hip_d0_x*s_cyl1_x*_tmp24*in.l1 - cf_hip_d0_z*s_cyl1_z*_tmp24*in.l1;
-  const T cf_hip_len_ratio = _tmp24*cf_hip_len;
-  const T cf_hip_v_z = p.h + s0_cyl1_end_1_z;
-  const T cf_hip_sxv_x = -cf_hip_v_z;
-  const T cf_hip_e_x = -s0_cyl1_base_1_x;
-  const T cf_hip_p_z = -cf_hip_d0_z*cf_hip_len_ratio;
-  const T cf_crank_pivot_d0_x = s0_cyl2_base_1_x - s0_cyl2_end_1_x;
-  const T cf_crank_pivot_d0_z = s0_cyl2_base_1_z - s0_cyl2_end_1_z;
-  const T cf_crank_pivot_len0_sq = cf_crank_pivot_d0_x*cf_crank_pivot_d0_x + cf_crank_pivot_d0_z*cf_crank_pivot_d0_z;
-  const T cf_crank_pivot_len0 = sqrt(cf_crank_pivot_len0_sq);
-  const T _tmp25 = T(1)/cf_crank_pivot_len0;
-  const T cf_crank_pivot_len = cf_crank_pivot_len0 - cf_crank_pivot_d0_x*s_cyl2_x*_tmp25*in.l2 - cf_crank_pivot_d0_z*s_cyl2_z*_tmp25*in.l2;
-  const T cf_crank_pivot_len_ratio = _tmp25*cf_crank_pivot_len;
-  const T cf_crank_pivot_v_z = p.h + s0_cyl2_end_1_z;
-  const T cf_crank_pivot_sxv_x = -cf_crank_pivot_v_z;
-  const T cf_crank_pivot_e_x = -s0_cyl2_base_1_x;
-  const T cf_crank_pivot_p_x = -cf_crank_pivot_d0_x*cf_crank_pivot_len_ratio;
-  const T cf_knee_d0_x = s0_coupler_C_1_x - s0_coupler_B_1_x;
-  const T cf_knee_d0_z = s0_coupler_C_1_z - s0_coupler_B_1_z;
-  const T _tmp26 = cf_knee_d0_x*cf_knee_d0_x;
-  const T _tmp27 = cf_knee_d0_z*cf_knee_d0_z;
-  const T cf_knee_len0_sq = _tmp26 + _tmp27;
-  const T cf_knee_v_x = s0_coupler_B_1_x - s0_knee_x;
-  const T cf_knee_v_z = s0_coupler_B_1_z - s0_knee_z;
-  const T cf_knee_sxv_x = -cf_knee_v_z;
-  const T cf_knee_beta = -cf_knee_d0_z;
+  const T _tmp2 = T(1)/k.cf_hip_len0;
+  const T cf_hip_len = k.cf_hip_len0 - in.l1*k.cf_hip_d0_x*k.s_cyl1_x*_tmp2 - in.l1*k.cf_hip_d0_z*k.s_cyl1_z*_tmp2;
+  const T cf_hip_len_ratio = cf_hip_len*_tmp2;
+  const T cf_hip_p_z = -cf_hip_len_ratio*k.cf_hip_d0_z;
+  const T _tmp3 = T(1)/k.cf_crank_pivot_len0;
+  const T cf_crank_pivot_len = k.cf_crank_pivot_len0 - in.l2*k.cf_crank_pivot_d0_x*k.s_cyl2_x*_tmp3 - in.l2*k.cf_crank_pivot_d0_z*k.s_cyl2_z*_tmp3;
+  const T cf_crank_pivot_len_ratio = cf_crank_pivot_len*_tmp3;
+  const T cf_crank_pivot_p_x = -cf_crank_pivot_len_ratio*k.cf_crank_pivot_d0_x;
   const T cos_swing = cf_swing_cos;
   const T sin_swing = cf_swing_sin;
-  const T cf_hip_cX_y = -s0_cyl1_base_1_z*sin_swing;
-  const T cf_hip_cX_z = s0_cyl1_base_1_z*cos_swing;
-  const T _tmp28 = cf_hip_cX_y*cos_swing;
-  const T _tmp29 = cf_hip_cX_z*sin_swing;
-  const T cf_hip_f_y = _tmp28 + _tmp29;
+  const T cf_hip_cX_y = -k.s0_cyl1_base_1_z*sin_swing;
+  const T cf_hip_cX_z = cos_swing*k.s0_cyl1_base_1_z;
+  const T _tmp4 = cf_hip_cX_y*cos_swing;
+  const T _tmp5 = cf_hip_cX_z*sin_swing;
+  const T cf_hip_f_y = _tmp4 + _tmp5;
   const T cf_hip_f_z = cf_hip_cX_z*cos_swing - cf_hip_cX_y*sin_swing;
   const T cf_hip_e_y = -cf_hip_f_y;
   const T cf_hip_e_z = -cf_hip_f_z - p.h;
-  const T cf_hip_A = T(2)*cf_hip_e_x*s0_cyl1_end_1_x + T(2)*cf_hip_v_z*cf_hip_e_z;
-  const T cf_hip_B = T(2)*cf_hip_e_x*cf_hip_sxv_x + T(2)*s0_cyl1_end_1_x*cf_hip_e_z;
-  const T cf_hip_C = cf_hip_len*cf_hip_len - cf_hip_e_x*cf_hip_e_x - cf_hip_e_y*cf_hip_e_y - cf_hip_e_z*cf_hip_e_z - cf_hip_v_z*cf_hip_v_z - s0_cyl1_end_1_x*s0_cyl1_end_1_x;
+  const T cf_hip_A = T(2)*cf_hip_e_z*k.cf_hip_v_z + T(2)*k.cf_hip_e_x*k.s0_cyl1_end_1_x;
+  const T cf_hip_B = T(2)*cf_hip_e_z*k.s0_cyl1_end_1_x + T(2)*k.cf_hip_e_x*k.cf_hip_sxv_x;
+  const T cf_hip_C = cf_hip_len*cf_hip_len - cf_hip_e_y*cf_hip_e_y - cf_hip_e_z*cf_hip_e_z - k.cf_hip_e_x*k.cf_hip_e_x - k.cf_hip_v_z*k.cf_hip_v_z - k.s0_cyl1_end_1_x*k.s0_cyl1_end_1_x;
   const T cf_hip_r2 = cf_hip_A*cf_hip_A + cf_hip_B*cf_hip_B;
   const T cf_hip_disc = cf_hip_r2 - cf_hip_C*cf_hip_C;
   const T cf_hip_root = sqrt(T(0.5)*abs(cf_hip_disc) + T(0.5)*cf_hip_disc);
-  const T _tmp30 = T(1)/cf_hip_r2;
-  const T cf_hip_cos = cf_hip_A*cf_hip_C*_tmp30 + cf_hip_B*cf_hip_root*_tmp30;
-  const T cf_hip_sin = cf_hip_B*cf_hip_C*_tmp30 - cf_hip_A*cf_hip_root*_tmp30;
+  const T _tmp6 = T(1)/cf_hip_r2;
+  const T cf_hip_cos = cf_hip_A*cf_hip_C*_tmp6 + cf_hip_B*cf_hip_root*_tmp6;
+  const T cf_hip_sin = cf_hip_B*cf_hip_C*_tmp6 - cf_hip_A*cf_hip_root*_tmp6;
   const T cf_hip_RY_10 = -cf_hip_sin*sin_swing;
   const T cf_hip_RY_12 = -cf_hip_cos*sin_swing;
   const T cf_hip_RY_20 = cf_hip_sin*cos_swing;
   const T cf_hip_RY_22 = cf_hip_cos*cos_swing;
-  const T _tmp31 = p.h*sin_swing;
-  const T cf_hip_pY_y = _tmp31 - p.h*cf_hip_cos*sin_swing;
-  const T _tmp32 = p.h*cos_swing;
-  const T cf_hip_pY_z = p.h*cf_hip_cos*cos_swing - _tmp32;
-  const T cf_hip_cY_y = s0_cyl1_end_1_x*cf_hip_RY_10 + s0_cyl1_end_1_z*cf_hip_RY_12 + cf_hip_pY_y;
-  const T cf_hip_cY_z = s0_cyl1_end_1_x*cf_hip_RY_20 + s0_cyl1_end_1_z*cf_hip_RY_22 + cf_hip_pY_z;
-  const T cf_hip_w_y = cf_hip_cY_y*cos_swing + cf_hip_cY_z*sin_swing - _tmp28 - _tmp29;
+  const T _tmp7 = p.h*sin_swing;
+  const T cf_hip_pY_y = _tmp7 - p.h*cf_hip_cos*sin_swing;
+  const T _tmp8 = p.h*cos_swing;
+  const T cf_hip_pY_z = p.h*cf_hip_cos*cos_swing - _tmp8;
+  const T cf_hip_cY_y = cf_hip_RY_10*k.s0_cyl1_end_1_x + cf_hip_RY_12*k.s0_cyl1_end_1_z + cf_hip_pY_y;
+  const T cf_hip_cY_z = cf_hip_RY_20*k.s0_cyl1_end_1_x + cf_hip_RY_22*k.s0_cyl1_end_1_z + cf_hip_pY_z;
+  const T cf_hip_w_y = cf_hip_cY_y*cos_swing + cf_hip_cY_z*sin_swing - _tmp4 - _tmp5;
   const T cf_hip_alpha = -cf_hip_w_y;
   const T cf_hip_u_disc = cf_hip_p_z*cf_hip_p_z - cf_hip_alpha*cf_hip_alpha;
-  const T cf_crank_pivot_cX_y = -s0_cyl2_base_1_z*sin_swing;
-  const T cf_crank_pivot_cX_z = s0_cyl2_base_1_z*cos_swing;
-  const T _tmp33 = cf_crank_pivot_cX_y*cos_swing;
-  const T _tmp34 = cf_crank_pivot_cX_z*sin_swing;
-  const T cf_crank_pivot_f_y = _tmp33 + _tmp34;
+  const T cf_crank_pivot_cX_y = -k.s0_cyl2_base_1_z*sin_swing;
+  const T cf_crank_pivot_cX_z = cos_swing*k.s0_cyl2_base_1_z;
+  const T _tmp9 = cf_crank_pivot_cX_y*cos_swing;
+  const T _tmp10 = cf_crank_pivot_cX_z*sin_swing;
+  const T cf_crank_pivot_f_y = _tmp9 + _tmp10;
   const T cf_crank_pivot_f_z = cf_crank_pivot_cX_z*cos_swing - cf_crank_pivot_cX_y*sin_swing;
   const T cf_crank_pivot_e_y = -cf_crank_pivot_f_y;
   const T cf_crank_pivot_e_z = -cf_crank_pivot_f_z - p.h;
-  const T cf_crank_pivot_A = T(2)*cf_crank_pivot_e_x*s0_cyl2_end_1_x + T(2)*cf_crank_pivot_v_z*cf_crank_pivot_e_z;
-  const T cf_crank_pivot_B = T(2)*cf_crank_pivot_e_x*cf_crank_pivot_sxv_x + T(2)*s0_cyl2_end_1_x*cf_crank_pivot_e_z;
-  const T cf_crank_pivot_C = cf_crank_pivot_len*cf_crank_pivot_len - cf_crank_pivot_e_x*cf_crank_pivot_e_x - cf_crank_pivot_e_y*cf_crank_pivot_e_y - cf_crank_pivot_e_z*cf_crank_pivot_e_z - cf_crank_pivot_v_z*cf_crank_pivot_v_z - s0_cyl2_end_1_x*s0_cyl2_end_1_x;
+  const T cf_crank_pivot_A = T(2)*cf_crank_pivot_e_z*k.cf_crank_pivot_v_z + T(2)*k.cf_crank_pivot_e_x*k.s0_cyl2_end_1_x;
+  const T cf_crank_pivot_B = T(2)*cf_crank_pivot_e_z*k.s0_cyl2_end_1_x + T(2)*k.cf_crank_pivot_e_x*k.cf_crank_pivot_sxv_x;
+  const T cf_crank_pivot_C = cf_crank_pivot_len*cf_crank_pivot_len - cf_crank_pivot_e_y*cf_crank_pivot_e_y - cf_crank_pivot_e_z*cf_crank_pivot_e_z - k.cf_crank_pivot_e_x*k.cf_crank_pivot_e_x - k.cf_crank_pivot_v_z*k.cf_crank_pivot_v_z - k.s0_cyl2_end_1_x*k.s0_cyl2_end_1_x;
   const T cf_crank_pivot_r2 = cf_crank_pivot_A*cf_crank_pivot_A + cf_crank_pivot_B*cf_crank_pivot_B;
   const T cf_crank_pivot_disc = cf_crank_pivot_r2 - cf_crank_pivot_C*cf_crank_pivot_C;
   const T cf_crank_pivot_root = sqrt(T(0.5)*abs(cf_crank_pivot_disc) + T(0.5)*cf_crank_pivot_disc);
-  const T _tmp35 = T(1)/cf_crank_pivot_r2;
-  const T cf_crank_pivot_cos = cf_crank_pivot_A*cf_crank_pivot_C*_tmp35 - cf_crank_pivot_B*cf_crank_pivot_root*_tmp35;
-  const T cf_crank_pivot_sin = cf_crank_pivot_A*cf_crank_pivot_root*_tmp35 + cf_crank_pivot_B*cf_crank_pivot_C*_tmp35;
+  const T _tmp11 = T(1)/cf_crank_pivot_r2;
+  const T cf_crank_pivot_cos = cf_crank_pivot_A*cf_crank_pivot_C*_tmp11 - cf_crank_pivot_B*cf_crank_pivot_root*_tmp11;
+  const T cf_crank_pivot_sin = cf_crank_pivot_A*cf_crank_pivot_root*_tmp11 + cf_crank_pivot_B*cf_crank_pivot_C*_tmp11;
   const T cf_crank_pivot_RY_10 = -cf_crank_pivot_sin*sin_swing;
   const T cf_crank_pivot_RY_12 = -cf_crank_pivot_cos*sin_swing;
   const T cf_crank_pivot_RY_20 = cf_crank_pivot_sin*cos_swing;
   const T cf_crank_pivot_RY_22 = cf_crank_pivot_cos*cos_swing;
-  const T cf_crank_pivot_pY_y = _tmp31 - p.h*cf_crank_pivot_cos*sin_swing;
-  const T cf_crank_pivot_pY_z = p.h*cf_crank_pivot_cos*cos_swing - _tmp32;
-  const T cf_crank_pivot_cY_y = s0_cyl2_end_1_x*cf_crank_pivot_RY_10 + s0_cyl2_end_1_z*cf_crank_pivot_RY_12 + cf_crank_pivot_pY_y;
-  const T cf_crank_pivot_cY_z = s0_cyl2_end_1_x*cf_crank_pivot_RY_20 + s0_cyl2_end_1_z*cf_crank_pivot_RY_22 + cf_crank_pivot_pY_z;
-  const T cf_crank_pivot_w_y = cf_crank_pivot_cY_y*cos_swing + cf_crank_pivot_cY_z*sin_swing - _tmp33 - _tmp34;
+  const T cf_crank_pivot_pY_y = _tmp7 - p.h*cf_crank_pivot_cos*sin_swing;
+  const T cf_crank_pivot_pY_z = p.h*cf_crank_pivot_cos*cos_swing - _tmp8;
+  const T cf_crank_pivot_cY_y = cf_crank_pivot_RY_10*k.s0_cyl2_end_1_x + cf_crank_pivot_RY_12*k.s0_cyl2_end_1_z + cf_crank_pivot_pY_y;
+  const T cf_crank_pivot_cY_z = cf_crank_pivot_RY_20*k.s0_cyl2_end_1_x + cf_crank_pivot_RY_22*k.s0_cyl2_end_1_z + cf_crank_pivot_pY_z;
+  const T cf_crank_pivot_w_y = cf_crank_pivot_cY_y*cos_swing + cf_crank_pivot_cY_z*sin_swing - _tmp9 - _tmp10;
   const T cf_crank_pivot_alpha = -cf_crank_pivot_w_y;
   const T cf_crank_pivot_u_disc = cf_crank_pivot_p_x*cf_crank_pivot_p_x - cf_crank_pivot_alpha*cf_crank_pivot_alpha;
   const T cos_hip = cf_hip_cos;
@@ -9407,68 +9556,72 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T R_thigh_12 = -cos_hip*sin_swing;
   const T R_thigh_20 = cos_swing*sin_hip;
   const T R_thigh_22 = cos_hip*cos_swing;
-  const T _tmp36 = p.h*sin_hip;
-  const T p_thigh_x = -_tmp36;
-  const T p_thigh_y = _tmp31 - p.h*cos_hip*sin_swing;
-  const T p_thigh_z = p.h*cos_hip*cos_swing - _tmp32;
-  const T Rf_thigh_00 = _tmp0*cos_hip + _tmp1*sin_hip;
-  const T Rf_thigh_02 = _tmp1*cos_hip - _tmp0*sin_hip;
-  const T Rf_thigh_10 = _tmp0*R_thigh_10 - _tmp1*R_thigh_12;
-  const T Rf_thigh_12 = _tmp1*R_thigh_10 + _tmp0*R_thigh_12;
-  const T Rf_thigh_20 = _tmp0*R_thigh_20 - _tmp1*R_thigh_22;
-  const T Rf_thigh_22 = _tmp1*R_thigh_20 + _tmp0*R_thigh_22;
-  const T of_thigh_x = _tmp36 + p_thigh_x;
+  const T _tmp12 = p.h*sin_hip;
+  const T p_thigh_x = -_tmp12;
+  const T p_thigh_y = _tmp7 - p.h*cos_hip*sin_swing;
+  const T p_thigh_z = p.h*cos_hip*cos_swing - _tmp8;
+  const T _tmp13 = cos(-p.theta1_0);
+  const T _tmp14 = sin(-p.theta1_0);
+  const T Rf_thigh_00 = _tmp13*cos_hip + _tmp14*sin_hip;
+  const T Rf_thigh_02 = _tmp14*cos_hip - _tmp13*sin_hip;
+  const T Rf_thigh_10 = _tmp13*R_thigh_10 - _tmp14*R_thigh_12;
+  const T Rf_thigh_12 = _tmp14*R_thigh_10 + _tmp13*R_thigh_12;
+  const T Rf_thigh_20 = _tmp13*R_thigh_20 - _tmp14*R_thigh_22;
+  const T Rf_thigh_22 = _tmp14*R_thigh_20 + _tmp13*R_thigh_22;
+  const T of_thigh_x = _tmp12 + p_thigh_x;
   const T of_thigh_y = p_thigh_y - p.h*R_thigh_12;
   const T of_thigh_z = p_thigh_z - p.h*R_thigh_22;
   const T R_crank_10 = -sin_crank_pivot*sin_swing;
   const T R_crank_12 = -cos_crank_pivot*sin_swing;
   const T R_crank_20 = cos_swing*sin_crank_pivot;
   const T R_crank_22 = cos_crank_pivot*cos_swing;
-  const T _tmp37 = p.h*sin_crank_pivot;
-  const T p_crank_x = -_tmp37;
-  const T p_crank_y = _tmp31 - p.h*cos_crank_pivot*sin_swing;
-  const T p_crank_z = p.h*cos_crank_pivot*cos_swing - _tmp32;
-  const T Rf_crank_00 = _tmp2*cos_crank_pivot + _tmp5*sin_crank_pivot;
-  const T Rf_crank_10 = _tmp2*R_crank_10 - _tmp5*R_crank_12;
-  const T Rf_crank_20 = _tmp2*R_crank_20 - _tmp5*R_crank_22;
-  const T of_crank_x = _tmp37 + p_crank_x;
+  const T _tmp15 = p.h*sin_crank_pivot;
+  const T p_crank_x = -_tmp15;
+  const T p_crank_y = _tmp7 - p.h*cos_crank_pivot*sin_swing;
+  const T p_crank_z = p.h*cos_crank_pivot*cos_swing - _tmp8;
+  const T _tmp16 = cos(-p.theta12_0);
+  const T _tmp17 = sin(-p.theta12_0);
+  const T Rf_crank_00 = _tmp16*cos_crank_pivot + _tmp17*sin_crank_pivot;
+  const T Rf_crank_10 = _tmp16*R_crank_10 - _tmp17*R_crank_12;
+  const T Rf_crank_20 = _tmp16*R_crank_20 - _tmp17*R_crank_22;
+  const T of_crank_x = _tmp15 + p_crank_x;
   const T of_crank_y = p_crank_y - p.h*R_crank_12;
   const T of_crank_z = p_crank_z - p.h*R_crank_22;
-  const T cf_knee_cX_x = s0_coupler_C_1_x*cos_crank_pivot + p_crank_x - s0_coupler_C_1_z*sin_crank_pivot;
-  const T cf_knee_cX_y = s0_coupler_C_1_x*R_crank_10 + s0_coupler_C_1_z*R_crank_12 + p_crank_y;
-  const T cf_knee_cX_z = s0_coupler_C_1_x*R_crank_20 + s0_coupler_C_1_z*R_crank_22 + p_crank_z;
+  const T cf_knee_cX_x = cos_crank_pivot*k.s0_coupler_C_1_x + p_crank_x - k.s0_coupler_C_1_z*sin_crank_pivot;
+  const T cf_knee_cX_y = R_crank_10*k.s0_coupler_C_1_x + R_crank_12*k.s0_coupler_C_1_z + p_crank_y;
+  const T cf_knee_cX_z = R_crank_20*k.s0_coupler_C_1_x + R_crank_22*k.s0_coupler_C_1_z + p_crank_z;
   const T cf_knee_f_x = R_thigh_10*cf_knee_cX_y + R_thigh_20*cf_knee_cX_z + cf_knee_cX_x*cos_hip - R_thigh_10*p_thigh_y - R_thigh_20*p_thigh_z - cos_hip*p_thigh_x;
-  const T _tmp38 = cf_knee_cX_y*cos_swing;
-  const T _tmp39 = cf_knee_cX_z*sin_swing;
-  const T cf_knee_f_y = _tmp38 + _tmp39 - cos_swing*p_thigh_y - p_thigh_z*sin_swing;
+  const T _tmp18 = cf_knee_cX_y*cos_swing;
+  const T _tmp19 = cf_knee_cX_z*sin_swing;
+  const T cf_knee_f_y = _tmp18 + _tmp19 - cos_swing*p_thigh_y - p_thigh_z*sin_swing;
   const T cf_knee_f_z = R_thigh_12*cf_knee_cX_y + R_thigh_22*cf_knee_cX_z + p_thigh_x*sin_hip - R_thigh_12*p_thigh_y - R_thigh_22*p_thigh_z - cf_knee_cX_x*sin_hip;
-  const T cf_knee_e_x = s0_knee_x - cf_knee_f_x;
+  const T cf_knee_e_x = k.s0_knee_x - cf_knee_f_x;
   const T cf_knee_e_y = -cf_knee_f_y;
-  const T cf_knee_e_z = s0_knee_z - cf_knee_f_z;
-  const T cf_knee_A = T(2)*cf_knee_v_x*cf_knee_e_x + T(2)*cf_knee_v_z*cf_knee_e_z;
-  const T cf_knee_B = T(2)*cf_knee_sxv_x*cf_knee_e_x + T(2)*cf_knee_v_x*cf_knee_e_z;
-  const T cf_knee_C = cf_knee_len0_sq - cf_knee_e_x*cf_knee_e_x - cf_knee_e_y*cf_knee_e_y - cf_knee_e_z*cf_knee_e_z - cf_knee_v_x*cf_knee_v_x - cf_knee_v_z*cf_knee_v_z;
+  const T cf_knee_e_z = k.s0_knee_z - cf_knee_f_z;
+  const T cf_knee_A = T(2)*cf_knee_e_x*k.cf_knee_v_x + T(2)*cf_knee_e_z*k.cf_knee_v_z;
+  const T cf_knee_B = T(2)*cf_knee_e_x*k.cf_knee_sxv_x + T(2)*cf_knee_e_z*k.cf_knee_v_x;
+  const T cf_knee_C = k.cf_knee_len0_sq - cf_knee_e_x*cf_knee_e_x - cf_knee_e_y*cf_knee_e_y - cf_knee_e_z*cf_knee_e_z - k.cf_knee_v_x*k.cf_knee_v_x - k.cf_knee_v_z*k.cf_knee_v_z;
   const T cf_knee_r2 = cf_knee_A*cf_knee_A + cf_knee_B*cf_knee_B;
   const T cf_knee_disc = cf_knee_r2 - cf_knee_C*cf_knee_C;
   const T cf_knee_root = sqrt(T(0.5)*abs(cf_knee_disc) + T(0.5)*cf_knee_disc);
-  const T _tmp40 = T(1)/cf_knee_r2;
-  const T cf_knee_cos = cf_knee_A*cf_knee_C*_tmp40 - cf_knee_B*cf_knee_root*_tmp40;
-  const T cf_knee_sin = cf_knee_A*cf_knee_root*_tmp40 + cf_knee_B*cf_knee_C*_tmp40;
+  const T _tmp20 = T(1)/cf_knee_r2;
+  const T cf_knee_cos = cf_knee_A*cf_knee_C*_tmp20 - cf_knee_B*cf_knee_root*_tmp20;
+  const T cf_knee_sin = cf_knee_A*cf_knee_root*_tmp20 + cf_knee_B*cf_knee_C*_tmp20;
   const T cf_knee_RY_10 = R_thigh_10*cf_knee_cos + R_thigh_12*cf_knee_sin;
   const T cf_knee_RY_12 = R_thigh_12*cf_knee_cos - R_thigh_10*cf_knee_sin;
   const T cf_knee_RY_20 = R_thigh_20*cf_knee_cos + R_thigh_22*cf_knee_sin;
   const T cf_knee_RY_22 = R_thigh_22*cf_knee_cos - R_thigh_20*cf_knee_sin;
-  const T _tmp41 = s0_knee_x*R_thigh_10;
-  const T _tmp42 = s0_knee_z*R_thigh_12;
-  const T cf_knee_pY_y = s0_knee_z*R_thigh_10*cf_knee_sin + _tmp41 + _tmp42 + p_thigh_y - s0_knee_x*R_thigh_10*cf_knee_cos - s0_knee_z*R_thigh_12*cf_knee_cos - s0_knee_x*R_thigh_12*cf_knee_sin;
-  const T _tmp43 = s0_knee_x*R_thigh_20;
-  const T _tmp44 = s0_knee_z*R_thigh_22;
-  const T cf_knee_pY_z = s0_knee_z*R_thigh_20*cf_knee_sin + _tmp43 + _tmp44 + p_thigh_z - s0_knee_x*R_thigh_20*cf_knee_cos - s0_knee_z*R_thigh_22*cf_knee_cos - s0_knee_x*R_thigh_22*cf_knee_sin;
-  const T cf_knee_cY_y = s0_coupler_B_1_x*cf_knee_RY_10 + s0_coupler_B_1_z*cf_knee_RY_12 + cf_knee_pY_y;
-  const T cf_knee_cY_z = s0_coupler_B_1_x*cf_knee_RY_20 + s0_coupler_B_1_z*cf_knee_RY_22 + cf_knee_pY_z;
-  const T cf_knee_w_y = cf_knee_cY_y*cos_swing + cf_knee_cY_z*sin_swing - _tmp38 - _tmp39;
+  const T _tmp21 = R_thigh_10*k.s0_knee_x;
+  const T _tmp22 = R_thigh_12*k.s0_knee_z;
+  const T cf_knee_pY_y = R_thigh_10*cf_knee_sin*k.s0_knee_z + _tmp21 + _tmp22 + p_thigh_y - R_thigh_10*cf_knee_cos*k.s0_knee_x - R_thigh_12*cf_knee_cos*k.s0_knee_z - R_thigh_12*cf_knee_sin*k.s0_knee_x;
+  const T _tmp23 = R_thigh_20*k.s0_knee_x;
+  const T _tmp24 = R_thigh_22*k.s0_knee_z;
+  const T cf_knee_pY_z = R_thigh_20*cf_knee_sin*k.s0_knee_z + _tmp23 + _tmp24 + p_thigh_z - R_thigh_20*cf_knee_cos*k.s0_knee_x - R_thigh_22*cf_knee_cos*k.s0_knee_z - R_thigh_22*cf_knee_sin*k.s0_knee_x;
+  const T cf_knee_cY_y = cf_knee_RY_10*k.s0_coupler_B_1_x + cf_knee_RY_12*k.s0_coupler_B_1_z + cf_knee_pY_y;
+  const T cf_knee_cY_z = cf_knee_RY_20*k.s0_coupler_B_1_x + cf_knee_RY_22*k.s0_coupler_B_1_z + cf_knee_pY_z;
+  const T cf_knee_w_y = cf_knee_cY_y*cos_swing + cf_knee_cY_z*sin_swing - _tmp18 - _tmp19;
   const T cf_knee_alpha = -cf_knee_w_y;
-  const T cf_knee_u_disc = _tmp26 + _tmp27 - cf_knee_alpha*cf_knee_alpha - cf_knee_beta*cf_knee_beta;
+  const T cf_knee_u_disc = k.cf_knee_d0_x*k.cf_knee_d0_x + k.cf_knee_d0_z*k.cf_knee_d0_z - cf_knee_alpha*cf_knee_alpha - k.cf_knee_beta*k.cf_knee_beta;
   const T cos_knee = cf_knee_cos;
   const T sin_knee = cf_knee_sin;
   const T R_shank_00 = cos_hip*cos_knee - sin_hip*sin_knee;
@@ -9477,47 +9630,40 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T R_shank_12 = R_thigh_12*cos_knee - R_thigh_10*sin_knee;
   const T R_shank_20 = R_thigh_20*cos_knee + R_thigh_22*sin_knee;
   const T R_shank_22 = R_thigh_22*cos_knee - R_thigh_20*sin_knee;
-  const T p_shank_x = s0_knee_x*cos_hip + s0_knee_z*cos_hip*sin_knee + s0_knee_z*cos_knee*sin_hip + p_thigh_x + s0_knee_x*sin_hip*sin_knee - s0_knee_x*cos_hip*cos_knee - s0_knee_z*sin_hip;
-  const T p_shank_y = _tmp41 + s0_knee_z*R_thigh_10*sin_knee + _tmp42 + p_thigh_y - s0_knee_x*R_thigh_10*cos_knee - s0_knee_z*R_thigh_12*cos_knee - s0_knee_x*R_thigh_12*sin_knee;
-  const T p_shank_z = _tmp43 + s0_knee_z*R_thigh_20*sin_knee + _tmp44 + p_thigh_z - s0_knee_x*R_thigh_20*cos_knee - s0_knee_z*R_thigh_22*cos_knee - s0_knee_x*R_thigh_22*sin_knee;
-  const T Rf_shank_00 = _tmp2*R_shank_00 - _tmp5*R_shank_02;
-  const T Rf_shank_10 = _tmp2*R_shank_10 - _tmp5*R_shank_12;
-  const T Rf_shank_20 = _tmp2*R_shank_20 - _tmp5*R_shank_22;
-  const T of_shank_x = _tmp4*p.b*R_shank_00 + p.b*_tmp7*R_shank_02 + p_shank_x - p.h*R_shank_02;
-  const T of_shank_y = _tmp4*p.b*R_shank_10 + p.b*_tmp7*R_shank_12 + p_shank_y - p.h*R_shank_12;
-  const T of_shank_z = _tmp4*p.b*R_shank_20 + p.b*_tmp7*R_shank_22 + p_shank_z - p.h*R_shank_22;
-  const T pt_local_M_y = s0_cyl3_base_1_y;
-  const T pt_local_M_z = s0_cyl3_base_1_z;
-  const T pt_Q_y = _tmp31;
-  const T pt_Q_z = -_tmp32;
-  const T pt_local_H_x = s0_cyl1_base_1_x;
-  const T pt_local_H_z = s0_cyl1_base_1_z;
-  const T pt_H_y = -pt_local_H_z*sin_swing;
-  const T pt_H_z = pt_local_H_z*cos_swing;
-  const T pt_local_F_x = s0_cyl2_base_1_x;
-  const T pt_local_F_z = s0_cyl2_base_1_z;
-  const T pt_F_y = -pt_local_F_z*sin_swing;
-  const T pt_F_z = pt_local_F_z*cos_swing;
+  const T p_shank_x = cos_hip*k.s0_knee_x + cos_hip*k.s0_knee_z*sin_knee + cos_knee*k.s0_knee_z*sin_hip + k.s0_knee_x*sin_hip*sin_knee + p_thigh_x - cos_hip*cos_knee*k.s0_knee_x - k.s0_knee_z*sin_hip;
+  const T p_shank_y = _tmp21 + R_thigh_10*k.s0_knee_z*sin_knee + _tmp22 + p_thigh_y - R_thigh_10*cos_knee*k.s0_knee_x - R_thigh_12*cos_knee*k.s0_knee_z - R_thigh_12*k.s0_knee_x*sin_knee;
+  const T p_shank_z = _tmp23 + R_thigh_20*k.s0_knee_z*sin_knee + _tmp24 + p_thigh_z - R_thigh_20*cos_knee*k.s0_knee_x - R_thigh_22*cos_knee*k.s0_knee_z - R_thigh_22*k.s0_knee_x*sin_knee;
+  const T Rf_shank_00 = _tmp16*R_shank_00 - _tmp17*R_shank_02;
+  const T Rf_shank_10 = _tmp16*R_shank_10 - _tmp17*R_shank_12;
+  const T Rf_shank_20 = _tmp16*R_shank_20 - _tmp17*R_shank_22;
+  const T _tmp25 = cos(p.theta1_0);
+  const T _tmp26 = sin(p.theta1_0);
+  const T of_shank_x = _tmp25*p.b*R_shank_00 + p.b*_tmp26*R_shank_02 + p_shank_x - p.h*R_shank_02;
+  const T of_shank_y = _tmp25*p.b*R_shank_10 + p.b*_tmp26*R_shank_12 + p_shank_y - p.h*R_shank_12;
+  const T of_shank_z = _tmp25*p.b*R_shank_20 + p.b*_tmp26*R_shank_22 + p_shank_z - p.h*R_shank_22;
+  const T pt_Q_y = _tmp7;
+  const T pt_Q_z = -_tmp8;
+  const T pt_H_y = -k.pt_local_H_z*sin_swing;
+  const T pt_H_z = cos_swing*k.pt_local_H_z;
+  const T pt_F_y = -k.pt_local_F_z*sin_swing;
+  const T pt_F_z = cos_swing*k.pt_local_F_z;
   const T pt_N_y = -p.j*sin_swing;
   const T pt_N_z = p.j*cos_swing;
   const T pt_A_x = p.b*Rf_thigh_00 + of_thigh_x;
   const T pt_A_y = p.b*Rf_thigh_10 + of_thigh_y;
   const T pt_A_z = p.b*Rf_thigh_20 + of_thigh_z;
-  const T pt_local_G_x = _tmp13*p.f;
-  const T pt_local_G_z = -p.f*_tmp14;
-  const T pt_G_x = pt_local_G_x*Rf_thigh_00 + pt_local_G_z*Rf_thigh_02 + of_thigh_x;
-  const T pt_G_y = pt_local_G_x*Rf_thigh_10 + pt_local_G_z*Rf_thigh_12 + of_thigh_y;
-  const T pt_G_z = pt_local_G_x*Rf_thigh_20 + pt_local_G_z*Rf_thigh_22 + of_thigh_z;
+  const T pt_G_x = Rf_thigh_00*k.pt_local_G_x + Rf_thigh_02*k.pt_local_G_z + of_thigh_x;
+  const T pt_G_y = Rf_thigh_10*k.pt_local_G_x + Rf_thigh_12*k.pt_local_G_z + of_thigh_y;
+  const T pt_G_z = Rf_thigh_20*k.pt_local_G_x + Rf_thigh_22*k.pt_local_G_z + of_thigh_z;
   const T pt_C_x = p.a*Rf_crank_00 + of_crank_x;
   const T pt_C_y = p.a*Rf_crank_10 + of_crank_y;
   const T pt_C_z = p.a*Rf_crank_20 + of_crank_z;
   const T pt_B_x = p.a*Rf_shank_00 + of_shank_x;
   const T pt_B_y = p.a*Rf_shank_10 + of_shank_y;
   const T pt_B_z = p.a*Rf_shank_20 + of_shank_z;
-  const T pt_local_D_x = p.a + p.c;
-  const T pt_D_x = pt_local_D_x*Rf_shank_00 + of_shank_x;
-  const T pt_D_y = pt_local_D_x*Rf_shank_10 + of_shank_y;
-  const T pt_D_z = pt_local_D_x*Rf_shank_20 + of_shank_z;
+  const T pt_D_x = Rf_shank_00*k.pt_local_D_x + of_shank_x;
+  const T pt_D_y = Rf_shank_10*k.pt_local_D_x + of_shank_y;
+  const T pt_D_z = Rf_shank_20*k.pt_local_D_x + of_shank_z;
   s.closure.reach[0] = cf_swing_disc;
   s.closure.reach[1] = cf_swing_u_disc;
   s.closure.reach[2] = cf_hip_disc;
@@ -9530,15 +9676,15 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   s.points.O.y = T(0);
   s.points.O.z = T(0);
   s.points.M.x = T(0);
-  s.points.M.y = pt_local_M_y;
-  s.points.M.z = pt_local_M_z;
+  s.points.M.y = k.pt_local_M_y;
+  s.points.M.z = k.pt_local_M_z;
   s.points.Q.x = T(0);
   s.points.Q.y = pt_Q_y;
   s.points.Q.z = pt_Q_z;
-  s.points.H.x = pt_local_H_x;
+  s.points.H.x = k.pt_local_H_x;
   s.points.H.y = pt_H_y;
   s.points.H.z = pt_H_z;
-  s.points.F.x = pt_local_F_x;
+  s.points.F.x = k.pt_local_F_x;
   s.points.F.y = pt_F_y;
   s.points.F.z = pt_F_z;
   s.points.N.x = T(0);
@@ -9569,15 +9715,29 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 11, Status::unreachable;
-  if (!(s.closure.reach[2] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[3] >= T(0))) return s.failed_group = 12, Status::unreachable;
-  if (!(s.closure.reach[4] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[5] >= T(0))) return s.failed_group = 13, Status::unreachable;
-  if (!(s.closure.reach[6] >= T(0))) return s.failed_group = 14, Status::unreachable;
-  if (!(s.closure.reach[7] >= T(0))) return s.failed_group = 14, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 11, Status::unreachable);
+  if (!(s.closure.reach[2] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[3] >= T(0)))
+    return detail::failed(s, 12, Status::unreachable);
+  if (!(s.closure.reach[4] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[5] >= T(0)))
+    return detail::failed(s, 13, Status::unreachable);
+  if (!(s.closure.reach[6] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
+  if (!(s.closure.reach[7] >= T(0)))
+    return detail::failed(s, 14, Status::unreachable);
   return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
 }
 
 // The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
@@ -9634,7 +9794,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x2885cfea7803a15bULL;
+inline constexpr unsigned long long fingerprint = 0x0c23ef31c0b244f8ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 25;

@@ -807,8 +807,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 3, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 3, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -1455,8 +1457,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 3, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 3, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -1944,8 +1948,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 3, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 3, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
   // singular there (|det| below 1e-9 of its value at the assembly).
   using std::abs;
@@ -1958,10 +1964,47 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
-// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample. The
-// drivers' rates are not read.
+// What point_positions() computes from the parameters alone, once per parameter set.
 template <class T>
-Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
+struct PositionConstants {
+  T s0_jC_1_z;
+  T cf_jD_d0_y;
+  T cf_jD_d0_z;
+  T cf_jD_len0_sq;
+  T cf_jD_v_z;
+  T cf_jD_sxv_y;
+  T cf_jD_A;
+  T pt_local_C_z;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 9
+  const T s0_jC_1_z = p.c + p.h;
+  k.s0_jC_1_z = s0_jC_1_z;
+  const T cf_jD_d0_y = -p.d;
+  k.cf_jD_d0_y = cf_jD_d0_y;
+  const T cf_jD_d0_z = -s0_jC_1_z;
+  k.cf_jD_d0_z = cf_jD_d0_z;
+  const T cf_jD_len0_sq = cf_jD_d0_y*cf_jD_d0_y + cf_jD_d0_z*cf_jD_d0_z + p.a*p.a;
+  k.cf_jD_len0_sq = cf_jD_len0_sq;
+  const T cf_jD_v_z = s0_jC_1_z - p.h;
+  k.cf_jD_v_z = cf_jD_v_z;
+  const T cf_jD_sxv_y = -cf_jD_v_z;
+  k.cf_jD_sxv_y = cf_jD_sxv_y;
+  const T cf_jD_A = T(2)*cf_jD_v_z*p.h;
+  k.cf_jD_A = cf_jD_A;
+  const T pt_local_C_z = s0_jC_1_z;
+  k.pt_local_C_z = pt_local_C_z;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using std::abs;
   using std::atan2;
@@ -1969,72 +2012,63 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 275
+  // Total ops: 268
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
-  const T s0_jC_1_z = p.c + p.h;
-  const T cf_jD_d0_y = -p.d;
-  const T cf_jD_d0_z = -s0_jC_1_z;
-  const T _tmp0 = cf_jD_d0_y*cf_jD_d0_y;
-  const T _tmp1 = cf_jD_d0_z*cf_jD_d0_z;
-  const T cf_jD_len0_sq = _tmp0 + _tmp1 + p.a*p.a;
   const T cf_jD_cX_x = p.a*cos_jA;
   const T cf_jD_cX_y = p.a*sin_jA;
-  const T cf_jD_v_z = s0_jC_1_z - p.h;
-  const T cf_jD_sxv_y = -cf_jD_v_z;
   const T cf_jD_e_x = -cf_jD_cX_x;
   const T cf_jD_e_y = p.d - cf_jD_cX_y;
-  const T cf_jD_A = T(2)*cf_jD_v_z*p.h;
-  const T cf_jD_B = T(2)*cf_jD_sxv_y*cf_jD_e_y;
-  const T cf_jD_C = cf_jD_len0_sq - cf_jD_e_x*cf_jD_e_x - cf_jD_e_y*cf_jD_e_y - cf_jD_v_z*cf_jD_v_z - p.h*p.h;
-  const T cf_jD_r2 = cf_jD_A*cf_jD_A + cf_jD_B*cf_jD_B;
+  const T cf_jD_B = T(2)*cf_jD_e_y*k.cf_jD_sxv_y;
+  const T cf_jD_C = k.cf_jD_len0_sq - cf_jD_e_x*cf_jD_e_x - cf_jD_e_y*cf_jD_e_y - k.cf_jD_v_z*k.cf_jD_v_z - p.h*p.h;
+  const T cf_jD_r2 = cf_jD_B*cf_jD_B + k.cf_jD_A*k.cf_jD_A;
   const T cf_jD_disc = cf_jD_r2 - cf_jD_C*cf_jD_C;
   const T cf_jD_root = sqrt(T(0.5)*abs(cf_jD_disc) + T(0.5)*cf_jD_disc);
-  const T _tmp2 = T(1)/cf_jD_r2;
-  const T cf_jD_cos = cf_jD_A*cf_jD_C*_tmp2 - cf_jD_B*cf_jD_root*_tmp2;
-  const T cf_jD_sin = cf_jD_A*cf_jD_root*_tmp2 + cf_jD_B*cf_jD_C*_tmp2;
+  const T _tmp0 = T(1)/cf_jD_r2;
+  const T cf_jD_cos = cf_jD_C*k.cf_jD_A*_tmp0 - cf_jD_B*cf_jD_root*_tmp0;
+  const T cf_jD_sin = cf_jD_B*cf_jD_C*_tmp0 + cf_jD_root*k.cf_jD_A*_tmp0;
   const T cf_jD_RY_12 = -cf_jD_sin;
-  const T _tmp3 = p.d*cf_jD_cos;
-  const T cf_jD_pY_y = p.h*cf_jD_sin + p.d - _tmp3;
-  const T _tmp4 = p.d*cf_jD_sin;
-  const T cf_jD_pY_z = p.h - p.h*cf_jD_cos - _tmp4;
-  const T cf_jD_cY_y = s0_jC_1_z*cf_jD_RY_12 + _tmp3 + cf_jD_pY_y;
-  const T cf_jD_cY_z = s0_jC_1_z*cf_jD_cos + cf_jD_pY_z + _tmp4;
+  const T _tmp1 = p.d*cf_jD_cos;
+  const T cf_jD_pY_y = p.h*cf_jD_sin + p.d - _tmp1;
+  const T _tmp2 = p.d*cf_jD_sin;
+  const T cf_jD_pY_z = p.h - p.h*cf_jD_cos - _tmp2;
+  const T cf_jD_cY_y = cf_jD_RY_12*k.s0_jC_1_z + _tmp1 + cf_jD_pY_y;
+  const T cf_jD_cY_z = cf_jD_cos*k.s0_jC_1_z + cf_jD_pY_z + _tmp2;
   const T cf_jD_w_y = cf_jD_cX_y*cf_jD_cos - cf_jD_cY_y*cf_jD_cos - cf_jD_cY_z*cf_jD_sin;
   const T cf_jD_w_z = cf_jD_RY_12*cf_jD_cX_y - cf_jD_RY_12*cf_jD_cY_y - cf_jD_cY_z*cf_jD_cos;
-  const T cf_jD_u_disc = _tmp0 + _tmp1 - cf_jD_w_z*cf_jD_w_z;
+  const T cf_jD_u_disc = k.cf_jD_d0_y*k.cf_jD_d0_y + k.cf_jD_d0_z*k.cf_jD_d0_z - cf_jD_w_z*cf_jD_w_z;
   const T cf_jD_u_root = sqrt(T(0.5)*abs(cf_jD_u_disc) + T(0.5)*cf_jD_u_disc);
   const T cf_jD_z_y = -cf_jD_u_root;
-  const T _tmp5 = cos(s.closure.q[3]);
-  const T _tmp6 = sin(s.closure.q[3]);
-  const T q_jC_1 = atan2(cf_jD_d0_z*cf_jD_z_y*_tmp5 - cf_jD_d0_y*cf_jD_w_z*_tmp5 - cf_jD_d0_y*cf_jD_z_y*_tmp6 - cf_jD_d0_z*cf_jD_w_z*_tmp6, cf_jD_d0_y*cf_jD_z_y*_tmp5 + cf_jD_d0_z*cf_jD_w_z*_tmp5 + cf_jD_d0_z*cf_jD_z_y*_tmp6 - cf_jD_d0_y*cf_jD_w_z*_tmp6) + s.closure.q[3];
-  const T _tmp7 = cos(s.closure.q[4]);
-  const T _tmp8 = sin(s.closure.q[4]);
-  const T q_jC_2 = atan2(cf_jD_cX_x*cf_jD_z_y*_tmp7 - p.a*cf_jD_cX_x*_tmp8 - cf_jD_w_y*cf_jD_z_y*_tmp8 - p.a*cf_jD_w_y*_tmp7, cf_jD_cX_x*cf_jD_z_y*_tmp8 + p.a*cf_jD_cX_x*_tmp7 + cf_jD_w_y*cf_jD_z_y*_tmp7 - p.a*cf_jD_w_y*_tmp8) + s.closure.q[4];
+  const T _tmp3 = cos(s.closure.q[3]);
+  const T _tmp4 = sin(s.closure.q[3]);
+  const T q_jC_1 = atan2(cf_jD_z_y*_tmp3*k.cf_jD_d0_z - cf_jD_w_z*_tmp3*k.cf_jD_d0_y - cf_jD_w_z*k.cf_jD_d0_z*_tmp4 - cf_jD_z_y*k.cf_jD_d0_y*_tmp4, cf_jD_w_z*_tmp3*k.cf_jD_d0_z + cf_jD_z_y*_tmp3*k.cf_jD_d0_y + cf_jD_z_y*k.cf_jD_d0_z*_tmp4 - cf_jD_w_z*k.cf_jD_d0_y*_tmp4) + s.closure.q[3];
+  const T _tmp5 = cos(s.closure.q[4]);
+  const T _tmp6 = sin(s.closure.q[4]);
+  const T q_jC_2 = atan2(cf_jD_cX_x*cf_jD_z_y*_tmp5 - p.a*cf_jD_cX_x*_tmp6 - cf_jD_w_y*cf_jD_z_y*_tmp6 - p.a*cf_jD_w_y*_tmp5, cf_jD_cX_x*cf_jD_z_y*_tmp6 + p.a*cf_jD_cX_x*_tmp5 + cf_jD_w_y*cf_jD_z_y*_tmp5 - p.a*cf_jD_w_y*_tmp6) + s.closure.q[4];
   const T cf_jD_RL_00 = cos(q_jC_2);
-  const T _tmp9 = cos(q_jC_1);
-  const T _tmp10 = sin(q_jC_2);
-  const T cf_jD_RL_01 = _tmp9*_tmp10;
-  const T _tmp11 = sin(q_jC_1);
-  const T cf_jD_RL_02 = _tmp11*_tmp10;
-  const T cf_jD_RL_10 = -cf_jD_cos*_tmp10;
-  const T cf_jD_RL_11 = cf_jD_cos*_tmp9*cf_jD_RL_00 - cf_jD_RY_12*_tmp11;
-  const T cf_jD_RL_12 = cf_jD_RY_12*_tmp9 + cf_jD_cos*cf_jD_RL_00*_tmp11;
-  const T cf_jD_RL_22 = cf_jD_cos*_tmp9 + cf_jD_sin*cf_jD_RL_00*_tmp11;
+  const T _tmp7 = cos(q_jC_1);
+  const T _tmp8 = sin(q_jC_2);
+  const T cf_jD_RL_01 = _tmp7*_tmp8;
+  const T _tmp9 = sin(q_jC_1);
+  const T cf_jD_RL_02 = _tmp9*_tmp8;
+  const T cf_jD_RL_10 = -cf_jD_cos*_tmp8;
+  const T cf_jD_RL_11 = cf_jD_cos*_tmp7*cf_jD_RL_00 - cf_jD_RY_12*_tmp9;
+  const T cf_jD_RL_12 = cf_jD_RY_12*_tmp7 + cf_jD_cos*cf_jD_RL_00*_tmp9;
+  const T cf_jD_RL_22 = cf_jD_cos*_tmp7 + cf_jD_sin*cf_jD_RL_00*_tmp9;
   const T cf_jD_m00 = cf_jD_RL_00*cos_jA + cf_jD_RL_10*sin_jA;
   const T cf_jD_m01 = cf_jD_RL_01*cos_jA + cf_jD_RL_11*sin_jA;
   const T cf_jD_m02 = cf_jD_RL_02*cos_jA + cf_jD_RL_12*sin_jA;
   const T cf_jD_m12 = cf_jD_RL_12*cos_jA - cf_jD_RL_02*sin_jA;
-  const T _tmp12 = sin(s.closure.q[0]);
-  const T _tmp13 = cos(s.closure.q[0]);
-  const T q_jB_1 = atan2(-cf_jD_RL_22*_tmp12 - cf_jD_m12*_tmp13, cf_jD_RL_22*_tmp13 - cf_jD_m12*_tmp12) + s.closure.q[0];
-  const T _tmp14 = cos(s.closure.q[1]);
-  const T _tmp15 = sin(s.closure.q[1]);
-  const T _tmp16 = sqrt(cf_jD_RL_22*cf_jD_RL_22 + cf_jD_m12*cf_jD_m12);
-  const T q_jB_2 = atan2(cf_jD_m02*_tmp14 - _tmp15*_tmp16, cf_jD_m02*_tmp15 + _tmp14*_tmp16) + s.closure.q[1];
-  const T _tmp17 = sin(s.closure.q[2]);
-  const T _tmp18 = cos(s.closure.q[2]);
-  const T q_jB_3 = atan2(-cf_jD_m00*_tmp17 - cf_jD_m01*_tmp18, cf_jD_m00*_tmp18 - cf_jD_m01*_tmp17) + s.closure.q[2];
+  const T _tmp10 = sin(s.closure.q[0]);
+  const T _tmp11 = cos(s.closure.q[0]);
+  const T q_jB_1 = atan2(-cf_jD_RL_22*_tmp10 - cf_jD_m12*_tmp11, cf_jD_RL_22*_tmp11 - cf_jD_m12*_tmp10) + s.closure.q[0];
+  const T _tmp12 = cos(s.closure.q[1]);
+  const T _tmp13 = sin(s.closure.q[1]);
+  const T _tmp14 = sqrt(cf_jD_RL_22*cf_jD_RL_22 + cf_jD_m12*cf_jD_m12);
+  const T q_jB_2 = atan2(cf_jD_m02*_tmp12 - _tmp13*_tmp14, cf_jD_m02*_tmp13 + _tmp12*_tmp14) + s.closure.q[1];
+  const T _tmp15 = sin(s.closure.q[2]);
+  const T _tmp16 = cos(s.closure.q[2]);
+  const T q_jB_3 = atan2(-cf_jD_m00*_tmp15 - cf_jD_m01*_tmp16, cf_jD_m00*_tmp16 - cf_jD_m01*_tmp15) + s.closure.q[2];
   const T cos_jB_1 = cos(q_jB_1);
   const T sin_jB_1 = sin(q_jB_1);
   const T cos_jB_2 = cos(q_jB_2);
@@ -2052,10 +2086,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   const T p_coupler_z = p.a*cos_jB_1*cos_jB_3*sin_jB_2 - p.a*sin_jB_1*sin_jB_3;
   const T pt_B_x = cf_jD_cX_x;
   const T pt_B_y = cf_jD_cX_y;
-  const T pt_local_C_z = s0_jC_1_z;
-  const T pt_C_x = p.d*R_coupler_01 + pt_local_C_z*R_coupler_02 + p_coupler_x;
-  const T pt_C_y = p.d*R_coupler_11 + pt_local_C_z*R_coupler_12 + p_coupler_y;
-  const T pt_C_z = p.d*R_coupler_21 + pt_local_C_z*R_coupler_22 + p_coupler_z;
+  const T pt_C_x = p.d*R_coupler_01 + R_coupler_02*k.pt_local_C_z + p_coupler_x;
+  const T pt_C_y = p.d*R_coupler_11 + R_coupler_12*k.pt_local_C_z + p_coupler_y;
+  const T pt_C_z = p.d*R_coupler_21 + R_coupler_22*k.pt_local_C_z + p_coupler_z;
   s.closure.reach[0] = cf_jD_disc;
   s.closure.reach[1] = cf_jD_u_disc;
   s.points.A.x = T(0);
@@ -2076,9 +2109,17 @@ Status point_positions([[maybe_unused]] const Params<T>& p, const Inputs<T>& in,
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: a closed-form group's discriminant is negative.
-  if (!(s.closure.reach[0] >= T(0))) return s.failed_group = 3, Status::unreachable;
-  if (!(s.closure.reach[1] >= T(0))) return s.failed_group = 3, Status::unreachable;
+  if (!(s.closure.reach[0] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
+  if (!(s.closure.reach[1] >= T(0)))
+    return detail::failed(s, 3, Status::unreachable);
   return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
 }
 
 // The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
@@ -2123,7 +2164,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x256741f68535f4aaULL;
+inline constexpr unsigned long long fingerprint = 0x28e65e024c9bc921ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -190,8 +190,11 @@ class Builder {
         out_.plan.push_back(body.name + ": " + to_string(joint.type) + " '" + joint.name +
                             "' from '" + body_name(p) + "' (product of exponentials)");
       }
+      // The frame's reference pose is the parameters' alone: named, so that it is computed once
+      // (and hoisted out of point_positions' samples).
       const Pose reference{
-          geometry::rodrigues(vec(body.rotation_axis), param(body.rotation_angle.ex)),
+          named("Rref_" + body.name,
+                geometry::rodrigues(vec(body.rotation_axis), param(body.rotation_angle.ex))),
           vec(body.origin)};
       const Pose F = D_[bi] * reference;
       frame_[bi] = {named("Rf_" + body.name, F.R), named("of_" + body.name, F.p)};

@@ -29,7 +29,7 @@ struct Leg6 {
   spatial::SpatialSolver solver{model, {}};
   KDL::Chain chain = kdl_model::chain(solver, "foot");
   std::vector<Eigen::VectorXd> q, qd, qdd;  // 256 random samples
-  int foot = model.body_index("foot");
+  int foot = model.body_index("foot_link");
 
   Leg6() {
     std::mt19937 rng(3);

@@ -2,11 +2,11 @@
 // generated kernel's evaluate() per sample (positions: closed-form link groups for rsur and
 // quadruped_leg, 5 unrolled Newton-Raphson steps from the previous sample for
 // chebyshev_spatial; Davies' velocities and accelerations, every body's pose, twist and twist
-// rate, the named points, the screw Jacobians and the driver efforts by virtual power; joint
-// reactions are not generated for closed chains yet). <model>/numeric_kinematics: the reference
-// solver's SpatialSolver::solve on the same walk (Newton closure from the previous sample,
-// Davies' velocities, exact accelerations), the like-for-like baseline; <model>/numeric
-// (bench/spatial_bench.cpp) adds its inverse dynamics. quadruped_leg/point_positions: one
+// rate, the named points, the screw Jacobians, the driver efforts by virtual power and every
+// joint reaction through N_s transposed). <model>/numeric_kinematics: the reference solver's
+// SpatialSolver::solve on the same walk (Newton closure from the previous sample, Davies'
+// velocities, exact accelerations); <model>/numeric (bench/spatial_bench.cpp) adds its inverse
+// dynamics: the like-for-like baseline of evaluate(). quadruped_leg/point_positions: one
 // workspace sample (the foot and the other named points only, from the parameter set's
 // constants). The model's step walked forth and back; checked equal to the numeric solver
 // (1e-9) before timing.

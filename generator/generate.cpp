@@ -91,6 +91,10 @@ static void check_kernel_names(const Model& model, const std::string& path) {
 
 GenerateResult generate(const GenerateOptions& options) {
   if (is_spatial_description(options.model_path)) return generate_spatial(options);
+  if (!options.support.empty())
+    throw std::runtime_error(options.model_path +
+                             ": error: --support stands a spatial model (dimension: spatial) on "
+                             "one of its bodies; this description is planar");
   return generate(read_model(options.model_path), options);
 }
 

@@ -14,6 +14,9 @@ struct GenerateOptions {
   std::string output_dir;     // default: generated/<model name> under the source tree
   std::string templates_dir;  // default: templates/ of the source tree
   bool bake = false;
+  // Spatial only: the body to stand on; the kernel is then the single-support model's
+  // (model/support_model.hpp), named <model>_support_<body>.
+  std::string support;
 };
 
 struct GenerateResult {

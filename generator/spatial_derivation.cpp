@@ -1,16 +1,19 @@
 // Symbolic derivation of a spatial tree's kernel (spatial_derivation.hpp).
 #include "spatial_derivation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
-#include "spatial_closed_form.hpp"
+#include "spatial_circuit_solvers.hpp"
+#include "spatial_primary_inputs.hpp"
 
 namespace mechgen::gen {
 
@@ -50,7 +53,14 @@ struct Column {
 class Builder {
  public:
   Builder(const SpatialModel& model, const SpatialGraph& graph)
-      : m_(model), g_(graph), params_(spatial_parameter_symbols(model)) {}
+      : m_(model),
+        g_(graph),
+        params_(spatial_parameter_symbols(model)),
+        inputs_(spatial_primary_inputs(model, graph)),
+        input_of_column_(static_cast<size_t>(graph.cols()), -1) {
+    for (size_t k = 0; k < inputs_.size(); ++k)
+      input_of_column_[static_cast<size_t>(inputs_[k].graph_column)] = static_cast<int>(k);
+  }
 
   SpatialDerivation run() {
     check_supported();
@@ -73,6 +83,7 @@ class Builder {
       ne_system();
     }
     out_.primary_count = static_cast<int>(g_.primary.size());
+    out_.closed_chain = closed();
     return std::move(out_);
   }
 
@@ -111,12 +122,13 @@ class Builder {
 
   void check_supported() const {
     const std::string file = m_.common.file + ": error: ";
-    if (!m_.pose_drivers.empty())
-      throw std::runtime_error(file +
-                               "spatial kernels are generated for joint drivers; pose drivers "
-                               "are not generated yet (use --solver numeric)");
+    // The kernels' Newton-Euler has no applied loads: refused rather than silently left out.
+    if (!m_.loads.empty())
+      throw std::runtime_error(
+          file + "applied loads ('forces:', first '" + m_.loads[0].name +
+          "') are not in generated spatial kernels yet (use --solver numeric)");
     for (const SpatialColumn& c : g_.columns)
-      if (c.driver < 0 && !closed())
+      if (!c.primary && !closed())
         throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +
                                  "' has an undriven coordinate: a tree needs every one driven");
   }
@@ -136,11 +148,12 @@ class Builder {
       col.axis.s = named("s_" + col.name, vec(e.s));
       col.axis.s0 = named("s0_" + col.name, vec(j.s0));
       col.axis.pitch = named("pitch_" + col.name, param(j.pitch.ex));
-      if (sc.driver >= 0) {
-        const SpatialDriver& d = m_.drivers[static_cast<size_t>(sc.driver)];
-        col.q = symbol("in." + d.name);
-        col.qd = symbol("in." + d.name + "_d");
-        col.qdd = symbol("in." + d.name + "_dd");
+      if (const SpatialPrimaryInput* in = input(c)) {
+        // A pose coordinate's input is absolute; its virtual joint's coordinate is measured from
+        // the reference pose (the numeric solver's q = value - reference).
+        col.q = named("q_" + col.name, symbol("in." + in->name) - param(in->reference));
+        col.qd = symbol("in." + in->name + "_d");
+        col.qdd = symbol("in." + in->name + "_dd");
       } else {
         // A secondary coordinate: defined by the closure (close_positions, secondary_rates).
         col.q = symbol("q_" + col.name);
@@ -156,6 +169,10 @@ class Builder {
       for (size_t k = 0; k < 3; ++k) col.displacement.p[k] = E.p[k].subs(trig).expand();
       cols_.push_back(col);
     }
+  }
+  const SpatialPrimaryInput* input(size_t column) const {
+    const int k = input_of_column_[column];
+    return k < 0 ? nullptr : &inputs_[static_cast<size_t>(k)];
   }
   ex named_always(const std::string& name, const ex& e) {
     const symbol s(name);
@@ -294,49 +311,72 @@ class Builder {
     }
   }
 
-  // Row selection and pivot order, fixed at generation time from N_s at sample configurations
-  // (default parameters, kPivotSamples instants of the model's step, the numeric solver's
-  // poses): greedily, the row whose entry in the next column is smallest against that column's
-  // largest over the samples is avoided (a pivot through zero at a regular pose would make the
-  // elimination meaningless there); rows never chosen are redundant (an overconstrained
-  // circuit) and dropped.
+  // N_s at sample configurations (default parameters, kPivotSamples instants of the model's
+  // step, the numeric solver's poses), from which every pivot order is fixed at generation time;
+  // the first sample is the assembly.
   static constexpr int kPivotSamples = 72;
-  void choose_pivots(size_t start) {
+  void sample_secondary_matrix(size_t start) {
     const std::vector<double> defaults = m_.common.default_parameters();
     const spatial::SpatialSolver solver(m_, defaults);
     const spatial::SpatialSweepOptions sweep = spatial::default_spatial_sweep(m_, defaults);
     const size_t rows = network_.size(), ns = g_.secondary.size();
-    std::vector<std::vector<std::vector<double>>> a;  // per sample: rows x ns
-    spatial::SpatialState st, assembly;
+    spatial::SpatialState st;
     for (int sample = 0; sample < kPivotSamples; ++sample) {
       solver.solve(sweep.t0 + (sweep.t1 - sweep.t0) * sample / kPivotSamples, st);
-      if (sample == 0) assembly = st;
-      const GiNaC::exmap num = numeric_values(st, defaults, start);
+      if (sample == 0) assembly_ = st;
+      GiNaC::exmap num = numeric_parameters(defaults);
+      for (size_t c = 0; c < cols_.size(); ++c)
+        num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
+      // A primary coordinate's own definition (a pose coordinate's input minus its reference)
+      // is not needed: its value is the solver's.
+      for (size_t k = start; k < out_.definitions.size(); ++k)
+        if (!num.count(out_.definitions[k].first))
+          num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
       std::vector<std::vector<double>> m(rows, std::vector<double>(ns));
       for (size_t r = 0; r < rows; ++r)
         for (size_t i = 0; i < ns; ++i)
           m[r][i] = GiNaC::ex_to<GiNaC::numeric>(
                         network_[r][static_cast<size_t>(g_.secondary[i])].subs(num).evalf())
                         .to_double();
-      a.push_back(m);
+      samples_.push_back(m);
     }
-    std::vector<bool> used(rows, false), done(ns, false);
-    double det = 1, worst = 1;
-    for (size_t k = 0; k < ns; ++k) {
-      // Complete pivoting fixed over the samples: the (row, column) whose entry is largest
-      // against the remaining block's largest in its worst sample.
-      size_t best = rows, column = ns;
+  }
+  GiNaC::exmap numeric_parameters(const std::vector<double>& values) const {
+    GiNaC::exmap num;
+    for (size_t i = 0; i < m_.common.parameters.size(); ++i)
+      num[params_.at(m_.common.parameters[i].symbol)] = GiNaC::numeric(values[i]);
+    return num;
+  }
+
+  // Complete pivoting fixed over the samples, on the block of N_s made of `rows` and the
+  // secondary coordinates `columns` (indices into g_.secondary): each step the (row, column)
+  // whose entry is largest against the remaining block's largest in its worst sample, so that no
+  // pivot passes through zero on the step (a pivot through zero at a regular pose would make the
+  // elimination meaningless there). Rows never chosen are redundant (an overconstrained circuit).
+  struct PivotOrder {
+    std::vector<size_t> rows, columns;  // unknown k of the elimination is columns[k]
+    double det = 1, worst = 1;          // at the assembly; the smallest pivot ratio
+  };
+  PivotOrder pivot_order(const std::vector<size_t>& rows,
+                         const std::vector<size_t>& columns) const {
+    std::vector<std::vector<std::vector<double>>> a = samples_;
+    std::vector<bool> used(network_.size(), true), done(g_.secondary.size(), true);
+    for (const size_t r : rows) used[r] = false;
+    for (const size_t i : columns) done[i] = false;
+    PivotOrder order;
+    for (size_t k = 0; k < columns.size(); ++k) {
+      size_t best = network_.size(), column = g_.secondary.size();
       double value = 0;
       std::vector<double> largest;
       for (const auto& m : a) {
         double l = 0;
-        for (size_t r = 0; r < rows; ++r)
-          for (size_t i = 0; i < ns; ++i)
+        for (const size_t r : rows)
+          for (const size_t i : columns)
             if (!used[r] && !done[i]) l = std::max(l, std::abs(m[r][i]));
         largest.push_back(l);
       }
-      for (size_t r = 0; r < rows; ++r)
-        for (size_t i = 0; i < ns; ++i) {
+      for (const size_t r : rows)
+        for (const size_t i : columns) {
           if (used[r] || done[i]) continue;
           double ratio = 1;
           for (size_t sample = 0; sample < a.size(); ++sample)
@@ -344,83 +384,54 @@ class Builder {
                 ratio, largest[sample] > 0 ? std::abs(a[sample][r][i]) / largest[sample] : 0.0);
           if (ratio > value) best = r, column = i, value = ratio;
         }
-      if (best == rows || value <= 1e-6)
+      if (best == network_.size() || value <= 1e-6)
         throw std::runtime_error(m_.common.file +
                                  ": error: no pivot order fixed at generation time stays "
                                  "regular over the step (smallest pivot " +
                                  std::to_string(value) + " of its block)");
       used[best] = true;
       done[column] = true;
-      worst = std::min(worst, value);
-      det *= a[0][best][column];
-      pivot_rows_.push_back(best);
-      pivot_columns_.push_back(column);
+      order.worst = std::min(order.worst, value);
+      order.det *= a[0][best][column];
+      order.rows.push_back(best);
+      order.columns.push_back(column);
       for (auto& m : a)
-        for (size_t r = 0; r < rows; ++r)
+        for (const size_t r : rows)
           if (!used[r]) {
             const double f = m[r][column] / m[best][column];
-            for (size_t i = 0; i < ns; ++i) m[r][i] -= f * m[best][i];
+            for (const size_t i : columns) m[r][i] -= f * m[best][i];
           }
     }
-    for (const int c : g_.secondary)
-      out_.closure_start.push_back(assembly.q[static_cast<Eigen::Index>(c)]);
-    out_.closure_det = det;
+    return order;
+  }
+  // The pivot order of the whole N_s (Davies' rates) and the plan's closure line.
+  void choose_pivots(const std::vector<size_t>& newton_rows, size_t newton_columns) {
+    std::vector<size_t> rows(network_.size()), columns(g_.secondary.size());
+    for (size_t r = 0; r < rows.size(); ++r) rows[r] = r;
+    for (size_t i = 0; i < columns.size(); ++i) columns[i] = i;
+    const PivotOrder order = pivot_order(rows, columns);
+    pivot_ = order;
+    out_.closure_det = order.det;
     out_.groups.push_back("closure");
     std::string dropped;
-    for (size_t r = 0; r < rows; ++r)
+    std::vector<bool> used(rows.size(), false);
+    for (const size_t r : order.rows) used[r] = true;
+    for (size_t r = 0; r < rows.size(); ++r)
       if (!used[r])
         dropped += (dropped.empty() ? "" : ", ") + std::string(r % 6 < 3 ? "w" : "v") +
                    kAxis[r % 3] + " of circuit " + std::to_string(r / 6);
     char ratio[32];
-    std::snprintf(ratio, sizeof ratio, "%.2g", worst);
-    out_.plan.push_back("closure: " + std::to_string(ns) + " secondary coordinates, " +
-                        std::to_string(rows) + " closure rows, pivot order from " +
-                        std::to_string(kPivotSamples) + " samples (smallest pivot " + ratio +
-                        " of its column)" +
-                        (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
-  }
-
-  // Every parameter, coordinate and definition from `start` on at the numeric pose st.
-  GiNaC::exmap numeric_values(const spatial::SpatialState& st, const std::vector<double>& defaults,
-                              size_t start) const {
-    GiNaC::exmap num;
-    for (size_t i = 0; i < m_.common.parameters.size(); ++i)
-      num[params_.at(m_.common.parameters[i].symbol)] = GiNaC::numeric(defaults[i]);
-    for (size_t c = 0; c < cols_.size(); ++c)
-      num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
-    for (size_t k = start; k < out_.definitions.size(); ++k)
-      num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
-    return num;
-  }
-
-  // The closed-form pre-pass (spatial_closed_form.hpp): its groups when they define every
-  // secondary coordinate, else none (the Newton-Raphson closure then takes them all).
-  std::vector<ClosedFormGroup> closed_form(size_t start) {
-    const std::vector<double> defaults = m_.common.default_parameters();
-    const spatial::SpatialSolver solver(m_, defaults);
-    spatial::SpatialState st;
-    solver.solve(spatial::default_spatial_sweep(m_, defaults).t0, st);
-    ClosureContext ctx{m_, g_, {}, {}, {}, D_, {}, numeric_values(st, defaults, start), {}};
-    for (size_t c = 0; c < cols_.size(); ++c) {
-      ctx.axes.push_back(cols_[c].axis);
-      ctx.q.push_back(cols_[c].q);
-      ctx.assembly_q.push_back(st.q[static_cast<Eigen::Index>(c)]);
-      ctx.known.push_back(g_.columns[c].driver >= 0);
-    }
-    ctx.warm.assign(cols_.size(), 0);
-    for (size_t i = 0; i < g_.secondary.size(); ++i) {
-      const symbol w("s.closure.q[" + std::to_string(i) + "]");
-      ctx.warm[static_cast<size_t>(g_.secondary[i])] = w;
-      ctx.assembly[w] = ctx.assembly_q[static_cast<size_t>(g_.secondary[i])];
-    }
-    std::vector<ClosedFormGroup> groups = closed_form_groups(ctx);
-    for (const int c : g_.secondary)
-      if (!ctx.known[static_cast<size_t>(c)]) return {};
-    for (const ClosedFormGroup& group : groups) {
-      out_.groups.push_back(group.name);
-      out_.plan.push_back(group.plan);
-    }
-    return groups;
+    std::snprintf(ratio, sizeof ratio, "%.2g", order.worst);
+    out_.plan.push_back(
+        "closure: " + std::to_string(g_.secondary.size()) + " secondary coordinates, " +
+        std::to_string(rows.size()) + " closure rows; " +
+        (newton_columns == 0
+             ? std::string("every circuit in closed form, no Newton")
+             : "Newton fallback on " + std::to_string(newton_columns) + " coordinates, " +
+                   std::to_string(newton_rows.size()) + " rows") +
+        "; Davies' pivot order from " + std::to_string(kPivotSamples) +
+        " samples (smallest pivot " + ratio + " of its column)" +
+        (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
   }
 
   // Definitions in an order where each follows those it reads: passes over the list in order,
@@ -448,108 +459,175 @@ class Builder {
     }
   }
 
-  // Unknown k of the elimination is secondary coordinate pivot_columns_[k].
-  std::vector<ex> unpermute(const std::vector<ex>& x) const {
-    std::vector<ex> y(x.size());
-    for (size_t k = 0; k < x.size(); ++k) y[pivot_columns_[k]] = x[k];
+  // Unknown k of the elimination is secondary coordinate order.columns[k].
+  std::vector<ex> unpermute(const PivotOrder& order, const std::vector<ex>& x) const {
+    std::vector<ex> y(g_.secondary.size());
+    for (size_t k = 0; k < x.size(); ++k) y[order.columns[k]] = x[k];
     return y;
   }
-  std::vector<std::vector<ex>> secondary_matrix(const GiNaC::exmap& subs) const {
+  std::vector<std::vector<ex>> secondary_matrix(const PivotOrder& order,
+                                                const GiNaC::exmap& subs) const {
     std::vector<std::vector<ex>> a;
-    for (const size_t r : pivot_rows_) {
+    for (const size_t r : order.rows) {
       std::vector<ex> row;
-      for (const size_t i : pivot_columns_)
+      for (const size_t i : order.columns)
         row.push_back(network_[r][static_cast<size_t>(g_.secondary[i])].subs(subs));
       a.push_back(row);
     }
     return a;
   }
 
-  // Positions of the secondary coordinates: kNewtonSteps unrolled Newton-Raphson steps on the
-  // closure error from the State's warm start, each on a renamed copy of the position
-  // definitions that depend on the secondary coordinates; then the definitions themselves at the
-  // result.
+  // The closed-form solvers (spatial_circuit_solvers.hpp) tried on each circuit, first match wins:
+  // each defines some secondary coordinates from the primary inputs and the coordinates known
+  // so far; the unclosed circuits are offered again after each pass that closed one (dependency
+  // order). Returns per secondary coordinate its value (empty: left to Newton) and per circuit
+  // whether it is closed; the closed forms' cosines and sines in trig_.
+  std::vector<std::optional<ex>> solve_in_closed_form(size_t start,
+                                                      std::vector<bool>& circuit_closed) {
+    std::vector<std::optional<ex>> value(g_.secondary.size());
+    circuit_closed.assign(g_.chords.size(), false);
+    CircuitSolverContext context{m_, g_, {}, {}, {}, {}, {}, D_, {}};
+    for (const SpatialColumn& c : g_.columns) context.known.push_back(c.primary);
+    for (const Column& c : cols_) context.columns.push_back({c.axis, c.q, c.displacement});
+    for (size_t c = 0; c < cols_.size(); ++c)
+      context.assembly_q.push_back(assembly_.q[static_cast<Eigen::Index>(c)]);
+    context.named = [this](const std::string& name, const ex& e) { return named(name, e); };
+    GiNaC::exmap num = numeric_parameters(m_.common.default_parameters());
+    for (size_t c = 0; c < cols_.size(); ++c) num[cols_[c].q] = context.assembly_q[c];
+    size_t evaluated = start;
+    context.warm_start = [this, &num](int column) {
+      const size_t k = out_.angle_start.size();
+      const symbol w("s.closure.w[" + std::to_string(k) + "]");
+      out_.angle_start.push_back(assembly_.q[static_cast<Eigen::Index>(column)]);
+      num[w] = out_.angle_start.back();
+      output(out_.kinematics, "s.closure.wnext[" + std::to_string(k) + "]",
+             cols_[static_cast<size_t>(column)].q);
+      return ex(w);
+    };
+    context.at_assembly = [this, &num, evaluated](const ex& e) mutable {
+      for (; evaluated < out_.definitions.size(); ++evaluated)
+        if (!num.count(out_.definitions[evaluated].first))
+          num[out_.definitions[evaluated].first] =
+              out_.definitions[evaluated].second.subs(num).evalf();
+      return GiNaC::ex_to<GiNaC::numeric>(e.subs(num).evalf()).to_double();
+    };
+    std::vector<int> secondary_index(g_.columns.size(), -1);
+    for (size_t i = 0; i < g_.secondary.size(); ++i)
+      secondary_index[static_cast<size_t>(g_.secondary[i])] = static_cast<int>(i);
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (size_t ci = 0; ci < g_.chords.size(); ++ci)
+        for (const CircuitSolver& solver : circuit_solvers()) {
+          if (circuit_closed[ci]) break;
+          const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
+          if (!group) continue;
+          circuit_closed[ci] = progress = true;
+          const int index = static_cast<int>(out_.groups.size());
+          out_.closed_form_groups.push_back(index);
+          out_.groups.push_back(group->name);
+          out_.plan.push_back(group->name + ": " + group->plan);
+          for (const ex& reach : group->reach) out_.guards.push_back({reach, index});
+          for (const auto& [column, q] : group->coordinates) {
+            value[static_cast<size_t>(secondary_index[static_cast<size_t>(column)])] = q;
+            context.known[static_cast<size_t>(column)] = true;
+          }
+          for (const auto& [column, cs] : group->cos_sin) {
+            trig_[GiNaC::cos(cols_[static_cast<size_t>(column)].q)] = cs.first;
+            trig_[GiNaC::sin(cols_[static_cast<size_t>(column)].q)] = cs.second;
+          }
+        }
+    }
+    return value;
+  }
+
+  // Positions of the secondary coordinates: the closed forms first, then kNewtonSteps unrolled
+  // Newton-Raphson steps from the State's warm start on the rest (the circuits not closed in
+  // closed form), each on a renamed copy of the position definitions that depend on those
+  // coordinates; then the definitions themselves at the result.
   static constexpr int kNewtonSteps = 5;
   void close_positions(size_t start) {
     circuit_rows();
-    // Before the pivot choice: the groups' names precede the "closure" group.
-    const std::vector<ClosedFormGroup> groups = closed_form(start);
-    choose_pivots(start);
+    sample_secondary_matrix(start);
+    const size_t chain_end = out_.definitions.size();
+    std::vector<bool> circuit_closed;
+    const std::vector<std::optional<ex>> closed_form = solve_in_closed_form(start, circuit_closed);
+    std::vector<size_t> newton_rows, newton_columns;
+    for (size_t r = 0; r < network_.size(); ++r)
+      if (!circuit_closed[r / 6]) newton_rows.push_back(r);
+    for (size_t i = 0; i < g_.secondary.size(); ++i)
+      if (!closed_form[i]) newton_columns.push_back(i);
+    choose_pivots(newton_rows, newton_columns.size());
+    const PivotOrder newton = pivot_order(newton_rows, newton_columns);
+    // Program order: what depends on no secondary coordinate, the closed forms, what depends on
+    // them only, then the Newton steps and what depends on the Newton coordinates.
     std::vector<std::pair<symbol, ex>> chain(
-        out_.definitions.begin() + static_cast<std::ptrdiff_t>(start), out_.definitions.end());
+        out_.definitions.begin() + static_cast<std::ptrdiff_t>(start),
+        out_.definitions.begin() + static_cast<std::ptrdiff_t>(chain_end));
+    std::vector<std::pair<symbol, ex>> closed_forms(
+        out_.definitions.begin() + static_cast<std::ptrdiff_t>(chain_end), out_.definitions.end());
     out_.definitions.resize(start);
-    std::set<ex, GiNaC::ex_is_less> moving;
-    for (const int c : g_.secondary) moving.insert(cols_[static_cast<size_t>(c)].q);
-    std::vector<std::pair<symbol, ex>> dependent;
+    std::set<ex, GiNaC::ex_is_less> solved, moving;
+    for (size_t i = 0; i < g_.secondary.size(); ++i)
+      (closed_form[i] ? solved : moving).insert(cols_[static_cast<size_t>(g_.secondary[i])].q);
+    const auto uses = [](const ex& value, const std::set<ex, GiNaC::ex_is_less>& names) {
+      for (auto it = value.preorder_begin(); it != value.preorder_end(); ++it)
+        if (names.count(*it)) return true;
+      return false;
+    };
+    std::vector<std::pair<symbol, ex>> after_closed_form, dependent;
     for (const auto& [sym, value] : chain) {
-      bool depends = false;
-      for (auto it = value.preorder_begin(); it != value.preorder_end() && !depends; ++it)
-        depends = moving.count(*it) > 0;
-      if (depends) {
+      if (uses(value, moving)) {
         moving.insert(sym);
         dependent.emplace_back(sym, value);
+      } else if (uses(value, solved)) {
+        solved.insert(sym);
+        after_closed_form.emplace_back(sym, value);
       } else {
         out_.definitions.emplace_back(sym, value);
       }
     }
-    const size_t ns = g_.secondary.size();
-    if (!groups.empty()) {
-      out_.plan.push_back("closure positions: closed form in " + std::to_string(groups.size()) +
-                          " groups, no Newton-Raphson");
-      out_.closed_form_groups = static_cast<int>(groups.size());
-      std::vector<std::pair<symbol, ex>> items;
-      for (size_t k = 0; k < groups.size(); ++k) {
-        items.insert(items.end(), groups[k].definitions.begin(), groups[k].definitions.end());
-        for (const ex& r : groups[k].reach) {
-          output(out_.kinematics,
-                 "s.closure.reach[" + std::to_string(out_.reach_group.size()) + "]", r);
-          out_.reach_group.push_back(static_cast<int>(out_.groups.size() - groups.size() - 1 + k));
-        }
-      }
-      // The tree's cosines and sines of the coordinates the groups have without trigonometry.
-      std::map<ex, ex, GiNaC::ex_is_less> trig;
-      for (const ClosedFormGroup& group : groups)
-        for (const auto& [c, cs] : group.cos_sin) {
-          trig[GiNaC::cos(cols_[static_cast<size_t>(c)].q)] = cs.first;
-          trig[GiNaC::sin(cols_[static_cast<size_t>(c)].q)] = cs.second;
-        }
-      for (const auto& [sym, value] : dependent) {
-        const auto it = trig.find(value);
-        items.emplace_back(sym, it == trig.end() ? value : it->second);
-      }
-      emit_in_dependency_order(std::move(items));
-      for (size_t i = 0; i < ns; ++i)
-        output(out_.kinematics, "s.closure.next[" + std::to_string(i) + "]",
-               cols_[static_cast<size_t>(g_.secondary[i])].q);
-      closure_residual();
-      return;
+    // A closed form may read coordinates another gave (and what depends on them): each
+    // definition after those it reads (the order above where it already is one).
+    for (size_t i = 0; i < g_.secondary.size(); ++i)
+      if (closed_form[i])
+        closed_forms.emplace_back(
+            GiNaC::ex_to<symbol>(cols_[static_cast<size_t>(g_.secondary[i])].q), *closed_form[i]);
+    for (auto& [sym, value] : after_closed_form) {
+      const auto it = trig_.find(value);
+      if (it != trig_.end()) value = it->second;
+      closed_forms.emplace_back(sym, value);
     }
-    out_.plan.push_back("closure positions: " + std::to_string(kNewtonSteps) +
-                        " unrolled Newton-Raphson steps from the warm start");
-    std::vector<ex> q(ns);
-    for (size_t i = 0; i < ns; ++i) q[i] = symbol("s.closure.q[" + std::to_string(i) + "]");
-    for (int step = 0; step < kNewtonSteps; ++step) {
+    emit_in_dependency_order(std::move(closed_forms));
+    const size_t nn = newton_columns.size();
+    std::vector<ex> q(g_.secondary.size());
+    for (size_t k = 0; k < nn; ++k) {
+      q[newton_columns[k]] = symbol("s.closure.q[" + std::to_string(k) + "]");
+      out_.closure_start.push_back(
+          assembly_.q[static_cast<Eigen::Index>(g_.secondary[newton_columns[k]])]);
+    }
+    for (int step = 0; step < kNewtonSteps && nn > 0; ++step) {
       const std::string suffix = "_n" + std::to_string(step);
       GiNaC::exmap subs;
-      for (size_t i = 0; i < ns; ++i) subs[cols_[static_cast<size_t>(g_.secondary[i])].q] = q[i];
+      for (const size_t i : newton_columns)
+        subs[cols_[static_cast<size_t>(g_.secondary[i])].q] = q[i];
       for (const auto& [sym, value] : dependent) {
         const symbol copy(sym.get_name() + suffix);
         out_.definitions.emplace_back(copy, value.subs(subs));
         subs[sym] = copy;
       }
-      const Lu lu = factor(secondary_matrix(subs), "n" + std::to_string(step) + "_");
+      const Lu lu = factor(secondary_matrix(newton, subs), "n" + std::to_string(step) + "_");
       std::vector<ex> rhs;
-      for (const size_t r : pivot_rows_) rhs.push_back(-residual_[r].subs(subs));
-      const std::vector<ex> dq = unpermute(solve(lu, rhs, "n" + std::to_string(step) + "_"));
-      for (size_t i = 0; i < ns; ++i)
+      for (const size_t r : newton.rows) rhs.push_back(-residual_[r].subs(subs));
+      const std::vector<ex> dq =
+          unpermute(newton, solve(lu, rhs, "n" + std::to_string(step) + "_"));
+      for (const size_t i : newton_columns)
         q[i] = named_always("q_" + cols_[static_cast<size_t>(g_.secondary[i])].name + suffix,
                             q[i] + dq[i]);
     }
-    for (size_t i = 0; i < ns; ++i) {
-      out_.definitions.emplace_back(
-          GiNaC::ex_to<symbol>(cols_[static_cast<size_t>(g_.secondary[i])].q), q[i]);
-      output(out_.kinematics, "s.closure.next[" + std::to_string(i) + "]",
-             cols_[static_cast<size_t>(g_.secondary[i])].q);
+    for (size_t k = 0; k < nn; ++k) {
+      const ex& coordinate = cols_[static_cast<size_t>(g_.secondary[newton_columns[k]])].q;
+      out_.definitions.emplace_back(GiNaC::ex_to<symbol>(coordinate), q[newton_columns[k]]);
+      output(out_.kinematics, "s.closure.next[" + std::to_string(k) + "]", coordinate);
     }
     for (const auto& definition : dependent) out_.definitions.push_back(definition);
     closure_residual();
@@ -566,16 +644,16 @@ class Builder {
   void secondary_rates(bool accelerations) {
     const size_t ns = g_.secondary.size();
     if (!accelerations) {
-      lu_ = factor(secondary_matrix({}), "lu_");
+      lu_ = factor(secondary_matrix(pivot_, {}), "lu_");
       output(out_.kinematics, "s.closure.det", named("closure_det", lu_.det));
       std::vector<ex> rhs;
-      for (const size_t r : pivot_rows_) {
+      for (const size_t r : pivot_.rows) {
         ex b = 0;
         for (const int c : g_.primary)
           b -= network_[r][static_cast<size_t>(c)] * cols_[static_cast<size_t>(c)].qd;
         rhs.push_back(b);
       }
-      const std::vector<ex> qd = unpermute(solve(lu_, rhs, "vel_"));
+      const std::vector<ex> qd = unpermute(pivot_, solve(lu_, rhs, "vel_"));
       for (size_t i = 0; i < ns; ++i) {
         Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
         col.qd = named("qd_" + col.name, qd[i]);
@@ -584,16 +662,16 @@ class Builder {
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         sensitivity_[static_cast<size_t>(g_.primary[k])][k] = 1;
         std::vector<ex> b;
-        for (const size_t r : pivot_rows_)
+        for (const size_t r : pivot_.rows)
           b.push_back(-network_[r][static_cast<size_t>(g_.primary[k])]);
-        const std::vector<ex> x = unpermute(solve(lu_, b, "sen" + std::to_string(k) + "_"));
+        const std::vector<ex> x = unpermute(pivot_, solve(lu_, b, "sen" + std::to_string(k) + "_"));
         for (size_t i = 0; i < ns; ++i)
           sensitivity_[static_cast<size_t>(g_.secondary[i])][k] = x[i];
       }
       return;
     }
     std::vector<ex> rhs;
-    for (const size_t r : pivot_rows_) {
+    for (const size_t r : pivot_.rows) {
       const std::vector<int>& coef = circuit_coef_[r / 6];
       ex b = 0;
       for (const int c : g_.primary)
@@ -604,7 +682,7 @@ class Builder {
       }
       rhs.push_back(named("acc_rhs" + std::to_string(r), b));
     }
-    const std::vector<ex> qdd = unpermute(solve(lu_, rhs, "acc_"));
+    const std::vector<ex> qdd = unpermute(pivot_, solve(lu_, rhs, "acc_"));
     for (size_t i = 0; i < ns; ++i) {
       Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
       col.qdd = named("qdd_" + col.name, qdd[i]);
@@ -716,11 +794,10 @@ class Builder {
         output(out_.kinematics, o + "dd", col.qdd);
       }
     }
-    for (const SpatialDriver& d : m_.drivers) {
-      const Column& col =
-          cols_[static_cast<size_t>(g_.joint_column[static_cast<size_t>(d.joint)] + d.column)];
-      const std::string o = "s.drivers." + d.name + ".";
-      output(out_.kinematics, o + "q", col.q);
+    for (const SpatialPrimaryInput& in : inputs_) {
+      const Column& col = cols_[static_cast<size_t>(in.graph_column)];
+      const std::string o = "s.drivers." + in.name + ".";
+      output(out_.kinematics, o + "q", symbol("in." + in.name));
       output(out_.kinematics, o + "qd", col.qd);
       output(out_.kinematics, o + "qdd", col.qdd);
     }
@@ -735,7 +812,7 @@ class Builder {
     }
     for (size_t b = 0; b < m_.bodies.size(); ++b) {
       const SpatialBody& body = m_.bodies[b];
-      if (body.ground || body.is_virtual) continue;
+      if (body.ground || body.is_virtual || !m_.emits_jacobian(body.name)) continue;
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const auto c = static_cast<size_t>(g_.primary[k]);
         const ex sign = g_.path_sign[b][c];
@@ -749,7 +826,7 @@ class Builder {
       }
     }
     for (const auto& [point, b] : m_.named_points()) {
-      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      if (m_.bodies[static_cast<size_t>(b)].ground || !m_.emits_jacobian(point)) continue;
       const V& x = point_.at(point);
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const auto c = static_cast<size_t>(g_.primary[k]);
@@ -779,7 +856,7 @@ class Builder {
             t = t + (g_.path_sign[b][c] * sensitivity_[c][k]) * cols_[c].screw;
         J[b].push_back(named("jw_" + body.name + "_" + std::to_string(k),
                              "jv_" + body.name + "_" + std::to_string(k), t));
-        if (body.is_virtual) continue;
+        if (body.is_virtual || !m_.emits_jacobian(body.name)) continue;
         for (int r = 0; r < 6; ++r)
           output(out_.jacobians,
                  "s.body_jacobians." + body.name + "[" + std::to_string(r) + "][" +
@@ -788,7 +865,7 @@ class Builder {
       }
     }
     for (const auto& [point, b] : m_.named_points()) {
-      if (m_.bodies[static_cast<size_t>(b)].ground) continue;
+      if (m_.bodies[static_cast<size_t>(b)].ground || !m_.emits_jacobian(point)) continue;
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         const V v = geometry::point_velocity(J[static_cast<size_t>(b)][k], point_.at(point));
         for (int r = 0; r < 3; ++r)
@@ -802,8 +879,7 @@ class Builder {
 
   // A closed chain's driver efforts by virtual power: effort k = sum_b W_b . J_bk, each body's
   // rate of momentum minus gravity W_b (about the ground origin) against column k of its twist
-  // Jacobian (unique even where the circuits are redundant). The reactions are not generated yet:
-  // NaN (`not_generated`, a local of the entry points).
+  // Jacobian (unique even where the circuits are redundant); then the reactions.
   void closed_efforts() {
     momentum_.assign(m_.bodies.size(), Wrench{});
     std::vector<ex> effort(g_.primary.size(), 0);
@@ -814,15 +890,158 @@ class Builder {
         effort[k] += geometry::reciprocal(jacobian_[b][k], W);
     }
     for (size_t k = 0; k < g_.primary.size(); ++k) {
-      const SpatialDriver& d =
-          m_.drivers[static_cast<size_t>(g_.columns[static_cast<size_t>(g_.primary[k])].driver)];
-      output(out_.dynamics, "s.drivers." + d.name + ".effort", named("tau_" + d.name, effort[k]));
+      const std::string& name = input(static_cast<size_t>(g_.primary[k]))->name;
+      effort[k] = named("tau_" + name, effort[k]);
+      output(out_.dynamics, "s.drivers." + name + ".effort", effort[k]);
     }
-    const symbol nan("not_generated");
-    for (const SpatialJoint& joint : m_.joints)
-      if (!joint.is_virtual)
-        for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
-          output(out_.dynamics, "s.joints." + joint.name + "." + f, nan);
+    closed_reactions(effort);
+  }
+
+  // A closed chain's reactions, as the numeric solver defines them (A x = b, minimum norm where
+  // redundant). Each circuit's chord carries an unknown wrench y_c (first body on second, about
+  // the ground origin); a tree joint transmits what the tree's backward pass gives plus the
+  // wrenches of the chords whose circuits pass through it (the circuit's column signs), so "no
+  // work on a secondary screw" is N_s^T y = r: Davies' network transposed, solved through the
+  // same fixed-order elimination (lu_, transposed). Rows the pivot order dropped (redundant
+  // closure rows) leave y free along N_s's left null space (one direction per dropped row); the
+  // minimum-norm reactions are the particular one (y zero there) minus its projection on that
+  // space: a d x d Gram solve, symmetric positive definite, in a fixed order.
+  void closed_reactions(const std::vector<ex>& tau) {
+    const size_t nb = m_.bodies.size(), nj = m_.joints.size();
+    std::vector<Wrench> transmitted(nb);  // on each body's subtree, from the tree alone
+    for (auto it = g_.order.rbegin(); it != g_.order.rend(); ++it) {
+      const auto b = static_cast<size_t>(*it);
+      if (*it == m_.ground) continue;
+      Wrench T = momentum_[b];
+      for (size_t ch = 0; ch < nb; ++ch)
+        if (g_.parent[ch] == *it) T = T + transmitted[ch];
+      transmitted[b] = {named("tf_" + body_name(*it), T.f), named("tm_" + body_name(*it), T.m)};
+    }
+    // Per joint: the tree's wrench of its first body on its second, its effort wrench, and the
+    // sign of each circuit's chord wrench in it.
+    std::vector<Wrench> tree(nj), effort(nj);
+    std::vector<std::vector<int>> coef(nj, std::vector<int>(g_.chords.size(), 0));
+    joint_point_.assign(nj, V{});
+    for (size_t j = 0; j < nj; ++j) joint_point_[j] = joint_point(static_cast<int>(j));
+    for (size_t b = 0; b < nb; ++b) {
+      if (static_cast<int>(b) == m_.ground) continue;
+      const auto j = static_cast<size_t>(g_.parent_joint[b]);
+      const int sign = m_.joints[j].first == g_.parent[b] ? 1 : -1;
+      tree[j] = sign == 1 ? transmitted[b] : Wrench{-transmitted[b].f, -transmitted[b].m};
+      for (size_t c = 0; c < g_.chords.size(); ++c) {
+        const SpatialJoint& chord = m_.joints[static_cast<size_t>(g_.chords[c])];
+        coef[j][c] = sign * (in_subtree(chord.first, static_cast<int>(b)) -
+                             in_subtree(chord.second, static_cast<int>(b)));
+      }
+    }
+    for (size_t c = 0; c < g_.chords.size(); ++c) coef[static_cast<size_t>(g_.chords[c])][c] = 1;
+    for (size_t k = 0; k < g_.primary.size(); ++k) {
+      const auto c = static_cast<size_t>(g_.primary[k]);
+      const auto j = static_cast<size_t>(g_.columns[c].joint);
+      const Wrench e = unit_effort(cols_[c], joint_point_[j]);
+      effort[j] = effort[j] + Wrench{tau[k] * e.f, tau[k] * e.m};
+    }
+    // r: per elimination unknown (a secondary column of joint j), what the tree and the efforts
+    // leave: <$, E_j - W_tree_j>.
+    std::vector<ex> r;
+    for (const size_t i : pivot_.columns) {
+      const auto c = static_cast<size_t>(g_.secondary[i]);
+      const auto j = static_cast<size_t>(g_.columns[c].joint);
+      r.push_back(geometry::reciprocal(cols_[c].screw,
+                                       Wrench{effort[j].f - tree[j].f, effort[j].m - tree[j].m}));
+    }
+    const std::vector<Wrench> x =
+        chord_reactions(solve_transposed(lu_, r, "rct_"), "rx", tree, effort, coef);
+    // The null space: per dropped row, y = e_row - (S^-T N_s[row]^T on the pivot rows).
+    std::vector<std::vector<Wrench>> z;
+    const std::vector<Wrench> none(nj);
+    for (size_t row = 0; row < network_.size(); ++row) {
+      if (std::find(pivot_.rows.begin(), pivot_.rows.end(), row) != pivot_.rows.end()) continue;
+      const std::string n = "null" + std::to_string(z.size());
+      std::vector<ex> b;
+      for (const size_t i : pivot_.columns)
+        b.push_back(-network_[row][static_cast<size_t>(g_.secondary[i])]);
+      std::vector<ex> y = solve_transposed(lu_, b, n + "_");
+      y.push_back(1);
+      z.push_back(chord_reactions(y, n, none, none, coef, row));
+    }
+    // Minimum norm: x - Z (Z^T Z)^-1 Z^T x over every joint's six components.
+    auto dot = [&](const std::vector<Wrench>& a, const std::vector<Wrench>& b) {
+      ex sum = 0;
+      for (size_t j = 0; j < nj; ++j)
+        sum += geometry::dot(a[j].f, b[j].f) + geometry::dot(a[j].m, b[j].m);
+      return sum;
+    };
+    std::vector<std::vector<ex>> gram(z.size(), std::vector<ex>(z.size()));
+    std::vector<ex> rhs;
+    for (size_t a = 0; a < z.size(); ++a) {
+      for (size_t b = 0; b < z.size(); ++b)
+        gram[a][b] =
+            b < a ? gram[b][a]
+                  : named("gram" + std::to_string(a) + "_" + std::to_string(b), dot(z[a], z[b]));
+      rhs.push_back(named("gram_rhs" + std::to_string(a), -dot(z[a], x)));
+    }
+    const std::vector<ex> alpha = solve(factor(gram, "gram_"), rhs, "gram_");
+    for (size_t j = 0; j < nj; ++j) {
+      const SpatialJoint& joint = m_.joints[j];
+      if (joint.is_virtual) continue;
+      Wrench w = x[j];
+      for (size_t a = 0; a < z.size(); ++a)
+        w = w + Wrench{alpha[a] * z[a][j].f, alpha[a] * z[a][j].m};
+      const std::string o = "s.joints." + joint.name + ".";
+      output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, w.f));
+      output(out_.dynamics, o, {"mx", "my", "mz"}, named("rm_" + joint.name, w.m));
+    }
+  }
+
+  // Every joint's reaction (force, moment at its point) from the chords' wrenches y (per network
+  // row: the pivot rows' in elimination order, then `extra`'s), the tree's wrench and the
+  // efforts: W_j = tree_j + sum_c coef_jc y_c - effort_j.
+  std::vector<Wrench> chord_reactions(const std::vector<ex>& y, const std::string& prefix,
+                                      const std::vector<Wrench>& tree,
+                                      const std::vector<Wrench>& effort,
+                                      const std::vector<std::vector<int>>& coef, size_t extra = 0) {
+    std::vector<Wrench> chord(g_.chords.size());
+    auto place = [&](size_t row, const ex& value) {
+      Wrench& w = chord[row / 6];
+      (row % 6 < 3 ? w.m[row % 6] : w.f[row % 6 - 3]) += value;  // N's rows: w then v
+    };
+    for (size_t k = 0; k < pivot_.rows.size(); ++k) place(pivot_.rows[k], y[k]);
+    if (y.size() > pivot_.rows.size()) place(extra, y.back());
+    std::vector<Wrench> out;
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
+      Wrench w{tree[j].f - effort[j].f, tree[j].m - effort[j].m};
+      for (size_t c = 0; c < chord.size(); ++c)
+        if (coef[j][c] != 0)
+          w = w + Wrench{ex(coef[j][c]) * chord[c].f, ex(coef[j][c]) * chord[c].m};
+      const std::string n = prefix + "_" + m_.joints[j].name;
+      const V f = named(n + "_f", w.f);
+      out.push_back({f, named(n + "_m", w.m - geometry::cross(joint_point_[j], f))});
+    }
+    return out;
+  }
+
+  // Solves S^T y = b with S = L U the elimination `lu` (U^T z = b forward, then L^T y = z).
+  std::vector<ex> solve_transposed(const Lu& lu, std::vector<ex> b, const std::string& prefix) {
+    const size_t n = b.size();
+    for (size_t k = 0; k < n; ++k) {
+      ex sum = b[k];
+      for (size_t i = 0; i < k; ++i) sum -= lu.a[i][k] * b[i];
+      b[k] = named(prefix + "z" + std::to_string(k), sum * lu.inv[k]);
+    }
+    for (size_t k = n; k-- > 0;) {
+      ex sum = b[k];
+      for (size_t i = k + 1; i < n; ++i) sum -= lu.f[i][k] * b[i];
+      b[k] = named(prefix + "y" + std::to_string(k), sum);
+    }
+    return b;
+  }
+
+  // Whether body b lies in the subtree of body root (root itself included).
+  int in_subtree(int b, int root) const {
+    for (; b >= 0; b = g_.parent[static_cast<size_t>(b)])
+      if (b == root) return 1;
+    return 0;
   }
 
   // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
@@ -870,27 +1089,34 @@ class Builder {
     }
   }
 
+  // Joint j's point s0, carried by its second body.
+  V joint_point(int j) {
+    const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
+    return named("P_" + joint.name,
+                 geometry::apply(D_[static_cast<size_t>(joint.second)],
+                                 n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
+                                                   : cols_[c0_of(j)].axis.s0));
+  }
+  // The wrench of a unit effort on a coordinate: a couple about its axis (rotation, helical) or
+  // a force along it through the joint point (translation), as the numeric solver's.
+  static Wrench unit_effort(const Column& col, const V& P) {
+    if (col.axis.kind == geometry::ScrewKind::translation)
+      return {col.screw.v, geometry::cross(P, col.screw.v)};
+    return {V{0, 0, 0}, col.screw.w};
+  }
+
   // The wrench the parent applies on its child through joint j: the efforts of its driven
   // coordinates (reciprocal products with their screws) and the remaining reaction.
   void joint_loads(int j, int parent, const Wrench& on_child) {
     const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     // The wrench of the joint's first body on its second.
     const Wrench W = joint.first == parent ? on_child : Wrench{-on_child.f, -on_child.m};
-    const V P = named("P_" + joint.name,
-                      geometry::apply(D_[static_cast<size_t>(joint.second)],
-                                      n_columns(j) == 0 ? named("s0_" + joint.name, vec(joint.s0))
-                                                        : cols_[c0_of(j)].axis.s0));
+    const V P = joint_point(j);
     joint_point_[static_cast<size_t>(j)] = P;
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     const size_t n = joint.columns.size();
     std::vector<Wrench> unit_effort;  // per coordinate: the wrench of a unit effort
-    for (size_t k = 0; k < n; ++k) {
-      const Column& col = cols_[c0 + k];
-      if (col.axis.kind == geometry::ScrewKind::translation)
-        unit_effort.push_back({col.screw.v, geometry::cross(P, col.screw.v)});
-      else
-        unit_effort.push_back({V{0, 0, 0}, col.screw.w});
-    }
+    for (size_t k = 0; k < n; ++k) unit_effort.push_back(this->unit_effort(cols_[c0 + k], P));
     // $_i . W = sum_k tau_k ($_i . e_k): one equation per coordinate (the reaction does no work
     // on the joint's screws). A single coordinate has $ . e = 1.
     std::vector<ex> tau(n);
@@ -915,10 +1141,9 @@ class Builder {
     Wrench R = W;
     for (size_t k = 0; k < n; ++k)
       R = R + Wrench{-(tau[k] * unit_effort[k].f), -(tau[k] * unit_effort[k].m)};
-    for (const SpatialDriver& d : m_.drivers)
-      if (d.joint == j)
-        output(out_.dynamics, "s.drivers." + d.name + ".effort",
-               tau[static_cast<size_t>(d.column)]);
+    for (size_t k = 0; k < n; ++k)
+      if (const SpatialPrimaryInput* in = input(c0 + k))
+        output(out_.dynamics, "s.drivers." + in->name + ".effort", tau[k]);
     if (joint.is_virtual) return;
     const std::string o = "s.joints." + joint.name + ".";
     output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, R.f));
@@ -973,13 +1198,9 @@ class Builder {
       const SpatialColumn& sc = g_.columns[static_cast<size_t>(g_.primary[k])];
       const SpatialJoint& joint = m_.joints[static_cast<size_t>(sc.joint)];
       const Column& col = cols_[static_cast<size_t>(g_.primary[k])];
-      const Wrench w =
-          col.axis.kind == geometry::ScrewKind::translation
-              ? Wrench{col.screw.v,
-                       geometry::cross(joint_point_[static_cast<size_t>(sc.joint)], col.screw.v)}
-              : Wrench{V{0, 0, 0}, col.screw.w};
+      const Wrench w = unit_effort(col, joint_point_[static_cast<size_t>(sc.joint)]);
       const int c = 6 * static_cast<int>(m_.joints.size()) + static_cast<int>(k);
-      out_.ne_unknowns.push_back(m_.drivers[static_cast<size_t>(sc.driver)].name + ".effort");
+      out_.ne_unknowns.push_back(input(static_cast<size_t>(g_.primary[k]))->column + ".effort");
       add_wrench(joint.second, c, 1, w);
       add_wrench(joint.first, c, -1, w);
     }
@@ -1001,6 +1222,8 @@ class Builder {
   const SpatialModel& m_;
   const SpatialGraph& g_;
   GiNaC::exmap params_;
+  std::vector<SpatialPrimaryInput> inputs_;
+  std::vector<int> input_of_column_;  // per graph column: its index in inputs_, or -1
   SpatialDerivation out_;
   std::vector<Column> cols_;
   std::vector<Pose> D_, frame_;  // per body: displacement from the reference pose; its frame
@@ -1015,8 +1238,11 @@ class Builder {
   std::vector<ex> residual_;
   std::vector<std::vector<ex>> network_;
   std::vector<std::vector<int>> circuit_coef_;
-  std::vector<size_t> pivot_rows_, pivot_columns_;  // elimination order; unknown k is the
-                                                    // secondary coordinate pivot_columns_[k]
+  std::vector<std::vector<std::vector<double>>> samples_;  // N_s (rows x secondary) per sample
+  spatial::SpatialState assembly_;  // the numeric solver's assembly (default parameters, t0)
+  // cos q and sin q of closed-form coordinates -> their closed forms' (no trigonometry).
+  std::map<ex, ex, GiNaC::ex_is_less> trig_;
+  PivotOrder pivot_;  // Davies' elimination order of the whole N_s
   Lu lu_;
   std::vector<std::vector<ex>> sensitivity_;
   std::vector<std::vector<Twist>> jacobian_;  // per body, per primary: its twist Jacobian column

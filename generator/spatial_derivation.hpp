@@ -11,6 +11,10 @@
 //  - inverse dynamics by a recursive backward pass: each body's rate of momentum plus what its
 //    children draw, transmitted through its tree joint; a driven coordinate's effort is the
 //    reciprocal product of its screw with that wrench, the rest is the joint's reaction.
+//  - closed chains: secondary coordinates by unrolled Newton steps on the closure, Davies' rates
+//    through a fixed-order elimination of N_s, efforts by virtual power, and the reactions from
+//    the chords' wrenches through N_s transposed (the same elimination), projected off the
+//    redundant rows' null space to the numeric solver's minimum-norm ones.
 // Every intermediate is a named definition (an expanded expression of earlier names).
 #pragma once
 
@@ -38,15 +42,22 @@ struct SpatialDerivation {
   std::vector<std::string> groups;        // one per located body: "thigh"
   std::vector<std::string> plan;          // one line per group, for the banner
   int primary_count = 0;
-  // Closed chains: the secondary coordinates at the assembly (default parameters, t0), the
-  // State's default warm start. Empty for a tree.
+  // Closed chains: the secondary coordinates left to the Newton fallback at the assembly
+  // (default parameters, t0), the State's default warm start. Empty for a tree and for a closed
+  // chain solved in closed form throughout.
   std::vector<double> closure_start;
   double closure_det = 0;  // det of the eliminated N_s there
-  // Closed-form position groups (spatial_closed_form.hpp; 0: Newton-Raphson closes every
-  // circuit) and, per `s.closure.reach[k]` output (a group's discriminant, >= 0 where it closes),
-  // the index of its group in `groups`.
-  int closed_form_groups = 0;
-  std::vector<int> reach_group;
+  bool closed_chain = false;
+  // Closed-form groups' reachability: each value must be >= 0, else the kernel returns
+  // unreachable naming groups[group] (a law of cosines' 1 - cos^2, before its square root).
+  struct Guard {
+    GiNaC::ex value;  // a defined name
+    int group = -1;
+  };
+  std::vector<Guard> guards;
+  // Closed-form angles' warm starts (`s.closure.w[k]`, unwinding): their values at the assembly.
+  std::vector<double> angle_start;
+  std::vector<int> closed_form_groups;  // indices into groups (and plan) of the closed forms
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
   // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint
@@ -57,11 +68,13 @@ struct SpatialDerivation {
   std::vector<GiNaC::ex> ne_rhs;
 };
 
-// Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd`.
+// Parameters print as `p.<name>`, driver inputs as `in.<driver>`, `in.<driver>_d`, `_dd` (a pose
+// coordinate: `in.<pose>_<coordinate>`).
 GiNaC::exmap spatial_parameter_symbols(const SpatialModel& model);
 
-// Throws std::runtime_error (naming what is missing) for a model with pose drivers or a closed
-// chain whose N_s is singular at the assembly.
+// Throws std::runtime_error (naming what is missing) for a tree with an undriven coordinate or a
+// closed chain with no pivot order that stays regular over its step. Pose drivers' prescribed
+// coordinates are inputs like joint drivers (spatial_primary_inputs.hpp).
 SpatialDerivation derive_spatial(const SpatialModel& model, const SpatialGraph& graph);
 
 }  // namespace mechgen::gen

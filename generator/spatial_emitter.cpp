@@ -14,8 +14,10 @@
 #include "kernel_fingerprint.hpp"
 #include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
+#include "model/support_model.hpp"
 #include "output_checks.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "spatial_primary_inputs.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
@@ -66,19 +68,27 @@ std::string using_std(const CodeBlock& code) {
 
 // The finiteness checks of these outputs (output_checks.hpp), each stage's failure through
 // `check_line`; every output in `stage` when one is given (the Newton-Euler system's A and b).
+// A value written to several outputs (a screw in every body's Jacobian beyond its joint, a point
+// and its Jacobian's entry, up to sign) is checked once, in the earliest stage that writes it:
+// its copies are finite exactly when it is, and a failure names the same stage.
 std::string spatial_output_checks(
     const std::vector<SpatialOutput>& outputs,
     const std::function<std::string(OutputStage, const std::string& condition)>& check_line,
     OutputStage stage = OutputStage::none) {
+  std::map<ex, CheckedOutput, GiNaC::ex_is_less> first;  // per value (sign aside)
+  std::vector<ex> order;
+  for (const SpatialOutput& o : outputs) {
+    if (GiNaC::is_a<GiNaC::numeric>(o.value)) continue;
+    const OutputStage at = stage == OutputStage::none ? spatial_stage_of(o.target) : stage;
+    const ex key = first.count(-o.value) ? ex(-o.value) : o.value;
+    const auto [it, inserted] = first.emplace(key, CheckedOutput{at, o.target});
+    if (inserted)
+      order.push_back(key);
+    else if (at < it->second.stage)
+      it->second = {at, o.target};
+  }
   std::vector<CheckedOutput> checked;
-  for (const SpatialOutput& o : outputs)
-    // A closed chain's reactions are not generated yet: NaN by design (`not_generated`), so they
-    // are not checked; the runtime refuses to write them (runtime/cli/cmd_spatial.cpp).
-    if (!GiNaC::is_a<GiNaC::numeric>(o.value) &&
-        !(GiNaC::is_a<GiNaC::symbol>(o.value) &&
-          GiNaC::ex_to<GiNaC::symbol>(o.value).get_name() == "not_generated"))
-      checked.push_back(
-          {stage == OutputStage::none ? spatial_stage_of(o.target) : stage, o.target});
+  for (const ex& key : order) checked.push_back(first.at(key));
   return output_checks(checked, "  ", check_line);
 }
 
@@ -95,7 +105,8 @@ std::string kernel_math_functions(const std::string& templates_dir) {
 
 class SpatialEmitter {
  public:
-  SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d) : m_(model), d_(d) {
+  SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d)
+      : m_(model), d_(d), inputs_(spatial_primary_inputs(model, build_spatial_graph(model))) {
     for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
   }
 
@@ -105,7 +116,10 @@ class SpatialEmitter {
   void hoisted_positions(const std::vector<SpatialOutput>& outputs,
                          std::map<std::string, std::string>& v) const {
     const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
+    // A closed form's reach value is checked per sample (after its definition), never hoisted.
     std::set<ex, GiNaC::ex_is_less> varying;
+    for (const SpatialDerivation::Guard& g : d_.guards)
+      if (needed.count(g.value)) varying.insert(g.value);
     auto reads = [](const ex& e, const std::function<bool(const ex&)>& test) {
       for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
         if (GiNaC::is_a<GiNaC::symbol>(*it) && test(*it)) return true;
@@ -139,8 +153,15 @@ class SpatialEmitter {
       hoist[symbol] = GiNaC::symbol("k." + symbol.get_name());
       fields.push_back("  T " + symbol.get_name() + ";");
     }
-    for (const auto& [symbol, value] : d_.definitions)
-      if (varying.count(symbol)) sample.define(symbol.get_name(), value.subs(hoist));
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!varying.count(symbol)) continue;
+      sample.define(symbol.get_name(), value.subs(hoist));
+      for (const SpatialDerivation::Guard& g : d_.guards)
+        if (g.value == symbol)
+          sample.guard(
+              symbol, ">=",
+              "return detail::failed(s, " + std::to_string(g.group) + ", Status::unreachable);");
+    }
     for (const SpatialOutput& o : outputs) sample.assign(o.target, o.value.subs(hoist));
     v["position_constant_fields"] = lines(fields);
     v["position_constants_using"] = using_std(constants);
@@ -170,11 +191,20 @@ class SpatialEmitter {
   }
 
   // Only the definitions the outputs read, in program order, then the outputs.
-  CodeBlock block(const std::vector<SpatialOutput>& outputs) const {
+  // A closed-form group's reach value is checked right after its definition (before any square
+  // root of it) in the entry points that have a State.
+  CodeBlock block(const std::vector<SpatialOutput>& outputs, bool guards = true) const {
     const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
     CodeBlock code;
-    for (const auto& [symbol, value] : d_.definitions)
-      if (needed.count(symbol)) code.define(symbol.get_name(), value);
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!needed.count(symbol)) continue;
+      code.define(symbol.get_name(), value);
+      for (const SpatialDerivation::Guard& g : d_.guards)
+        if (guards && g.value == symbol)
+          code.guard(
+              symbol, ">=",
+              "return detail::failed(s, " + std::to_string(g.group) + ", Status::unreachable);");
+    }
     // A structurally zero Jacobian entry is zero from the State's construction: never written.
     for (const SpatialOutput& o : outputs)
       if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
@@ -231,13 +261,13 @@ class SpatialEmitter {
     CodeBlock motion;
     GiNaC::exmap rename = spatial_parameter_symbols(m_);
     rename[m_.common.t] = GiNaC::symbol("t");
-    for (const SpatialDriver& d : m_.drivers) {
+    for (const SpatialPrimaryInput& d : inputs_) {
       inputs.push_back("  T " + d.name + " = T(0), " + d.name + "_d = T(0), " + d.name +
                        "_dd = T(0);");
       drivers.push_back("    DriverState<T> " + d.name + ";");
       for (const char* suffix : {"", "_d", "_dd"})
-        checks += std::string(" && isfinite(in.") + d.name + suffix + ")";
-      motion.assign("in." + d.name, d.value.ex.subs(rename));
+        checks += std::string(" + T(0) * in.") + d.name + suffix;
+      motion.assign("in." + d.name, d.value.subs(rename));
       motion.assign("in." + d.name + "_d", d.value_d.subs(rename));
       motion.assign("in." + d.name + "_dd", d.value_dd.subs(rename));
     }
@@ -251,11 +281,12 @@ class SpatialEmitter {
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       bodies.push_back("    BodyState<T> " + b.name + ";");
-      body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
+      if (m_.emits_jacobian(b.name))
+        body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
     }
     for (const auto& [point, body] : m_.named_points()) {
       points.push_back("    PointState<T> " + point + ";");
-      if (!m_.bodies[static_cast<size_t>(body)].ground)
+      if (!m_.bodies[static_cast<size_t>(body)].ground && m_.emits_jacobian(point))
         point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
     }
     for (const SpatialJoint& j : m_.joints) {
@@ -296,7 +327,7 @@ class SpatialEmitter {
       system.push_back({"A[" + std::to_string(index) + "]", value});
     for (size_t r = 0; r < d_.ne_rhs.size(); ++r)
       if (!d_.ne_rhs[r].is_zero()) system.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
-    const CodeBlock ne = block(system);
+    const CodeBlock ne = block(system, false);
     v["ne_using"] = using_std(ne);
     v["ne_ops"] = std::to_string(ne.op_count());
     v["ne_body"] = ne.render("  ") + spatial_output_checks(
@@ -316,7 +347,7 @@ class SpatialEmitter {
     std::vector<SpatialOutput> placed;
     for (const SpatialOutput& o : d_.kinematics)
       if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
-          o.target.rfind(d_.closed_form_groups > 0 ? "s.closure.reach[" : "s.closure.", 0) == 0)
+          (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0))
         placed.push_back(o);
     hoisted_positions(placed, v);
     v["positions_body"] += spatial_output_checks(placed, stage_check);
@@ -341,33 +372,38 @@ class SpatialEmitter {
     v["positions_check"] = "";
     v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
-    if (d_.closure_start.empty()) return;
+    if (!d_.closed_chain) return;
     std::string start;
     for (const double q : d_.closure_start)
       start += (start.empty() ? "" : ", ") + number_literal(q);
     const std::string n = std::to_string(d_.closure_start.size());
     // The closure is the last solve group (the stages inputs, positions, ... follow it).
     const std::string closure_group = std::to_string(d_.groups.size() - 1);
-    v["keep_warm_start"] = "  cleared.closure = s.closure;  // the warm start survives a failure\n";
-    // Closed-form groups: each discriminant must be >= 0, else the group cannot close.
-    std::string reach_field, reach_checks;
-    if (!d_.reach_group.empty()) {
-      reach_field = "    T reach[" + std::to_string(d_.reach_group.size()) +
-                    "];  // closed-form groups' discriminants (>= 0: the group closes)\n";
-      reach_checks = "  // Unreachable: a closed-form group's discriminant is negative.\n";
-      for (size_t k = 0; k < d_.reach_group.size(); ++k)
-        reach_checks += "  if (!(s.closure.reach[" + std::to_string(k) +
-                        "] >= T(0)))\n    return detail::failed(s, " +
-                        std::to_string(d_.reach_group[k]) + ", Status::unreachable);\n";
-    }
+    // Warm starts: the Newton coordinates' (none: every circuit in closed form) and the
+    // closed-form angles' (unwinding); neither: only the closure's checks.
+    const bool newton = !d_.closure_start.empty();
+    const bool angles = !d_.angle_start.empty();
+    std::string angle_start;
+    for (const double q : d_.angle_start)
+      angle_start += (angle_start.empty() ? "" : ", ") + number_literal(q);
+    const std::string na = std::to_string(d_.angle_start.size());
+    v["keep_warm_start"] =
+        newton || angles ? "  cleared.closure = s.closure;  // the warm start survives a failure\n"
+                         : "";
     v["closure_fields"] =
-        "  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at "
-        "t0\n  // by default, replaced by every call that closes the circuits), the last call's "
-        "result,\n  // squared closure error and det N_s.\n  struct {\n    T q[" +
-        n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n" + reach_field +
-        "  } closure;\n";
+        (newton ? "  // The closure: secondary coordinates left to Newton-Raphson (the warm start, "
+                  "the assembly at t0\n  // by default, replaced by every call that closes the "
+                  "circuits), the last call's result,\n  // squared closure error and det N_s"
+                : "  // The closure: squared closure error and det N_s") +
+        std::string(angles ? "; the closed-form angles' warm start (the assembly at t0 by "
+                             "default,\n  // unwinding: joint angles stay continuous) and the "
+                             "last call's angles"
+                           : "") +
+        ".\n  struct {\n" +
+        (newton ? "    T q[" + n + "] = {" + start + "};\n    T next[" + n + "];\n" : "") +
+        (angles ? "    T w[" + na + "] = {" + angle_start + "};\n    T wnext[" + na + "];\n" : "") +
+        "    T residual, det;\n  } closure;\n";
     v["closure_check"] =
-        reach_checks +
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
         "  using std::abs;\n"
@@ -378,21 +414,20 @@ class SpatialEmitter {
         ", Status::unreachable;\n"
         "  if (!(abs(s.closure.det) > " +
         number_literal(1e-9 * std::abs(d_.closure_det)) +
-        "))\n    return s.failed_group = " + closure_group +
-        ", Status::singular;\n"
-        "  for (int i = 0; i < " +
-        n + "; ++i) s.closure.q[i] = s.closure.next[i];\n";
-    // Closed-form positions need only their discriminants checked.
-    v["positions_check"] = reach_checks.empty() ? v["closure_check"] : reach_checks;
-    v["entry_state"] =
-        "// A closed chain's warm start carries over from one call to the next (per thread and "
-        "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
-        "static thread_local State<T> s;\n"
-        "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
-        "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
-    const std::string nan =
-        "\n  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();";
-    for (const char* k : {"kinematics_using", "evaluate_using", "control_using"}) v[k] += nan;
+        "))\n    return s.failed_group = " + closure_group + ", Status::singular;\n" +
+        (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
+                : "") +
+        (angles ? "  for (int i = 0; i < " + na + "; ++i) s.closure.w[i] = s.closure.wnext[i];\n"
+                : "");
+    // The positions-only entry: the closed forms' reach checked inline; the Newton closure's.
+    if (newton) v["positions_check"] = v["closure_check"];
+    if (newton || angles)
+      v["entry_state"] =
+          "// A closed chain's warm start carries over from one call to the next (per thread and "
+          "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
+          "static thread_local State<T> s;\n"
+          "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
+          "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
   }
 
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.
@@ -402,9 +437,9 @@ class SpatialEmitter {
       body.push_back("  row[" + std::to_string(names.size()) + "] = " + source + ";");
       names.push_back(name);
     };
-    for (const SpatialDriver& d : m_.drivers)
+    for (const SpatialPrimaryInput& d : inputs_)
       for (const char* f : {"q", "qd", "qdd", "effort"})
-        column(d.name + "." + f, "s.drivers." + d.name + "." + f);
+        column(d.column + "." + f, "s.drivers." + d.name + "." + f);
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
       const std::string s = "s.bodies." + b.name + ".";
@@ -436,6 +471,7 @@ class SpatialEmitter {
 
   const SpatialModel& m_;
   const SpatialDerivation& d_;
+  std::vector<SpatialPrimaryInput> inputs_;  // joint drivers, then prescribed pose coordinates
   std::map<ex, ex, GiNaC::ex_is_less> definition_;
 };
 
@@ -455,9 +491,11 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                    render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
                                    header, "spatial_kernel.hpp.in")});
   std::string driven;
-  for (size_t i = 0; i < model.drivers.size(); ++i)
+  const std::vector<SpatialPrimaryInput> inputs =
+      spatial_primary_inputs(model, build_spatial_graph(model));
+  for (size_t i = 0; i < inputs.size(); ++i)
     for (size_t k = 0; k < 3; ++k)
-      driven += std::string(driven.empty() ? "" : "\n") + "in." + model.drivers[i].name +
+      driven += std::string(driven.empty() ? "" : "\n") + "in." + inputs[i].name +
                 (k == 0   ? ""
                  : k == 1 ? "_d"
                           : "_dd") +
@@ -465,9 +503,9 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
   // The positions-only batch: driver k's coordinate of sample i at q[k * n + i]; point c's axis
   // a to out[(3 c + a) n + i].
   std::string batch_inputs, batch_points, point_names;
-  for (size_t i = 0; i < model.drivers.size(); ++i)
-    batch_inputs += std::string(batch_inputs.empty() ? "" : "\n    ") + "in." +
-                    model.drivers[i].name + " = q[" + std::to_string(i) + " * n + i];";
+  for (size_t i = 0; i < inputs.size(); ++i)
+    batch_inputs += std::string(batch_inputs.empty() ? "" : "\n    ") + "in." + inputs[i].name +
+                    " = q[" + std::to_string(i) + " * n + i];";
   size_t point_count = 0;
   for (const auto& [point, body] : model.named_points()) {
     for (size_t a = 0; a < 3; ++a)
@@ -481,7 +519,7 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       {"model", values.at("model")},
       {"source", values.at("source")},
       {"command", values.at("command")},
-      {"driver_count", std::to_string(model.drivers.size())},
+      {"driver_count", std::to_string(inputs.size())},
       {"driven_inputs", driven},
       {"entry_state", values.at("entry_state")},
       {"batch_inputs", batch_inputs},
@@ -496,13 +534,17 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
 }
 
 GenerateResult generate_spatial(const GenerateOptions& options) {
-  const SpatialModel model = read_spatial_model(options.model_path);
+  const SpatialModel model =
+      options.support.empty()
+          ? read_spatial_model(options.model_path)
+          : weld_support(read_spatial_model(options.model_path), options.support);
   const SpatialGraph graph = build_spatial_graph(model);
   const SpatialDerivation derivation = derive_spatial(model, graph);
   EmitOptions emit;
   emit.templates_dir = options.templates_dir;
   emit.source = display_path(options.model_path);
-  emit.command = "build/mechgen generate " + emit.source;
+  emit.command = "build/mechgen generate " + emit.source +
+                 (options.support.empty() ? "" : " --support " + options.support);
   emit.fingerprint =
       kernel_fingerprint(model.common, options.templates_dir, false, KernelKind::spatial);
   GenerateResult result{model.common.name, {}, derivation.plan};

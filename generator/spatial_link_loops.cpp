@@ -2,8 +2,12 @@
 #include "spatial_link_loops.hpp"
 
 #include <cmath>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace mechgen::gen {
 
@@ -18,6 +22,41 @@ namespace {
 using V = geometry::Vec3<ex>;
 using M = geometry::Mat3<ex>;
 using Pose = geometry::Pose<ex>;
+
+// What the link solver works from: the derivation's columns and tree poses, the columns known so
+// far, and the assembly (default parameters, t0: the numeric solver's pose) to choose branches
+// and to check itself; its own definitions' values there in `assembly`.
+struct ClosureContext {
+  const CircuitSolverContext& circuit;
+  const SpatialModel& model;
+  const SpatialGraph& graph;
+  std::vector<geometry::ScrewAxis<ex>> axes;  // per column
+  std::vector<ex> q;                          // per column: its coordinate's symbol
+  const std::vector<Pose>& tree_pose;         // per body: displacement along the tree
+  const std::vector<bool>& known;             // per column: primary or solved
+  const std::vector<double>& assembly_q;      // per column: the coordinate at the assembly
+  GiNaC::exmap assembly;                      // the group's own definitions -> their values
+
+  double value(const ex& e) const { return circuit.at_assembly(e.subs(assembly)); }
+  // Body b's tree pose is usable: every coordinate on its tree path is known.
+  bool pose_known(int body) const {
+    const std::vector<int>& path = graph.path_sign[static_cast<size_t>(body)];
+    for (size_t c = 0; c < path.size(); ++c)
+      if (path[c] != 0 && !known[c]) return false;
+    return true;
+  }
+};
+
+// One link's closed form: the secondary coordinates it defines and how.
+struct ClosedFormGroup {
+  std::string name, plan;
+  std::vector<int> columns;  // secondary columns it defines
+  // Program order; the columns' own symbols (ClosureContext::q) are defined among them.
+  std::vector<std::pair<symbol, ex>> definitions;
+  std::vector<ex> reach;  // each >= 0 where the link closes (its discriminants)
+  std::map<int, std::pair<ex, ex>> cos_sin;
+  std::map<int, ex> warm;  // per column: its warm start's placeholder
+};
 
 // The chain Y -near- L1 [-prismatic- L2] -far- X found around one revolute K-Y.
 struct Link {
@@ -106,7 +145,7 @@ class LinkSolver {
     const SpatialJoint& u = joint(universal_end());
     const SpatialJoint& s = joint(spherical_end());
     g_.plan =
-        rname + ": closed form, link '" + body(l_.L1) +
+        "closed form, link '" + body(l_.L1) +
         (l_.prismatic >= 0
              ? "' + '" + body(l_.L2) + "' (length driven by '" + joint(l_.prismatic).name + "')"
              : "'") +
@@ -147,10 +186,12 @@ class LinkSolver {
     return out;
   }
   // Column c's coordinate from the sine-like y and cosine-like x of its angle, unwound to the
-  // warm start w: w + atan2(sin(angle - w), cos(angle - w)) (continuous along a sweep, as the
-  // numeric solver's Newton-Raphson from the previous sample).
+  // warm start w (the previous call's value): w + atan2(sin(angle - w), cos(angle - w))
+  // (continuous along a sweep, as the numeric solver's Newton-Raphson from the previous sample).
   void define_angle(size_t c, const ex& y, const ex& x) {
-    const ex w = ctx_.warm[c];
+    const symbol w("warm_" + std::to_string(c));
+    ctx_.assembly[w] = ctx_.assembly_q[c];
+    g_.warm[static_cast<int>(c)] = w;
     const ex cw = GiNaC::cos(w), sw = GiNaC::sin(w);
     const symbol q = GiNaC::ex_to<symbol>(ctx_.q[c]);
     const ex value = w + GiNaC::atan2((y * cw - x * sw).expand(), (x * cw + y * sw).expand());
@@ -323,34 +364,79 @@ class LinkSolver {
   Pose DY_;
 };
 
-}  // namespace
-
-bool link_loop_groups(ClosureContext& ctx, std::vector<ClosedFormGroup>& groups) {
+// The first link (over the unknown revolutes in joint order) that `accept` takes.
+std::optional<ClosedFormGroup> link_group(
+    ClosureContext& ctx, const std::function<bool(const ClosedFormGroup&)>& accept) {
   const SpatialModel& m = ctx.model;
-  bool found = false;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     const SpatialJoint& r = m.joints[j];
     if (r.type != SpatialJointType::revolute || !unknown(ctx, static_cast<int>(j))) continue;
     for (const auto& [K, Y] : {std::pair{r.first, r.second}, std::pair{r.second, r.first}}) {
       if (Y == m.ground || !ctx.pose_known(K)) continue;
-      std::optional<ClosedFormGroup> group;
       for (const int near : joints_of(m, Y, static_cast<int>(j))) {
         if (!end_joint(ctx, near)) continue;
         const std::optional<Link> link = find_link(ctx, static_cast<int>(j), K, Y, near);
         if (!link) continue;
-        const GiNaC::exmap saved = ctx.assembly;
-        group = LinkSolver(ctx, *link).solve();
-        if (group) break;
-        ctx.assembly = saved;
+        ctx.assembly.clear();
+        std::optional<ClosedFormGroup> group = LinkSolver(ctx, *link).solve();
+        if (group && accept(*group)) return group;
       }
-      if (!group) continue;
-      for (const int c : group->columns) ctx.known[static_cast<size_t>(c)] = true;
-      groups.push_back(std::move(*group));
-      found = true;
-      break;
     }
   }
-  return found;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContext& context,
+                                                       int circuit) {
+  const SpatialGraph& g = context.graph;
+  ClosureContext ctx{context,       context.model,      g, {}, {}, context.tree_pose,
+                     context.known, context.assembly_q, {}};
+  for (const CircuitColumn& c : context.columns) {
+    ctx.axes.push_back(c.axis);
+    ctx.q.push_back(c.q);
+  }
+  // The circuit's columns: those whose coefficient in its closure is not zero.
+  const int chord = g.chords[static_cast<size_t>(circuit)];
+  const SpatialJoint& cj = context.model.joints[static_cast<size_t>(chord)];
+  std::vector<bool> in_circuit(g.columns.size());
+  for (size_t c = 0; c < g.columns.size(); ++c)
+    in_circuit[c] = g.path_sign[static_cast<size_t>(cj.first)][c] -
+                        g.path_sign[static_cast<size_t>(cj.second)][c] +
+                        (g.columns[c].joint == chord ? 1 : 0) !=
+                    0;
+  const auto accept = [&](const ClosedFormGroup& group) {
+    std::vector<bool> known = context.known;
+    for (const int c : group.columns) {
+      if (!in_circuit[static_cast<size_t>(c)]) return false;
+      known[static_cast<size_t>(c)] = true;
+    }
+    for (size_t c = 0; c < known.size(); ++c)
+      if (in_circuit[c] && !known[c]) return false;
+    return true;
+  };
+  const std::optional<ClosedFormGroup> group = link_group(ctx, accept);
+  if (!group) return std::nullopt;
+  // The group's definitions under the derivation's names (the columns' own symbols are its
+  // coordinates).
+  CircuitClosedForm out{group->name, group->plan, {}, {}, {}};
+  std::map<ex, int, GiNaC::ex_is_less> column_of;
+  for (const int c : group->columns) column_of[ctx.q[static_cast<size_t>(c)]] = c;
+  GiNaC::exmap renamed;
+  for (const auto& [c, w] : group->warm) renamed[w] = context.warm_start(c);
+  for (const auto& [name, value] : group->definitions) {
+    const ex v = value.subs(renamed);
+    const auto it = column_of.find(name);
+    if (it != column_of.end())
+      out.coordinates.emplace_back(it->second, v);
+    else
+      renamed[name] = context.named(name.get_name(), v);
+  }
+  for (const ex& r : group->reach) out.reach.push_back(r.subs(renamed));
+  for (const auto& [c, cs] : group->cos_sin)
+    out.cos_sin[c] = {cs.first.subs(renamed), cs.second.subs(renamed)};
+  return out;
 }
 
 }  // namespace mechgen::gen

@@ -17,14 +17,15 @@ fi
 cmake -S fuzz -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
   "${launcher[@]}" >/dev/null
 cmake --build build-fuzz -j "${MECHGEN_JOBS:-2}"
-mkdir -p build-fuzz/corpus/reader build-fuzz/corpus/kernel
+mkdir -p build-fuzz/corpus/reader build-fuzz/corpus/kernel build-fuzz/corpus/spatial_kernel
 cp -n models/*.yaml build-fuzz/corpus/reader/
 export ASAN_OPTIONS="detect_leaks=0:allocator_may_return_null=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 cd build-fuzz
-for target in model_reader_fuzzer kernel_fuzzer; do
+for target in model_reader_fuzzer kernel_fuzzer spatial_kernel_fuzzer; do
   corpus=corpus/reader
   [[ $target == kernel_fuzzer ]] && corpus=corpus/kernel
+  [[ $target == spatial_kernel_fuzzer ]] && corpus=corpus/spatial_kernel
   echo "==> $target for ${seconds} s"
   # -rss_limit_mb and -timeout: a memory blow-up or a hang is a finding too; -max_len covers the
   # largest shipped model.

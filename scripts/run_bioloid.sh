@@ -2,8 +2,9 @@
 # The Bioloid humanoid of seed 001 (issue 13), from a clean clone, into out/bioloid/:
 #   scripts/run_bioloid.sh            every step below, in order
 #   scripts/run_bioloid.sh gait ...   only the named steps (each expects the earlier ones' files)
-# Kinematics and dynamics run on the numeric reference solver (the generated spatial kernels of
-# issue 11 can replace it later behind the same primary motion).
+# The whole-body kinematics run on the numeric reference solver; the single-support torques and
+# floor wrench on the generated kernels bioloid_support_r_foot / _l_foot (compiled into mechgen;
+# `--solver numeric` in step_gait for the numeric tree dynamics).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 jobs=${MECHGEN_JOBS:-2}

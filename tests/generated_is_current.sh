@@ -2,14 +2,21 @@
 # generated_is_current.sh GENERATOR SOURCE_DIR MODEL...: regenerates each model into a temporary
 # folder and compares it byte for byte with the committed generated/<model>/; in a git checkout
 # also requires generated/ to match the committed files (the build regenerates in place).
+# MODEL:BODY is a single-support kernel, generated/MODEL_support_BODY/.
 set -euo pipefail
 generator=$1 source=$2
 shift 2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 status=0
-for model in "$@"; do
-  "$generator" "$source/models/$model.yaml" "$tmp/$model" "$source/templates"
+for entry in "$@"; do
+  if [[ $entry == *:* ]]; then
+    model=${entry%%:*}_support_${entry#*:}
+    "$generator" "$source/models/${entry%%:*}.yaml" "$tmp/$model" "$source/templates" "${entry#*:}"
+  else
+    model=$entry
+    "$generator" "$source/models/$model.yaml" "$tmp/$model" "$source/templates"
+  fi
   if ! diff -r "$source/generated/$model" "$tmp/$model" >"$tmp/$model.diff"; then
     echo "generated/$model differs from a fresh regeneration:"; head -20 "$tmp/$model.diff"; status=1
   fi

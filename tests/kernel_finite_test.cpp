@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "model/model.hpp"
-#include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
+#include "model/support_model.hpp"
 #include "sweep/compiled_kernel.hpp"
 
 namespace mechgen {
@@ -56,23 +56,11 @@ void draw_parameters(std::mt19937_64& rng, const std::vector<double>& defaults,
 struct Tally {
   int ok = 0, non_finite = 0, other = 0;
 };
-// A closed-chain spatial kernel does not generate joint reactions yet (docs/spatial_kernels.md):
-// those columns are NaN by design and the command line refuses to write them; every other column
-// is checked.
-bool reaction_not_generated(const CompiledKernel& k, int column, bool closed_chain) {
-  if (!closed_chain) return false;
-  const std::string name = k.column_names[column];
-  const std::string suffix = name.size() > 3 ? name.substr(name.size() - 3) : name;
-  return suffix == ".fx" || suffix == ".fy" || suffix == ".fz" || suffix == ".mx" ||
-         suffix == ".my" || suffix == ".mz";
-}
-
 void expect_honest(const CompiledKernel& k, int status, int group, const std::vector<double>& row,
-                   const std::string& where, Tally& tally, bool closed_chain) {
+                   const std::string& where, Tally& tally) {
   if (status == 0) {
     ++tally.ok;
     for (int c = 0; c < k.column_count; ++c) {
-      if (reaction_not_generated(k, c, closed_chain)) continue;
       ASSERT_TRUE(std::isfinite(row[static_cast<size_t>(c)]))
           << k.model << " " << where << ": ok with " << k.column_names[c] << " = "
           << row[static_cast<size_t>(c)];
@@ -94,6 +82,11 @@ void expect_honest(const CompiledKernel& k, int status, int group, const std::ve
 
 // The defaults of a shipped model, planar or spatial.
 std::vector<double> shipped_defaults(const std::string& name) {
+  if (const auto support = split_support_model_name(name))
+    return weld_support(read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/" +
+                                           support->first + ".yaml"),
+                        support->second)
+        .common.default_parameters();
   const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml";
   return is_spatial_description(path) ? read_spatial_model(path).common.default_parameters()
                                       : read_model(path).default_parameters();
@@ -107,9 +100,6 @@ TEST(KernelFinite, OkImpliesEveryOutputFinite) {
     const CompiledKernel& k = *find_compiled_kernel(name);
     SCOPED_TRACE(name);
     const std::vector<double> defaults = shipped_defaults(name);
-    const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml";
-    const bool closed_chain = is_spatial_description(path) &&
-                              build_spatial_graph(read_spatial_model(path)).circuits() > 0;
     ASSERT_EQ(defaults.size(), static_cast<size_t>(k.parameter_count));
     std::vector<double> parameters(defaults.size());
     std::vector<double> row(static_cast<size_t>(k.column_count));
@@ -122,13 +112,13 @@ TEST(KernelFinite, OkImpliesEveryOutputFinite) {
       int group = -1;
       const std::string where = "call " + std::to_string(call);
       int status = k.evaluate_double(parameters.data(), t, row.data(), &group);
-      expect_honest(k, status, group, row, where + " (double)", scalar, closed_chain);
+      expect_honest(k, status, group, row, where + " (double)", scalar);
       group = -1;
       status = k.evaluate_float(parameters.data(), t, row.data(), &group);
-      expect_honest(k, status, group, row, where + " (float)", scalar, closed_chain);
+      expect_honest(k, status, group, row, where + " (float)", scalar);
       group = -1;
       status = k.evaluate_driven_double(parameters.data(), t, drivers.data(), row.data(), &group);
-      expect_honest(k, status, group, row, where + " (driven)", scalar, closed_chain);
+      expect_honest(k, status, group, row, where + " (driven)", scalar);
       if (HasFatalFailure()) return;
     }
     constexpr long n = 64;
@@ -143,8 +133,7 @@ TEST(KernelFinite, OkImpliesEveryOutputFinite) {
         for (int c = 0; c < k.column_count; ++c)
           row[static_cast<size_t>(c)] = out[static_cast<size_t>(c * n + i)];
         expect_honest(k, status[static_cast<size_t>(i)], group[static_cast<size_t>(i)], row,
-                      "batch " + std::to_string(block) + " sample " + std::to_string(i), batch,
-                      closed_chain);
+                      "batch " + std::to_string(block) + " sample " + std::to_string(i), batch);
         if (HasFatalFailure()) return;
       }
     }

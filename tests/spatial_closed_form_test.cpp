@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include "analysis/workspace.hpp"
@@ -19,16 +18,13 @@ namespace {
 namespace k = gen::quadruped_leg;
 
 // Cylinder l1 drawn out far beyond any length the hip can take: the hip's group has no real
-// angle (its discriminant is negative). Unreachable, named, the State cleared (no NaN) and the
-// warm start kept.
+// angle (its discriminant is negative). Unreachable, named and the State cleared (no NaN).
 TEST(SpatialClosedForm, QuadrupedCylinderTooLongIsUnreachableNamingTheGroup) {
   const k::Params<double> p;
   k::State<double> s;
   k::Inputs<double> in;
   k::driver_inputs(p, 0.4, in);
   ASSERT_EQ(k::evaluate(p, in, s), k::Status::ok);
-  double before[24];
-  std::memcpy(before, s.closure.q, sizeof before);
   k::Inputs<double> far = in;
   far.l1 = 1.0;
   using Entry =
@@ -42,7 +38,6 @@ TEST(SpatialClosedForm, QuadrupedCylinderTooLongIsUnreachableNamingTheGroup) {
         << k::group_names[s.failed_group];
     EXPECT_EQ(s.points.D.x, 0.0);
     EXPECT_FALSE(std::isnan(s.bodies.shank.x));
-    for (int i = 0; i < 24; ++i) EXPECT_EQ(s.closure.q[i], before[i]);
   }
   // Back in range: ok again.
   EXPECT_EQ(k::evaluate(p, in, s), k::Status::ok);

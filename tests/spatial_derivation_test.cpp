@@ -5,13 +5,18 @@
 // configurations and parameter values (every body output, Jacobian, effort and reaction).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
 
 namespace mechgen::gen {
@@ -62,6 +67,22 @@ double evaluate(const GiNaC::ex& e, const Values& values) {
   return GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(e.subs(subs))).to_double();
 }
 
+// The kernel's inputs: parameters as `p.<name>`, each driver's coordinate and rates as `in.<d>`.
+Values input_values(const SpatialModel& model, const SpatialGraph& graph,
+                    const std::vector<double>& parameters, const Eigen::VectorXd& q,
+                    const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+  Values values;
+  for (size_t i = 0; i < parameters.size(); ++i)
+    values["p." + model.common.parameters[i].name] = parameters[i];
+  for (const SpatialDriver& dr : model.drivers) {
+    const int c = graph.joint_column[static_cast<size_t>(dr.joint)] + dr.column;
+    values["in." + dr.name] = q[c];
+    values["in." + dr.name + "_d"] = qd[c];
+    values["in." + dr.name + "_dd"] = qdd[c];
+  }
+  return values;
+}
+
 // The derivation's outputs at one random configuration against the solver's: the worst
 // relative difference (floor 1) and the number of outputs compared.
 void compare(const SpatialModel& model, const SpatialGraph& graph, const SpatialDerivation& d,
@@ -78,22 +99,20 @@ void compare(const SpatialModel& model, const SpatialGraph& graph, const Spatial
   solver.rates(s, qd, qdd);
   const spatial::SpatialLoads loads = spatial::inverse_dynamics(solver, s);
 
-  Values values;
-  for (size_t i = 0; i < parameters.size(); ++i)
-    values["p." + model.common.parameters[i].name] = parameters[i];
-  for (const SpatialDriver& dr : model.drivers) {
-    const int c = graph.joint_column[static_cast<size_t>(dr.joint)] + dr.column;
-    values["in." + dr.name] = s.q[c];
-    values["in." + dr.name + "_d"] = qd[c];
-    values["in." + dr.name + "_dd"] = qdd[c];
-  }
+  Values values = input_values(model, graph, parameters, s.q, qd, qdd);
   for (const auto& [symbol, value] : d.definitions)
     values[symbol.get_name()] = evaluate(value, values);
   Values out;
   for (const auto* list : {&d.kinematics, &d.jacobians, &d.dynamics})
     for (const SpatialOutput& o : *list) out[o.target] = evaluate(o.value, values);
 
+  // A Jacobian the model's `kernel: {jacobians}` leaves out must not be an output at all.
+  std::string owner;  // the body or point of the Jacobian entries checked next
   auto check = [&](const std::string& target, double expected) {
+    if (target.find("_jacobians.") != std::string::npos && !model.emits_jacobian(owner)) {
+      EXPECT_FALSE(out.count(target)) << target;
+      return;
+    }
     ASSERT_TRUE(out.count(target)) << target;
     worst =
         std::max(worst, std::abs(out.at(target) - expected) / std::max(1.0, std::abs(expected)));
@@ -117,6 +136,7 @@ void compare(const SpatialModel& model, const SpatialGraph& graph, const Spatial
       check(o + "al" + "xyz"[i], s.A[b].w[k]);
     }
     for (size_t k = 0; k < 9; ++k) check(o + "R[" + std::to_string(k) + "]", frame.R.m[k]);
+    owner = model.bodies[b].name;
     const Eigen::MatrixXd J = solver.body_jacobian(s, bi);
     for (int r = 0; r < 6; ++r)
       for (int col = 0; col < n; ++col)
@@ -133,6 +153,7 @@ void compare(const SpatialModel& model, const SpatialGraph& graph, const Spatial
       check("s.points." + point + ".v" + "xyz"[r], xv[static_cast<size_t>(r)]);
       check("s.points." + point + ".a" + "xyz"[r], xa[static_cast<size_t>(r)]);
     }
+    owner = point;
     const Eigen::MatrixXd J = solver.point_jacobian(s, b, x);
     for (int r = 0; r < 3; ++r) {
       check("s.points." + point + "." + "xyz"[r], x[static_cast<size_t>(r)]);
@@ -172,6 +193,136 @@ TEST(SpatialDerivation, TreeOfEveryDrivableJointEqualsTheNumericSolver) {
   EXPECT_LT(worst, 1e-12);
   std::cout << "tree of every drivable joint type: " << compared << " outputs, worst " << worst
             << "\n";
+}
+
+// `kernel: {jacobians: [r2, heel]}`: r2's twist Jacobian and heel's velocity Jacobian are
+// outputs and equal the solver's; the other bodies' and tip's are not outputs (compare() checks
+// both); everything else is as without the key.
+TEST(SpatialDerivation, OnlyTheJacobiansTheModelAsksForAreEmitted) {
+  const SpatialModel model = read_spatial_model_text(
+      std::string(kTree) + "kernel: {jacobians: [r2, heel]}\n", "tree_kinds.yaml");
+  const SpatialGraph graph = build_spatial_graph(model);
+  const SpatialDerivation d = derive_spatial(model, graph);
+  std::set<std::string> owners;
+  for (const SpatialOutput& o : d.jacobians) owners.insert(o.target.substr(0, o.target.find('[')));
+  EXPECT_EQ(owners, (std::set<std::string>{"s.body_jacobians.r2", "s.point_jacobians.heel"}));
+  std::mt19937 rng(29);
+  double worst = 0;
+  int compared = 0;
+  for (int trial = 0; trial < 3; ++trial)
+    compare(model, graph, d, {0.1, 0.12}, rng, worst, compared);
+  EXPECT_LT(worst, 1e-12);
+  // Per trial: r2's 6 x 7 and heel's 3 x 7 entries besides the other outputs.
+  const SpatialDerivation all =
+      derive_spatial(read_spatial_model_text(kTree, "tree_kinds.yaml"), graph);
+  EXPECT_EQ(d.jacobians.size(), 6u * 7 + 3u * 7);
+  EXPECT_EQ(all.jacobians.size(), (6u * 6 + 3u * 2) * 7);
+}
+
+TEST(SpatialDerivation, KernelJacobiansNamesAreChecked) {
+  for (const auto& [entry, message] : std::vector<std::pair<std::string, std::string>>{
+           {"[r2, knee]", "'knee' is neither a moving body nor a named point"},
+           {"[waist]", "'waist' is neither a moving body nor a named point"},
+           {"[heel, heel]", "'heel' is listed twice"},
+           {"r2", "must be a list"}}) {
+    try {
+      read_spatial_model_text(std::string(kTree) + "kernel:\n  jacobians: " + entry + "\n",
+                              "tree_kinds.yaml");
+      ADD_FAILURE() << entry << " was accepted";
+    } catch (const ModelError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("tree_kinds.yaml:"), std::string::npos) << what;
+      EXPECT_NE(what.find(message), std::string::npos) << what;
+      // The line of the kernel entry: the last line of the text.
+      EXPECT_NE(
+          what.find(":" + std::to_string(std::count(kTree, kTree + std::strlen(kTree), '\n') + 2) +
+                    ":"),
+          std::string::npos)
+          << what;
+    }
+  }
+}
+
+// A model with applied loads is refused (the kernels' Newton-Euler has none) with a message that
+// names the load and says what to use instead, never a kernel that silently leaves it out.
+TEST(SpatialDerivation, AppliedLoadsAreRefusedNotLeftOut) {
+  const SpatialModel model = read_spatial_model_text(
+      std::string(kTree) +
+          "forces:\n  - {name: push, type: force, body: r3, point: tip, value: [0, 0, -5]}\n",
+      "tree_kinds.yaml");
+  try {
+    derive_spatial(model, build_spatial_graph(model));
+    ADD_FAILURE() << "a model with applied loads was generated";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'push'"), std::string::npos) << what;
+    EXPECT_NE(what.find("--solver numeric"), std::string::npos) << what;
+  }
+}
+
+// A closed chain's reactions (N_s transposed, minimum norm over the redundant rows' null space)
+// evaluated numerically against the numeric solver's A x = b along the step: chebyshev_spatial
+// with gravity tilted out of its plane, so that its three redundant components (fz, mx, my of
+// every joint) carry load and the minimum-norm choice matters, and rsur (no redundancy).
+void closed_reactions_equal_numeric(const std::string& text, const std::string& label,
+                                    int expected_redundancy) {
+  const SpatialModel model = read_spatial_model_text(text, label);
+  const SpatialGraph graph = build_spatial_graph(model);
+  const SpatialDerivation d = derive_spatial(model, graph);
+  const std::vector<double> parameters = model.common.default_parameters();
+  const spatial::SpatialSolver solver(model, parameters);
+  const spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);
+  spatial::SpatialState st;
+  double worst = 0, largest = 0;
+  for (int i = 0; i < 12; ++i) {
+    solver.solve(options.t0 + (options.t1 - options.t0) * i / 12, st);
+    const spatial::SpatialLoads loads = spatial::inverse_dynamics(solver, st);
+    EXPECT_EQ(loads.redundancy, expected_redundancy);
+    Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd);
+    for (size_t k = 0; k < graph.secondary.size(); ++k)
+      values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
+    // Closed-form angles unwound to the assembly's (the reactions read their cosines and sines).
+    for (size_t k = 0; k < d.angle_start.size(); ++k)
+      values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
+    for (const auto& [symbol, value] : d.definitions)
+      values[symbol.get_name()] = evaluate(value, values);
+    std::map<std::string, double> out;
+    for (const SpatialOutput& o : d.dynamics) out[o.target] = evaluate(o.value, values);
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+      const std::string o = "s.joints." + model.joints[j].name + ".";
+      for (int k = 0; k < 3; ++k) {
+        const auto kk = static_cast<size_t>(k);
+        for (const auto& [target, expected] :
+             {std::pair{o + "f" + "xyz"[k], loads.reaction[j].f[kk]},
+              std::pair{o + "m" + "xyz"[k], loads.reaction[j].m[kk]}}) {
+          ASSERT_TRUE(out.count(target)) << target;
+          worst = std::max(worst, std::abs(out.at(target) - expected));
+          largest = std::max(largest, std::abs(expected));
+        }
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-9 * largest);
+  std::cout << label << ": reactions (minimum norm, redundancy " << expected_redundancy
+            << ") against the numeric solver, 12 poses: worst " << worst << " of " << largest
+            << "\n";
+}
+
+std::string model_text(const std::string& name) {
+  std::ifstream in(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(SpatialDerivation, ClosedChainReactionsAreTheNumericSolversMinimumNormOnes) {
+  std::string chebyshev = model_text("chebyshev_spatial");
+  const std::string planar_gravity = "gravity: [0, -9.81, 0]";
+  ASSERT_NE(chebyshev.find(planar_gravity), std::string::npos);
+  chebyshev.replace(chebyshev.find(planar_gravity), planar_gravity.size(),
+                    "gravity: [1.5, -9.81, -4]");
+  closed_reactions_equal_numeric(chebyshev, "chebyshev_spatial_tilted.yaml", 3);
+  closed_reactions_equal_numeric(model_text("rsur"), "rsur.yaml", 0);
 }
 
 // Random geometry: serial chains of five joints of random kinds about random unit axes through

@@ -61,11 +61,11 @@ TEST(SpatialDynamics, FootLoadsMapToTorquesThroughTheJacobianTranspose) {
   std::string text = text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
   text.replace(text.find("gravity: [0, 0, -9.81]"), 23, "gravity: [0, 0, 0]");
   text +=
-      "forces:\n  - {name: push, type: force, body: foot, point: toe, value: [3, -2, 40]}\n"
-      "  - {name: twist, type: torque, body: foot, value: [0.1, 0.2, -0.3]}\n";
+      "forces:\n  - {name: push, type: force, body: foot_link, point: toe, value: [3, -2, 40]}\n"
+      "  - {name: twist, type: torque, body: foot_link, value: [0.1, 0.2, -0.3]}\n";
   const SpatialModel model = read_spatial_model_text(text, "leg6_loaded.yaml");
   const SpatialSolver solver(model, {});
-  const int foot = model.body_index("foot");
+  const int foot = model.body_index("foot_link");
   for (const Eigen::VectorXd& q : {Eigen::VectorXd(Eigen::VectorXd::Zero(6)),
                                    Eigen::VectorXd(Eigen::VectorXd::LinSpaced(6, -0.5, 0.9))}) {
     SpatialState s;

@@ -52,7 +52,7 @@ TEST(SpatialKdl, Leg6ForwardKinematicsJacobianAndInverseDynamics) {
   KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::ChainJntToJacSolver jac(chain);
   KDL::ChainIdSolver_RNE id(chain, kdl_model::vec(solver.instance().gravity));
-  const int foot = model.body_index("foot");
+  const int foot = model.body_index("foot_link");
   const V3 foot_local = solver.instance().points[static_cast<size_t>(foot)][0];
   std::mt19937 rng(7);
   double worst_fk = 0, worst_jac = 0, worst_id = 0;

@@ -78,10 +78,11 @@ void compare(const SpatialModel& model, const SpatialSolver& solver, const Sampl
             k::Status::ok);
   const k::BodyState<double>* bodies[] = {&out.bodies.hip_yaw_link, &out.bodies.hip_roll_link,
                                           &out.bodies.thigh,        &out.bodies.calf,
-                                          &out.bodies.ankle_link,   &out.bodies.foot};
+                                          &out.bodies.ankle_link,   &out.bodies.foot_link};
   const double(*jacobians[])[6] = {
-      out.body_jacobians.hip_yaw_link, out.body_jacobians.hip_roll_link, out.body_jacobians.thigh,
-      out.body_jacobians.calf,         out.body_jacobians.ankle_link,    out.body_jacobians.foot};
+      out.body_jacobians.hip_yaw_link, out.body_jacobians.hip_roll_link,
+      out.body_jacobians.thigh,        out.body_jacobians.calf,
+      out.body_jacobians.ankle_link,   out.body_jacobians.foot_link};
   for (int i = 0; i < 6; ++i) {
     const int b = model.joints[static_cast<size_t>(i)].second;  // the bodies in joint order
     const k::BodyState<double>& o = *bodies[i];
@@ -99,7 +100,7 @@ void compare(const SpatialModel& model, const SpatialSolver& solver, const Sampl
     for (int r = 0; r < 6; ++r)
       for (int col = 0; col < 6; ++col) worst(jacobians[i][r][col], J(r, col));
   }
-  const int foot = model.body_index("foot");
+  const int foot = model.body_index("foot_link");
   const V3 foot_point = solver.point_position(s, foot, in.points[static_cast<size_t>(foot)][0]);
   const double p[] = {out.points.foot.x, out.points.foot.y, out.points.foot.z};
   worst(p, foot_point);
@@ -233,14 +234,14 @@ TEST(SpatialKernel, Leg6EqualsKdl) {
     for (int i = 0; i < 3; ++i) {
       worst_fk = std::max(worst_fk, std::abs(frame.p(i) - foot[i]));
       for (int c = 0; c < 3; ++c)
-        worst_fk = std::max(worst_fk, std::abs(frame.M(i, c) - out.bodies.foot.R[3 * i + c]));
+        worst_fk = std::max(worst_fk, std::abs(frame.M(i, c) - out.bodies.foot_link.R[3 * i + c]));
     }
     KDL::Jacobian J(6);
     ASSERT_GE(jac.JntToJac(jnt(x.q), J), 0);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 6; ++c) {
         worst_jac = std::max(worst_jac, std::abs(J(r, c) - out.point_jacobians.foot[r][c]));
-        worst_jac = std::max(worst_jac, std::abs(J(r + 3, c) - out.body_jacobians.foot[r][c]));
+        worst_jac = std::max(worst_jac, std::abs(J(r + 3, c) - out.body_jacobians.foot_link[r][c]));
       }
     KDL::JntArray torque(6);
     KDL::Wrenches external(chain.getNrOfSegments(), KDL::Wrench::Zero());
@@ -286,7 +287,7 @@ TEST(SpatialKernel, Leg6FloatAndKinematicsOnly) {
             k::Status::ok);
   for (int r = 0; r < 6; ++r)
     for (int col = 0; col < 6; ++col) {
-      EXPECT_NEAR(c.body_jacobians.foot[r][col], d.body_jacobians.foot[r][col], 1e-14);
+      EXPECT_NEAR(c.body_jacobians.foot_link[r][col], d.body_jacobians.foot_link[r][col], 1e-14);
       EXPECT_EQ(c.body_jacobians.hip_yaw_link[r][col],
                 col == 0 ? d.body_jacobians.hip_yaw_link[r][col] : 0.0);
     }

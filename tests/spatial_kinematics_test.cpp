@@ -6,6 +6,7 @@
 
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
 #include "spatial_test_models.hpp"
 
 namespace mechgen::spatial {
@@ -162,7 +163,7 @@ TEST(SpatialKinematics, PoseDrivenLegReachesItsTarget) {
   SpatialState s;
   for (const double t : {0.0, 0.5, 1.3}) {
     solver.solve(t, s);
-    const int foot = model.body_index("foot");
+    const int foot = model.body_index("foot_link");
     const V3 x = solver.point_position(s, foot, solver.instance().points[6][0]);
     EXPECT_NEAR(x[0], 0.02 * std::sin(3 * t), 1e-12);
     EXPECT_NEAR(x[1], 0.01 * std::sin(3 * t), 1e-12);
@@ -248,6 +249,31 @@ step: {t0: 0, t1: 1, samples: 11}
     EXPECT_EQ(std::string(e.what()).rfind("straight.yaml:", 0), 0u) << e.what();
     EXPECT_NE(std::string(e.what()).find("N_s is singular at t = 1"), std::string::npos)
         << e.what();
+  }
+}
+
+// Samples far apart (three over a whole cycle) must land on the branch that fine samples follow:
+// before continuation, Newton-Raphson from the previous coarse sample jumped to another assembly
+// (chebyshev_spatial's rocker 4.43 rad off) or wound angles by 2 pi k (quadruped_leg 91 rad).
+TEST(SpatialKinematics, CoarseSamplesFollowTheBranchOfFineOnes) {
+  for (const char* name : {"chebyshev_spatial", "quadruped_leg", "quadruped_leg_swing"}) {
+    const SpatialModel model =
+        read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
+    const std::vector<double> defaults = model.common.default_parameters();
+    const SpatialSolver solver(model, defaults);
+    const SpatialSweepOptions step = default_spatial_sweep(model, defaults);
+    constexpr int kFine = 64;
+    SpatialState coarse, fine;
+    double worst = 0;
+    for (int k = 0; k <= 2; ++k) {
+      const double t = step.t0 + (step.t1 - step.t0) * k / 2;
+      solver.solve(t, coarse);
+      for (int f = (k == 0 ? 0 : (k - 1) * kFine + 1); f <= k * kFine; ++f)
+        solver.solve(step.t0 + (step.t1 - step.t0) * f / (2 * kFine), fine);
+      worst = std::max(worst, (coarse.q - fine.q).cwiseAbs().maxCoeff());
+      worst = std::max(worst, (coarse.qd - fine.qd).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst, 1e-9) << name;
   }
 }
 

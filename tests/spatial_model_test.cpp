@@ -138,6 +138,12 @@ TEST(SpatialModel, ErrorsAreLocatedAndSayWhatToChange) {
                                   kArmJoints.substr(kArmJoints.find("  - {name: j2")),
                               driven)),
                  "bad.yaml:9:", "is zero"));
+  // A point named like a body: the CSV would have two `b.x` columns.
+  {
+    std::string text = arm(kArmJoints, driven);
+    text.replace(text.find("{P: [l, 0, 0]}"), 14, "{P: [l, 0, 0], b: [0, 0, 0]}");
+    EXPECT_TRUE(is(error_of(text), "bad.yaml:6:", "point 'b' of body 'a' has the name of a body"));
+  }
   // A joint of a body to itself: a circuit with no joint.
   EXPECT_TRUE(is(error_of(arm(kArmJoints + "  - {name: j3, type: fixed, first: b, second: b, s0: "
                                            "Q}\n",

@@ -2,7 +2,7 @@
 // folder and edited but not renamed makes the compiled-in leg6 kernel stale; `mechgen sweep
 // --solver generated` builds, caches and runs a kernel of the edited description (never the stale
 // one), equal to `--solver numeric`, and a second run loads it from the cache. A spatial model the
-// generator cannot handle (pose drivers) is a clear error, never a stale kernel nor a fallback.
+// generator cannot handle (nothing driven) is a clear error, never a stale kernel nor a fallback.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -13,11 +13,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "ondemand_test_support.hpp"
+#include "report/csv_table.hpp"
 
 namespace mechgen {
 namespace {
@@ -33,26 +33,6 @@ fs::path fresh_dir(const std::string& what) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-// A sweep CSV: header and rows. Read here rather than with report::read_csv, which rejects a
-// repeated column name, and leg6's foot body and foot point both have `foot.x`.
-struct Csv {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-};
-Csv read_sweep(const fs::path& path) {
-  std::ifstream in(path);
-  Csv csv;
-  std::string line;
-  for (bool first = true; std::getline(in, line); first = false) {
-    std::stringstream cells(line);
-    std::vector<double> row;
-    for (std::string cell; std::getline(cells, cell, ',');)
-      first ? csv.header.push_back(cell) : row.push_back(std::stod(cell));
-    if (!first) csv.rows.push_back(row);
-  }
-  return csv;
 }
 
 // Runs the mechgen binary; returns its exit code, with its stderr in `err`.
@@ -84,8 +64,8 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
   ASSERT_EQ(mechgen(common + " --solver numeric --out " + (dir / "numeric.csv").string(), dir, err),
             0)
       << err;
-  const Csv generated = read_sweep(dir / "second.csv");
-  const Csv numeric = read_sweep(dir / "numeric.csv");
+  const report::CsvTable generated = report::read_csv((dir / "second.csv").string());
+  const report::CsvTable numeric = report::read_csv((dir / "numeric.csv").string());
   ASSERT_EQ(generated.header, numeric.header);
   ASSERT_EQ(generated.rows.size(), 41u);
   ASSERT_EQ(numeric.rows.size(), 41u);
@@ -131,18 +111,23 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
 }
 
 TEST(SpatialOnDemand, ModelTheGeneratorCannotHandleIsAClearErrorNeverAFallback) {
-  // bioloid has pose drivers, which spatial kernels do not generate yet.
-  const fs::path dir = fresh_dir("bioloid");
+  // A body welded to the ground: a valid model with nothing driven, so no kernel to generate.
+  const fs::path dir = fresh_dir("weld");
+  {
+    std::ofstream model(dir / "weld.yaml");
+    model << "name: weld\ndimension: spatial\nbodies:\n  - {name: g, ground: true}\n"
+             "  - {name: a, mass: {mass: 1, com: [0, 0, 0], inertia: [1, 1, 1]}}\njoints:\n"
+             "  - {name: j, type: fixed, first: g, second: a, s0: [0, 0, 0]}\n"
+             "step: {t0: 0, t1: 1}\n";
+  }
   std::string err;
-  const std::string out = (dir / "bioloid.csv").string();
-  EXPECT_EQ(mechgen("sweep " + std::string(MECHGEN_SOURCE_DIR) +
-                        "/models/bioloid.yaml --samples 3 "
-                        "--cache " +
+  const std::string out = (dir / "weld.csv").string();
+  EXPECT_EQ(mechgen("sweep " + (dir / "weld.yaml").string() + " --samples 3 --cache " +
                         (dir / "cache").string() + " --out " + out,
                     dir, err),
             1);
-  EXPECT_NE(err.find("cannot generate a kernel for 'bioloid'"), std::string::npos) << err;
-  EXPECT_NE(err.find("pose drivers"), std::string::npos) << err;
+  EXPECT_NE(err.find("cannot generate a kernel for 'weld'"), std::string::npos) << err;
+  EXPECT_NE(err.find("nothing to generate"), std::string::npos) << err;
   // The advice once, the file once (the generator's own prefix is not repeated).
   const auto advice = err.find("--solver numeric");
   ASSERT_NE(advice, std::string::npos) << err;

@@ -29,7 +29,7 @@ inline std::string leg6_inverse_kinematics() {
   hint("knee", "0.8");
   hint("ankle_pitch", "-0.4");
   return text +
-         "drivers:\n  - {name: foot_pose, type: pose, first: waist, second: foot, at: foot,\n"
+         "drivers:\n  - {name: foot_pose, type: pose, first: waist, second: foot_link, at: foot,\n"
          "     x: 0.02*sin(w*t), y: 0.01*sin(w*t), z: -0.16 + 0.01*cos(w*t),\n"
          "     rotations: [{axis: z, value: 0.1*sin(w*t)}, {axis: y, value: 0.05*sin(2*w*t)},\n"
          "                 {axis: x, value: -0.05*sin(w*t)}]}\n"

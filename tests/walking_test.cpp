@@ -10,6 +10,7 @@
 #include "analysis/walking.hpp"
 #include "model/columns.hpp"
 #include "model/spatial_model.hpp"
+#include "model/support_model.hpp"
 #include "sweep/compiled_kernel.hpp"
 #include "sweep/sweep.hpp"
 
@@ -362,6 +363,7 @@ namespace {
 TEST(CompiledKernels, DrivenEntryFedTheOwnMotionGivesTheOwnRow) {
   for (const std::string& name : mechgen::compiled_kernel_models()) {
     SCOPED_TRACE(name);
+    if (mechgen::split_support_model_name(name)) continue;  // tests/support_kernel_test.cpp
     const std::string path = MECHGEN_SOURCE_DIR "/models/" + name + ".yaml";
     if (mechgen::is_spatial_description(path)) continue;  // tests/spatial_kernel_test.cpp
     const mechgen::CompiledKernel& kernel = *mechgen::find_compiled_kernel(name);

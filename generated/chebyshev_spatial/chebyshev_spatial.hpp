@@ -20,8 +20,7 @@
 //   crank: revolute 'A_ground_crank' from 'ground' (product of exponentials)
 //   rocker: revolute 'B_ground_rocker' from 'ground' (product of exponentials)
 //   coupler: revolute 'P_crank_coupler' from 'crank' (product of exponentials)
-//   closure: 3 secondary coordinates, 6 closure rows, pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
-//   closure positions: 5 unrolled Newton-Raphson steps from the warm start
+//   closure: 3 secondary coordinates, 6 closure rows; Newton fallback on 3 coordinates, 6 rows; Davies' pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
 #pragma once
 
 #include <cmath>
@@ -226,12 +225,13 @@ struct State {
     T C[3][primary_count] = {};
     T M[3][primary_count] = {};
   } point_jacobians;
-  // The closure: secondary coordinates (the Newton-Raphson warm start, the assembly at t0
+  // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {
     T q[3] = {T(0.0), T(0.0), T(0.0)};
-    T next[3], residual, det;
+    T next[3];
+    T residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -263,11 +263,11 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }  // namespace detail
 
 // A driver motion outside its domain arrives here as NaN or infinity: the entries return
-// unreachable with the "inputs" stage as failed group.
+// unreachable with the "inputs" stage as failed group. 0 * x is 0 for every finite x (no
+// overflow) and NaN for an infinite or NaN one: one test for all inputs, no branch per input.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.crank_angle) && isfinite(in.crank_angle_d) && isfinite(in.crank_angle_dd);
+  return T(0) * in.t + T(0) * in.crank_angle + T(0) * in.crank_angle_d + T(0) * in.crank_angle_dd == T(0);
 }
 
 // Positions, velocities and accelerations of every body, point and driver, and the screw
@@ -276,7 +276,6 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
   if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 1182
   const T cos_A_ground_crank = cos(in.crank_angle);
@@ -756,21 +755,19 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.C[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_C_x;
   s.point_jacobians.M[0][0] = jv_coupler_0_x - jw_coupler_0_z*pt_M_y;
   s.point_jacobians.M[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_M_x;
-  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
-  const T _sum_positions_1 = ((s.bodies.coupler.R[0] + s.bodies.coupler.R[1]) + (s.bodies.coupler.R[3] + s.bodies.coupler.R[4])) + ((s.bodies.rocker.x + s.bodies.rocker.y) + (s.bodies.rocker.R[0] + s.bodies.rocker.R[1]));
-  const T _sum_positions_2 = ((s.bodies.rocker.R[3] + s.bodies.rocker.R[4]) + (s.points.B.x + s.points.P.x)) + ((s.points.P.y + s.points.C.x) + (s.points.C.y + s.points.M.x));
-  const T _sum_positions_3 = ((s.points.M.y + s.joints.A_ground_crank.q) + (s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q)) + ((s.joints.B_ground_rocker.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]));
-  const T _sum_positions_4 = ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.P[0][0])) + ((s.point_jacobians.P[1][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.M[0][0]));
-  const T _sum_positions_5 = s.point_jacobians.M[1][0];
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  const T _sum_positions_0 = ((s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q) + (s.joints.B_ground_rocker.q + s.bodies.crank.x)) + ((s.bodies.crank.y + s.bodies.crank.R[0]) + (s.bodies.crank.R[1] + s.bodies.coupler.x));
+  const T _sum_positions_1 = ((s.bodies.coupler.y + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[3])) + ((s.bodies.coupler.R[4] + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.R[0]));
+  const T _sum_positions_2 = ((s.bodies.rocker.R[1] + s.points.B.x) + (s.points.P.x + s.points.P.y)) + ((s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y));
+  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0])) + ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.C[0][0]));
+  const T _sum_positions_4 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.residual)) + ((s.closure.det + s.bodies.crank.vx) + (s.bodies.crank.vy + s.bodies.crank.ax));
-  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.wz) + (s.bodies.crank.alz + s.bodies.coupler.vx)) + ((s.bodies.coupler.vy + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.wz));
-  const T _sum_rates_2 = ((s.bodies.coupler.alz + s.bodies.rocker.vx) + (s.bodies.rocker.vy + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.wz) + (s.bodies.rocker.alz + s.points.P.vx));
-  const T _sum_rates_3 = ((s.points.P.vy + s.points.P.ax) + (s.points.P.ay + s.points.C.vx)) + ((s.points.C.vy + s.points.C.ax) + (s.points.C.ay + s.points.M.vx));
-  const T _sum_rates_4 = ((s.points.M.vy + s.points.M.ax) + (s.points.M.ay + s.joints.A_ground_crank.qd)) + ((s.joints.A_ground_crank.qdd + s.joints.P_crank_coupler.qd) + (s.joints.P_crank_coupler.qdd + s.joints.M_rocker_coupler.qd));
-  const T _sum_rates_5 = (s.joints.M_rocker_coupler.qdd + s.joints.B_ground_rocker.qd) + (s.joints.B_ground_rocker.qdd + (s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd));
-  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.ax + s.bodies.coupler.ay)) + ((s.bodies.coupler.wz + s.bodies.coupler.alz) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
+  const T _sum_rates_2 = ((s.bodies.rocker.ax + s.bodies.rocker.ay) + (s.bodies.rocker.wz + s.bodies.rocker.alz)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates_4 = (s.joints.P_crank_coupler.qd + s.joints.P_crank_coupler.qdd) + (s.joints.M_rocker_coupler.qd + s.joints.M_rocker_coupler.qdd);
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -791,9 +788,8 @@ template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
   if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
-  // Total ops: 1263
+  // Total ops: 1318
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -1023,24 +1019,26 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T sin_M_rocker_coupler = sin(q_M_rocker_coupler);
   const T cos_B_ground_rocker = cos(q_B_ground_rocker);
   const T sin_B_ground_rocker = sin(q_B_ground_rocker);
-  const T p_rocker_x = _tmp0 - T(2)*p.l*cos_B_ground_rocker;
-  const T p_rocker_y = -T(2)*p.l*sin_B_ground_rocker;
+  const T _tmp16 = T(2)*p.l*cos_B_ground_rocker;
+  const T p_rocker_x = _tmp0 - _tmp16;
+  const T _tmp17 = T(2)*p.l*sin_B_ground_rocker;
+  const T p_rocker_y = -_tmp17;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp16 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp16;
-  const T R_coupler_10 = _tmp16;
+  const T _tmp18 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp18;
+  const T R_coupler_10 = _tmp18;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp17 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp17;
-  const T _tmp18 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp18 - p_rocker_x;
+  const T _tmp19 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp19;
+  const T _tmp20 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp20 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp18 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp17 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp20 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp19 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -1050,8 +1048,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
   const T lu_ipiv1 = T(1)/lu_a0_1_1;
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
-  const T _tmp19 = lu_f1_0*lu_f2_1;
-  const T lu_a1_2_2 = lu_a0_2_2 + _tmp19;
+  const T _tmp21 = lu_f1_0*lu_f2_1;
+  const T lu_a1_2_2 = lu_a0_2_2 + _tmp21;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
   const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
@@ -1060,7 +1058,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T vel_x2 = lu_ipiv2*vel_b1_2;
   const T vel_x1 = lu_f1_0*lu_ipiv1*vel_x2 + lu_ipiv1*vel_b0_1;
   const T vel_x0 = lu_ipiv0*in.crank_angle_d - lu_ipiv0*vel_x1 - lu_ipiv0*vel_x2;
-  const T sen0_b1_2 = _tmp19 - lu_f2_0;
+  const T sen0_b1_2 = _tmp21 - lu_f2_0;
   const T sen0_x2 = lu_ipiv2*sen0_b1_2;
   const T sen0_x1 = lu_f1_0*lu_ipiv1*sen0_x2 - lu_f1_0*lu_ipiv1;
   const T sen0_x0 = lu_ipiv0 - lu_ipiv0*sen0_x1 - lu_ipiv0*sen0_x2;
@@ -1072,10 +1070,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T dsv_P_crank_coupler_y = in.crank_angle_d*sv_P_crank_coupler_x;
   const T dsv_M_rocker_coupler_x = v_rocker_y - sv_M_rocker_coupler_y*vel_x2;
   const T dsv_M_rocker_coupler_y = sv_M_rocker_coupler_x*vel_x2;
-  const T _tmp20 = dsv_P_crank_coupler_x*vel_x0;
-  const T acc_rhs3 = _tmp20 - dsv_M_rocker_coupler_x*vel_x1;
-  const T _tmp21 = dsv_P_crank_coupler_y*vel_x0;
-  const T acc_rhs4 = _tmp21 - dsv_M_rocker_coupler_y*vel_x1;
+  const T _tmp22 = dsv_P_crank_coupler_x*vel_x0;
+  const T acc_rhs3 = _tmp22 - dsv_M_rocker_coupler_x*vel_x1;
+  const T _tmp23 = dsv_P_crank_coupler_y*vel_x0;
+  const T acc_rhs4 = _tmp23 - dsv_M_rocker_coupler_y*vel_x1;
   const T acc_b0_1 = acc_rhs3 - in.crank_angle_dd*lu_f1_0;
   const T acc_b0_2 = acc_rhs4 - in.crank_angle_dd*lu_f2_0;
   const T acc_b1_2 = acc_b0_2 - acc_b0_1*lu_f2_1;
@@ -1084,18 +1082,18 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T acc_x0 = lu_ipiv0*in.crank_angle_dd - lu_ipiv0*acc_x1 - lu_ipiv0*acc_x2;
   const T dv_rocker_y = -T(2)*p.l*acc_x2;
   const T dw_coupler_z = acc_x0 + in.crank_angle_dd;
-  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp20;
-  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp21;
+  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp22;
+  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp23;
   const T com_crank_x = -T(0.5)*p.l*sin_A_ground_crank;
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
   const T ac_crank_x = -com_crank_y*in.crank_angle_dd - in.crank_angle_d*vc_crank_y;
   const T ac_crank_y = com_crank_x*in.crank_angle_dd + in.crank_angle_d*vc_crank_x;
-  const T _tmp22 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp22;
-  const T _tmp23 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp23;
+  const T _tmp24 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp24;
+  const T _tmp25 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp25;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T ac_coupler_x = dv_coupler_x - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
@@ -1114,8 +1112,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
   const T vp_C_x = v_coupler_x - pt_C_y*w_coupler_z;
   const T vp_C_y = pt_C_x*w_coupler_z + v_coupler_y;
-  const T pt_M_x = -_tmp22;
-  const T pt_M_y = -_tmp23;
+  const T pt_M_x = -_tmp24;
+  const T pt_M_y = -_tmp25;
   const T vp_M_x = v_coupler_x - pt_M_y*w_coupler_z;
   const T vp_M_y = pt_M_x*w_coupler_z + v_coupler_y;
   const T jw_coupler_0_z = sen0_x0 + T(1);
@@ -1123,27 +1121,51 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T jv_coupler_0_y = sen0_x0*sv_P_crank_coupler_y;
   const T jv_rocker_0_y = -T(2)*p.l*sen0_x2;
   const T m_crank = p.bar_t*p.bar_w*p.l*p.rho;
-  const T _tmp24 = (p.bar_w*p.bar_w)*p.bar_w;
-  const T _tmp25 = T(1)/T(12);
-  const T _tmp26 = (p.l*p.l)*p.l;
-  const T I_crank_22 = _tmp24*p.bar_t*p.l*p.rho*_tmp25 + _tmp26*p.bar_t*p.bar_w*p.rho*_tmp25;
+  const T _tmp26 = (p.bar_w*p.bar_w)*p.bar_w;
+  const T _tmp27 = T(1)/T(12);
+  const T _tmp28 = (p.l*p.l)*p.l;
+  const T I_crank_22 = _tmp26*p.bar_t*p.l*p.rho*_tmp27 + _tmp28*p.bar_t*p.bar_w*p.rho*_tmp27;
   const T Ialb_crank_z = I_crank_22*in.crank_angle_dd;
   const T F_crank_x = m_crank*ac_crank_x;
   const T F_crank_y = T(9.81)*m_crank + m_crank*ac_crank_y;
   const T M_crank_z = F_crank_y*com_crank_x + Ialb_crank_z - F_crank_x*com_crank_y;
   const T m_coupler = T(5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_coupler_22 = T(125)*_tmp26*p.bar_t*p.bar_w*p.rho*_tmp25 + T(5)*_tmp24*p.bar_t*p.l*p.rho*_tmp25;
+  const T I_coupler_22 = T(125)*_tmp28*p.bar_t*p.bar_w*p.rho*_tmp27 + T(5)*_tmp26*p.bar_t*p.l*p.rho*_tmp27;
   const T Ialb_coupler_z = I_coupler_22*dw_coupler_z;
   const T F_coupler_x = m_coupler*ac_coupler_x;
   const T F_coupler_y = T(9.81)*m_coupler + m_coupler*ac_coupler_y;
   const T M_coupler_z = F_coupler_y*com_coupler_x + Ialb_coupler_z - F_coupler_x*com_coupler_y;
   const T m_rocker = T(2.5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_rocker_22 = T(0.20833333333333334)*_tmp24*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp26*p.bar_t*p.bar_w*p.rho;
+  const T I_rocker_22 = T(0.20833333333333334)*_tmp26*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp28*p.bar_t*p.bar_w*p.rho;
   const T Ialb_rocker_z = I_rocker_22*acc_x2;
   const T F_rocker_x = m_rocker*ac_rocker_x;
   const T F_rocker_y = T(9.81)*m_rocker + m_rocker*ac_rocker_y;
   const T M_rocker_z = F_rocker_y*com_rocker_x + Ialb_rocker_z - F_rocker_x*com_rocker_y;
   const T tau_crank_angle = F_coupler_x*jv_coupler_0_x + F_coupler_y*jv_coupler_0_y + F_rocker_y*jv_rocker_0_y + M_coupler_z*jw_coupler_0_z + M_crank_z + M_rocker_z*sen0_x2;
+  const T tf_crank_x = F_coupler_x + F_crank_x;
+  const T tf_crank_y = F_coupler_y + F_crank_y;
+  const T tm_crank_z = M_coupler_z + M_crank_z;
+  const T P_P_crank_coupler_x = p.l*R_coupler_01 + p_coupler_x;
+  const T P_P_crank_coupler_y = p.l*R_coupler_11 + p_coupler_y;
+  const T P_M_rocker_coupler_x = -_tmp24;
+  const T P_M_rocker_coupler_y = -_tmp25;
+  const T P_B_ground_rocker_x = _tmp16 + p_rocker_x;
+  const T P_B_ground_rocker_y = _tmp17 + p_rocker_y;
+  const T rct_z0 = -lu_ipiv0*F_coupler_x*sv_P_crank_coupler_x - lu_ipiv0*F_coupler_y*sv_P_crank_coupler_y - lu_ipiv0*M_coupler_z;
+  const T rct_z1 = -lu_ipiv1*rct_z0;
+  const T rct_z2 = T(2)*p.l*F_rocker_y*lu_ipiv2 + lu_f1_0*lu_ipiv2*rct_z1 - M_rocker_z*lu_ipiv2 - lu_ipiv2*rct_z0;
+  const T rct_y1 = rct_z1 - lu_f2_1*rct_z2;
+  const T rct_y0 = rct_z0 - lu_f1_0*rct_y1 - lu_f2_0*rct_z2;
+  const T rx_A_ground_crank_f_x = tf_crank_x - rct_y1;
+  const T rx_A_ground_crank_f_y = tf_crank_y - rct_z2;
+  const T rx_A_ground_crank_m_z = tm_crank_z - rct_y0 - tau_crank_angle;
+  const T rx_P_crank_coupler_f_x = F_coupler_x - rct_y1;
+  const T rx_P_crank_coupler_f_y = F_coupler_y - rct_z2;
+  const T rx_P_crank_coupler_m_z = M_coupler_z + P_P_crank_coupler_y*rx_P_crank_coupler_f_x - P_P_crank_coupler_x*rx_P_crank_coupler_f_y - rct_y0;
+  const T rx_M_rocker_coupler_m_z = P_M_rocker_coupler_y*rct_y1 + rct_y0 - P_M_rocker_coupler_x*rct_z2;
+  const T rx_B_ground_rocker_f_x = F_rocker_x + rct_y1;
+  const T rx_B_ground_rocker_f_y = F_rocker_y + rct_z2;
+  const T rx_B_ground_rocker_m_z = M_rocker_z + P_B_ground_rocker_y*rx_B_ground_rocker_f_x + rct_y0 - P_B_ground_rocker_x*rx_B_ground_rocker_f_y;
   s.closure.next[0] = q_P_crank_coupler;
   s.closure.next[1] = q_M_rocker_coupler;
   s.closure.next[2] = q_B_ground_rocker;
@@ -1294,47 +1316,47 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.point_jacobians.M[0][0] = jv_coupler_0_x - jw_coupler_0_z*pt_M_y;
   s.point_jacobians.M[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_M_x;
   s.drivers.crank_angle.effort = tau_crank_angle;
-  s.joints.A_ground_crank.fx = not_generated;
-  s.joints.A_ground_crank.fy = not_generated;
-  s.joints.A_ground_crank.fz = not_generated;
-  s.joints.A_ground_crank.mx = not_generated;
-  s.joints.A_ground_crank.my = not_generated;
-  s.joints.A_ground_crank.mz = not_generated;
-  s.joints.P_crank_coupler.fx = not_generated;
-  s.joints.P_crank_coupler.fy = not_generated;
-  s.joints.P_crank_coupler.fz = not_generated;
-  s.joints.P_crank_coupler.mx = not_generated;
-  s.joints.P_crank_coupler.my = not_generated;
-  s.joints.P_crank_coupler.mz = not_generated;
-  s.joints.M_rocker_coupler.fx = not_generated;
-  s.joints.M_rocker_coupler.fy = not_generated;
-  s.joints.M_rocker_coupler.fz = not_generated;
-  s.joints.M_rocker_coupler.mx = not_generated;
-  s.joints.M_rocker_coupler.my = not_generated;
-  s.joints.M_rocker_coupler.mz = not_generated;
-  s.joints.B_ground_rocker.fx = not_generated;
-  s.joints.B_ground_rocker.fy = not_generated;
-  s.joints.B_ground_rocker.fz = not_generated;
-  s.joints.B_ground_rocker.mx = not_generated;
-  s.joints.B_ground_rocker.my = not_generated;
-  s.joints.B_ground_rocker.mz = not_generated;
-  const T _sum_positions_0 = ((s.bodies.crank.x + s.bodies.crank.y) + (s.bodies.crank.R[0] + s.bodies.crank.R[1])) + ((s.bodies.crank.R[3] + s.bodies.crank.R[4]) + (s.bodies.coupler.x + s.bodies.coupler.y));
-  const T _sum_positions_1 = ((s.bodies.coupler.R[0] + s.bodies.coupler.R[1]) + (s.bodies.coupler.R[3] + s.bodies.coupler.R[4])) + ((s.bodies.rocker.x + s.bodies.rocker.y) + (s.bodies.rocker.R[0] + s.bodies.rocker.R[1]));
-  const T _sum_positions_2 = ((s.bodies.rocker.R[3] + s.bodies.rocker.R[4]) + (s.points.B.x + s.points.P.x)) + ((s.points.P.y + s.points.C.x) + (s.points.C.y + s.points.M.x));
-  const T _sum_positions_3 = ((s.points.M.y + s.joints.A_ground_crank.q) + (s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q)) + ((s.joints.B_ground_rocker.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0]));
-  const T _sum_positions_4 = ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.P[0][0])) + ((s.point_jacobians.P[1][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.M[0][0]));
-  const T _sum_positions_5 = s.point_jacobians.M[1][0];
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  s.joints.A_ground_crank.fx = rx_A_ground_crank_f_x;
+  s.joints.A_ground_crank.fy = rx_A_ground_crank_f_y;
+  s.joints.A_ground_crank.fz = T(0);
+  s.joints.A_ground_crank.mx = T(0);
+  s.joints.A_ground_crank.my = T(0);
+  s.joints.A_ground_crank.mz = rx_A_ground_crank_m_z;
+  s.joints.P_crank_coupler.fx = rx_P_crank_coupler_f_x;
+  s.joints.P_crank_coupler.fy = rx_P_crank_coupler_f_y;
+  s.joints.P_crank_coupler.fz = T(0);
+  s.joints.P_crank_coupler.mx = T(0);
+  s.joints.P_crank_coupler.my = T(0);
+  s.joints.P_crank_coupler.mz = rx_P_crank_coupler_m_z;
+  s.joints.M_rocker_coupler.fx = rct_y1;
+  s.joints.M_rocker_coupler.fy = rct_z2;
+  s.joints.M_rocker_coupler.fz = T(0);
+  s.joints.M_rocker_coupler.mx = T(0);
+  s.joints.M_rocker_coupler.my = T(0);
+  s.joints.M_rocker_coupler.mz = rx_M_rocker_coupler_m_z;
+  s.joints.B_ground_rocker.fx = rx_B_ground_rocker_f_x;
+  s.joints.B_ground_rocker.fy = rx_B_ground_rocker_f_y;
+  s.joints.B_ground_rocker.fz = T(0);
+  s.joints.B_ground_rocker.mx = T(0);
+  s.joints.B_ground_rocker.my = T(0);
+  s.joints.B_ground_rocker.mz = rx_B_ground_rocker_m_z;
+  const T _sum_positions_0 = ((s.joints.P_crank_coupler.q + s.joints.M_rocker_coupler.q) + (s.joints.B_ground_rocker.q + s.bodies.crank.x)) + ((s.bodies.crank.y + s.bodies.crank.R[0]) + (s.bodies.crank.R[1] + s.bodies.coupler.x));
+  const T _sum_positions_1 = ((s.bodies.coupler.y + s.bodies.coupler.R[0]) + (s.bodies.coupler.R[1] + s.bodies.coupler.R[3])) + ((s.bodies.coupler.R[4] + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.R[0]));
+  const T _sum_positions_2 = ((s.bodies.rocker.R[1] + s.points.B.x) + (s.points.P.x + s.points.P.y)) + ((s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y));
+  const T _sum_positions_3 = ((s.joints.A_ground_crank.q + s.drivers.crank_angle.q) + (s.body_jacobians.coupler[2][0] + s.body_jacobians.coupler[3][0])) + ((s.body_jacobians.coupler[4][0] + s.body_jacobians.rocker[2][0]) + (s.body_jacobians.rocker[4][0] + s.point_jacobians.C[0][0]));
+  const T _sum_positions_4 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + s.closure.residual)) + ((s.closure.det + s.bodies.crank.vx) + (s.bodies.crank.vy + s.bodies.crank.ax));
-  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.wz) + (s.bodies.crank.alz + s.bodies.coupler.vx)) + ((s.bodies.coupler.vy + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.wz));
-  const T _sum_rates_2 = ((s.bodies.coupler.alz + s.bodies.rocker.vx) + (s.bodies.rocker.vy + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.wz) + (s.bodies.rocker.alz + s.points.P.vx));
-  const T _sum_rates_3 = ((s.points.P.vy + s.points.P.ax) + (s.points.P.ay + s.points.C.vx)) + ((s.points.C.vy + s.points.C.ax) + (s.points.C.ay + s.points.M.vx));
-  const T _sum_rates_4 = ((s.points.M.vy + s.points.M.ax) + (s.points.M.ay + s.joints.A_ground_crank.qd)) + ((s.joints.A_ground_crank.qdd + s.joints.P_crank_coupler.qd) + (s.joints.P_crank_coupler.qdd + s.joints.M_rocker_coupler.qd));
-  const T _sum_rates_5 = (s.joints.M_rocker_coupler.qdd + s.joints.B_ground_rocker.qd) + (s.joints.B_ground_rocker.qdd + (s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd));
-  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.ax + s.bodies.crank.ay) + (s.bodies.crank.wz + s.bodies.crank.alz));
+  const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.ax + s.bodies.coupler.ay)) + ((s.bodies.coupler.wz + s.bodies.coupler.alz) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
+  const T _sum_rates_2 = ((s.bodies.rocker.ax + s.bodies.rocker.ay) + (s.bodies.rocker.wz + s.bodies.rocker.alz)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates_4 = (s.joints.P_crank_coupler.qd + s.joints.P_crank_coupler.qdd) + (s.joints.M_rocker_coupler.qd + s.joints.M_rocker_coupler.qdd);
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_forces = s.drivers.crank_angle.effort;
+  const T _sum_forces_0 = ((s.drivers.crank_angle.effort + s.joints.A_ground_crank.fx) + (s.joints.A_ground_crank.fy + s.joints.A_ground_crank.mz)) + ((s.joints.P_crank_coupler.fx + s.joints.P_crank_coupler.fy) + (s.joints.P_crank_coupler.mz + s.joints.M_rocker_coupler.fx));
+  const T _sum_forces_1 = (s.joints.M_rocker_coupler.fy + s.joints.M_rocker_coupler.mz) + (s.joints.B_ground_rocker.fx + (s.joints.B_ground_rocker.fy + s.joints.B_ground_rocker.mz));
+  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -1355,7 +1377,6 @@ template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
   using detail::sin;
-  [[maybe_unused]] const T not_generated = std::numeric_limits<T>::quiet_NaN();
   if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
   // Total ops: 1231
   const T cos_A_ground_crank = cos(in.crank_angle);
@@ -1736,9 +1757,8 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.point_jacobians.M[1][0] = jv_coupler_0_y + jw_coupler_0_z*pt_M_x;
   s.drivers.crank_angle.effort = tau_crank_angle;
   const T _sum_positions_0 = ((s.points.B.x + s.points.P.x) + (s.points.P.y + s.points.C.x)) + ((s.points.C.y + s.points.M.x) + (s.points.M.y + s.body_jacobians.coupler[2][0]));
-  const T _sum_positions_1 = ((s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0]) + (s.body_jacobians.rocker[2][0] + s.body_jacobians.rocker[4][0])) + ((s.point_jacobians.P[0][0] + s.point_jacobians.P[1][0]) + (s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]));
-  const T _sum_positions_2 = s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0];
-  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  const T _sum_positions_1 = ((s.body_jacobians.coupler[3][0] + s.body_jacobians.coupler[4][0]) + (s.body_jacobians.rocker[2][0] + s.body_jacobians.rocker[4][0])) + ((s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]) + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_rates = (s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + (s.closure.residual + s.closure.det));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
@@ -2140,7 +2160,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x415d23d3c0be8bc1ULL;
+inline constexpr unsigned long long fingerprint = 0x9b593b429627ad45ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

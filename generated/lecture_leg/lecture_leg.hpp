@@ -252,11 +252,11 @@ Status failed(State<T>& s, int group, Status status) noexcept {
 }  // namespace detail
 
 // A driver motion outside its domain arrives here as NaN or infinity: the entries return
-// unreachable with the "inputs" stage as failed group.
+// unreachable with the "inputs" stage as failed group. 0 * x is 0 for every finite x (no
+// overflow) and NaN for an infinite or NaN one: one test for all inputs, no branch per input.
 template <class T>
 bool inputs_finite(const Inputs<T>& in) noexcept {
-  using std::isfinite;
-  return isfinite(in.t) && isfinite(in.q1) && isfinite(in.q1_d) && isfinite(in.q1_dd) && isfinite(in.q2) && isfinite(in.q2_d) && isfinite(in.q2_dd) && isfinite(in.q3) && isfinite(in.q3_d) && isfinite(in.q3_dd);
+  return T(0) * in.t + T(0) * in.q1 + T(0) * in.q1_d + T(0) * in.q1_dd + T(0) * in.q2 + T(0) * in.q2_d + T(0) * in.q2_dd + T(0) * in.q3 + T(0) * in.q3_d + T(0) * in.q3_dd == T(0);
 }
 
 // Positions, velocities and accelerations of every body, point and driver, and the screw
@@ -492,21 +492,19 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[1][1] = pt_toe_x + sv_j2_y;
   s.point_jacobians.toe[0][2] = sv_j3_x - pt_toe_y;
   s.point_jacobians.toe[1][2] = pt_toe_x + sv_j3_y;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.thigh.R[3] + s.bodies.thigh.R[4]) + (s.bodies.shank.x + s.bodies.shank.y));
-  const T _sum_positions_1 = ((s.bodies.shank.R[0] + s.bodies.shank.R[1]) + (s.bodies.shank.R[3] + s.bodies.shank.R[4])) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.bodies.foot.R[0] + s.bodies.foot.R[1]));
-  const T _sum_positions_2 = ((s.bodies.foot.R[3] + s.bodies.foot.R[4]) + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
-  const T _sum_positions_3 = ((s.joints.j1.q + s.joints.j2.q) + (s.joints.j3.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
-  const T _sum_positions_4 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
-  const T _sum_positions_5 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
+  const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
+  const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
+  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
+  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
   const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
   const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
-  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j1.qd + s.joints.j1.qdd));
-  const T _sum_rates_4 = ((s.joints.j2.qd + s.joints.j2.qdd) + (s.joints.j3.qd + s.joints.j3.qdd)) + ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd));
-  const T _sum_rates_5 = s.drivers.q3.qd + s.drivers.q3.qdd;
-  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j2.qd + s.joints.j2.qdd));
+  const T _sum_rates_4 = s.joints.j3.qd + s.joints.j3.qdd;
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
@@ -806,21 +804,19 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.j1.mx = T(0);
   s.joints.j1.my = T(0);
   s.joints.j1.mz = T(0);
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.thigh.R[3] + s.bodies.thigh.R[4]) + (s.bodies.shank.x + s.bodies.shank.y));
-  const T _sum_positions_1 = ((s.bodies.shank.R[0] + s.bodies.shank.R[1]) + (s.bodies.shank.R[3] + s.bodies.shank.R[4])) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.bodies.foot.R[0] + s.bodies.foot.R[1]));
-  const T _sum_positions_2 = ((s.bodies.foot.R[3] + s.bodies.foot.R[4]) + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
-  const T _sum_positions_3 = ((s.joints.j1.q + s.joints.j2.q) + (s.joints.j3.q + s.drivers.q1.q)) + ((s.drivers.q2.q + s.drivers.q3.q) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
-  const T _sum_positions_4 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
-  const T _sum_positions_5 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = (_sum_positions_0 + (_sum_positions_1 + _sum_positions_2)) + (_sum_positions_3 + (_sum_positions_4 + _sum_positions_5));
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
+  const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
+  const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
+  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
+  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
   const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
   const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
-  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j1.qd + s.joints.j1.qdd));
-  const T _sum_rates_4 = ((s.joints.j2.qd + s.joints.j2.qdd) + (s.joints.j3.qd + s.joints.j3.qdd)) + ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd));
-  const T _sum_rates_5 = s.drivers.q3.qd + s.drivers.q3.qdd;
-  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
+  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j2.qd + s.joints.j2.qdd));
+  const T _sum_rates_4 = s.joints.j3.qd + s.joints.j3.qdd;
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.q3.effort + s.joints.j3.fx) + (s.joints.j3.fy + s.joints.j3.mz)) + ((s.drivers.q2.effort + s.joints.j2.fx) + (s.joints.j2.fy + s.joints.j2.mz));
   const T _sum_forces_1 = s.drivers.q1.effort + (s.joints.j1.fx + s.joints.j1.fy);
@@ -979,9 +975,8 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.q2.effort = tau_j2;
   s.drivers.q1.effort = tm_thigh_z;
   const T _sum_positions_0 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
-  const T _sum_positions_1 = ((s.body_jacobians.foot[3][1] + s.body_jacobians.foot[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2])) + ((s.point_jacobians.knee[0][0] + s.point_jacobians.knee[1][0]) + (s.point_jacobians.ankle[0][0] + s.point_jacobians.ankle[1][0]));
-  const T _sum_positions_2 = ((s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1]) + (s.point_jacobians.toe[0][0] + s.point_jacobians.toe[1][0])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
+  const T _sum_positions_1 = ((s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]) + (s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces = s.drivers.q3.effort + (s.drivers.q2.effort + s.drivers.q1.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
@@ -1240,11 +1235,10 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[12] = F_foot_x;
   b[13] = F_foot_y;
   b[17] = M_foot_z;
-  const T _sum_forces_0 = ((A[71] + A[92]) + (A[111] + A[112])) + ((A[197] + A[203]) + (A[218] + A[224]));
-  const T _sum_forces_1 = ((A[237] + A[238]) + (A[243] + A[244])) + ((A[329] + A[350]) + (A[369] + A[370]));
-  const T _sum_forces_2 = ((A[405] + A[406]) + (A[432] + A[433])) + ((b[0] + b[1]) + (b[5] + b[6]));
-  const T _sum_forces_3 = (b[7] + b[11]) + (b[12] + (b[13] + b[17]));
-  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
+  const T _sum_forces_0 = ((A[71] + A[92]) + (A[203] + A[224])) + ((A[405] + A[406]) + (A[432] + A[433]));
+  const T _sum_forces_1 = ((b[0] + b[1]) + (b[5] + b[6])) + ((b[7] + b[11]) + (b[12] + b[13]));
+  const T _sum_forces_2 = b[17];
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
   if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
@@ -1283,7 +1277,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x94e9995cf8d84489ULL;
+inline constexpr unsigned long long fingerprint = 0x6f08b0dfdf66ef4dULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

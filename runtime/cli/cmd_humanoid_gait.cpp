@@ -1,7 +1,9 @@
 // mechgen humanoid-gait: the seed-001 humanoid walking (runtime/spatial/humanoid_gait.hpp) on the
 // numeric solver: the leg joints' angles and velocities (seed Figs. 7 and 8), the joint torques
-// the servos must give in single support against their stall torque, and the ZMP two ways (LIP-3D
-// from the centre of mass, exact from the floor wrench) with the margin to the support polygon.
+// the servos must give in single support against their stall torque (from the generated
+// single-support kernels, spatial/support_kernel.hpp, or numerically), and the ZMP two ways
+// (LIP-3D from the centre of mass, exact from the floor wrench) with the margin to the support
+// polygon.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,10 +11,13 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "model/support_model.hpp"
+#include "ondemand/kernel_resolver.hpp"
 #include "report/csv_table.hpp"
 #include "report/svg_plot.hpp"
 #include "spatial/floating_base.hpp"
 #include "spatial/humanoid_gait.hpp"
+#include "spatial/support_kernel.hpp"
 
 namespace mechgen::cli {
 
@@ -23,13 +28,16 @@ using spatial::V3;
 const char* const kHumanoidGaitHelp =
     R"(usage: mechgen humanoid-gait MODEL.yaml --out DIR [--samples-per-step N] [--stall-torque T]
                               [--set NAME=VALUE]... [--waist NAME] [--right-foot NAME] [--left-foot NAME]
+                              [--solver generated|numeric]
 
 A walking gait of a humanoid modelled as seed 001 does (models/bioloid.yaml): Kajita's 3D linear
 inverted pendulum walk (ZMP on the support foot's centre, support switching each step_time),
 the waist and both feet planned in the inertial frame and fed to their 3P3R virtual chains, the
 other pose drivers (hands) carried with the waist; Davies' method (numeric reference solver)
-gives every real joint. The model supplies the parameters step_length, step_time, swing_height
-and steps. Writes into DIR:
+gives every real joint. The joint torques and the floor wrench come from the generated
+single-support kernels (`mechgen generate MODEL.yaml --support FOOT`, one per foot, compiled in
+or built on first use), or with --solver numeric from the numeric tree dynamics. The model
+supplies the parameters step_length, step_time, swing_height and steps. Writes into DIR:
   gait.csv                 t, step, support (0 right, 1 left), per real joint J: J.q, J.qd,
                            J.torque (single support, support foot as ground); com.x/y/z,
                            floor.fx/fy/fz/mx/my/mz (on the support foot, about the origin),
@@ -47,6 +55,7 @@ options:
   --stall-torque T         servo stall torque in N m (default 1.5: Robotis AX-12)
   --set NAME=VALUE         override a model parameter (e.g. step_length, step_time, steps)
   --waist, --right-foot, --left-foot   pose driver names (default vFB, vRL, vLL)
+  --solver S               generated (default: the single-support kernels) or numeric
 )";
 
 void write_text(const std::string& path, const std::string& text) {
@@ -124,15 +133,21 @@ std::string animated_drawing(const std::string& title,
     const int axis = view == 0 ? 0 : 1;
     const double x0 = view == 0 ? pad - lo[0] * scale : side_w + pad - lo[1] * scale;
     for (size_t k = 0; k < nl; ++k) {
-      std::string values[4];
+      std::string values[4], first[4];
       for (const auto& f : frames) {
         const auto& l = f[k];
         const double v[4] = {x0 + l[static_cast<size_t>(axis)] * scale, floor_y - l[2] * scale,
                              x0 + l[static_cast<size_t>(3 + axis)] * scale, floor_y - l[5] * scale};
-        for (int i = 0; i < 4; ++i) values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
+        for (int i = 0; i < 4; ++i) {
+          if (values[i].empty()) first[i] = fixed(v[i], 5);
+          values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
+        }
       }
-      out += "<line stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
+      // The first frame as the line's own attributes: a viewer without SMIL shows the start pose.
       const char* attr[4] = {"x1", "y1", "x2", "y2"};
+      out += "<line";
+      for (int i = 0; i < 4; ++i) out += " " + std::string(attr[i]) + "=\"" + first[i] + "\"";
+      out += " stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
       for (int i = 0; i < 4; ++i)
         out += "<animate attributeName=\"" + std::string(attr[i]) + "\" dur=\"" +
                fixed(duration, 6) + "s\" repeatCount=\"indefinite\" values=\"" + values[i] + "\"/>";
@@ -142,6 +157,10 @@ std::string animated_drawing(const std::string& title,
   return out + "</svg>\n";
 }
 
+spatial::SupportKernelLoads numeric_loads(const spatial::FloatingBaseLoads& loads) {
+  return {loads.torque, loads.floor};
+}
+
 int run_humanoid_gait(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   if (!args.has("--out")) throw UsageError("missing --out DIR");
@@ -149,6 +168,9 @@ int run_humanoid_gait(const Args& args) {
   const int per_step = args.integer("--samples-per-step", 50);
   if (per_step < 2) throw UsageError("--samples-per-step must be at least 2");
   const double stall = args.number("--stall-torque", 1.5);
+  const std::string solver_name = args.get("--solver", "generated");
+  if (solver_name != "generated" && solver_name != "numeric")
+    throw UsageError("--solver must be generated or numeric");
   g_current_file = path;
   const SpatialModel model = read_spatial_model(path);
   std::vector<double> parameters = model.common.default_parameters();
@@ -159,6 +181,17 @@ int run_humanoid_gait(const Args& args) {
                                    args.get("--left-foot", "vLL"));
   const SpatialGraph& g = solver.graph();
   const double gravity = -solver.instance().gravity[2];
+  // Per support side: the generated single-support kernel (--solver generated).
+  std::vector<SpatialModel> welded;
+  std::vector<spatial::SupportKernel> kernels;
+  if (solver_name == "generated") {
+    for (int side = 0; side < 2; ++side) {
+      const int foot = model.pose_drivers[static_cast<size_t>(gait.foot_driver(side))].second;
+      const std::string& name = model.bodies[static_cast<size_t>(foot)].name;
+      welded.push_back(weld_support(model, name));
+      kernels.emplace_back(solver, welded.back(), foot, ondemand::kernel_for(welded.back(), name));
+    }
+  }
   std::vector<int> real;
   for (size_t j = 0; j < model.joints.size(); ++j)
     if (!model.joints[j].is_virtual) real.push_back(static_cast<int>(j));
@@ -189,7 +222,9 @@ int run_humanoid_gait(const Args& args) {
     worst_closure = std::max(worst_closure, (solver.network(s) * s.qd).cwiseAbs().maxCoeff());
     const int side = gait.support(t);
     const int foot = model.pose_drivers[static_cast<size_t>(gait.foot_driver(side))].second;
-    const spatial::FloatingBaseLoads loads = spatial::single_support_dynamics(solver, s, foot);
+    const spatial::SupportKernelLoads loads =
+        kernels.empty() ? numeric_loads(spatial::single_support_dynamics(solver, s, foot))
+                        : kernels[static_cast<size_t>(side)].loads(s);
     const spatial::CentreOfMass c = spatial::centre_of_mass(solver, s);
     std::vector<V3> sole;
     for (const V3& p : solver.instance().points[static_cast<size_t>(foot)])
@@ -308,7 +343,12 @@ int run_humanoid_gait(const Args& args) {
   std::cout << "humanoid-gait " << model.common.name << ": " << gait.settings().steps
             << " steps of " << fixed(gait.settings().step_length, 4) << " m in " << fixed(T, 3)
             << " s (LIP: z_c " << fixed(gait.com_height(), 4) << " m, omega "
-            << fixed(gait.omega(), 4) << " 1/s), " << n << " samples, numeric solver\n";
+            << fixed(gait.omega(), 4) << " 1/s), " << n
+            << " samples, numeric solver; single-support dynamics: "
+            << (kernels.empty()
+                    ? "numeric"
+                    : "generated kernels " + welded[0].common.name + ", " + welded[1].common.name)
+            << "\n";
   std::cout << "  closure: max |N q'| " << fixed(worst_closure, 3) << "\n";
   std::vector<int> order = real;
   std::sort(order.begin(), order.end(), [&](int a, int b) {
@@ -347,8 +387,10 @@ Command humanoid_gait_command() {
            {"--set", "", true, true},
            {"--waist", "", true},
            {"--right-foot", "", true},
-           {"--left-foot", "", true}},
-          &run_humanoid_gait};
+           {"--left-foot", "", true},
+           {"--solver", "", true}},
+          &run_humanoid_gait,
+          /*out_is_folder=*/true};
 }
 
 }  // namespace mechgen::cli

@@ -139,24 +139,22 @@ int run_spatial_check(const Args& args) {
     const gen::SpatialDerivation d = gen::derive_spatial(model, g);
     const std::string compiled =
         ondemand::current_compiled_kernel(model) ? " (compiled into this mechgen)" : "";
-    if (d.closure_start.empty())
+    const size_t newton = d.closure_start.size(), secondary = g.secondary.size();
+    if (!d.closed_chain)
       out += "generated kernel: tree, " + std::to_string(d.groups.size()) +
              " bodies by product of exponentials, rates outward, Newton-Euler inward" + compiled +
              "\n";
     else
-      out += "generated kernel: closed chain, " + std::to_string(d.closure_start.size()) +
-             " secondary coordinates " +
-             (d.closed_form_groups > 0
-                  ? "in closed form (" + std::to_string(d.closed_form_groups) + " groups)"
-                  : std::string("by unrolled Newton-Raphson")) +
-             ", Davies' rates by a fixed-pivot elimination, efforts by virtual power (reactions "
-             "not generated yet)" +
+      out += "generated kernel: closed chain, " + std::to_string(secondary) +
+             " secondary coordinates (" + std::to_string(secondary - newton) + " in closed form, " +
+             std::to_string(newton) +
+             " by unrolled Newton-Raphson), Davies' rates by a fixed-pivot elimination, efforts "
+             "by virtual power, reactions through N_s transposed" +
              compiled + "\n";
-    for (int k = 0; k < d.closed_form_groups; ++k)
-      out += "  " +
-             d.plan[d.plan.size() - 2 - static_cast<size_t>(d.closed_form_groups) +
-                    static_cast<size_t>(k)] +
-             "\n";
+    // The closed-form groups and the closure (docs/spatial_kernels.md).
+    for (const int k : d.closed_form_groups) out += "  " + d.plan[static_cast<size_t>(k)] + "\n";
+    for (const std::string& line : d.plan)
+      if (line.rfind("closure:", 0) == 0) out += "  " + line + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";
@@ -271,19 +269,6 @@ int run_spatial_sweep(const Args& args) {
       kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)
              : spatial::run_spatial_sweep(model, options);
   const double elapsed = seconds_since(start);
-  // A closed chain's kernel gives kinematics and driver efforts; its reactions are not generated
-  // yet (NaN by design): never written with exit 0.
-  if (kernel)
-    for (const std::vector<double>& row : result.rows)
-      for (size_t c = 0; c < row.size(); ++c)
-        if (!std::isfinite(row[c]))
-          throw ModelError(model.common.file.empty() ? SourceLoc{path, 0, 0}
-                                                     : SourceLoc{model.common.file, 0, 0},
-                           "the generated kernel of '" + model.common.name +
-                               "' (closed circuits) gives kinematics and driver efforts only: "
-                               "column " +
-                               result.columns[c] +
-                               " (a joint reaction) is not generated yet; use --solver numeric");
   const std::string out = args.get("--out");
   g_current_file = out;
   report::CsvTable table{out, result.columns, result.rows};

@@ -161,6 +161,9 @@ struct Command {
   const char* help;
   std::vector<OptionSpec> options;
   int (*run)(const Args&);
+  // `--out` names a folder the command fills and checks itself; otherwise every output option
+  // (--out, --over-time, --diagram-out, --plot) is checked as a file before the command runs.
+  bool out_is_folder = false;
 };
 
 // ---- sub-commands in their own files (cmd_<name>.cpp) -------------------------------------------

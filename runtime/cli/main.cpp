@@ -26,6 +26,7 @@
 #include "model/mechanism_graph.hpp"
 #include "model/model.hpp"
 #include "model/solve_plan.hpp"
+#include "model/support_model.hpp"
 #include "numeric/reference_solver.hpp"
 #include "ondemand/data_paths.hpp"
 #include "report/atomic_output.hpp"
@@ -261,12 +262,15 @@ int run_info(const Args& args) {
 // ---- mechgen generate ---------------------------------------------------------------------------
 
 const char* const kGenerateHelp =
-    R"(usage: mechgen generate MODEL.yaml [-o DIR] [--bake] [--templates DIR]
+    R"(usage: mechgen generate MODEL.yaml [-o DIR] [--bake] [--templates DIR] [--support BODY]
 
 Derives the model's kinematics and dynamics symbolically and writes its kernels.
   -o, --output DIR   where to write (default: generated/<name>/ under the current folder)
   --bake             bake the default parameter values into the kernel as constants
   --templates DIR    the templates to emit through (default: mechgen's own)
+  --support BODY     spatial: the single-support kernel <name>_support_<BODY> (BODY welded to the
+                     floor at its placement, virtual chains dropped, every real joint driven:
+                     joint torques and the floor wrench; docs/spatial_kernels.md)
 Parameters stay run-time values unless --bake is given. The kernel carries a fingerprint of the
 description it was generated from. Sweeps need no generate step: `--solver generated` builds and
 caches the kernel of a model that is not compiled into mechgen on its first use.
@@ -276,10 +280,14 @@ int run_generate(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   g_current_file = path;
   // A spatial description generates through generator/spatial_emitter (gen::generate dispatches).
-  const std::string name =
-      is_spatial_description(path) ? read_spatial_model(path).common.name : load_model(path).name;
+  const std::string support = args.get("--support", "");
+  const std::string name = !is_spatial_description(path) ? load_model(path).name
+                           : support.empty()
+                               ? read_spatial_model(path).common.name
+                               : weld_support(read_spatial_model(path), support).common.name;
   gen::GenerateOptions options;
   options.model_path = path;
+  options.support = support;
   options.output_dir = args.get("--output", (std::filesystem::path("generated") / name).string());
   options.templates_dir = args.get("--templates", ondemand::templates_dir());
   options.bake = args.has("--bake");
@@ -411,7 +419,10 @@ const std::vector<Command>& commands() {
       {"generate",
        "write a model's kernels (default generated/<name>/)",
        kGenerateHelp,
-       {{"--output", "-o", true}, {"--bake", "", false}, {"--templates", "", true}},
+       {{"--output", "-o", true},
+        {"--bake", "", false},
+        {"--templates", "", true},
+        {"--support", "", true}},
        &run_generate},
       sweep_command(),
       {"plot",
@@ -521,10 +532,8 @@ int dispatch(int argc, char** argv) {
         return 0;
       }
       // Every output path is checked before any computation (the files are written atomically).
-      // (humanoid-gait's --out is a folder it fills: it checks it itself.)
-      const bool out_is_folder = std::string(c.name) == "humanoid-gait";
       for (const char* option : {"--out", "--over-time", "--diagram-out", "--plot"})
-        if (!(out_is_folder && std::string(option) == "--out"))
+        if (!(c.out_is_folder && std::string(option) == "--out"))
           for (const std::string& path : args.all(option)) report::check_output_path(path);
       return c.run(args);
     } catch (const UsageError& error) {

@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+
 #include "model/description_syntax.hpp"
 
 namespace mechgen {
@@ -17,6 +19,11 @@ int SpatialModel::body_index(const std::string& name) const {
   for (size_t i = 0; i < bodies.size(); ++i)
     if (bodies[i].name == name) return static_cast<int>(i);
   return -1;
+}
+
+bool SpatialModel::emits_jacobian(const std::string& name) const {
+  return !kernel_jacobians || std::find(kernel_jacobians->begin(), kernel_jacobians->end(), name) !=
+                                  kernel_jacobians->end();
 }
 
 int SpatialModel::joint_index(const std::string& name) const {

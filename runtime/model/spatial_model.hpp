@@ -132,8 +132,13 @@ struct SpatialModel {
   std::vector<PoseDriver> pose_drivers;
   std::vector<SpatialLoad> loads;  // `forces:`
   int ground = -1;
+  // `kernel: {jacobians: [...]}`: the bodies (twist Jacobian) and named points (velocity
+  // Jacobian) whose Jacobians a generated kernel emits; absent: every moving one.
+  std::optional<std::vector<std::string>> kernel_jacobians;
 
   int body_index(const std::string& name) const;
+  // Whether a generated kernel emits the Jacobian of this body or named point.
+  bool emits_jacobian(const std::string& name) const;
   int joint_index(const std::string& name) const;
   // Distinct point names in order of first appearance (real bodies only), with their body.
   std::vector<std::pair<std::string, int>> named_points() const;

@@ -2,6 +2,7 @@
 // bodies with full inertia, screw joints, joint drivers and pose drivers, the latter expanded into
 // their 3P3R virtual chains. Name, parameters and step are read by the shared reader
 // (model_reader.cpp) through DescriptionSyntax, so both dimensions parse them identically.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -57,11 +58,13 @@ class SpatialReader {
                    std::string& point_name) const;
 
   void read_body(const YAML::Node& node);
+  void check_point_names() const;
   void read_mass(const YAML::Node& node, SpatialBody& body);
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
   void read_pose_driver(const YAML::Node& node);
   void read_load(const YAML::Node& node);
+  void read_kernel_options(const YAML::Node& node);
   // A list element's name (a mapping with `name`), checked and claimed; its location in `at`.
   std::string element_name(const YAML::Node& node, const std::string& kind, SourceLoc& at);
 
@@ -558,6 +561,42 @@ void SpatialReader::read_load(const YAML::Node& node) {
   m_.loads.push_back(f);
 }
 
+// A point named like a body would give the sweep CSV two `<name>.x` columns (the point and the
+// body's centre of mass): a reader of the CSV by column name would silently get one of them.
+void SpatialReader::check_point_names() const {
+  for (const SpatialBody& body : m_.bodies)
+    for (const SpatialPoint& p : body.points)
+      if (const auto at = names_.find(p.name); at != names_.end() && at->second == "body")
+        throw ModelError(p.local.x.loc, "point '" + p.name + "' of body '" + body.name +
+                                            "' has the name of a body: their CSV columns '" +
+                                            p.name + ".x', ... would collide; rename one");
+}
+
+// `kernel: {jacobians: [name, ...]}`: each name a moving body, a named point of one, or both.
+void SpatialReader::read_kernel_options(const YAML::Node& node) {
+  if (!node.IsMap()) fail(node, "kernel must be a mapping, e.g. {jacobians: [foot]}");
+  y_.expect_keys(node, "kernel", {"jacobians"});
+  const YAML::Node list = node["jacobians"];
+  if (!list) return;
+  if (!list.IsSequence()) fail(list, "kernel jacobians must be a list of body or point names");
+  std::vector<std::string> names;
+  for (const auto& item : list) {
+    const std::string name = y_.identifier(item, "kernel jacobians entry");
+    const int b = m_.body_index(name);
+    bool known = b >= 0 && !m_.bodies[static_cast<size_t>(b)].ground &&
+                 !m_.bodies[static_cast<size_t>(b)].is_virtual;
+    for (const auto& [point, body] : m_.named_points())
+      known = known || (point == name && !m_.bodies[static_cast<size_t>(body)].ground);
+    if (!known)
+      fail(item,
+           "kernel jacobians: '" + name + "' is neither a moving body nor a named point of one");
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      fail(item, "kernel jacobians: '" + name + "' is listed twice");
+    names.push_back(name);
+  }
+  m_.kernel_jacobians = names;
+}
+
 SpatialModel SpatialReader::read(const YAML::Node& root) {
   m_.gravity = root["gravity"] ? vector3(root["gravity"], "gravity", false)
                                : constant_vec(0, 0, -9.81, y_.loc(root));
@@ -574,15 +613,18 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
     if (!list.IsSequence()) fail(list, std::string(key) + " must be a list");
     for (const auto& item : list) (this->*read_item)(item);
     if (m_.ground < 0) fail(list, "no ground body (mark one body 'ground: true')");
+    if (key == std::string("bodies")) check_point_names();
   }
   build_spatial_graph(m_);  // a body not connected to the ground, a rigid circuit: errors now
+  if (root["kernel"]) read_kernel_options(root["kernel"]);
   return m_;
 }
 
 }  // namespace
 
 const std::set<std::string>& spatial_description_keys() {
-  static const std::set<std::string> keys{"gravity", "bodies", "joints", "drivers", "forces"};
+  static const std::set<std::string> keys{"gravity", "bodies", "joints",
+                                          "drivers", "forces", "kernel"};
   return keys;
 }
 

@@ -90,12 +90,13 @@ const CompiledKernel* load(const fs::path& library, const Model& model, std::uin
 }
 
 // Generates and compiles the kernel into `library` (kernel_cache.hpp).
-void build(const Model& model, gen::KernelKind kind, const fs::path& cache,
-           const std::vector<std::string>& command, const fs::path& library) {
+void build(const Model& model, gen::KernelKind kind, const std::string& support,
+           const fs::path& cache, const std::vector<std::string>& command,
+           const fs::path& library) {
   const fs::path dir = make_build_dir(cache, model.name);
   std::error_code ignored;
   try {
-    const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false};
+    const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false, support};
     if (kind == gen::KernelKind::spatial)
       gen::generate_spatial(options);  // reads model.file again: load() checks the fingerprint
     else
@@ -167,7 +168,8 @@ std::vector<std::string> compile_command() {
 }
 
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
-                                    const std::string& reason, gen::KernelKind kind) {
+                                    const std::string& reason, gen::KernelKind kind,
+                                    const std::string& support) {
   const fs::path cache = cache_dir();
   std::error_code error;
   fs::create_directories(cache, error);
@@ -188,7 +190,7 @@ const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprin
             << ", first use: " << std::flush;
   const auto start = std::chrono::steady_clock::now();
   try {
-    build(model, kind, cache, command, library);
+    build(model, kind, support, cache, command, library);
   } catch (...) {
     std::cerr << "failed\n";
     throw;

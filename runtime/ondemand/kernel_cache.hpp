@@ -36,9 +36,11 @@ std::vector<std::string> compile_command();
 // The kernel of `model` whose fingerprint is `fingerprint`: loaded from the cache, else generated,
 // compiled (saying so on stderr, with the time it took) and cached. Throws std::runtime_error when
 // it cannot be generated, compiled (the message names the compiler's log file) or loaded. A spatial
-// kernel (`kind`) is generated from the description's file, model.file, by the spatial emitter.
+// kernel (`kind`) is generated from the description's file, model.file, by the spatial emitter,
+// standing on `support` when one is named (a single-support kernel, model/support_model.hpp).
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
                                     const std::string& reason,
-                                    gen::KernelKind kind = gen::KernelKind::planar);
+                                    gen::KernelKind kind = gen::KernelKind::planar,
+                                    const std::string& support = "");
 
 }  // namespace mechgen::ondemand

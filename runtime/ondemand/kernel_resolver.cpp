@@ -30,7 +30,8 @@ const CompiledKernel* current_of(const Model& model, gen::KernelKind kind) {
   return kernel && kernel->fingerprint == fingerprint_of(model, kind) ? kernel : nullptr;
 }
 
-const CompiledKernel& resolve(const Model& model, gen::KernelKind kind) {
+const CompiledKernel& resolve(const Model& model, gen::KernelKind kind,
+                              const std::string& support = "") {
   static std::mutex mutex;
   static std::map<std::pair<std::string, std::uint64_t>, const CompiledKernel*> resolved;
   const std::lock_guard<std::mutex> lock(mutex);
@@ -41,7 +42,7 @@ const CompiledKernel& resolve(const Model& model, gen::KernelKind kind) {
   if (compiled_in && compiled_in->fingerprint == fingerprint) return *(kernel = compiled_in);
   const std::string reason =
       compiled_in ? " (the compiled-in kernel is of another description)" : "";
-  return *(kernel = &cached_kernel(model, fingerprint, reason, kind));
+  return *(kernel = &cached_kernel(model, fingerprint, reason, kind, support));
 }
 
 }  // namespace
@@ -68,6 +69,10 @@ const CompiledKernel* current_compiled_kernel(const SpatialModel& model) {
 
 const CompiledKernel& kernel_for(const SpatialModel& model) {
   return resolve(model.common, gen::KernelKind::spatial);
+}
+
+const CompiledKernel& kernel_for(const SpatialModel& welded, const std::string& support) {
+  return resolve(welded.common, gen::KernelKind::spatial, support);
 }
 
 }  // namespace mechgen::ondemand

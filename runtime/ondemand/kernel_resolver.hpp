@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "model/model.hpp"
 #include "model/spatial_model.hpp"
@@ -30,5 +31,9 @@ const CompiledKernel& kernel_for(const Model& model);
 std::uint64_t expected_fingerprint(const SpatialModel& model);
 const CompiledKernel* current_compiled_kernel(const SpatialModel& model);
 const CompiledKernel& kernel_for(const SpatialModel& model);
+// A single-support kernel: `welded` is weld_support(description, support)
+// (model/support_model.hpp), whose fingerprint covers the support; one built on demand is
+// generated from welded.common.file standing on `support`.
+const CompiledKernel& kernel_for(const SpatialModel& welded, const std::string& support);
 
 }  // namespace mechgen::ondemand

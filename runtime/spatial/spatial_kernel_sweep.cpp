@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <string>
 
 namespace mechgen::spatial {
 
@@ -25,6 +26,9 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
   if (!same)
     throw ModelError(file, "the generated kernel of '" + model.common.name +
                                "' does not match the description (rebuild to regenerate it)");
+  bool newton_closure = false;
+  for (int g = 0; g < kernel.group_count; ++g)
+    newton_closure = newton_closure || std::string(kernel.group_names[g]) == "closure";
   for (int i = 0; i < options.samples; ++i) {
     const double t = spatial_sample_time(options, i);
     std::vector<double> row(static_cast<size_t>(kernel.column_count));
@@ -45,6 +49,10 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
             : status == 3 ? " (the parameters or the motion are too large for double precision: "
                             "an output overflows)"
                           : " (the configuration is singular there)");
+      // A Newton closure starts from the previous sample: samples far apart fail there too.
+      if (status != 2 && i > 0 && newton_closure)
+        m << "; or the samples are too far apart for the closure's Newton steps from the "
+             "previous one: use more samples, or --solver numeric (it halves its steps)";
       throw ModelError(file, m.str());
     }
     result.rows.push_back(std::move(row));

@@ -276,6 +276,14 @@ void SpatialSolver::check_mobility(const Eigen::MatrixXd& N) const {
   }
 }
 
+namespace {
+// The circuits did not close: a continuation may retry with a shorter step (a singular N_s in
+// the rates is not retried: approaching it again would only hide it).
+struct ClosureFailure : ModelError {
+  using ModelError::ModelError;
+};
+}  // namespace
+
 void SpatialSolver::close_circuits(SpatialState& s, bool first) const {
   place(s);
   if (graph_.circuits() == 0) return;
@@ -298,7 +306,7 @@ void SpatialSolver::close_circuits(SpatialState& s, bool first) const {
     << " after 60 Newton-Raphson steps" << (first ? " from the assembly hints" : "")
     << "): the drivers take the mechanism out of reach, or give `assembly:` hints nearer a closed "
        "configuration";
-  throw ModelError(j.loc, m.str());
+  throw ClosureFailure(j.loc, m.str());
 }
 
 Eigen::MatrixXd SpatialSolver::secondary_map(const SpatialState& s) const {
@@ -377,9 +385,48 @@ void SpatialSolver::rates(SpatialState& s, const Eigen::VectorXd& qpd,
 }
 
 void SpatialSolver::solve(double t, SpatialState& s) const {
+  if (s.assembled && graph_.circuits() > 0) return advance(t, s, 0);
   Eigen::VectorXd qp, qpd, qpdd;
   primary_motion(t, qp, qpd, qpdd);
   solve(t, qp, qpd, qpdd, s);
+}
+
+namespace {
+// A secondary coordinate closing this far (rad, or m for a slide) from its second-order
+// prediction has not followed the motion: samples far apart let Newton-Raphson jump to another
+// assembly branch (or to an angle 2 pi k away), silently. Between samples fine enough to plot, the
+// prediction error is orders of magnitude below it.
+constexpr double kBranchJump = 0.1;
+constexpr int kMaxHalvings = 16;
+}  // namespace
+
+void SpatialSolver::advance(double t, SpatialState& s, int halvings) const {
+  const SpatialState from = s;
+  Eigen::VectorXd qp, qpd, qpdd;
+  primary_motion(t, qp, qpd, qpdd);
+  bool followed = true;
+  try {
+    solve(t, qp, qpd, qpdd, s);
+  } catch (const ClosureFailure&) {
+    if (halvings == kMaxHalvings) throw;
+    followed = false;
+  }
+  const double dt = t - from.t;
+  for (size_t k = 0; followed && k < graph_.secondary.size(); ++k) {
+    const Eigen::Index c = graph_.secondary[k];
+    const double predicted = from.q[c] + dt * from.qd[c] + dt * dt / 2 * from.qdd[c];
+    followed = std::abs(s.q[c] - predicted) <= kBranchJump;
+  }
+  if (followed) return;
+  if (halvings == kMaxHalvings) {
+    std::ostringstream m;
+    m << "the mechanism cannot follow its drivers from t = " << from.t << " to t = " << t
+      << ": its closure jumps (a branch point or a singular configuration in between)";
+    throw ModelError(model_.joints[static_cast<size_t>(graph_.chords[0])].loc, m.str());
+  }
+  s = from;
+  advance(from.t + dt / 2, s, halvings + 1);
+  advance(t, s, halvings + 1);
 }
 
 void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,

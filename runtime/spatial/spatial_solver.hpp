@@ -73,8 +73,10 @@ class SpatialSolver {
 
   // Positions, velocities and accelerations at t. The first call (or state.assembled false)
   // starts from the assembly hints and checks the mobility (located ModelError for an over- or
-  // under-determined motion, a singular N_s); later calls continue from the state. Throws
-  // ModelError when the circuits cannot be closed.
+  // under-determined motion, a singular N_s); later calls continue from the state along the
+  // model's motion, halving the step where the closure fails or lands far from the rates'
+  // prediction (a branch change or 2 pi k between coarse samples). Throws ModelError when the
+  // circuits cannot be closed or follow no continuous path.
   void solve(double t, SpatialState& state) const;
   // The same with the primary coordinates and their rates given (graph().primary order, as
   // primary_motion returns them): a motion planned outside the description (a gait) drives the
@@ -109,6 +111,7 @@ class SpatialSolver {
  private:
   Eigen::MatrixXd secondary_map(const SpatialState& state) const;  // q_s' = S q_p'
   void close_circuits(SpatialState& state, bool first) const;
+  void advance(double t, SpatialState& state, int halvings) const;
   void check_mobility(const Eigen::MatrixXd& N) const;
   Eigen::VectorXd closure_error(const SpatialState& state) const;
 

@@ -1,0 +1,179 @@
+// bioloid_support/*: single-support inverse dynamics of the Bioloid (issue 13) per sample, on
+// whole-body states of the walking gait (right foot in support, 64 samples of the first step,
+// solved beforehand by the numeric solver):
+//  - generated: the generated kernel generated/bioloid_support_r_foot evaluate() from the joint
+//    angles, rates and accelerations and the placement: every body's pose, twist and twist rate,
+//    every screw Jacobian, every joint torque and reaction, the floor wrench;
+//  - generated_control: its control(): Jacobians and joint torques (no reactions, no floor wrench);
+//  - generated_runtime: spatial::SupportKernel::loads, what `mechgen humanoid-gait` calls (the
+//    placement read off the state, the compiled kernel's row, the torques and floor wrench);
+//  - numeric: spatial::single_support_dynamics (floating_base.hpp) on the solved whole-body state
+//    (the kinematics already done: body wrenches and the recursion only);
+//  - numeric_tree: the numeric reference solver on the welded tree from the kernel's own inputs
+//    (positions, twists and twist rates from the joint angles, rates and accelerations, then its
+//    dense Newton-Euler solve: every torque and reaction), the same work as `generated`.
+// The generated torques are checked equal to the numeric ones (1e-9) before timing.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "bioloid_support_r_foot/bioloid_support_r_foot.hpp"
+#include "model/support_model.hpp"
+#include "spatial/floating_base.hpp"
+#include "spatial/humanoid_gait.hpp"
+#include "spatial/spatial_dynamics.hpp"
+#include "spatial/support_kernel.hpp"
+
+namespace mechgen::bench {
+namespace {
+
+namespace k = gen::bioloid_support_r_foot;
+
+// The real joints of models/bioloid.yaml, each driven by <joint>_drive in the kernel.
+// clang-format off
+#define MECHGEN_BIOLOID_JOINTS \
+  X(RL1) X(RL2) X(RL3) X(RL4) X(RL5) X(RL6) \
+  X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) \
+  X(RA1) X(RA2) X(RA3) X(RA4) X(RA5) X(RA6) \
+  X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
+// clang-format on
+
+struct Support {
+  SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
+  spatial::SpatialSolver solver{model, {}};
+  spatial::HumanoidGait gait{solver, spatial::gait_settings(solver)};
+  SpatialModel welded = weld_support(model, "r_foot");
+  int foot = model.body_index("r_foot");
+  std::vector<spatial::SpatialState> states;
+  std::vector<k::Inputs<double>> inputs;
+  std::vector<k::Params<double>> params;
+
+  // The foot's point RF at the reference pose: the placement parameters' defaults.
+  spatial::V3 at_reference() const {
+    const std::vector<double> p = welded.common.default_parameters();
+    const auto i = static_cast<size_t>(welded.common.parameter_index(kSupportPlacement[0]));
+    return {p[i], p[i + 1], p[i + 2]};
+  }
+
+  Support() {
+    const double T = gait.settings().step_time;
+    for (int i = 0; i < 64; ++i) {
+      spatial::SpatialState s;
+      gait.solve(T * (i + 0.5) / 64, s);
+      if (gait.support(s.t) != 0) throw std::logic_error("bioloid_support: not on the right foot");
+      k::Inputs<double> in;
+      in.t = s.t;
+#define X(J)                                                                               \
+  {                                                                                        \
+    const int c = solver.graph().joint_column[static_cast<size_t>(model.joint_index(#J))]; \
+    in.J##_drive = s.q[c], in.J##_drive_d = s.qd[c], in.J##_drive_dd = s.qdd[c];           \
+  }
+      MECHGEN_BIOLOID_JOINTS
+#undef X
+      // The placement: the foot's point RF and its heading (flat: a turn about z).
+      const spatial::Pose& D = s.D[static_cast<size_t>(foot)];
+      const spatial::V3 at = geometry::apply(D, at_reference());
+      k::Params<double> p;
+      p.support_x = at[0], p.support_y = at[1], p.support_z = at[2];
+      p.support_heading = std::atan2(D.R(1, 0), D.R(0, 0));
+      states.push_back(s);
+      inputs.push_back(in);
+      params.push_back(p);
+    }
+  }
+};
+
+void check(const Support& b) {
+  for (size_t i = 0; i < b.states.size(); ++i) {
+    const spatial::FloatingBaseLoads numeric =
+        spatial::single_support_dynamics(b.solver, b.states[i], b.foot);
+    k::State<double> s;
+    if (k::evaluate(b.params[i], b.inputs[i], s) != k::Status::ok)
+      throw std::runtime_error("bioloid_support: the kernel failed");
+#define X(J)                                                                         \
+  if (std::abs(s.drivers.J##_drive.effort -                                          \
+               numeric.torque[static_cast<size_t>(b.model.joint_index(#J))]) > 1e-9) \
+    throw std::runtime_error("bioloid_support: generated and numeric torques differ at " #J);
+    MECHGEN_BIOLOID_JOINTS
+#undef X
+    if (std::abs(s.joints.r_foot_weld.fz - numeric.floor.f[2]) > 1e-9)
+      throw std::runtime_error("bioloid_support: generated and numeric floor forces differ");
+  }
+}
+
+[[maybe_unused]] const bool registered = [] {
+  auto b = std::make_shared<Support>();
+  check(*b);
+  benchmark::RegisterBenchmark("bioloid_support/generated", [b](benchmark::State& state) {
+    k::State<double> s;
+    size_t i = 0;
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(k::evaluate(b->params[i], b->inputs[i], s));
+      benchmark::DoNotOptimize(&s);
+      i = (i + 1) % b->inputs.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark("bioloid_support/generated_control", [b](benchmark::State& state) {
+    k::State<double> s;
+    size_t i = 0;
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(k::control(b->params[i], b->inputs[i], s));
+      benchmark::DoNotOptimize(&s);
+      i = (i + 1) % b->inputs.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark("bioloid_support/generated_runtime", [b](benchmark::State& state) {
+    const CompiledKernel* kernel = find_compiled_kernel(b->welded.common.name);
+    if (!kernel) {
+      state.SkipWithError("bioloid_support_r_foot is not compiled in");
+      return;
+    }
+    const spatial::SupportKernel support(b->solver, b->welded, b->foot, *kernel);
+    size_t i = 0;
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(support.loads(b->states[i]));
+      i = (i + 1) % b->states.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark("bioloid_support/numeric_tree", [b](benchmark::State& state) {
+    // The welded tree placed where the samples' foot is (it stands still over the step).
+    std::vector<double> params = b->solver.parameters();
+    params.insert(params.end(), {b->params[0].support_x, b->params[0].support_y,
+                                 b->params[0].support_z, b->params[0].support_heading});
+    const spatial::SpatialSolver tree(b->welded, params);
+    const SpatialGraph& g = tree.graph();
+    const auto n = static_cast<Eigen::Index>(g.primary.size());
+    std::vector<Eigen::VectorXd> q, qd, qdd;
+    for (const spatial::SpatialState& s : b->states) {
+      q.emplace_back(n), qd.emplace_back(n), qdd.emplace_back(n);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const SpatialColumn& c = g.columns[static_cast<size_t>(g.primary[static_cast<size_t>(k)])];
+        const int j = b->model.joint_index(b->welded.joints[static_cast<size_t>(c.joint)].name);
+        const int col = b->solver.graph().joint_column[static_cast<size_t>(j)] + c.index;
+        q.back()[k] = s.q[col], qd.back()[k] = s.qd[col], qdd.back()[k] = s.qdd[col];
+      }
+    }
+    spatial::SpatialState s;
+    tree.solve(0, q[0], qd[0], qdd[0], s);
+    size_t i = 0;
+    for (auto _ : state) {
+      tree.solve(b->states[i].t, q[i], qd[i], qdd[i], s);
+      benchmark::DoNotOptimize(spatial::inverse_dynamics(tree, s));
+      i = (i + 1) % b->states.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  benchmark::RegisterBenchmark("bioloid_support/numeric", [b](benchmark::State& state) {
+    size_t i = 0;
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(spatial::single_support_dynamics(b->solver, b->states[i], b->foot));
+      i = (i + 1) % b->states.size();
+    }
+  })->Unit(benchmark::kNanosecond);
+  return true;
+}();
+#undef MECHGEN_BIOLOID_JOINTS
+
+}  // namespace
+}  // namespace mechgen::bench

@@ -1,0 +1,445 @@
+// Closed-form inverse kinematics of pose-driven limbs (spatial_limb_ik.hpp).
+#include "spatial_limb_ik.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+
+namespace mechgen::gen {
+
+using GiNaC::ex;
+using geometry::operator+;
+using geometry::operator-;
+using geometry::operator*;
+
+namespace {
+
+using V = geometry::Vec3<ex>;
+using Pose = geometry::Pose<ex>;
+
+constexpr double kTwoPi = 2 * 3.14159265358979323846;
+
+// One joint of a circuit in loop order: moving from one body to the next through `joint`,
+// forwards (+1: from its first body to its second) or backwards (-1).
+struct Step {
+  int joint = -1;
+  int direction = 1;
+};
+
+// A circuit split into the limb (its real joints with secondary coordinates, contiguous, fixed
+// joints between them allowed) and the rest of the loop, from the limb's end back to its start.
+struct LimbCircuit {
+  std::vector<Step> limb, rest;
+  std::vector<int> free;  // the rest's secondary (free virtual) columns
+  int pose_driver = -1;   // theirs, or of any virtual joint of the rest
+};
+
+bool vanishes(const ex& e) {
+  return e.expand().is_zero();
+}
+
+// The circuit of `chord` as a loop: from the tree's lowest common ancestor down to the chord's
+// first body, the chord, then up from its second body.
+std::vector<Step> loop(const SpatialModel& m, const SpatialGraph& g, int circuit) {
+  const int chord = g.chords[static_cast<size_t>(circuit)];
+  const SpatialJoint& cj = m.joints[static_cast<size_t>(chord)];
+  const auto ancestors = [&g](int b) {
+    std::vector<int> out{b};
+    while (g.parent[static_cast<size_t>(b)] >= 0)
+      out.push_back(b = g.parent[static_cast<size_t>(b)]);
+    return out;
+  };
+  const std::vector<int> a = ancestors(cj.first), b = ancestors(cj.second);
+  size_t ia = 0, ib = 0;
+  while (std::find(b.begin(), b.end(), a[ia]) == b.end()) ++ia;
+  while (b[ib] != a[ia]) ++ib;
+  std::vector<Step> steps;
+  for (size_t k = ia; k-- > 0;) {
+    const int j = g.parent_joint[static_cast<size_t>(a[k])];
+    steps.push_back({j, m.joints[static_cast<size_t>(j)].first == a[k + 1] ? 1 : -1});
+  }
+  steps.push_back({chord, 1});
+  for (size_t k = 0; k < ib; ++k) {
+    const int j = g.parent_joint[static_cast<size_t>(b[k])];
+    steps.push_back({j, m.joints[static_cast<size_t>(j)].first == b[k] ? 1 : -1});
+  }
+  return steps;
+}
+
+std::optional<LimbCircuit> limb_circuit(const CircuitSolverContext& c, int circuit) {
+  const SpatialModel& m = c.model;
+  const SpatialGraph& g = c.graph;
+  const std::vector<Step> steps = loop(m, g, circuit);
+  const size_t n = steps.size();
+  enum Kind { limb, fixed, other };
+  std::vector<Kind> kind(n, other);
+  for (size_t k = 0; k < n; ++k) {
+    const SpatialJoint& j = m.joints[static_cast<size_t>(steps[k].joint)];
+    const int c0 = g.joint_column[static_cast<size_t>(steps[k].joint)];
+    if (j.columns.empty()) kind[k] = fixed;
+    if (!j.is_virtual && !j.columns.empty() && !g.columns[static_cast<size_t>(c0)].primary) {
+      if (j.type != SpatialJointType::revolute) return std::nullopt;
+      kind[k] = limb;
+    }
+  }
+  // The limb starts at a limb joint whose previous non-fixed step is not a limb joint.
+  const auto previous = [&](size_t k) {
+    for (size_t i = 1; i < n; ++i)
+      if (kind[(k + n - i) % n] != fixed) return kind[(k + n - i) % n];
+    return fixed;
+  };
+  size_t start = n;
+  for (size_t k = 0; k < n; ++k)
+    if (kind[k] == limb && previous(k) != limb) {
+      if (start != n) return std::nullopt;  // two separate runs of real joints
+      start = k;
+    }
+  if (start == n) return std::nullopt;
+  size_t end = start;  // one past the limb's last joint
+  for (size_t k = start; k < start + n && kind[k % n] != other; ++k)
+    if (kind[k % n] == limb) end = k + 1;
+  LimbCircuit out;
+  for (size_t k = start; k < end; ++k)
+    if (kind[k % n] == limb) out.limb.push_back(steps[k % n]);
+  for (size_t k = end; k < start + n; ++k) {
+    const Step& s = steps[k % n];
+    if (kind[k % n] == limb) return std::nullopt;
+    out.rest.push_back(s);
+    const SpatialJoint& j = m.joints[static_cast<size_t>(s.joint)];
+    if (j.is_virtual) {
+      if (out.pose_driver >= 0 && out.pose_driver != j.pose_driver) {
+        // A second pose driver in the rest must be fully prescribed (checked below).
+      } else {
+        out.pose_driver = j.pose_driver;
+      }
+    }
+    const auto c0 = static_cast<size_t>(g.joint_column[static_cast<size_t>(s.joint)]);
+    for (size_t i = 0; i < j.columns.size(); ++i)
+      if (!g.columns[c0 + i].primary) out.free.push_back(static_cast<int>(c0 + i));
+  }
+  for (const int col : out.free)
+    if (g.columns[static_cast<size_t>(col)].pose_driver < 0) return std::nullopt;
+  if (!out.free.empty()) out.pose_driver = g.columns[static_cast<size_t>(out.free[0])].pose_driver;
+  for (const int col : out.free)
+    if (g.columns[static_cast<size_t>(col)].pose_driver != out.pose_driver) return std::nullopt;
+  return out;
+}
+
+// The rest's motion from the limb's end back to its start with the free columns at zero; the
+// limb's own motion from its start to its end is its inverse.
+Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc) {
+  Pose M;
+  for (const Step& s : lc.rest) {
+    const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
+    const auto c0 = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
+    Pose E;
+    for (size_t i = 0; i < j.columns.size(); ++i)
+      if (c.graph.columns[c0 + i].primary) E = E * c.columns[c0 + i].displacement;
+    M = M * (s.direction > 0 ? E : geometry::inverse(E));
+  }
+  return {M.R, M.p};
+}
+
+std::string group_name(const CircuitSolverContext& c, const LimbCircuit& lc, int circuit) {
+  return lc.pose_driver >= 0
+             ? "ik_" + c.model.pose_drivers[static_cast<size_t>(lc.pose_driver)].name
+             : "ik_circuit" + std::to_string(circuit);
+}
+
+// The multiple of 2 pi that brings `value` nearest to `target`.
+double turns(double target, double value) {
+  return std::round((target - value) / kTwoPi);
+}
+ex plus_turns(const ex& e, double k) {
+  return k == 0 ? e : e + static_cast<long>(k) * 2 * GiNaC::Pi;
+}
+V named_vector(const CircuitSolverContext& c, const std::string& name, const V& v) {
+  return {c.named(name + "_x", v[0]), c.named(name + "_y", v[1]), c.named(name + "_z", v[2])};
+}
+
+// Paden-Kahan subproblems on axes through the origin of the vectors given (directions unit).
+// 1: the angle about w that takes x to y (their components normal to w).
+ex rotation_taking(const V& w, const V& x, const V& y) {
+  return GiNaC::atan2(geometry::dot(w, geometry::cross(x, y)),
+                      geometry::dot(x, y) - geometry::dot(w, x) * geometry::dot(w, y));
+}
+
+// A limb joint's screw seen along the limb: rotation by theta = direction * q about the axis.
+struct LimbAxis {
+  V w, r;         // direction, a point
+  ex direction;   // +1 or -1
+  size_t column;  // graph column
+};
+
+// Axis points are named parameter expressions: the layout is recognised at the default
+// parameters (a --set that breaks it leaves the circuit open, which the closure check reports
+// as unreachable).
+bool small(const CircuitSolverContext& c, const ex& e) {
+  return std::abs(c.at_assembly(e)) < 1e-9;
+}
+bool meets(const CircuitSolverContext& c, const LimbAxis& a, const LimbAxis& b) {
+  const V n = geometry::cross(a.w, b.w);
+  return !(small(c, n[0]) && small(c, n[1]) && small(c, n[2])) &&
+         small(c, geometry::dot(b.r - a.r, n));
+}
+// The point where two meeting axes cross.
+V crossing(const LimbAxis& a, const LimbAxis& b) {
+  const V n = geometry::cross(a.w, b.w);
+  const ex t = geometry::dot(geometry::cross(b.r - a.r, b.w), n) / geometry::dot(n, n);
+  return a.r + t * a.w;
+}
+bool passes_through(const CircuitSolverContext& c, const LimbAxis& a, const V& x) {
+  const V d = geometry::cross(x - a.r, a.w);
+  return small(c, d[0]) && small(c, d[1]) && small(c, d[2]);
+}
+
+}  // namespace
+
+std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, int circuit) {
+  const std::optional<LimbCircuit> found = limb_circuit(c, circuit);
+  if (!found || found->limb.size() != 3) return std::nullopt;
+  const LimbCircuit& lc = *found;
+  const SpatialGraph& g = c.graph;
+  const auto column = [&](const Step& s) {
+    return static_cast<size_t>(g.joint_column[static_cast<size_t>(s.joint)]);
+  };
+  const V n = c.columns[column(lc.limb[0])].axis.s;
+  std::vector<ex> sign;  // theta_i = sign_i q_i about n
+  for (const Step& s : lc.limb) {
+    const V& si = c.columns[column(s)].axis.s;
+    if (!vanishes(geometry::cross(si, n)[0]) || !vanishes(geometry::cross(si, n)[1]) ||
+        !vanishes(geometry::cross(si, n)[2]))
+      return std::nullopt;
+    sign.push_back((s.direction * geometry::dot(si, n)).expand());
+  }
+  // The rest stays in the plane: rotations about n, translations normal to n; its free
+  // coordinates are the translation along n and two rotations normal to it (all zero).
+  ex phi = 0;  // the limb's total rotation about n
+  int free_translations = 0, free_rotations = 0;
+  for (const Step& s : lc.rest) {
+    const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
+    for (size_t i = 0; i < j.columns.size(); ++i) {
+      const size_t col = column(s) + i;
+      const CircuitColumn& cc = c.columns[col];
+      const bool primary = g.columns[col].primary;
+      const ex along = geometry::dot(cc.axis.s, n).expand();
+      if (cc.axis.kind == geometry::ScrewKind::helical) return std::nullopt;
+      if (cc.axis.kind == geometry::ScrewKind::translation) {
+        if (primary ? !along.is_zero() : vanishes(along)) return std::nullopt;
+        free_translations += primary ? 0 : 1;
+      } else if (primary) {
+        if (!vanishes(along * along - 1)) return std::nullopt;
+        phi -= s.direction * along * cc.q;
+      } else {
+        if (!along.is_zero()) return std::nullopt;
+        ++free_rotations;
+      }
+      if (!primary && std::abs(c.assembly_q[col]) > 1e-9) return std::nullopt;
+    }
+  }
+  if (free_translations != 1 || free_rotations != 2) return std::nullopt;
+  const std::string name = group_name(c, lc, circuit);
+  const std::string prefix = name + "_";
+  // The limb's motion equals the inverse of the rest's; the ankle axis point P3 is fixed by the
+  // last joint, so E1 E2 P3 = T P3: a two-link problem in the plane normal to n.
+  const Pose rest = rest_motion(c, lc);
+  const Pose T = geometry::inverse(rest);
+  const V P1 = c.columns[column(lc.limb[0])].axis.s0, P2 = c.columns[column(lc.limb[1])].axis.s0,
+          P3 = c.columns[column(lc.limb[2])].axis.s0;
+  const auto in_plane = [&n](const V& x) { return x - geometry::dot(x, n) * n; };
+  const V a = named_vector(c, prefix + "reach_vector", in_plane(geometry::apply(T, P3) - P1));
+  const V l1 = in_plane(P2 - P1), l2 = in_plane(P3 - P2);
+  const ex K = c.named(prefix + "link_dot", geometry::dot(l1, l2));
+  const ex S = c.named(prefix + "link_cross", geometry::dot(geometry::cross(l1, l2), n));
+  const ex rho =
+      c.named(prefix + "link_product", GiNaC::sqrt(geometry::dot(l1, l1) * geometry::dot(l2, l2)));
+  const ex cos_middle =
+      c.named(prefix + "cos",
+              (geometry::dot(a, a) - geometry::dot(l1, l1) - geometry::dot(l2, l2)) / (2 * rho));
+  const ex reach = c.named(prefix + "reach", 1 - cos_middle * cos_middle);
+  // Branch and turns from the numeric assembly.
+  const double k_ = c.at_assembly(K), s_ = c.at_assembly(S), c_ = c.at_assembly(cos_middle);
+  const double theta2_asm = c.at_assembly(sign[1]) * c.assembly_q[column(lc.limb[1])];
+  const double r_ = std::sqrt(std::max(0.0, 1 - c_ * c_));
+  const double plus = std::atan2(r_, c_) - std::atan2(s_, k_);
+  const double minus = std::atan2(-r_, c_) - std::atan2(s_, k_);
+  const double off_plus = std::abs(theta2_asm - plus - kTwoPi * turns(theta2_asm, plus));
+  const double off_minus = std::abs(theta2_asm - minus - kTwoPi * turns(theta2_asm, minus));
+  const int branch = off_plus <= off_minus ? 1 : -1;
+  const ex sin_gamma = c.named(prefix + "sin", branch * GiNaC::sqrt(reach));
+  const ex theta2_0 = GiNaC::atan2(sin_gamma, cos_middle) - GiNaC::atan2(S, K);
+  const ex theta2 = c.named(prefix + "theta2",
+                            plus_turns(theta2_0, turns(theta2_asm, branch > 0 ? plus : minus)));
+  const ex c2 = c.named(prefix + "c2", (cos_middle * K + sin_gamma * S) / rho);
+  const ex s2 = c.named(prefix + "s2", (sin_gamma * K - cos_middle * S) / rho);
+  const V w = named_vector(c, prefix + "w", l1 + c2 * l2 + s2 * geometry::cross(n, l2));
+  const ex theta1_0 = GiNaC::atan2(geometry::dot(geometry::cross(w, a), n), geometry::dot(w, a));
+  const double theta1_asm = c.at_assembly(sign[0]) * c.assembly_q[column(lc.limb[0])];
+  const ex theta1 =
+      c.named(prefix + "theta1", plus_turns(theta1_0, turns(theta1_asm, c.at_assembly(theta1_0))));
+  const ex theta3_0 = phi - theta1 - theta2;
+  const double theta3_asm = c.at_assembly(sign[2]) * c.assembly_q[column(lc.limb[2])];
+  const ex theta3 = plus_turns(theta3_0, turns(theta3_asm, c.at_assembly(theta3_0)));
+  CircuitClosedForm out;
+  out.name = name;
+  const std::vector<ex> theta{theta1, theta2, theta3};
+  std::string joints;
+  for (size_t i = 0; i < 3; ++i) {
+    out.coordinates.emplace_back(static_cast<int>(column(lc.limb[i])),
+                                 (sign[i] * theta[i]).expand());
+    joints += (i ? ", " : "") + c.model.joints[static_cast<size_t>(lc.limb[i].joint)].name;
+  }
+  for (const int col : lc.free) out.coordinates.emplace_back(col, 0);
+  out.reach.push_back(reach);
+  out.plan = "pose-driven planar limb " + joints +
+             " (parallel axes) in closed form: law of cosines (branch " + (branch > 0 ? "+" : "-") +
+             " from the assembly), free virtual coordinates zero";
+  return out;
+}
+
+namespace {
+
+// Pieper's 6R inverse kinematics on the limb `axes` (in order from the limb's start), whose
+// motion is T; nullopt when the layout does not fit.
+struct SixR {
+  const CircuitSolverContext& c;
+  std::string prefix;
+  CircuitClosedForm out;
+  std::vector<int> branches;
+
+  // Chooses between the two branches of a square root by the assembly: the one whose angles
+  // `angles(sign)` are nearest (modulo 2 pi) to the assembly's `target`.
+  int branch(const std::function<std::vector<ex>(int)>& angles, const std::vector<double>& target) {
+    double best = 1e300;
+    int chosen = 1;
+    for (const int sign : {1, -1}) {
+      const std::vector<ex> a = angles(sign);
+      double off = 0;
+      for (size_t i = 0; i < a.size(); ++i) {
+        const double v = c.at_assembly(a[i]);
+        off += std::abs(target[i] - v - kTwoPi * turns(target[i], v));
+      }
+      if (off < best) best = off, chosen = sign;
+    }
+    branches.push_back(chosen);
+    return chosen;
+  }
+  ex angle(const std::string& name, const ex& value, double target) {
+    return c.named(prefix + name, plus_turns(value, turns(target, c.at_assembly(value))));
+  }
+  // Subproblem 2: angles (a1, a2) about w1 then w2 (meeting) with R1(a1) R2(a2) u = v.
+  std::vector<ex> two_axes(const std::string& name, const V& w1, const V& w2, const V& u,
+                           const V& v, const std::vector<double>& target) {
+    const ex k = geometry::dot(w1, w2);
+    const ex den = c.named(prefix + name + "_den", k * k - 1);
+    const ex alpha =
+        c.named(prefix + name + "_alpha", (k * geometry::dot(w2, u) - geometry::dot(w1, v)) / den);
+    const ex beta =
+        c.named(prefix + name + "_beta", (k * geometry::dot(w1, v) - geometry::dot(w2, u)) / den);
+    const V n = geometry::cross(w1, w2);
+    const ex gamma2 = c.named(prefix + name + "_reach", (geometry::dot(u, u) - alpha * alpha -
+                                                         beta * beta - 2 * alpha * beta * k) /
+                                                            geometry::dot(n, n));
+    out.reach.push_back(gamma2);
+    const ex root = c.named(prefix + name + "_root", GiNaC::sqrt(gamma2));
+    const auto angles = [&](int sign) {
+      const V z = alpha * w1 + beta * w2 + (sign * root) * n;
+      return std::vector<ex>{rotation_taking(w1, z, v), rotation_taking(w2, u, z)};
+    };
+    const std::vector<ex> a = angles(branch(angles, target));
+    return {angle(name + "_a1", a[0], target[0]), angle(name + "_a2", a[1], target[1])};
+  }
+};
+
+std::optional<std::vector<LimbAxis>> pieper_layout(const CircuitSolverContext& c,
+                                                   const std::vector<Step>& limb) {
+  std::vector<LimbAxis> axes;
+  for (const Step& s : limb) {
+    const auto col = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
+    axes.push_back({c.columns[col].axis.s, c.columns[col].axis.s0, ex(s.direction), col});
+  }
+  if (!meets(c, axes[3], axes[4]) || !meets(c, axes[4], axes[5]) || !meets(c, axes[0], axes[1]))
+    return std::nullopt;
+  const V W = crossing(axes[3], axes[4]), O = crossing(axes[0], axes[1]);
+  if (!passes_through(c, axes[5], W) || passes_through(c, axes[2], O)) return std::nullopt;
+  return axes;
+}
+
+}  // namespace
+
+std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext& c, int circuit) {
+  const std::optional<LimbCircuit> found = limb_circuit(c, circuit);
+  if (!found || found->limb.size() != 6 || !found->free.empty()) return std::nullopt;
+  LimbCircuit lc = *found;
+  // The limb's motion from its start to its end is the inverse of the rest's; seen from the
+  // other end, the rest's motion itself.
+  const Pose rest = rest_motion(c, lc);
+  Pose T = geometry::inverse(rest);
+  std::optional<std::vector<LimbAxis>> axes = pieper_layout(c, lc.limb);
+  if (!axes) {
+    std::vector<Step> reversed(lc.limb.rbegin(), lc.limb.rend());
+    for (Step& s : reversed) s.direction = -s.direction;
+    axes = pieper_layout(c, reversed);
+    if (!axes) return std::nullopt;
+    lc.limb = reversed;
+    T = rest;
+  }
+  const std::vector<LimbAxis>& a = *axes;
+  SixR ik{c, group_name(c, lc, circuit) + "_", {}, {}};
+  ik.out.name = group_name(c, lc, circuit);
+  std::vector<double> target;  // the assembly's angles theta_i = direction_i q_i
+  for (const LimbAxis& x : a) target.push_back(c.at_assembly(x.direction) * c.assembly_q[x.column]);
+  const V W = named_vector(c, ik.prefix + "wrist_ref", crossing(a[3], a[4]));
+  const V O = named_vector(c, ik.prefix + "base_ref", crossing(a[0], a[1]));
+  const V Wt = named_vector(c, ik.prefix + "wrist", geometry::apply(T, W));
+  // Subproblem 3: the third angle makes |R3 (W - r3) + r3 - O| = |Wt - O|.
+  const V u = W - a[2].r, v = O - a[2].r;
+  const ex wu = geometry::dot(a[2].w, u), wv = geometry::dot(a[2].w, v);
+  const ex uu = c.named(ik.prefix + "arm_u", geometry::dot(u, u) - wu * wu);
+  const ex vv = c.named(ik.prefix + "arm_v", geometry::dot(v, v) - wv * wv);
+  const V d = Wt - O;
+  const ex delta2 = geometry::dot(d, d) - (wu - wv) * (wu - wv);
+  const ex cos_phi = c.named(ik.prefix + "cos", (uu + vv - delta2) / (2 * GiNaC::sqrt(uu * vv)));
+  const ex reach = c.named(ik.prefix + "reach", 1 - cos_phi * cos_phi);
+  ik.out.reach.push_back(reach);
+  const ex theta0 =
+      GiNaC::atan2(geometry::dot(a[2].w, geometry::cross(u, v)), geometry::dot(u, v) - wu * wv);
+  const ex sin_phi = c.named(ik.prefix + "sin", GiNaC::sqrt(reach));
+  const auto third = [&](int sign) {
+    return std::vector<ex>{theta0 - GiNaC::atan2(sign * sin_phi, cos_phi)};
+  };
+  const ex t3 = ik.angle("theta3", third(ik.branch(third, {target[2]}))[0], target[2]);
+  const geometry::Mat3<ex> R3 = geometry::rodrigues(a[2].w, t3);
+  const V p3 = named_vector(c, ik.prefix + "wrist_3", R3 * u + a[2].r - O);
+  const std::vector<ex> t12 = ik.two_axes("theta12", a[0].w, a[1].w, p3, d, {target[0], target[1]});
+  // The last three take the rest of the orientation: R4 R5 R6 = (R1 R2 R3)^T T.R.
+  const geometry::Mat3<ex> R123 =
+      geometry::rodrigues(a[0].w, t12[0]) * geometry::rodrigues(a[1].w, t12[1]) * R3;
+  geometry::Mat3<ex> Rr = geometry::transpose(R123) * T.R;
+  for (size_t k = 0; k < 9; ++k)
+    Rr.m[k] = c.named(ik.prefix + "R_" + std::to_string(k / 3) + std::to_string(k % 3), Rr.m[k]);
+  const std::vector<ex> t45 =
+      ik.two_axes("theta45", a[3].w, a[4].w, a[5].w, Rr * a[5].w, {target[3], target[4]});
+  const geometry::Mat3<ex> R45 =
+      geometry::rodrigues(a[3].w, t45[0]) * geometry::rodrigues(a[4].w, t45[1]);
+  const ex t6 =
+      ik.angle("theta6", rotation_taking(a[5].w, a[4].w, geometry::transpose(R45) * (Rr * a[4].w)),
+               target[5]);
+  const std::vector<ex> theta{t12[0], t12[1], t3, t45[0], t45[1], t6};
+  std::string joints;
+  for (size_t i = 0; i < 6; ++i) {
+    ik.out.coordinates.emplace_back(static_cast<int>(a[i].column),
+                                    (a[i].direction * theta[i]).expand());
+    joints += (i ? ", " : "") + c.model.joints[static_cast<size_t>(lc.limb[i].joint)].name;
+  }
+  std::string signs;
+  for (const int b : ik.branches) signs += b > 0 ? "+" : "-";
+  ik.out.plan = "pose-driven 6R limb " + joints +
+                " in closed form (Pieper: the first two axes and the last three meet; Paden-Kahan "
+                "subproblems 3, 2, 2, 1; branches " +
+                signs + " from the assembly)";
+  return ik.out;
+}
+
+}  // namespace mechgen::gen

@@ -48,9 +48,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     p.w = w;
   }
   k::State<double> s;
-  constexpr int secondary = sizeof s.closure.q / sizeof s.closure.q[0];
+  // rsur's loop is in closed form: the warm start is its angles' (unwinding).
+  constexpr int angles = sizeof s.closure.w / sizeof s.closure.w[0];
   if (!(keep & 2))
-    for (int i = 0; i < secondary; ++i) s.closure.q[i] = next(data, size);
+    for (int i = 0; i < angles; ++i) s.closure.w[i] = next(data, size);
   const double t = next(data, size);
   k::Inputs<double> in;
   k::driver_inputs(p, t, in);

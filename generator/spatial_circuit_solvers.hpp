@@ -1,13 +1,17 @@
 // Closed-form solvers of a closed chain's circuits, tried before the unrolled Newton fallback
 // (generator/spatial_derivation.cpp, close_positions). Each solver looks at one circuit; when it
 // recognises the geometry (never the names) it returns the values of some secondary
-// coordinates as expressions of the primary inputs and parameters, and the circuit counts as
-// closed: Newton then runs only on the circuits and coordinates that are left.
+// coordinates as expressions of the primary inputs, the parameters and the coordinates already
+// known, and the circuit counts as closed. The unclosed circuits are offered again after each
+// success (a circuit may need coordinates another circuit's closed form gives: dependency
+// order) until no solver makes progress; Newton then runs only on the circuits and coordinates
+// that are left.
 #pragma once
 
 #include <ginac/ginac.h>
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -34,6 +38,12 @@ struct CircuitSolverContext {
   std::vector<double> assembly_q;  // per column
   std::function<GiNaC::ex(const std::string&, const GiNaC::ex&)> named;
   std::function<double(const GiNaC::ex&)> at_assembly;  // an expression's value there
+  std::vector<bool> known;  // per column: primary, or given by a closed form found before
+  std::vector<geometry::Pose<GiNaC::ex>> tree_pose;  // per body: its displacement along the tree
+  // A closed form's warm start for a column it defines: the previous call's value of the
+  // coordinate, kept in the kernel's State (the assembly's at first), so that an angle unwound
+  // to it stays continuous along a sweep. Only for a closed form that is returned.
+  std::function<GiNaC::ex(int column)> warm_start;
 };
 
 struct CircuitClosedForm {
@@ -41,6 +51,9 @@ struct CircuitClosedForm {
   std::string plan;  // one line for the banner and `check`
   std::vector<std::pair<int, GiNaC::ex>> coordinates;  // graph column, its value
   std::vector<GiNaC::ex> reach;  // defined names that must be >= 0, else unreachable
+  // Per graph column: its cosine and sine where the closed form has them without trigonometry
+  // (the tree's positions then use them instead of cos q, sin q).
+  std::map<int, std::pair<GiNaC::ex, GiNaC::ex>> cos_sin;
 };
 
 using CircuitSolver =

@@ -207,8 +207,11 @@ class Builder {
         out_.plan.push_back(body.name + ": " + to_string(joint.type) + " '" + joint.name +
                             "' from '" + body_name(p) + "' (product of exponentials)");
       }
+      // The frame's reference pose is the parameters' alone: named, so that it is computed once
+      // (and hoisted out of point_positions' samples).
       const Pose reference{
-          geometry::rodrigues(vec(body.rotation_axis), param(body.rotation_angle.ex)),
+          named("Rref_" + body.name,
+                geometry::rodrigues(vec(body.rotation_axis), param(body.rotation_angle.ex))),
           vec(body.origin)};
       const Pose F = D_[bi] * reference;
       frame_[bi] = {named("Rf_" + body.name, F.R), named("of_" + body.name, F.p)};
@@ -431,6 +434,31 @@ class Builder {
         (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
   }
 
+  // Definitions in an order where each follows those it reads: passes over the list in order,
+  // each emitting what is ready (deterministic).
+  void emit_in_dependency_order(std::vector<std::pair<symbol, ex>> items) {
+    std::set<ex, GiNaC::ex_is_less> pending;
+    for (const auto& item : items) pending.insert(item.first);
+    while (!items.empty()) {
+      std::vector<std::pair<symbol, ex>> rest;
+      for (auto& item : items) {
+        bool ready = true;
+        for (auto it = item.second.preorder_begin(); it != item.second.preorder_end() && ready;
+             ++it)
+          ready = !(GiNaC::is_a<symbol>(*it) && pending.count(*it) > 0);
+        if (!ready) {
+          rest.push_back(std::move(item));
+          continue;
+        }
+        pending.erase(item.first);
+        out_.definitions.push_back(std::move(item));
+      }
+      if (rest.size() == items.size())
+        throw std::logic_error("closed-form positions: definitions read each other");
+      items = std::move(rest);
+    }
+  }
+
   // Unknown k of the elimination is secondary coordinate order.columns[k].
   std::vector<ex> unpermute(const PivotOrder& order, const std::vector<ex>& x) const {
     std::vector<ex> y(g_.secondary.size());
@@ -450,13 +478,16 @@ class Builder {
   }
 
   // The closed-form solvers (spatial_circuit_solvers.hpp) tried on each circuit, first match wins:
-  // each defines some secondary coordinates from the primary inputs. Returns per secondary
-  // coordinate its value (empty: left to Newton) and per circuit whether it is closed.
+  // each defines some secondary coordinates from the primary inputs and the coordinates known
+  // so far; the unclosed circuits are offered again after each pass that closed one (dependency
+  // order). Returns per secondary coordinate its value (empty: left to Newton) and per circuit
+  // whether it is closed; the closed forms' cosines and sines in trig_.
   std::vector<std::optional<ex>> solve_in_closed_form(size_t start,
                                                       std::vector<bool>& circuit_closed) {
     std::vector<std::optional<ex>> value(g_.secondary.size());
     circuit_closed.assign(g_.chords.size(), false);
-    CircuitSolverContext context{m_, g_, {}, {}, {}, {}};
+    CircuitSolverContext context{m_, g_, {}, {}, {}, {}, {}, D_, {}};
+    for (const SpatialColumn& c : g_.columns) context.known.push_back(c.primary);
     for (const Column& c : cols_) context.columns.push_back({c.axis, c.q, c.displacement});
     for (size_t c = 0; c < cols_.size(); ++c)
       context.assembly_q.push_back(assembly_.q[static_cast<Eigen::Index>(c)]);
@@ -464,7 +495,16 @@ class Builder {
     GiNaC::exmap num = numeric_parameters(m_.common.default_parameters());
     for (size_t c = 0; c < cols_.size(); ++c) num[cols_[c].q] = context.assembly_q[c];
     size_t evaluated = start;
-    context.at_assembly = [this, num, evaluated](const ex& e) mutable {
+    context.warm_start = [this, &num](int column) {
+      const size_t k = out_.angle_start.size();
+      const symbol w("s.closure.w[" + std::to_string(k) + "]");
+      out_.angle_start.push_back(assembly_.q[static_cast<Eigen::Index>(column)]);
+      num[w] = out_.angle_start.back();
+      output(out_.kinematics, "s.closure.wnext[" + std::to_string(k) + "]",
+             cols_[static_cast<size_t>(column)].q);
+      return ex(w);
+    };
+    context.at_assembly = [this, &num, evaluated](const ex& e) mutable {
       for (; evaluated < out_.definitions.size(); ++evaluated)
         if (!num.count(out_.definitions[evaluated].first))
           num[out_.definitions[evaluated].first] =
@@ -474,19 +514,29 @@ class Builder {
     std::vector<int> secondary_index(g_.columns.size(), -1);
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       secondary_index[static_cast<size_t>(g_.secondary[i])] = static_cast<int>(i);
-    for (size_t ci = 0; ci < g_.chords.size(); ++ci)
-      for (const CircuitSolver& solver : circuit_solvers()) {
-        const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
-        if (!group) continue;
-        circuit_closed[ci] = true;
-        const int index = static_cast<int>(out_.groups.size());
-        out_.groups.push_back(group->name);
-        out_.plan.push_back(group->name + ": " + group->plan);
-        for (const ex& reach : group->reach) out_.guards.push_back({reach, index});
-        for (const auto& [column, q] : group->coordinates)
-          value[static_cast<size_t>(secondary_index[static_cast<size_t>(column)])] = q;
-        break;
-      }
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (size_t ci = 0; ci < g_.chords.size(); ++ci)
+        for (const CircuitSolver& solver : circuit_solvers()) {
+          if (circuit_closed[ci]) break;
+          const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
+          if (!group) continue;
+          circuit_closed[ci] = progress = true;
+          const int index = static_cast<int>(out_.groups.size());
+          out_.closed_form_groups.push_back(index);
+          out_.groups.push_back(group->name);
+          out_.plan.push_back(group->name + ": " + group->plan);
+          for (const ex& reach : group->reach) out_.guards.push_back({reach, index});
+          for (const auto& [column, q] : group->coordinates) {
+            value[static_cast<size_t>(secondary_index[static_cast<size_t>(column)])] = q;
+            context.known[static_cast<size_t>(column)] = true;
+          }
+          for (const auto& [column, cs] : group->cos_sin) {
+            trig_[GiNaC::cos(cols_[static_cast<size_t>(column)].q)] = cs.first;
+            trig_[GiNaC::sin(cols_[static_cast<size_t>(column)].q)] = cs.second;
+          }
+        }
+    }
     return value;
   }
 
@@ -536,13 +586,18 @@ class Builder {
         out_.definitions.emplace_back(sym, value);
       }
     }
-    out_.definitions.insert(out_.definitions.end(), closed_forms.begin(), closed_forms.end());
+    // A closed form may read coordinates another gave (and what depends on them): each
+    // definition after those it reads (the order above where it already is one).
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       if (closed_form[i])
-        out_.definitions.emplace_back(
+        closed_forms.emplace_back(
             GiNaC::ex_to<symbol>(cols_[static_cast<size_t>(g_.secondary[i])].q), *closed_form[i]);
-    out_.definitions.insert(out_.definitions.end(), after_closed_form.begin(),
-                            after_closed_form.end());
+    for (auto& [sym, value] : after_closed_form) {
+      const auto it = trig_.find(value);
+      if (it != trig_.end()) value = it->second;
+      closed_forms.emplace_back(sym, value);
+    }
+    emit_in_dependency_order(std::move(closed_forms));
     const size_t nn = newton_columns.size();
     std::vector<ex> q(g_.secondary.size());
     for (size_t k = 0; k < nn; ++k) {
@@ -575,6 +630,9 @@ class Builder {
       output(out_.kinematics, "s.closure.next[" + std::to_string(k) + "]", coordinate);
     }
     for (const auto& definition : dependent) out_.definitions.push_back(definition);
+    closure_residual();
+  }
+  void closure_residual() {
     ex sum = 0;
     for (const ex& r : residual_) sum += r * r;
     output(out_.kinematics, "s.closure.residual", named("closure_residual", sum));
@@ -1182,7 +1240,9 @@ class Builder {
   std::vector<std::vector<int>> circuit_coef_;
   std::vector<std::vector<std::vector<double>>> samples_;  // N_s (rows x secondary) per sample
   spatial::SpatialState assembly_;  // the numeric solver's assembly (default parameters, t0)
-  PivotOrder pivot_;                // Davies' elimination order of the whole N_s
+  // cos q and sin q of closed-form coordinates -> their closed forms' (no trigonometry).
+  std::map<ex, ex, GiNaC::ex_is_less> trig_;
+  PivotOrder pivot_;  // Davies' elimination order of the whole N_s
   Lu lu_;
   std::vector<std::vector<ex>> sensitivity_;
   std::vector<std::vector<Twist>> jacobian_;  // per body, per primary: its twist Jacobian column

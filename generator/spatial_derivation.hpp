@@ -55,6 +55,9 @@ struct SpatialDerivation {
     int group = -1;
   };
   std::vector<Guard> guards;
+  // Closed-form angles' warm starts (`s.closure.w[k]`, unwinding): their values at the assembly.
+  std::vector<double> angle_start;
+  std::vector<int> closed_form_groups;  // indices into groups (and plan) of the closed forms
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the
   // reaction does no work on the joint's screw); unknowns 6 per joint (force, moment at the joint

@@ -110,10 +110,70 @@ class SpatialEmitter {
     for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
   }
 
-  // Only the definitions the outputs read, in program order, then the outputs.
-  // A closed-form group's reach value is checked right after its definition (before any square
-  // root of it) in the entry points that have a State.
-  CodeBlock block(const std::vector<SpatialOutput>& outputs, bool guards = true) const {
+  // The positions-only entry in two parts: the definitions that read the parameters alone,
+  // computed once per parameter set into PositionConstants (a workspace's batch places millions
+  // of samples with one parameter set), and what each sample computes from them.
+  void hoisted_positions(const std::vector<SpatialOutput>& outputs,
+                         std::map<std::string, std::string>& v) const {
+    const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
+    // A closed form's reach value is checked per sample (after its definition), never hoisted.
+    std::set<ex, GiNaC::ex_is_less> varying;
+    for (const SpatialDerivation::Guard& g : d_.guards)
+      if (needed.count(g.value)) varying.insert(g.value);
+    auto reads = [](const ex& e, const std::function<bool(const ex&)>& test) {
+      for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::symbol>(*it) && test(*it)) return true;
+      return false;
+    };
+    // Varying: reads a driver input or the State (the warm start), directly or through another.
+    for (const auto& [symbol, value] : d_.definitions)
+      if (needed.count(symbol) && reads(value, [&](const ex& x) {
+            const std::string n = GiNaC::ex_to<GiNaC::symbol>(x).get_name();
+            return n.rfind("in.", 0) == 0 || n.rfind("s.", 0) == 0 || varying.count(x) > 0;
+          }))
+        varying.insert(symbol);
+    std::set<ex, GiNaC::ex_is_less> frontier;  // constants a sample reads
+    auto constant_read = [&](const ex& e) {
+      reads(e, [&](const ex& x) {
+        if (needed.count(x) && !varying.count(x) && definition_.count(x)) frontier.insert(x);
+        return false;
+      });
+    };
+    for (const auto& [symbol, value] : d_.definitions)
+      if (varying.count(symbol)) constant_read(value);
+    for (const SpatialOutput& o : outputs) constant_read(o.value);
+    CodeBlock constants, sample;
+    GiNaC::exmap hoist;
+    std::vector<std::string> fields;
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!needed.count(symbol) || varying.count(symbol)) continue;
+      constants.define(symbol.get_name(), value);
+      if (!frontier.count(symbol)) continue;
+      constants.assign("k." + symbol.get_name(), symbol);
+      hoist[symbol] = GiNaC::symbol("k." + symbol.get_name());
+      fields.push_back("  T " + symbol.get_name() + ";");
+    }
+    for (const auto& [symbol, value] : d_.definitions) {
+      if (!varying.count(symbol)) continue;
+      sample.define(symbol.get_name(), value.subs(hoist));
+      for (const SpatialDerivation::Guard& g : d_.guards)
+        if (g.value == symbol)
+          sample.guard(
+              symbol, ">=",
+              "return detail::failed(s, " + std::to_string(g.group) + ", Status::unreachable);");
+    }
+    for (const SpatialOutput& o : outputs) sample.assign(o.target, o.value.subs(hoist));
+    v["position_constant_fields"] = lines(fields);
+    v["position_constants_using"] = using_std(constants);
+    v["position_constants_ops"] = std::to_string(constants.op_count());
+    v["position_constants_body"] = constants.render("  ");
+    v["positions_using"] = using_std(sample);
+    v["positions_ops"] = std::to_string(sample.op_count());
+    v["positions_body"] = sample.render("  ");
+  }
+
+  // Every symbol the outputs read, through the definitions.
+  std::set<ex, GiNaC::ex_is_less> needed_symbols(const std::vector<SpatialOutput>& outputs) const {
     std::set<ex, GiNaC::ex_is_less> needed;
     std::vector<ex> pending;
     for (const SpatialOutput& o : outputs) pending.push_back(o.value);
@@ -127,6 +187,14 @@ class SpatialEmitter {
           pending.push_back(def->second);
       }
     }
+    return needed;
+  }
+
+  // Only the definitions the outputs read, in program order, then the outputs.
+  // A closed-form group's reach value is checked right after its definition (before any square
+  // root of it) in the entry points that have a State.
+  CodeBlock block(const std::vector<SpatialOutput>& outputs, bool guards = true) const {
+    const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(outputs);
     CodeBlock code;
     for (const auto& [symbol, value] : d_.definitions) {
       if (!needed.count(symbol)) continue;
@@ -274,6 +342,15 @@ class SpatialEmitter {
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
     v["control_body"] = lean.render("  ") + spatial_output_checks(control, stage_check);
+    // A workspace's sample: the named points' positions alone (no rates, Jacobians or forces),
+    // with what closes the circuits' positions checked.
+    std::vector<SpatialOutput> placed;
+    for (const SpatialOutput& o : d_.kinematics)
+      if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
+          (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0))
+        placed.push_back(o);
+    hoisted_positions(placed, v);
+    v["positions_body"] += spatial_output_checks(placed, stage_check);
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
     v["kinematics_body"] = kin.render("  ") + spatial_output_checks(kinematic, stage_check);
@@ -292,6 +369,7 @@ class SpatialEmitter {
   void closure(std::map<std::string, std::string>& v) const {
     v["closure_fields"] = "";
     v["closure_check"] = "";
+    v["positions_check"] = "";
     v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
     if (!d_.closed_chain) return;
@@ -301,19 +379,30 @@ class SpatialEmitter {
     const std::string n = std::to_string(d_.closure_start.size());
     // The closure is the last solve group (the stages inputs, positions, ... follow it).
     const std::string closure_group = std::to_string(d_.groups.size() - 1);
-    // Solved in closed form throughout: no warm start, only the closure's checks.
+    // Warm starts: the Newton coordinates' (none: every circuit in closed form) and the
+    // closed-form angles' (unwinding); neither: only the closure's checks.
     const bool newton = !d_.closure_start.empty();
+    const bool angles = !d_.angle_start.empty();
+    std::string angle_start;
+    for (const double q : d_.angle_start)
+      angle_start += (angle_start.empty() ? "" : ", ") + number_literal(q);
+    const std::string na = std::to_string(d_.angle_start.size());
     v["keep_warm_start"] =
-        newton ? "  cleared.closure = s.closure;  // the warm start survives a failure\n" : "";
+        newton || angles ? "  cleared.closure = s.closure;  // the warm start survives a failure\n"
+                         : "";
     v["closure_fields"] =
-        newton
-            ? "  // The closure: secondary coordinates left to Newton-Raphson (the warm start, "
-              "the assembly at t0\n  // by default, replaced by every call that closes the "
-              "circuits), the last call's result,\n  // squared closure error and det N_s.\n"
-              "  struct {\n    T q[" +
-                  n + "] = {" + start + "};\n    T next[" + n + "], residual, det;\n  } closure;\n"
-            : "  // The closure (every circuit in closed form): squared closure error and det "
-              "N_s.\n  struct {\n    T residual, det;\n  } closure;\n";
+        (newton ? "  // The closure: secondary coordinates left to Newton-Raphson (the warm start, "
+                  "the assembly at t0\n  // by default, replaced by every call that closes the "
+                  "circuits), the last call's result,\n  // squared closure error and det N_s"
+                : "  // The closure: squared closure error and det N_s") +
+        std::string(angles ? "; the closed-form angles' warm start (the assembly at t0 by "
+                             "default,\n  // unwinding: joint angles stay continuous) and the "
+                             "last call's angles"
+                           : "") +
+        ".\n  struct {\n" +
+        (newton ? "    T q[" + n + "] = {" + start + "};\n    T next[" + n + "];\n" : "") +
+        (angles ? "    T w[" + na + "] = {" + angle_start + "};\n    T wnext[" + na + "];\n" : "") +
+        "    T residual, det;\n  } closure;\n";
     v["closure_check"] =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
@@ -327,8 +416,12 @@ class SpatialEmitter {
         number_literal(1e-9 * std::abs(d_.closure_det)) +
         "))\n    return s.failed_group = " + closure_group + ", Status::singular;\n" +
         (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
+                : "") +
+        (angles ? "  for (int i = 0; i < " + na + "; ++i) s.closure.w[i] = s.closure.wnext[i];\n"
                 : "");
-    if (newton)
+    // The positions-only entry: the closed forms' reach checked inline; the Newton closure's.
+    if (newton) v["positions_check"] = v["closure_check"];
+    if (newton || angles)
       v["entry_state"] =
           "// A closed chain's warm start carries over from one call to the next (per thread and "
           "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
@@ -407,10 +500,32 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                  : k == 1 ? "_d"
                           : "_dd") +
                 " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
+  // The positions-only batch: driver k's coordinate of sample i at q[k * n + i]; point c's axis
+  // a to out[(3 c + a) n + i].
+  std::string batch_inputs, batch_points, point_names;
+  for (size_t i = 0; i < inputs.size(); ++i)
+    batch_inputs += std::string(batch_inputs.empty() ? "" : "\n    ") + "in." + inputs[i].name +
+                    " = q[" + std::to_string(i) + " * n + i];";
+  size_t point_count = 0;
+  for (const auto& [point, body] : model.named_points()) {
+    for (size_t a = 0; a < 3; ++a)
+      batch_points += std::string(batch_points.empty() ? "" : "\n    ") + "out[" +
+                      std::to_string(3 * point_count + a) + " * n + i] = s.points." + point + "." +
+                      "xyz"[a] + ";";
+    point_names += std::string(point_names.empty() ? "" : ", ") + "\"" + point + "\"";
+    ++point_count;
+  }
   const std::map<std::string, std::string> entry{
-      {"model", values.at("model")},     {"source", values.at("source")},
-      {"command", values.at("command")}, {"driver_count", std::to_string(inputs.size())},
-      {"driven_inputs", driven},         {"entry_state", values.at("entry_state")}};
+      {"model", values.at("model")},
+      {"source", values.at("source")},
+      {"command", values.at("command")},
+      {"driver_count", std::to_string(inputs.size())},
+      {"driven_inputs", driven},
+      {"entry_state", values.at("entry_state")},
+      {"batch_inputs", batch_inputs},
+      {"batch_points", batch_points},
+      {"point_count", std::to_string(point_count)},
+      {"point_names", point_names.empty() ? "nullptr" : point_names}};
   files.push_back(
       {model.common.name + "_entry.cpp",
        render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,

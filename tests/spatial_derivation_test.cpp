@@ -281,6 +281,9 @@ void closed_reactions_equal_numeric(const std::string& text, const std::string& 
     Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd);
     for (size_t k = 0; k < graph.secondary.size(); ++k)
       values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
+    // Closed-form angles unwound to the assembly's (the reactions read their cosines and sines).
+    for (size_t k = 0; k < d.angle_start.size(); ++k)
+      values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
     for (const auto& [symbol, value] : d.definitions)
       values[symbol.get_name()] = evaluate(value, values);
     std::map<std::string, double> out;

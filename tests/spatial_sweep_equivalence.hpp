@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -33,19 +34,32 @@ inline std::vector<double> changed_parameters(const SpatialModel& model) {
   return p;
 }
 
+// Random geometry: every parameter by up to +-3 %, drawn from `seed`.
+inline std::vector<double> perturbed_parameters(const SpatialModel& model, unsigned seed) {
+  std::vector<double> p = model.common.default_parameters();
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> factor(0.97, 1.03);
+  for (double& value : p) value *= factor(random);
+  return p;
+}
+
 // The whole step through the registry's kernel (warm-started from one call to the next) and the
 // numeric sweep: every column (kinematics, driver efforts, joint reactions; where circuits are
 // redundant the numeric solver's minimum-norm reactions) to 1e-9 of its scale (the column's
 // largest magnitude, at least 1 % of the largest of its kind, as the leg6 test; a reaction's at
 // least 1e-3 of the largest reaction force or moment: a component that is zero (a revolute's
 // moments in chebyshev_spatial, the numeric solver's at 1e-16) has no scale of its own).
-inline void sweep_equals_numeric(const std::string& name) {
+// `perturbed` more parameter sets from perturbed_parameters.
+inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  for (const std::vector<double>& parameters :
-       {model.common.default_parameters(), changed_parameters(model)}) {
+  std::vector<std::vector<double>> sets{model.common.default_parameters(),
+                                        changed_parameters(model)};
+  for (int k = 0; k < perturbed; ++k)
+    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
+  for (const std::vector<double>& parameters : sets) {
     const SpatialSweepOptions options = default_spatial_sweep(model, parameters);
     const SpatialSweepResult numeric = run_spatial_sweep(model, options);
     const SpatialSweepResult generated = run_spatial_kernel_sweep(model, options, *kernel);

@@ -149,13 +149,132 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// The named points' positions alone for n samples of the drivers' coordinates: driver k of
+// sample i at q[k * n + i]; point c's axis a to out[(3 c + a) n + i]; status[i] per sample.
+static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
+                                  int* status) {
+  const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
+  State<double> s;
+  Inputs<double> in;
+  for (long i = 0; i < n; ++i) {
+    in.vFB_x = q[0 * n + i];
+        in.vFB_y = q[1 * n + i];
+        in.vFB_z = q[2 * n + i];
+        in.vFB_rz = q[3 * n + i];
+        in.vFB_ry = q[4 * n + i];
+        in.vFB_rx = q[5 * n + i];
+        in.vRL_x = q[6 * n + i];
+        in.vRL_y = q[7 * n + i];
+        in.vRL_z = q[8 * n + i];
+        in.vRL_rz = q[9 * n + i];
+        in.vRL_ry = q[10 * n + i];
+        in.vRL_rx = q[11 * n + i];
+        in.vLL_x = q[12 * n + i];
+        in.vLL_y = q[13 * n + i];
+        in.vLL_z = q[14 * n + i];
+        in.vLL_rz = q[15 * n + i];
+        in.vLL_ry = q[16 * n + i];
+        in.vLL_rx = q[17 * n + i];
+        in.vRA_x = q[18 * n + i];
+        in.vRA_y = q[19 * n + i];
+        in.vRA_z = q[20 * n + i];
+        in.vRA_rz = q[21 * n + i];
+        in.vRA_ry = q[22 * n + i];
+        in.vRA_rx = q[23 * n + i];
+        in.vLA_x = q[24 * n + i];
+        in.vLA_y = q[25 * n + i];
+        in.vLA_z = q[26 * n + i];
+        in.vLA_rz = q[27 * n + i];
+        in.vLA_ry = q[28 * n + i];
+        in.vLA_rx = q[29 * n + i];
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
+    out[0 * n + i] = s.points.W.x;
+        out[1 * n + i] = s.points.W.y;
+        out[2 * n + i] = s.points.W.z;
+        out[3 * n + i] = s.points.head.x;
+        out[4 * n + i] = s.points.head.y;
+        out[5 * n + i] = s.points.head.z;
+        out[6 * n + i] = s.points.RH.x;
+        out[7 * n + i] = s.points.RH.y;
+        out[8 * n + i] = s.points.RH.z;
+        out[9 * n + i] = s.points.RK.x;
+        out[10 * n + i] = s.points.RK.y;
+        out[11 * n + i] = s.points.RK.z;
+        out[12 * n + i] = s.points.RA.x;
+        out[13 * n + i] = s.points.RA.y;
+        out[14 * n + i] = s.points.RA.z;
+        out[15 * n + i] = s.points.RF.x;
+        out[16 * n + i] = s.points.RF.y;
+        out[17 * n + i] = s.points.RF.z;
+        out[18 * n + i] = s.points.r_toe_out.x;
+        out[19 * n + i] = s.points.r_toe_out.y;
+        out[20 * n + i] = s.points.r_toe_out.z;
+        out[21 * n + i] = s.points.r_toe_in.x;
+        out[22 * n + i] = s.points.r_toe_in.y;
+        out[23 * n + i] = s.points.r_toe_in.z;
+        out[24 * n + i] = s.points.r_heel_in.x;
+        out[25 * n + i] = s.points.r_heel_in.y;
+        out[26 * n + i] = s.points.r_heel_in.z;
+        out[27 * n + i] = s.points.r_heel_out.x;
+        out[28 * n + i] = s.points.r_heel_out.y;
+        out[29 * n + i] = s.points.r_heel_out.z;
+        out[30 * n + i] = s.points.LH.x;
+        out[31 * n + i] = s.points.LH.y;
+        out[32 * n + i] = s.points.LH.z;
+        out[33 * n + i] = s.points.LK.x;
+        out[34 * n + i] = s.points.LK.y;
+        out[35 * n + i] = s.points.LK.z;
+        out[36 * n + i] = s.points.LA.x;
+        out[37 * n + i] = s.points.LA.y;
+        out[38 * n + i] = s.points.LA.z;
+        out[39 * n + i] = s.points.LF.x;
+        out[40 * n + i] = s.points.LF.y;
+        out[41 * n + i] = s.points.LF.z;
+        out[42 * n + i] = s.points.l_toe_out.x;
+        out[43 * n + i] = s.points.l_toe_out.y;
+        out[44 * n + i] = s.points.l_toe_out.z;
+        out[45 * n + i] = s.points.l_toe_in.x;
+        out[46 * n + i] = s.points.l_toe_in.y;
+        out[47 * n + i] = s.points.l_toe_in.z;
+        out[48 * n + i] = s.points.l_heel_in.x;
+        out[49 * n + i] = s.points.l_heel_in.y;
+        out[50 * n + i] = s.points.l_heel_in.z;
+        out[51 * n + i] = s.points.l_heel_out.x;
+        out[52 * n + i] = s.points.l_heel_out.y;
+        out[53 * n + i] = s.points.l_heel_out.z;
+        out[54 * n + i] = s.points.RS.x;
+        out[55 * n + i] = s.points.RS.y;
+        out[56 * n + i] = s.points.RS.z;
+        out[57 * n + i] = s.points.RE.x;
+        out[58 * n + i] = s.points.RE.y;
+        out[59 * n + i] = s.points.RE.z;
+        out[60 * n + i] = s.points.RP.x;
+        out[61 * n + i] = s.points.RP.y;
+        out[62 * n + i] = s.points.RP.z;
+        out[63 * n + i] = s.points.LS.x;
+        out[64 * n + i] = s.points.LS.y;
+        out[65 * n + i] = s.points.LS.z;
+        out[66 * n + i] = s.points.LE.x;
+        out[67 * n + i] = s.points.LE.y;
+        out[68 * n + i] = s.points.LE.z;
+        out[69 * n + i] = s.points.LP.x;
+        out[70 * n + i] = s.points.LP.y;
+        out[71 * n + i] = s.points.LP.z;
+  }
+}
+
+static const char* const point_names[] = { "W", "head", "RH", "RK", "RA", "RF", "r_toe_out", "r_toe_in", "r_heel_in", "r_heel_out", "LH", "LK", "LA", "LF", "l_toe_out", "l_toe_in", "l_heel_in", "l_heel_out", "RS", "RE", "RP", "LS", "LE", "LP" };
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"bioloid",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 30,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint};
+                                     fingerprint,     24,
+                                     point_names,     &point_positions_batch};
   return kernel;
 }
 

@@ -230,7 +230,8 @@ struct State {
   // squared closure error and det N_s.
   struct {
     T q[3] = {T(0.0), T(0.0), T(0.0)};
-    T next[3], residual, det;
+    T next[3];
+    T residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1776,6 +1777,347 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
+// What point_positions() computes from the parameters alone, once per parameter set.
+template <class T>
+struct PositionConstants {
+  T n0_ipiv0;
+  T n1_ipiv0;
+  T n2_ipiv0;
+  T n3_ipiv0;
+  T n4_ipiv0;
+  T lu_ipiv0;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 0
+  const T n0_ipiv0 = -T(1);
+  k.n0_ipiv0 = n0_ipiv0;
+  const T n1_ipiv0 = -T(1);
+  k.n1_ipiv0 = n1_ipiv0;
+  const T n2_ipiv0 = -T(1);
+  k.n2_ipiv0 = n2_ipiv0;
+  const T n3_ipiv0 = -T(1);
+  k.n3_ipiv0 = n3_ipiv0;
+  const T n4_ipiv0 = -T(1);
+  k.n4_ipiv0 = n4_ipiv0;
+  const T lu_ipiv0 = -T(1);
+  k.lu_ipiv0 = lu_ipiv0;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
+                       State<T>& s) noexcept {
+  using detail::cos;
+  using detail::sin;
+  if (!inputs_finite(in)) return detail::failed(s, 4, Status::unreachable);
+  // Total ops: 1029
+  const T cos_A_ground_crank = cos(in.crank_angle);
+  const T sin_A_ground_crank = sin(in.crank_angle);
+  const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
+  const T sv_P_crank_coupler_y = p.l*sin_A_ground_crank;
+  const T cos_P_crank_coupler_n0 = cos(s.closure.q[0]);
+  const T sin_P_crank_coupler_n0 = sin(s.closure.q[0]);
+  const T cos_M_rocker_coupler_n0 = cos(s.closure.q[1]);
+  const T sin_M_rocker_coupler_n0 = sin(s.closure.q[1]);
+  const T cos_B_ground_rocker_n0 = cos(s.closure.q[2]);
+  const T sin_B_ground_rocker_n0 = sin(s.closure.q[2]);
+  const T _tmp0 = T(2)*p.l;
+  const T p_rocker_x_n0 = _tmp0 - T(2)*p.l*cos_B_ground_rocker_n0;
+  const T p_rocker_y_n0 = -T(2)*p.l*sin_B_ground_rocker_n0;
+  const T R_coupler_00_n0 = cos_A_ground_crank*cos_P_crank_coupler_n0 - sin_A_ground_crank*sin_P_crank_coupler_n0;
+  const T _tmp1 = cos_A_ground_crank*sin_P_crank_coupler_n0 + cos_P_crank_coupler_n0*sin_A_ground_crank;
+  const T R_coupler_01_n0 = -_tmp1;
+  const T R_coupler_10_n0 = _tmp1;
+  const T R_coupler_11_n0 = R_coupler_00_n0;
+  const T p_coupler_x_n0 = p.l*cos_A_ground_crank*sin_P_crank_coupler_n0 + p.l*cos_P_crank_coupler_n0*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y_n0 = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler_n0 - p.l*cos_A_ground_crank*cos_P_crank_coupler_n0;
+  const T _tmp2 = T(1.5)*p.l*cos_B_ground_rocker_n0;
+  const T sv_M_rocker_coupler_x_n0 = p_rocker_y_n0 - _tmp2;
+  const T _tmp3 = T(1.5)*p.l*sin_B_ground_rocker_n0;
+  const T sv_M_rocker_coupler_y_n0 = -_tmp3 - p_rocker_x_n0;
+  const T X0_R_01_n0 = R_coupler_10_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0 - R_coupler_10_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 - R_coupler_11_n0*cos_B_ground_rocker_n0*sin_M_rocker_coupler_n0 - R_coupler_11_n0*cos_M_rocker_coupler_n0*sin_B_ground_rocker_n0;
+  const T X0_R_10_n0 = R_coupler_00_n0*cos_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_00_n0*cos_M_rocker_coupler_n0*sin_B_ground_rocker_n0 + R_coupler_01_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0 - R_coupler_01_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0;
+  const T X0_wz_n0 = T(0.5)*X0_R_10_n0 - T(0.5)*X0_R_01_n0;
+  const T X0_vx_n0 = R_coupler_00_n0*p_coupler_x_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_01_n0*cos_B_ground_rocker_n0*p_coupler_x_n0*sin_M_rocker_coupler_n0 + R_coupler_01_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0*sin_B_ground_rocker_n0 + R_coupler_10_n0*p_coupler_y_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*cos_B_ground_rocker_n0*p_coupler_y_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0*sin_B_ground_rocker_n0 + _tmp3 + p_rocker_x_n0 - R_coupler_00_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0 - R_coupler_10_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0 - T(1.5)*p.l*cos_B_ground_rocker_n0*sin_M_rocker_coupler_n0 - T(1.5)*p.l*cos_M_rocker_coupler_n0*sin_B_ground_rocker_n0;
+  const T X0_vy_n0 = R_coupler_01_n0*p_coupler_x_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + R_coupler_11_n0*p_coupler_y_n0*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0 + T(1.5)*p.l*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0 + p_rocker_y_n0 - R_coupler_00_n0*cos_B_ground_rocker_n0*p_coupler_x_n0*sin_M_rocker_coupler_n0 - R_coupler_00_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0*sin_B_ground_rocker_n0 - R_coupler_01_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_x_n0 - R_coupler_10_n0*cos_B_ground_rocker_n0*p_coupler_y_n0*sin_M_rocker_coupler_n0 - R_coupler_10_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0*sin_B_ground_rocker_n0 - R_coupler_11_n0*cos_B_ground_rocker_n0*cos_M_rocker_coupler_n0*p_coupler_y_n0 - _tmp2 - T(1.5)*p.l*sin_B_ground_rocker_n0*sin_M_rocker_coupler_n0;
+  const T n0_f1_0 = -k.n0_ipiv0*sv_P_crank_coupler_x;
+  const T n0_a0_1_1 = sv_M_rocker_coupler_x_n0 - n0_f1_0;
+  const T n0_f2_0 = -k.n0_ipiv0*sv_P_crank_coupler_y;
+  const T n0_a0_2_1 = sv_M_rocker_coupler_y_n0 - n0_f2_0;
+  const T n0_a0_2_2 = -_tmp0 - n0_f2_0;
+  const T n0_ipiv1 = T(1)/n0_a0_1_1;
+  const T n0_f2_1 = n0_a0_2_1*n0_ipiv1;
+  const T n0_a1_2_2 = n0_a0_2_2 + n0_f1_0*n0_f2_1;
+  const T n0_ipiv2 = T(1)/n0_a1_2_2;
+  const T n0_b0_1 = X0_wz_n0*n0_f1_0 - X0_vx_n0;
+  const T n0_b0_2 = X0_wz_n0*n0_f2_0 - X0_vy_n0;
+  const T n0_b1_2 = n0_b0_2 - n0_b0_1*n0_f2_1;
+  const T n0_x2 = n0_b1_2*n0_ipiv2;
+  const T n0_x1 = n0_b0_1*n0_ipiv1 + n0_f1_0*n0_ipiv1*n0_x2;
+  const T n0_x0 = -X0_wz_n0*k.n0_ipiv0 - k.n0_ipiv0*n0_x1 - k.n0_ipiv0*n0_x2;
+  const T q_P_crank_coupler_n0 = n0_x0 + s.closure.q[0];
+  const T q_M_rocker_coupler_n0 = n0_x1 + s.closure.q[1];
+  const T q_B_ground_rocker_n0 = n0_x2 + s.closure.q[2];
+  const T cos_P_crank_coupler_n1 = cos(q_P_crank_coupler_n0);
+  const T sin_P_crank_coupler_n1 = sin(q_P_crank_coupler_n0);
+  const T cos_M_rocker_coupler_n1 = cos(q_M_rocker_coupler_n0);
+  const T sin_M_rocker_coupler_n1 = sin(q_M_rocker_coupler_n0);
+  const T cos_B_ground_rocker_n1 = cos(q_B_ground_rocker_n0);
+  const T sin_B_ground_rocker_n1 = sin(q_B_ground_rocker_n0);
+  const T p_rocker_x_n1 = _tmp0 - T(2)*p.l*cos_B_ground_rocker_n1;
+  const T p_rocker_y_n1 = -T(2)*p.l*sin_B_ground_rocker_n1;
+  const T R_coupler_00_n1 = cos_A_ground_crank*cos_P_crank_coupler_n1 - sin_A_ground_crank*sin_P_crank_coupler_n1;
+  const T _tmp4 = cos_A_ground_crank*sin_P_crank_coupler_n1 + cos_P_crank_coupler_n1*sin_A_ground_crank;
+  const T R_coupler_01_n1 = -_tmp4;
+  const T R_coupler_10_n1 = _tmp4;
+  const T R_coupler_11_n1 = R_coupler_00_n1;
+  const T p_coupler_x_n1 = p.l*cos_A_ground_crank*sin_P_crank_coupler_n1 + p.l*cos_P_crank_coupler_n1*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y_n1 = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler_n1 - p.l*cos_A_ground_crank*cos_P_crank_coupler_n1;
+  const T _tmp5 = T(1.5)*p.l*cos_B_ground_rocker_n1;
+  const T sv_M_rocker_coupler_x_n1 = p_rocker_y_n1 - _tmp5;
+  const T _tmp6 = T(1.5)*p.l*sin_B_ground_rocker_n1;
+  const T sv_M_rocker_coupler_y_n1 = -_tmp6 - p_rocker_x_n1;
+  const T X0_R_01_n1 = R_coupler_10_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1 - R_coupler_10_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 - R_coupler_11_n1*cos_B_ground_rocker_n1*sin_M_rocker_coupler_n1 - R_coupler_11_n1*cos_M_rocker_coupler_n1*sin_B_ground_rocker_n1;
+  const T X0_R_10_n1 = R_coupler_00_n1*cos_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_00_n1*cos_M_rocker_coupler_n1*sin_B_ground_rocker_n1 + R_coupler_01_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1 - R_coupler_01_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1;
+  const T X0_wz_n1 = T(0.5)*X0_R_10_n1 - T(0.5)*X0_R_01_n1;
+  const T X0_vx_n1 = R_coupler_00_n1*p_coupler_x_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_01_n1*cos_B_ground_rocker_n1*p_coupler_x_n1*sin_M_rocker_coupler_n1 + R_coupler_01_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1*sin_B_ground_rocker_n1 + R_coupler_10_n1*p_coupler_y_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*cos_B_ground_rocker_n1*p_coupler_y_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1*sin_B_ground_rocker_n1 + _tmp6 + p_rocker_x_n1 - R_coupler_00_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1 - R_coupler_10_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1 - T(1.5)*p.l*cos_B_ground_rocker_n1*sin_M_rocker_coupler_n1 - T(1.5)*p.l*cos_M_rocker_coupler_n1*sin_B_ground_rocker_n1;
+  const T X0_vy_n1 = R_coupler_01_n1*p_coupler_x_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + R_coupler_11_n1*p_coupler_y_n1*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1 + T(1.5)*p.l*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1 + p_rocker_y_n1 - R_coupler_00_n1*cos_B_ground_rocker_n1*p_coupler_x_n1*sin_M_rocker_coupler_n1 - R_coupler_00_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1*sin_B_ground_rocker_n1 - R_coupler_01_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_x_n1 - R_coupler_10_n1*cos_B_ground_rocker_n1*p_coupler_y_n1*sin_M_rocker_coupler_n1 - R_coupler_10_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1*sin_B_ground_rocker_n1 - R_coupler_11_n1*cos_B_ground_rocker_n1*cos_M_rocker_coupler_n1*p_coupler_y_n1 - _tmp5 - T(1.5)*p.l*sin_B_ground_rocker_n1*sin_M_rocker_coupler_n1;
+  const T n1_f1_0 = -k.n1_ipiv0*sv_P_crank_coupler_x;
+  const T n1_a0_1_1 = sv_M_rocker_coupler_x_n1 - n1_f1_0;
+  const T n1_f2_0 = -k.n1_ipiv0*sv_P_crank_coupler_y;
+  const T n1_a0_2_1 = sv_M_rocker_coupler_y_n1 - n1_f2_0;
+  const T n1_a0_2_2 = -_tmp0 - n1_f2_0;
+  const T n1_ipiv1 = T(1)/n1_a0_1_1;
+  const T n1_f2_1 = n1_a0_2_1*n1_ipiv1;
+  const T n1_a1_2_2 = n1_a0_2_2 + n1_f1_0*n1_f2_1;
+  const T n1_ipiv2 = T(1)/n1_a1_2_2;
+  const T n1_b0_1 = X0_wz_n1*n1_f1_0 - X0_vx_n1;
+  const T n1_b0_2 = X0_wz_n1*n1_f2_0 - X0_vy_n1;
+  const T n1_b1_2 = n1_b0_2 - n1_b0_1*n1_f2_1;
+  const T n1_x2 = n1_b1_2*n1_ipiv2;
+  const T n1_x1 = n1_b0_1*n1_ipiv1 + n1_f1_0*n1_ipiv1*n1_x2;
+  const T n1_x0 = -X0_wz_n1*k.n1_ipiv0 - k.n1_ipiv0*n1_x1 - k.n1_ipiv0*n1_x2;
+  const T q_P_crank_coupler_n1 = n1_x0 + q_P_crank_coupler_n0;
+  const T q_M_rocker_coupler_n1 = n1_x1 + q_M_rocker_coupler_n0;
+  const T q_B_ground_rocker_n1 = n1_x2 + q_B_ground_rocker_n0;
+  const T cos_P_crank_coupler_n2 = cos(q_P_crank_coupler_n1);
+  const T sin_P_crank_coupler_n2 = sin(q_P_crank_coupler_n1);
+  const T cos_M_rocker_coupler_n2 = cos(q_M_rocker_coupler_n1);
+  const T sin_M_rocker_coupler_n2 = sin(q_M_rocker_coupler_n1);
+  const T cos_B_ground_rocker_n2 = cos(q_B_ground_rocker_n1);
+  const T sin_B_ground_rocker_n2 = sin(q_B_ground_rocker_n1);
+  const T p_rocker_x_n2 = _tmp0 - T(2)*p.l*cos_B_ground_rocker_n2;
+  const T p_rocker_y_n2 = -T(2)*p.l*sin_B_ground_rocker_n2;
+  const T R_coupler_00_n2 = cos_A_ground_crank*cos_P_crank_coupler_n2 - sin_A_ground_crank*sin_P_crank_coupler_n2;
+  const T _tmp7 = cos_A_ground_crank*sin_P_crank_coupler_n2 + cos_P_crank_coupler_n2*sin_A_ground_crank;
+  const T R_coupler_01_n2 = -_tmp7;
+  const T R_coupler_10_n2 = _tmp7;
+  const T R_coupler_11_n2 = R_coupler_00_n2;
+  const T p_coupler_x_n2 = p.l*cos_A_ground_crank*sin_P_crank_coupler_n2 + p.l*cos_P_crank_coupler_n2*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y_n2 = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler_n2 - p.l*cos_A_ground_crank*cos_P_crank_coupler_n2;
+  const T _tmp8 = T(1.5)*p.l*cos_B_ground_rocker_n2;
+  const T sv_M_rocker_coupler_x_n2 = p_rocker_y_n2 - _tmp8;
+  const T _tmp9 = T(1.5)*p.l*sin_B_ground_rocker_n2;
+  const T sv_M_rocker_coupler_y_n2 = -_tmp9 - p_rocker_x_n2;
+  const T X0_R_01_n2 = R_coupler_10_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2 - R_coupler_10_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 - R_coupler_11_n2*cos_B_ground_rocker_n2*sin_M_rocker_coupler_n2 - R_coupler_11_n2*cos_M_rocker_coupler_n2*sin_B_ground_rocker_n2;
+  const T X0_R_10_n2 = R_coupler_00_n2*cos_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_00_n2*cos_M_rocker_coupler_n2*sin_B_ground_rocker_n2 + R_coupler_01_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2 - R_coupler_01_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2;
+  const T X0_wz_n2 = T(0.5)*X0_R_10_n2 - T(0.5)*X0_R_01_n2;
+  const T X0_vx_n2 = R_coupler_00_n2*p_coupler_x_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_01_n2*cos_B_ground_rocker_n2*p_coupler_x_n2*sin_M_rocker_coupler_n2 + R_coupler_01_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2*sin_B_ground_rocker_n2 + R_coupler_10_n2*p_coupler_y_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*cos_B_ground_rocker_n2*p_coupler_y_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2*sin_B_ground_rocker_n2 + _tmp9 + p_rocker_x_n2 - R_coupler_00_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2 - R_coupler_10_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2 - T(1.5)*p.l*cos_B_ground_rocker_n2*sin_M_rocker_coupler_n2 - T(1.5)*p.l*cos_M_rocker_coupler_n2*sin_B_ground_rocker_n2;
+  const T X0_vy_n2 = R_coupler_01_n2*p_coupler_x_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + R_coupler_11_n2*p_coupler_y_n2*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2 + T(1.5)*p.l*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2 + p_rocker_y_n2 - R_coupler_00_n2*cos_B_ground_rocker_n2*p_coupler_x_n2*sin_M_rocker_coupler_n2 - R_coupler_00_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2*sin_B_ground_rocker_n2 - R_coupler_01_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_x_n2 - R_coupler_10_n2*cos_B_ground_rocker_n2*p_coupler_y_n2*sin_M_rocker_coupler_n2 - R_coupler_10_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2*sin_B_ground_rocker_n2 - R_coupler_11_n2*cos_B_ground_rocker_n2*cos_M_rocker_coupler_n2*p_coupler_y_n2 - _tmp8 - T(1.5)*p.l*sin_B_ground_rocker_n2*sin_M_rocker_coupler_n2;
+  const T n2_f1_0 = -k.n2_ipiv0*sv_P_crank_coupler_x;
+  const T n2_a0_1_1 = sv_M_rocker_coupler_x_n2 - n2_f1_0;
+  const T n2_f2_0 = -k.n2_ipiv0*sv_P_crank_coupler_y;
+  const T n2_a0_2_1 = sv_M_rocker_coupler_y_n2 - n2_f2_0;
+  const T n2_a0_2_2 = -_tmp0 - n2_f2_0;
+  const T n2_ipiv1 = T(1)/n2_a0_1_1;
+  const T n2_f2_1 = n2_a0_2_1*n2_ipiv1;
+  const T n2_a1_2_2 = n2_a0_2_2 + n2_f1_0*n2_f2_1;
+  const T n2_ipiv2 = T(1)/n2_a1_2_2;
+  const T n2_b0_1 = X0_wz_n2*n2_f1_0 - X0_vx_n2;
+  const T n2_b0_2 = X0_wz_n2*n2_f2_0 - X0_vy_n2;
+  const T n2_b1_2 = n2_b0_2 - n2_b0_1*n2_f2_1;
+  const T n2_x2 = n2_b1_2*n2_ipiv2;
+  const T n2_x1 = n2_b0_1*n2_ipiv1 + n2_f1_0*n2_ipiv1*n2_x2;
+  const T n2_x0 = -X0_wz_n2*k.n2_ipiv0 - k.n2_ipiv0*n2_x1 - k.n2_ipiv0*n2_x2;
+  const T q_P_crank_coupler_n2 = n2_x0 + q_P_crank_coupler_n1;
+  const T q_M_rocker_coupler_n2 = n2_x1 + q_M_rocker_coupler_n1;
+  const T q_B_ground_rocker_n2 = n2_x2 + q_B_ground_rocker_n1;
+  const T cos_P_crank_coupler_n3 = cos(q_P_crank_coupler_n2);
+  const T sin_P_crank_coupler_n3 = sin(q_P_crank_coupler_n2);
+  const T cos_M_rocker_coupler_n3 = cos(q_M_rocker_coupler_n2);
+  const T sin_M_rocker_coupler_n3 = sin(q_M_rocker_coupler_n2);
+  const T cos_B_ground_rocker_n3 = cos(q_B_ground_rocker_n2);
+  const T sin_B_ground_rocker_n3 = sin(q_B_ground_rocker_n2);
+  const T p_rocker_x_n3 = _tmp0 - T(2)*p.l*cos_B_ground_rocker_n3;
+  const T p_rocker_y_n3 = -T(2)*p.l*sin_B_ground_rocker_n3;
+  const T R_coupler_00_n3 = cos_A_ground_crank*cos_P_crank_coupler_n3 - sin_A_ground_crank*sin_P_crank_coupler_n3;
+  const T _tmp10 = cos_A_ground_crank*sin_P_crank_coupler_n3 + cos_P_crank_coupler_n3*sin_A_ground_crank;
+  const T R_coupler_01_n3 = -_tmp10;
+  const T R_coupler_10_n3 = _tmp10;
+  const T R_coupler_11_n3 = R_coupler_00_n3;
+  const T p_coupler_x_n3 = p.l*cos_A_ground_crank*sin_P_crank_coupler_n3 + p.l*cos_P_crank_coupler_n3*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y_n3 = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler_n3 - p.l*cos_A_ground_crank*cos_P_crank_coupler_n3;
+  const T _tmp11 = T(1.5)*p.l*cos_B_ground_rocker_n3;
+  const T sv_M_rocker_coupler_x_n3 = p_rocker_y_n3 - _tmp11;
+  const T _tmp12 = T(1.5)*p.l*sin_B_ground_rocker_n3;
+  const T sv_M_rocker_coupler_y_n3 = -_tmp12 - p_rocker_x_n3;
+  const T X0_R_01_n3 = R_coupler_10_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3 - R_coupler_10_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 - R_coupler_11_n3*cos_B_ground_rocker_n3*sin_M_rocker_coupler_n3 - R_coupler_11_n3*cos_M_rocker_coupler_n3*sin_B_ground_rocker_n3;
+  const T X0_R_10_n3 = R_coupler_00_n3*cos_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_00_n3*cos_M_rocker_coupler_n3*sin_B_ground_rocker_n3 + R_coupler_01_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3 - R_coupler_01_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3;
+  const T X0_wz_n3 = T(0.5)*X0_R_10_n3 - T(0.5)*X0_R_01_n3;
+  const T X0_vx_n3 = R_coupler_00_n3*p_coupler_x_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_01_n3*cos_B_ground_rocker_n3*p_coupler_x_n3*sin_M_rocker_coupler_n3 + R_coupler_01_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3*sin_B_ground_rocker_n3 + R_coupler_10_n3*p_coupler_y_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*cos_B_ground_rocker_n3*p_coupler_y_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3*sin_B_ground_rocker_n3 + _tmp12 + p_rocker_x_n3 - R_coupler_00_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3 - R_coupler_10_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3 - T(1.5)*p.l*cos_B_ground_rocker_n3*sin_M_rocker_coupler_n3 - T(1.5)*p.l*cos_M_rocker_coupler_n3*sin_B_ground_rocker_n3;
+  const T X0_vy_n3 = R_coupler_01_n3*p_coupler_x_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + R_coupler_11_n3*p_coupler_y_n3*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3 + T(1.5)*p.l*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3 + p_rocker_y_n3 - R_coupler_00_n3*cos_B_ground_rocker_n3*p_coupler_x_n3*sin_M_rocker_coupler_n3 - R_coupler_00_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3*sin_B_ground_rocker_n3 - R_coupler_01_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_x_n3 - R_coupler_10_n3*cos_B_ground_rocker_n3*p_coupler_y_n3*sin_M_rocker_coupler_n3 - R_coupler_10_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3*sin_B_ground_rocker_n3 - R_coupler_11_n3*cos_B_ground_rocker_n3*cos_M_rocker_coupler_n3*p_coupler_y_n3 - _tmp11 - T(1.5)*p.l*sin_B_ground_rocker_n3*sin_M_rocker_coupler_n3;
+  const T n3_f1_0 = -k.n3_ipiv0*sv_P_crank_coupler_x;
+  const T n3_a0_1_1 = sv_M_rocker_coupler_x_n3 - n3_f1_0;
+  const T n3_f2_0 = -k.n3_ipiv0*sv_P_crank_coupler_y;
+  const T n3_a0_2_1 = sv_M_rocker_coupler_y_n3 - n3_f2_0;
+  const T n3_a0_2_2 = -_tmp0 - n3_f2_0;
+  const T n3_ipiv1 = T(1)/n3_a0_1_1;
+  const T n3_f2_1 = n3_a0_2_1*n3_ipiv1;
+  const T n3_a1_2_2 = n3_a0_2_2 + n3_f1_0*n3_f2_1;
+  const T n3_ipiv2 = T(1)/n3_a1_2_2;
+  const T n3_b0_1 = X0_wz_n3*n3_f1_0 - X0_vx_n3;
+  const T n3_b0_2 = X0_wz_n3*n3_f2_0 - X0_vy_n3;
+  const T n3_b1_2 = n3_b0_2 - n3_b0_1*n3_f2_1;
+  const T n3_x2 = n3_b1_2*n3_ipiv2;
+  const T n3_x1 = n3_b0_1*n3_ipiv1 + n3_f1_0*n3_ipiv1*n3_x2;
+  const T n3_x0 = -X0_wz_n3*k.n3_ipiv0 - k.n3_ipiv0*n3_x1 - k.n3_ipiv0*n3_x2;
+  const T q_P_crank_coupler_n3 = n3_x0 + q_P_crank_coupler_n2;
+  const T q_M_rocker_coupler_n3 = n3_x1 + q_M_rocker_coupler_n2;
+  const T q_B_ground_rocker_n3 = n3_x2 + q_B_ground_rocker_n2;
+  const T cos_P_crank_coupler_n4 = cos(q_P_crank_coupler_n3);
+  const T sin_P_crank_coupler_n4 = sin(q_P_crank_coupler_n3);
+  const T cos_M_rocker_coupler_n4 = cos(q_M_rocker_coupler_n3);
+  const T sin_M_rocker_coupler_n4 = sin(q_M_rocker_coupler_n3);
+  const T cos_B_ground_rocker_n4 = cos(q_B_ground_rocker_n3);
+  const T sin_B_ground_rocker_n4 = sin(q_B_ground_rocker_n3);
+  const T p_rocker_x_n4 = _tmp0 - T(2)*p.l*cos_B_ground_rocker_n4;
+  const T p_rocker_y_n4 = -T(2)*p.l*sin_B_ground_rocker_n4;
+  const T R_coupler_00_n4 = cos_A_ground_crank*cos_P_crank_coupler_n4 - sin_A_ground_crank*sin_P_crank_coupler_n4;
+  const T _tmp13 = cos_A_ground_crank*sin_P_crank_coupler_n4 + cos_P_crank_coupler_n4*sin_A_ground_crank;
+  const T R_coupler_01_n4 = -_tmp13;
+  const T R_coupler_10_n4 = _tmp13;
+  const T R_coupler_11_n4 = R_coupler_00_n4;
+  const T p_coupler_x_n4 = p.l*cos_A_ground_crank*sin_P_crank_coupler_n4 + p.l*cos_P_crank_coupler_n4*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y_n4 = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler_n4 - p.l*cos_A_ground_crank*cos_P_crank_coupler_n4;
+  const T _tmp14 = T(1.5)*p.l*cos_B_ground_rocker_n4;
+  const T sv_M_rocker_coupler_x_n4 = p_rocker_y_n4 - _tmp14;
+  const T _tmp15 = T(1.5)*p.l*sin_B_ground_rocker_n4;
+  const T sv_M_rocker_coupler_y_n4 = -_tmp15 - p_rocker_x_n4;
+  const T X0_R_01_n4 = R_coupler_10_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4 - R_coupler_10_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 - R_coupler_11_n4*cos_B_ground_rocker_n4*sin_M_rocker_coupler_n4 - R_coupler_11_n4*cos_M_rocker_coupler_n4*sin_B_ground_rocker_n4;
+  const T X0_R_10_n4 = R_coupler_00_n4*cos_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_00_n4*cos_M_rocker_coupler_n4*sin_B_ground_rocker_n4 + R_coupler_01_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4 - R_coupler_01_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4;
+  const T X0_wz_n4 = T(0.5)*X0_R_10_n4 - T(0.5)*X0_R_01_n4;
+  const T X0_vx_n4 = R_coupler_00_n4*p_coupler_x_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_01_n4*cos_B_ground_rocker_n4*p_coupler_x_n4*sin_M_rocker_coupler_n4 + R_coupler_01_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4*sin_B_ground_rocker_n4 + R_coupler_10_n4*p_coupler_y_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*cos_B_ground_rocker_n4*p_coupler_y_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4*sin_B_ground_rocker_n4 + _tmp15 + p_rocker_x_n4 - R_coupler_00_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4 - R_coupler_10_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4 - T(1.5)*p.l*cos_B_ground_rocker_n4*sin_M_rocker_coupler_n4 - T(1.5)*p.l*cos_M_rocker_coupler_n4*sin_B_ground_rocker_n4;
+  const T X0_vy_n4 = R_coupler_01_n4*p_coupler_x_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + R_coupler_11_n4*p_coupler_y_n4*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4 + T(1.5)*p.l*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4 + p_rocker_y_n4 - R_coupler_00_n4*cos_B_ground_rocker_n4*p_coupler_x_n4*sin_M_rocker_coupler_n4 - R_coupler_00_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4*sin_B_ground_rocker_n4 - R_coupler_01_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_x_n4 - R_coupler_10_n4*cos_B_ground_rocker_n4*p_coupler_y_n4*sin_M_rocker_coupler_n4 - R_coupler_10_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4*sin_B_ground_rocker_n4 - R_coupler_11_n4*cos_B_ground_rocker_n4*cos_M_rocker_coupler_n4*p_coupler_y_n4 - _tmp14 - T(1.5)*p.l*sin_B_ground_rocker_n4*sin_M_rocker_coupler_n4;
+  const T n4_f1_0 = -k.n4_ipiv0*sv_P_crank_coupler_x;
+  const T n4_a0_1_1 = sv_M_rocker_coupler_x_n4 - n4_f1_0;
+  const T n4_f2_0 = -k.n4_ipiv0*sv_P_crank_coupler_y;
+  const T n4_a0_2_1 = sv_M_rocker_coupler_y_n4 - n4_f2_0;
+  const T n4_a0_2_2 = -_tmp0 - n4_f2_0;
+  const T n4_ipiv1 = T(1)/n4_a0_1_1;
+  const T n4_f2_1 = n4_a0_2_1*n4_ipiv1;
+  const T n4_a1_2_2 = n4_a0_2_2 + n4_f1_0*n4_f2_1;
+  const T n4_ipiv2 = T(1)/n4_a1_2_2;
+  const T n4_b0_1 = X0_wz_n4*n4_f1_0 - X0_vx_n4;
+  const T n4_b0_2 = X0_wz_n4*n4_f2_0 - X0_vy_n4;
+  const T n4_b1_2 = n4_b0_2 - n4_b0_1*n4_f2_1;
+  const T n4_x2 = n4_b1_2*n4_ipiv2;
+  const T n4_x1 = n4_b0_1*n4_ipiv1 + n4_f1_0*n4_ipiv1*n4_x2;
+  const T n4_x0 = -X0_wz_n4*k.n4_ipiv0 - k.n4_ipiv0*n4_x1 - k.n4_ipiv0*n4_x2;
+  const T q_P_crank_coupler_n4 = n4_x0 + q_P_crank_coupler_n3;
+  const T q_M_rocker_coupler_n4 = n4_x1 + q_M_rocker_coupler_n3;
+  const T q_B_ground_rocker_n4 = n4_x2 + q_B_ground_rocker_n3;
+  const T q_P_crank_coupler = q_P_crank_coupler_n4;
+  const T q_M_rocker_coupler = q_M_rocker_coupler_n4;
+  const T q_B_ground_rocker = q_B_ground_rocker_n4;
+  const T cos_P_crank_coupler = cos(q_P_crank_coupler);
+  const T sin_P_crank_coupler = sin(q_P_crank_coupler);
+  const T cos_M_rocker_coupler = cos(q_M_rocker_coupler);
+  const T sin_M_rocker_coupler = sin(q_M_rocker_coupler);
+  const T cos_B_ground_rocker = cos(q_B_ground_rocker);
+  const T sin_B_ground_rocker = sin(q_B_ground_rocker);
+  const T p_rocker_x = _tmp0 - T(2)*p.l*cos_B_ground_rocker;
+  const T p_rocker_y = -T(2)*p.l*sin_B_ground_rocker;
+  const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
+  const T _tmp16 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp16;
+  const T R_coupler_10 = _tmp16;
+  const T R_coupler_11 = R_coupler_00;
+  const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
+  const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
+  const T _tmp17 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp17;
+  const T _tmp18 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp18 - p_rocker_x;
+  const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp18 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp17 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
+  const T lu_f1_0 = -k.lu_ipiv0*sv_P_crank_coupler_x;
+  const T lu_a0_1_1 = sv_M_rocker_coupler_x - lu_f1_0;
+  const T lu_f2_0 = -k.lu_ipiv0*sv_P_crank_coupler_y;
+  const T lu_a0_2_1 = sv_M_rocker_coupler_y - lu_f2_0;
+  const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
+  const T lu_ipiv1 = T(1)/lu_a0_1_1;
+  const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
+  const T lu_a1_2_2 = lu_a0_2_2 + lu_f1_0*lu_f2_1;
+  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
+  const T pt_P_x = -sv_P_crank_coupler_y;
+  const T pt_P_y = sv_P_crank_coupler_x;
+  const T pt_C_x = p_coupler_x - T(4)*p.l*R_coupler_01;
+  const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
+  const T pt_M_x = p_coupler_x - T(1.5)*p.l*R_coupler_01;
+  const T pt_M_y = p_coupler_y - T(1.5)*p.l*R_coupler_11;
+  s.closure.next[0] = q_P_crank_coupler;
+  s.closure.next[1] = q_M_rocker_coupler;
+  s.closure.next[2] = q_B_ground_rocker;
+  s.closure.residual = closure_residual;
+  s.closure.det = closure_det;
+  s.points.A.x = T(0);
+  s.points.A.y = T(0);
+  s.points.A.z = T(0);
+  s.points.B.x = _tmp0;
+  s.points.B.y = T(0);
+  s.points.B.z = T(0);
+  s.points.P.x = pt_P_x;
+  s.points.P.y = pt_P_y;
+  s.points.P.z = T(0);
+  s.points.C.x = pt_C_x;
+  s.points.C.y = pt_C_y;
+  s.points.C.z = T(0);
+  s.points.M.x = pt_M_x;
+  s.points.M.y = pt_M_y;
+  s.points.M.z = T(0);
+  const T _sum_positions = (s.points.B.x + (s.points.P.x + s.points.P.y)) + ((s.points.C.x + s.points.C.y) + (s.points.M.x + s.points.M.y));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 5, Status::non_finite);
+  const T _sum_rates = (s.closure.next[0] + s.closure.next[1]) + (s.closure.next[2] + (s.closure.residual + s.closure.det));
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 6, Status::non_finite);
+
+  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
+  // singular there (|det| below 1e-9 of its value at the assembly).
+  using std::abs;
+  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon()))
+    return s.failed_group = 3, Status::unreachable;
+  if (!(abs(s.closure.det) > T(4.5e-12)))
+    return s.failed_group = 3, Status::singular;
+  for (int i = 0; i < 3; ++i) s.closure.q[i] = s.closure.next[i];
+  return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
+}
+
 // The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
@@ -1818,7 +2160,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x42a0ec672d348ba5ULL;
+inline constexpr unsigned long long fingerprint = 0x9b593b429627ad45ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -984,6 +984,82 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
+// What point_positions() computes from the parameters alone, once per parameter set.
+template <class T>
+struct PositionConstants {
+
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 0
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
+                       State<T>& s) noexcept {
+  using detail::cos;
+  using detail::sin;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
+  // Total ops: 72
+  const T cos_j1 = cos(in.q1);
+  const T sin_j1 = sin(in.q1);
+  const T cos_j2 = cos(in.q2);
+  const T sin_j2 = sin(in.q2);
+  const T cos_j3 = cos(in.q3);
+  const T sin_j3 = sin(in.q3);
+  const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
+  const T _tmp0 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp0;
+  const T R_shank_10 = _tmp0;
+  const T R_shank_11 = R_shank_00;
+  const T _tmp1 = p.l*sin_j1;
+  const T p_shank_x = _tmp1 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp2 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp2 - p.l*sin_j1*sin_j2;
+  const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
+  const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
+  const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
+  const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
+  const T _tmp3 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp3;
+  const T _tmp4 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp4;
+  const T pt_knee_x = _tmp1;
+  const T pt_knee_y = -_tmp2;
+  const T pt_ankle_x = p_shank_x - _tmp3;
+  const T pt_ankle_y = p_shank_y - _tmp4;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - T(2)*p.l*R_foot_01;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - T(2)*p.l*R_foot_11;
+  s.points.hip.x = T(0);
+  s.points.hip.y = T(0);
+  s.points.hip.z = T(0);
+  s.points.knee.x = pt_knee_x;
+  s.points.knee.y = pt_knee_y;
+  s.points.knee.z = T(0);
+  s.points.ankle.x = pt_ankle_x;
+  s.points.ankle.y = pt_ankle_y;
+  s.points.ankle.z = T(0);
+  s.points.toe.x = pt_toe_x;
+  s.points.toe.y = pt_toe_y;
+  s.points.toe.z = T(0);
+  const T _sum_positions = (s.points.knee.x + (s.points.knee.y + s.points.ankle.x)) + (s.points.ankle.y + (s.points.toe.x + s.points.toe.y));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+
+  return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
+}
+
 // The Newton-Euler system itself, A x = b (21 x 21, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
@@ -1201,7 +1277,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xa9be16138682824dULL;
+inline constexpr unsigned long long fingerprint = 0x6f08b0dfdf66ef4dULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -233,7 +233,7 @@ struct State {
     T ankle[3][primary_count] = {};
     T toe[3][primary_count] = {};
   } point_jacobians;
-  // The closure (every circuit in closed form): squared closure error and det N_s.
+  // The closure: squared closure error and det N_s.
   struct {
     T residual, det;
   } closure;
@@ -1430,6 +1430,109 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
+// What point_positions() computes from the parameters alone, once per parameter set.
+template <class T>
+struct PositionConstants {
+  T ik_leg_pose_link_dot;
+  T ik_leg_pose_link_product;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+  using std::sqrt;
+  // Total ops: 3
+  const T ik_leg_pose_link_dot = p.l*p.l;
+  k.ik_leg_pose_link_dot = ik_leg_pose_link_dot;
+  const T ik_leg_pose_link_product = sqrt(ik_leg_pose_link_dot*ik_leg_pose_link_dot);
+  k.ik_leg_pose_link_product = ik_leg_pose_link_product;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
+                       State<T>& s) noexcept {
+  using std::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
+  // Total ops: 130
+  const T _tmp0 = T(2)*p.l;
+  const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
+  const T cos_leg_pose_rz = cos(in.leg_pose_rz);
+  const T sin_leg_pose_rz = sin(in.leg_pose_rz);
+  const T ik_leg_pose_reach_vector_x = T(2)*p.l*sin_leg_pose_rz - cos_leg_pose_rz*in.leg_pose_x - q_leg_pose_y*sin_leg_pose_rz;
+  const T ik_leg_pose_reach_vector_y = T(2)*p.l*cos_leg_pose_rz + _tmp0 + in.leg_pose_x*sin_leg_pose_rz - T(2)*p.l*(cos_leg_pose_rz*cos_leg_pose_rz) - T(2)*p.l*(sin_leg_pose_rz*sin_leg_pose_rz) - cos_leg_pose_rz*q_leg_pose_y;
+  const T _tmp1 = T(1)/k.ik_leg_pose_link_product;
+  const T ik_leg_pose_cos = T(0.5)*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x)*_tmp1 + T(0.5)*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y)*_tmp1 - (p.l*p.l)*_tmp1;
+  const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
+  if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
+  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
+  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), k.ik_leg_pose_link_dot);
+  const T ik_leg_pose_c2 = ik_leg_pose_cos*k.ik_leg_pose_link_dot*_tmp1;
+  const T ik_leg_pose_s2 = ik_leg_pose_sin*k.ik_leg_pose_link_dot*_tmp1;
+  const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
+  const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
+  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
+  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T q_j2 = -ik_leg_pose_theta2;
+  const T q_j3 = -ik_leg_pose_theta1;
+  const T cos_j1 = cos(q_j1);
+  const T sin_j1 = sin(q_j1);
+  const T cos_j2 = cos(q_j2);
+  const T sin_j2 = sin(q_j2);
+  const T cos_j3 = cos(q_j3);
+  const T sin_j3 = sin(q_j3);
+  const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
+  const T _tmp2 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp2;
+  const T R_shank_10 = _tmp2;
+  const T R_shank_11 = R_shank_00;
+  const T _tmp3 = p.l*sin_j1;
+  const T p_shank_x = _tmp3 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp4 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp4 - p.l*sin_j1*sin_j2;
+  const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
+  const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
+  const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
+  const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
+  const T _tmp5 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp5;
+  const T _tmp6 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp6;
+  const T pt_knee_x = _tmp3;
+  const T pt_knee_y = -_tmp4;
+  const T pt_ankle_x = p_shank_x - _tmp5;
+  const T pt_ankle_y = p_shank_y - _tmp6;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - T(2)*p.l*R_foot_01;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - T(2)*p.l*R_foot_11;
+  s.points.hip.x = T(0);
+  s.points.hip.y = T(0);
+  s.points.hip.z = T(0);
+  s.points.knee.x = pt_knee_x;
+  s.points.knee.y = pt_knee_y;
+  s.points.knee.z = T(0);
+  s.points.ankle.x = pt_ankle_x;
+  s.points.ankle.y = pt_ankle_y;
+  s.points.ankle.z = T(0);
+  s.points.toe.x = pt_toe_x;
+  s.points.toe.y = pt_toe_y;
+  s.points.toe.z = T(0);
+  const T _sum_positions = (s.points.knee.x + (s.points.knee.y + s.points.ankle.x)) + (s.points.ankle.y + (s.points.toe.x + s.points.toe.y));
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
+
+  return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
+}
+
 // The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
@@ -1488,7 +1591,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x4db626dda84b8506ULL;
+inline constexpr unsigned long long fingerprint = 0x0bce3bd633b6197cULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;

@@ -68,13 +68,45 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// The named points' positions alone for n samples of the drivers' coordinates: driver k of
+// sample i at q[k * n + i]; point c's axis a to out[(3 c + a) n + i]; status[i] per sample.
+static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
+                                  int* status) {
+  const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
+  State<double> s;
+  Inputs<double> in;
+  for (long i = 0; i < n; ++i) {
+    in.leg_pose_x = q[0 * n + i];
+        in.leg_pose_y = q[1 * n + i];
+        in.leg_pose_rz = q[2 * n + i];
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
+    out[0 * n + i] = s.points.hip.x;
+        out[1 * n + i] = s.points.hip.y;
+        out[2 * n + i] = s.points.hip.z;
+        out[3 * n + i] = s.points.knee.x;
+        out[4 * n + i] = s.points.knee.y;
+        out[5 * n + i] = s.points.knee.z;
+        out[6 * n + i] = s.points.ankle.x;
+        out[7 * n + i] = s.points.ankle.y;
+        out[8 * n + i] = s.points.ankle.z;
+        out[9 * n + i] = s.points.toe.x;
+        out[10 * n + i] = s.points.toe.y;
+        out[11 * n + i] = s.points.toe.z;
+  }
+}
+
+static const char* const point_names[] = { "hip", "knee", "ankle", "toe" };
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"lecture_leg_abstract",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 3,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint};
+                                     fingerprint,     4,
+                                     point_names,     &point_positions_batch};
   return kernel;
 }
 

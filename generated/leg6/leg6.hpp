@@ -2299,6 +2299,135 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   return Status::ok;
 }
 
+// What point_positions() computes from the parameters alone, once per parameter set.
+template <class T>
+struct PositionConstants {
+  T s0_ankle_pitch_z;
+  T s0_ankle_roll_z;
+  T pt_local_A_z;
+  T pt_local_foot_z;
+  T pt_local_toe_z;
+};
+template <class T>
+void position_constants([[maybe_unused]] const Params<T>& p,
+                        [[maybe_unused]] PositionConstants<T>& k) noexcept {
+
+  // Total ops: 3
+  const T _tmp0 = p.l1 + p.l2;
+  const T s0_ankle_pitch_z = -_tmp0;
+  k.s0_ankle_pitch_z = s0_ankle_pitch_z;
+  const T s0_ankle_roll_z = -_tmp0;
+  k.s0_ankle_roll_z = s0_ankle_roll_z;
+  const T pt_local_A_z = -_tmp0;
+  k.pt_local_A_z = pt_local_A_z;
+  const T _tmp1 = p.l1 + p.l2 + p.l3;
+  const T pt_local_foot_z = -_tmp1;
+  k.pt_local_foot_z = pt_local_foot_z;
+  const T pt_local_toe_z = -_tmp1;
+  k.pt_local_toe_z = pt_local_toe_z;
+
+}
+
+// The named points' positions alone (no rates, Jacobians or forces): a workspace's sample, from
+// the parameter set's PositionConstants. The drivers' rates are not read.
+template <class T>
+Status point_positions([[maybe_unused]] const Params<T>& p,
+                       [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
+                       State<T>& s) noexcept {
+  using detail::cos;
+  using detail::sin;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
+  // Total ops: 168
+  const T cos_hip_yaw = cos(in.q1);
+  const T sin_hip_yaw = sin(in.q1);
+  const T cos_hip_roll = cos(in.q2);
+  const T sin_hip_roll = sin(in.q2);
+  const T cos_hip_pitch = cos(in.q3);
+  const T sin_hip_pitch = sin(in.q3);
+  const T cos_knee = cos(in.q4);
+  const T sin_knee = sin(in.q4);
+  const T cos_ankle_pitch = cos(in.q5);
+  const T sin_ankle_pitch = sin(in.q5);
+  const T cos_ankle_roll = cos(in.q6);
+  const T sin_ankle_roll = sin(in.q6);
+  const T R_hip_roll_link_01 = -cos_hip_roll*sin_hip_yaw;
+  const T R_hip_roll_link_02 = sin_hip_roll*sin_hip_yaw;
+  const T R_hip_roll_link_11 = cos_hip_roll*cos_hip_yaw;
+  const T R_hip_roll_link_12 = -cos_hip_yaw*sin_hip_roll;
+  const T R_thigh_00 = cos_hip_pitch*cos_hip_yaw - R_hip_roll_link_02*sin_hip_pitch;
+  const T R_thigh_02 = R_hip_roll_link_02*cos_hip_pitch + cos_hip_yaw*sin_hip_pitch;
+  const T R_thigh_10 = cos_hip_pitch*sin_hip_yaw - R_hip_roll_link_12*sin_hip_pitch;
+  const T R_thigh_12 = R_hip_roll_link_12*cos_hip_pitch + sin_hip_pitch*sin_hip_yaw;
+  const T R_thigh_20 = -cos_hip_roll*sin_hip_pitch;
+  const T R_thigh_22 = cos_hip_pitch*cos_hip_roll;
+  const T R_calf_00 = R_thigh_00*cos_knee - R_thigh_02*sin_knee;
+  const T R_calf_02 = R_thigh_00*sin_knee + R_thigh_02*cos_knee;
+  const T R_calf_10 = R_thigh_10*cos_knee - R_thigh_12*sin_knee;
+  const T R_calf_12 = R_thigh_10*sin_knee + R_thigh_12*cos_knee;
+  const T R_calf_20 = R_thigh_20*cos_knee - R_thigh_22*sin_knee;
+  const T R_calf_22 = R_thigh_20*sin_knee + R_thigh_22*cos_knee;
+  const T _tmp0 = p.l1*R_thigh_02;
+  const T p_calf_x = p.l1*R_thigh_00*sin_knee + p.l1*R_thigh_02*cos_knee - _tmp0;
+  const T _tmp1 = p.l1*R_thigh_12;
+  const T p_calf_y = p.l1*R_thigh_10*sin_knee + p.l1*R_thigh_12*cos_knee - _tmp1;
+  const T _tmp2 = p.l1*R_thigh_22;
+  const T p_calf_z = p.l1*R_thigh_20*sin_knee + p.l1*R_thigh_22*cos_knee - _tmp2;
+  const T R_ankle_link_00 = R_calf_00*cos_ankle_pitch - R_calf_02*sin_ankle_pitch;
+  const T R_ankle_link_02 = R_calf_00*sin_ankle_pitch + R_calf_02*cos_ankle_pitch;
+  const T R_ankle_link_10 = R_calf_10*cos_ankle_pitch - R_calf_12*sin_ankle_pitch;
+  const T R_ankle_link_12 = R_calf_10*sin_ankle_pitch + R_calf_12*cos_ankle_pitch;
+  const T R_ankle_link_20 = R_calf_20*cos_ankle_pitch - R_calf_22*sin_ankle_pitch;
+  const T R_ankle_link_22 = R_calf_20*sin_ankle_pitch + R_calf_22*cos_ankle_pitch;
+  const T p_ankle_link_x = R_calf_02*k.s0_ankle_pitch_z + p_calf_x - R_calf_00*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_02*cos_ankle_pitch*k.s0_ankle_pitch_z;
+  const T p_ankle_link_y = R_calf_12*k.s0_ankle_pitch_z + p_calf_y - R_calf_10*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_12*cos_ankle_pitch*k.s0_ankle_pitch_z;
+  const T p_ankle_link_z = R_calf_22*k.s0_ankle_pitch_z + p_calf_z - R_calf_20*k.s0_ankle_pitch_z*sin_ankle_pitch - R_calf_22*cos_ankle_pitch*k.s0_ankle_pitch_z;
+  const T R_foot_link_02 = R_ankle_link_02*cos_ankle_roll - R_hip_roll_link_01*sin_ankle_roll;
+  const T R_foot_link_12 = R_ankle_link_12*cos_ankle_roll - R_hip_roll_link_11*sin_ankle_roll;
+  const T R_foot_link_22 = R_ankle_link_22*cos_ankle_roll - sin_ankle_roll*sin_hip_roll;
+  const T p_foot_link_x = R_ankle_link_02*k.s0_ankle_roll_z + R_hip_roll_link_01*k.s0_ankle_roll_z*sin_ankle_roll + p_ankle_link_x - R_ankle_link_02*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T p_foot_link_y = R_ankle_link_12*k.s0_ankle_roll_z + R_hip_roll_link_11*k.s0_ankle_roll_z*sin_ankle_roll + p_ankle_link_y - R_ankle_link_12*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T p_foot_link_z = R_ankle_link_22*k.s0_ankle_roll_z + k.s0_ankle_roll_z*sin_ankle_roll*sin_hip_roll + p_ankle_link_z - R_ankle_link_22*cos_ankle_roll*k.s0_ankle_roll_z;
+  const T pt_K_x = -_tmp0;
+  const T pt_K_y = -_tmp1;
+  const T pt_K_z = -_tmp2;
+  const T pt_A_x = R_calf_02*k.pt_local_A_z + p_calf_x;
+  const T pt_A_y = R_calf_12*k.pt_local_A_z + p_calf_y;
+  const T pt_A_z = R_calf_22*k.pt_local_A_z + p_calf_z;
+  const T pt_foot_x = R_foot_link_02*k.pt_local_foot_z + p_foot_link_x;
+  const T pt_foot_y = R_foot_link_12*k.pt_local_foot_z + p_foot_link_y;
+  const T pt_foot_z = R_foot_link_22*k.pt_local_foot_z + p_foot_link_z;
+  const T pt_toe_x = R_foot_link_02*k.pt_local_toe_z + T(0.06)*R_ankle_link_00 + p_foot_link_x;
+  const T pt_toe_y = R_foot_link_12*k.pt_local_toe_z + T(0.06)*R_ankle_link_10 + p_foot_link_y;
+  const T pt_toe_z = R_foot_link_22*k.pt_local_toe_z + T(0.06)*R_ankle_link_20 + p_foot_link_z;
+  s.points.H.x = T(0);
+  s.points.H.y = T(0);
+  s.points.H.z = T(0);
+  s.points.K.x = pt_K_x;
+  s.points.K.y = pt_K_y;
+  s.points.K.z = pt_K_z;
+  s.points.A.x = pt_A_x;
+  s.points.A.y = pt_A_y;
+  s.points.A.z = pt_A_z;
+  s.points.foot.x = pt_foot_x;
+  s.points.foot.y = pt_foot_y;
+  s.points.foot.z = pt_foot_z;
+  s.points.toe.x = pt_toe_x;
+  s.points.toe.y = pt_toe_y;
+  s.points.toe.z = pt_toe_z;
+  const T _sum_positions_0 = ((s.points.K.x + s.points.K.y) + (s.points.K.z + s.points.A.x)) + ((s.points.A.y + s.points.A.z) + (s.points.foot.x + s.points.foot.y));
+  const T _sum_positions_1 = (s.points.foot.z + s.points.toe.x) + (s.points.toe.y + s.points.toe.z);
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 7, Status::non_finite);
+
+  return Status::ok;
+}
+template <class T>
+Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  PositionConstants<T> k;
+  position_constants(p, k);
+  return point_positions(p, k, in, s);
+}
+
 // The Newton-Euler system itself, A x = b (42 x 42, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
@@ -2881,7 +3010,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd85d2e467de98a1bULL;
+inline constexpr unsigned long long fingerprint = 0x3b5027572453fba7ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

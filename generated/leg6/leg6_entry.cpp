@@ -77,13 +77,51 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// The named points' positions alone for n samples of the drivers' coordinates: driver k of
+// sample i at q[k * n + i]; point c's axis a to out[(3 c + a) n + i]; status[i] per sample.
+static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
+                                  int* status) {
+  const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
+  State<double> s;
+  Inputs<double> in;
+  for (long i = 0; i < n; ++i) {
+    in.q1 = q[0 * n + i];
+        in.q2 = q[1 * n + i];
+        in.q3 = q[2 * n + i];
+        in.q4 = q[3 * n + i];
+        in.q5 = q[4 * n + i];
+        in.q6 = q[5 * n + i];
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
+    out[0 * n + i] = s.points.H.x;
+        out[1 * n + i] = s.points.H.y;
+        out[2 * n + i] = s.points.H.z;
+        out[3 * n + i] = s.points.K.x;
+        out[4 * n + i] = s.points.K.y;
+        out[5 * n + i] = s.points.K.z;
+        out[6 * n + i] = s.points.A.x;
+        out[7 * n + i] = s.points.A.y;
+        out[8 * n + i] = s.points.A.z;
+        out[9 * n + i] = s.points.foot.x;
+        out[10 * n + i] = s.points.foot.y;
+        out[11 * n + i] = s.points.foot.z;
+        out[12 * n + i] = s.points.toe.x;
+        out[13 * n + i] = s.points.toe.y;
+        out[14 * n + i] = s.points.toe.z;
+  }
+}
+
+static const char* const point_names[] = { "H", "K", "A", "foot", "toe" };
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"leg6",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 6,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint};
+                                     fingerprint,     5,
+                                     point_names,     &point_positions_batch};
   return kernel;
 }
 

@@ -73,13 +73,66 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// The named points' positions alone for n samples of the drivers' coordinates: driver k of
+// sample i at q[k * n + i]; point c's axis a to out[(3 c + a) n + i]; status[i] per sample.
+static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
+                                  int* status) {
+  const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
+  State<double> s;
+  Inputs<double> in;
+  for (long i = 0; i < n; ++i) {
+    in.l1 = q[0 * n + i];
+        in.l2 = q[1 * n + i];
+        in.l3 = q[2 * n + i];
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
+    out[0 * n + i] = s.points.O.x;
+        out[1 * n + i] = s.points.O.y;
+        out[2 * n + i] = s.points.O.z;
+        out[3 * n + i] = s.points.M.x;
+        out[4 * n + i] = s.points.M.y;
+        out[5 * n + i] = s.points.M.z;
+        out[6 * n + i] = s.points.Q.x;
+        out[7 * n + i] = s.points.Q.y;
+        out[8 * n + i] = s.points.Q.z;
+        out[9 * n + i] = s.points.H.x;
+        out[10 * n + i] = s.points.H.y;
+        out[11 * n + i] = s.points.H.z;
+        out[12 * n + i] = s.points.F.x;
+        out[13 * n + i] = s.points.F.y;
+        out[14 * n + i] = s.points.F.z;
+        out[15 * n + i] = s.points.N.x;
+        out[16 * n + i] = s.points.N.y;
+        out[17 * n + i] = s.points.N.z;
+        out[18 * n + i] = s.points.A.x;
+        out[19 * n + i] = s.points.A.y;
+        out[20 * n + i] = s.points.A.z;
+        out[21 * n + i] = s.points.G.x;
+        out[22 * n + i] = s.points.G.y;
+        out[23 * n + i] = s.points.G.z;
+        out[24 * n + i] = s.points.C.x;
+        out[25 * n + i] = s.points.C.y;
+        out[26 * n + i] = s.points.C.z;
+        out[27 * n + i] = s.points.B.x;
+        out[28 * n + i] = s.points.B.y;
+        out[29 * n + i] = s.points.B.z;
+        out[30 * n + i] = s.points.D.x;
+        out[31 * n + i] = s.points.D.y;
+        out[32 * n + i] = s.points.D.z;
+  }
+}
+
+static const char* const point_names[] = { "O", "M", "Q", "H", "F", "N", "A", "G", "C", "B", "D" };
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"quadruped_leg",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 3,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint};
+                                     fingerprint,     11,
+                                     point_names,     &point_positions_batch};
   return kernel;
 }
 

@@ -67,13 +67,43 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// The named points' positions alone for n samples of the drivers' coordinates: driver k of
+// sample i at q[k * n + i]; point c's axis a to out[(3 c + a) n + i]; status[i] per sample.
+static void point_positions_batch(const double* parameters, const double* q, long n, double* out,
+                                  int* status) {
+  const Params<double> p = parameters_from<double>(parameters);
+  PositionConstants<double> k;
+  position_constants(p, k);
+  State<double> s;
+  Inputs<double> in;
+  for (long i = 0; i < n; ++i) {
+    in.theta = q[0 * n + i];
+    status[i] = static_cast<int>(point_positions(p, k, in, s));
+    out[0 * n + i] = s.points.A.x;
+        out[1 * n + i] = s.points.A.y;
+        out[2 * n + i] = s.points.A.z;
+        out[3 * n + i] = s.points.D.x;
+        out[4 * n + i] = s.points.D.y;
+        out[5 * n + i] = s.points.D.z;
+        out[6 * n + i] = s.points.B.x;
+        out[7 * n + i] = s.points.B.y;
+        out[8 * n + i] = s.points.B.z;
+        out[9 * n + i] = s.points.C.x;
+        out[10 * n + i] = s.points.C.y;
+        out[11 * n + i] = s.points.C.z;
+  }
+}
+
+static const char* const point_names[] = { "A", "D", "B", "C" };
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"rsur",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 1,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint};
+                                     fingerprint,     4,
+                                     point_names,     &point_positions_batch};
   return kernel;
 }
 

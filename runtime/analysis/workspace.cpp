@@ -44,7 +44,7 @@ Run longest_run(const Projection& p, bool along_h) {
   return best;
 }
 
-Projection project(const std::vector<std::array<double, 3>>& pts, int h, int v,
+Projection project(const std::vector<std::array<float, 3>>& pts, int h, int v,
                    const std::array<double, 3>& lo, const std::array<double, 3>& hi, double cell) {
   const char* names[3] = {"X", "Y", "Z"};
   Projection p;
@@ -68,7 +68,7 @@ Projection project(const std::vector<std::array<double, 3>>& pts, int h, int v,
 }
 
 // The image at `bins` cells along its longer side; the chords on cells of chord_cell.
-Projection image(const std::vector<std::array<double, 3>>& pts, int h, int v,
+Projection image(const std::vector<std::array<float, 3>>& pts, int h, int v,
                  const std::array<double, 3>& lo, const std::array<double, 3>& hi, int bins,
                  double chord_cell) {
   const double span = std::max({hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)],
@@ -130,27 +130,85 @@ WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions&
   spatial::SpatialState start;
   solver.solve(model.evaluate(model.common.step.t0, subs), start);
   r.samples = std::max(0L, options.samples);
-  std::vector<std::array<double, 3>> pts(static_cast<size_t>(r.samples));
+  // Single precision is plenty for the images (0.1 um at 1 m); the extents are taken in double.
+  std::vector<std::array<float, 3>> pts(static_cast<size_t>(r.samples));
   const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
   r.threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
   std::vector<long> ok(static_cast<size_t>(r.threads), 0);
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::clock_t cpu0 = std::clock();
-  auto work = [&](int thread) {
-    Eigen::VectorXd qp(static_cast<Eigen::Index>(g.primary.size()));
-    for (long k = thread; k < r.samples; k += r.threads) {
-      for (size_t c = 0; c < g.primary.size(); ++c)
-        qp[static_cast<Eigen::Index>(c)] =
-            range[c][0] +
-            (range[c][1] - range[c][0]) * uniform(options.seed, static_cast<std::uint64_t>(k), c);
-      spatial::SpatialState s = start;
-      if (spatial::assemble_at(solver, qp, s)) {
-        pts[static_cast<size_t>(k)] = solver.point_position(s, body, local);
-        ++ok[static_cast<size_t>(thread)];
-      } else {
-        pts[static_cast<size_t>(k)].fill(std::numeric_limits<double>::quiet_NaN());
+  std::vector<std::array<double, 3>> lo(static_cast<size_t>(r.threads)),
+      hi(static_cast<size_t>(r.threads));
+  for (int t = 0; t < r.threads; ++t) {
+    lo[static_cast<size_t>(t)].fill(std::numeric_limits<double>::infinity());
+    hi[static_cast<size_t>(t)].fill(-std::numeric_limits<double>::infinity());
+  }
+  auto keep = [&](int thread, long k, const std::array<double, 3>& x) {
+    for (size_t c = 0; c < 3; ++c) {
+      pts[static_cast<size_t>(k)][c] = static_cast<float>(x[c]);
+      lo[static_cast<size_t>(thread)][c] = std::min(lo[static_cast<size_t>(thread)][c], x[c]);
+      hi[static_cast<size_t>(thread)][c] = std::max(hi[static_cast<size_t>(thread)][c], x[c]);
+    }
+    ++ok[static_cast<size_t>(thread)];
+  };
+  auto draw = [&](long k, size_t c) {
+    return range[c][0] +
+           (range[c][1] - range[c][0]) * uniform(options.seed, static_cast<std::uint64_t>(k), c);
+  };
+  const CompiledKernel* kernel = options.kernel;
+  r.generated = kernel != nullptr;
+  if (kernel && !kernel->point_positions_batch_double)
+    throw ModelError(SourceLoc{model.common.file, 0, 0},
+                     "the generated kernel has no positions-only entry (regenerate it)");
+  size_t kernel_point = 0;
+  while (kernel && kernel_point < static_cast<size_t>(kernel->point_count) &&
+         kernel->point_names[kernel_point] != r.point)
+    ++kernel_point;
+  // Blocks of samples through the generated batch entry: driver k's coordinates in q[k n + i].
+  constexpr long kBlock = 1024;
+  auto generated_work = [&](int thread) {
+    const size_t nd = model.drivers.size();
+    std::vector<double> q(nd * kBlock), out(3 * static_cast<size_t>(kernel->point_count) * kBlock);
+    std::vector<int> status(kBlock);
+    for (long b0 = thread * kBlock; b0 < r.samples; b0 += r.threads * kBlock) {
+      const long n = std::min(kBlock, r.samples - b0);
+      for (size_t c = 0; c < g.primary.size(); ++c) {
+        const auto d = static_cast<size_t>(g.columns[static_cast<size_t>(g.primary[c])].driver);
+        for (long i = 0; i < n; ++i)
+          q[d * static_cast<size_t>(n) + static_cast<size_t>(i)] = draw(b0 + i, c);
+      }
+      kernel->point_positions_batch_double(solver.parameters().data(), q.data(), n, out.data(),
+                                           status.data());
+      for (long i = 0; i < n; ++i) {
+        if (status[static_cast<size_t>(i)] != 0) {
+          pts[static_cast<size_t>(b0 + i)].fill(std::numeric_limits<float>::quiet_NaN());
+          continue;
+        }
+        std::array<double, 3> x{};
+        for (size_t a = 0; a < 3; ++a)
+          x[a] = out[(3 * kernel_point + a) * static_cast<size_t>(n) + static_cast<size_t>(i)];
+        keep(thread, b0 + i, x);
       }
     }
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
+  auto numeric_work = [&](int thread) {
+    Eigen::VectorXd qp(static_cast<Eigen::Index>(g.primary.size()));
+    for (long k = thread; k < r.samples; k += r.threads) {
+      for (size_t c = 0; c < g.primary.size(); ++c) qp[static_cast<Eigen::Index>(c)] = draw(k, c);
+      spatial::SpatialState s = start;
+      if (spatial::assemble_at(solver, qp, s)) {
+        const spatial::V3 x = solver.point_position(s, body, local);
+        keep(thread, k, {x[0], x[1], x[2]});
+      } else {
+        pts[static_cast<size_t>(k)].fill(std::numeric_limits<float>::quiet_NaN());
+      }
+    }
+  };
+  auto work = [&](int thread) {
+    if (kernel)
+      generated_work(thread);
+    else
+      numeric_work(thread);
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < r.threads; ++t) pool.emplace_back(work, t);
@@ -161,9 +219,10 @@ WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions&
   for (const long n : ok) r.assembled += n;
   r.lo.fill(std::numeric_limits<double>::infinity());
   r.hi.fill(-std::numeric_limits<double>::infinity());
-  for (const auto& x : pts)
-    for (size_t c = 0; c < 3 && std::isfinite(x[0]); ++c)
-      r.lo[c] = std::min(r.lo[c], x[c]), r.hi[c] = std::max(r.hi[c], x[c]);
+  for (int t = 0; t < r.threads; ++t)
+    for (size_t c = 0; c < 3; ++c)
+      r.lo[c] = std::min(r.lo[c], lo[static_cast<size_t>(t)][c]),
+      r.hi[c] = std::max(r.hi[c], hi[static_cast<size_t>(t)][c]);
   r.sagittal = image(pts, 0, 2, r.lo, r.hi, options.bins, options.chord_cell);
   r.frontal = image(pts, 1, 2, r.lo, r.hi, options.bins, options.chord_cell);
   return r;

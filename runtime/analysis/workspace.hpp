@@ -3,8 +3,9 @@
 // density images of the sagittal (X-Z) and frontal (Y-Z) projections, and the seed's two
 // workspace figures read off the sagittal image: the longest horizontal chord (stride) and the
 // longest vertical chord (lift) through occupied cells.
-// Every sample is solved by the numeric reference solver from the model's t0 state
-// (spatial/driven_solve.hpp); generated batch kernels (issue 11) can replace that per sample.
+// Every sample is placed by a generated kernel's positions-only batch entry (CompiledKernel::
+// point_positions_batch_double: closed-form groups, no rates or forces) when one is given, else
+// solved by the numeric reference solver from the model's t0 state (spatial/driven_solve.hpp).
 #pragma once
 
 #include <array>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "model/spatial_model.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::analysis {
 
@@ -27,6 +29,9 @@ struct WorkspaceOptions {
   double chord_cell = 0.01;        // m: cells of the grid the chords are read on
   // Drivers held at one coordinate value instead of sampled (name, value).
   std::vector<std::pair<std::string, double>> fixed;
+  // The model's generated kernel (its description's fingerprint): samples through its
+  // positions-only batch entry. Null: the numeric solver.
+  const CompiledKernel* kernel = nullptr;
 };
 
 // Occupancy of one projection: counts per cell, row-major from (h_min, v_min).
@@ -48,6 +53,7 @@ struct WorkspaceResult {
   std::vector<std::array<double, 2>> ranges;  // per driver: its coordinate's range
   long samples = 0, assembled = 0;
   int threads = 1;
+  bool generated = false;  // placed by the generated kernel (else the numeric solver)
   double seconds = 0, cpu_seconds = 0;
   std::array<double, 3> lo{}, hi{};  // extents of the point, ground frame
   Projection sagittal, frontal;

@@ -152,8 +152,9 @@ int run_spatial_check(const Args& args) {
              "by virtual power, reactions through N_s transposed" +
              compiled + "\n";
     // The closed-form groups and the closure (docs/spatial_kernels.md).
+    for (const int k : d.closed_form_groups) out += "  " + d.plan[static_cast<size_t>(k)] + "\n";
     for (const std::string& line : d.plan)
-      if (line.rfind("ik_", 0) == 0 || line.rfind("closure:", 0) == 0) out += "  " + line + "\n";
+      if (line.rfind("closure:", 0) == 0) out += "  " + line + "\n";
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";

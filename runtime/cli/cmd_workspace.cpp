@@ -8,6 +8,7 @@
 #include "analysis/workspace.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
+#include "ondemand/kernel_resolver.hpp"
 
 namespace mechgen::cli {
 
@@ -16,11 +17,14 @@ namespace {
 const char* const kWorkspaceHelp =
     R"(usage: mechgen workspace MODEL.yaml [--samples N] [--seed S] [--threads N] [--point P]
                          [--bins N] [--set NAME=VALUE]... [--fix DRIVER=Q]... [--out PREFIX]
+                         [--solver generated|numeric]
 
 Monte Carlo workspace of a spatial model (dimension: spatial): every driver's coordinate drawn
 uniformly from its `range:` (sample k's draw depends on S and k only, not on the thread count),
-the mechanism solved at each draw by the numeric reference solver from the step's t0 pose, and
-the named point's position collected.
+the mechanism placed at each draw, and the named point's position collected.
+  --solver S    generated (default): the model's generated kernel, positions only (closed-form
+                groups where the graph has them), in blocks on every thread; numeric: the
+                reference solver from the step's t0 pose
   --samples N   draws (default 100000)
   --seed S      random seed (default 1)
   --threads N   worker threads (default: every core)
@@ -62,6 +66,11 @@ int run_workspace_command(const Args& args) {
       throw UsageError("--fix " + f + ": the value is not a number");
     }
   }
+  const std::string solver = args.get("--solver", "generated");
+  if (solver != "generated" && solver != "numeric")
+    throw UsageError("--solver must be generated or numeric, got '" + solver + "'");
+  // (A pose-driven model is refused by run_workspace itself, at the driver.)
+  if (solver == "generated" && model.pose_drivers.empty()) o.kernel = &ondemand::kernel_for(model);
   const std::string prefix = args.get("--out", "out/" + model.common.name);
   const analysis::WorkspaceResult r = analysis::run_workspace(model, o);
   auto write = [](const std::string& file, const std::string& text) {
@@ -86,7 +95,8 @@ int run_workspace_command(const Args& args) {
             << " of " << r.samples << " samples assembled, " << r.threads << " threads, "
             << fixed(r.seconds, 3) << " s wall ("
             << fixed(r.cpu_seconds / static_cast<double>(r.samples) * 1e6, 1)
-            << " us CPU per sample, numeric solver)\n"
+            << " us CPU per sample, " << (r.generated ? "generated kernel" : "numeric solver")
+            << ")\n"
             << table(rows, "  ") << "sagittal (X-Z), on cells of "
             << fixed(r.sagittal.chord_cell * 1e3, 1) << " mm: longest horizontal chord "
             << fixed(r.sagittal.h_chord, 3) << " m at Z = " << fixed(r.sagittal.h_chord_at, 3)
@@ -109,7 +119,8 @@ Command workspace_command() {
            {"--bins", "", true},
            {"--set", "", true, true},
            {"--fix", "", true, true},
-           {"--out", "-o", true}},
+           {"--out", "-o", true},
+           {"--solver", "", true}},
           &run_workspace_command};
 }
 

@@ -10,7 +10,7 @@ namespace mechgen {
 // The layout below; a kernel built on demand (a shared library) is used only when its entry
 // `extern "C" const CompiledKernel* mechgen_kernel_entry(int abi)` accepts this value. Bump it with
 // any change of CompiledKernel.
-inline constexpr int kCompiledKernelAbi = 1;
+inline constexpr int kCompiledKernelAbi = 2;
 
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
@@ -41,6 +41,15 @@ struct CompiledKernel {
   // What the kernel was generated from (generator/kernel_fingerprint.hpp): run it only for a
   // description with this fingerprint.
   unsigned long long fingerprint;
+  // Spatial kernels: the named points' positions alone (point_positions: no rates, Jacobians or
+  // forces) for n samples of the drivers' coordinates, driver k of sample i at q[k * n + i];
+  // point c's axis a to out[(3 c + a) n + i]; status[i] as RowFunction returns it. Null in planar
+  // kernels.
+  using PointsBatchFunction = void (*)(const double* parameters, const double* q, long n,
+                                       double* out, int* status);
+  int point_count = 0;
+  const char* const* point_names = nullptr;
+  PointsBatchFunction point_positions_batch_double = nullptr;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr, whatever its fingerprint (the

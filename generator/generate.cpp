@@ -71,24 +71,6 @@ std::vector<std::string> branch_notes(const Model& model, std::vector<BranchChoi
   return d.notes;
 }
 
-// Names become fields of kernel templates whose scalar type parameter is T: a field named T would
-// shadow it (the numeric solver has no such limit, so the reader accepts the name).
-static void check_kernel_names(const Model& model, const std::string& path) {
-  std::vector<std::string> names;
-  for (const Parameter& p : model.parameters) names.push_back(p.name);
-  for (const DerivedParameter& p : model.derived) names.push_back(p.name);
-  for (const Body& b : model.bodies) {
-    names.push_back(b.name);
-    for (const BodyPoint& p : b.points) names.push_back(p.name);
-  }
-  for (const Joint& j : model.joints) names.push_back(j.name);
-  for (const Driver& d : model.drivers) names.push_back(d.name);
-  for (const std::string& n : names)
-    if (n == "T")
-      throw std::runtime_error(path + ": error: the name 'T' cannot be generated (it is the " +
-                               "kernels' scalar type); rename it");
-}
-
 GenerateResult generate(const GenerateOptions& options) {
   if (is_spatial_description(options.model_path)) return generate_spatial(options);
   if (!options.support.empty())
@@ -99,7 +81,6 @@ GenerateResult generate(const GenerateOptions& options) {
 }
 
 GenerateResult generate(const Model& model, const GenerateOptions& options) {
-  check_kernel_names(model, options.model_path);
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
   StagedProgram program = make_program(model, inputs);

@@ -21,12 +21,13 @@ using GiNaC::ex;
 
 namespace {
 
-std::string literal(double value) {
+// `scalar`(value): T in functions, Real in the structs that hold the model's names.
+std::string literal(double value, const std::string& scalar = "T") {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   std::string text(buffer, result.ptr);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return "T(" + text + ")";
+  return scalar + "(" + text + ")";
 }
 
 std::string quoted_list(const std::vector<std::string>& items) {
@@ -178,7 +179,7 @@ class Emitter {
       std::string comment = par.unit.empty() ? "" : par.unit;
       if (!par.written.empty()) comment += " (" + par.written + " in the model)";
       if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
-      params.push_back("  T " + par.name + " = " + literal(defaults[i]) + ";" +
+      params.push_back("  Real " + par.name + " = " + literal(defaults[i], "Real") + ";" +
                        (comment.empty() ? "" : "  // " + comment));
       set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
       names.push_back(par.name);
@@ -188,12 +189,21 @@ class Emitter {
           "\n  // Derived parameters: not fields but computed from the fields above (the kernel "
           "uses\n"
           "  // the same expressions inline), so setting a field moves them too.");
+    // Inside a derived function T is the scalar type: a parameter named T is read first.
+    GiNaC::exmap member_named_T;
+    for (const Parameter& par : model_.parameters)
+      if (par.name == "T") member_named_T[par.symbol] = GiNaC::symbol("T_member_");
     for (const DerivedParameter& d : model_.derived) {
       CodeBlock block("_" + d.name + "_");
-      block.assign("const T value", d.value.ex);
-      std::string function = "  T " + d.name + "() const noexcept {  // " + d.value.text +
-                             (d.unit.empty() ? "" : " [" + d.unit + "]") +
-                             (d.doc.empty() ? "" : ": " + d.doc) + "\n";
+      // The code is the kernels' (scalar T); a parameter itself named T is the member.
+      block.assign("const T value", d.value.ex.subs(member_named_T));
+      bool reads_T = false;
+      for (const auto& [symbol, member] : member_named_T)
+        reads_T = reads_T || d.value.ex.has(symbol);
+      std::string function =
+          "  Real " + d.name + "() const noexcept {  // " + d.value.text +
+          (d.unit.empty() ? "" : " [" + d.unit + "]") + (d.doc.empty() ? "" : ": " + d.doc) + "\n" +
+          (reads_T ? "    const Real T_member_ = this->T;\n" : "") + "    using T = Real;\n";
       for (const std::string& f : block.math_functions()) function += "    using std::" + f + ";\n";
       function += block.render("    ") + "    return value;\n  }";
       params.push_back(function);
@@ -205,18 +215,18 @@ class Emitter {
 
     std::vector<std::string> inputs, bodies, points, joints, drivers;
     for (const Driver& dr : model_.drivers)
-      inputs.push_back("  T " + dr.name + " = T(0), " + dr.name + "_d = T(0), " + dr.name +
-                       "_dd = T(0);  // " + (dr.kind == DriverKind::angle ? "rad" : "m"));
+      inputs.push_back("  Real " + dr.name + " = Real(0), " + dr.name + "_d = Real(0), " + dr.name +
+                       "_dd = Real(0);  // " + (dr.kind == DriverKind::angle ? "rad" : "m"));
     for (const Body& b : model_.bodies)
-      if (!b.ground) bodies.push_back("    BodyState<T> " + b.name + ";");
+      if (!b.ground) bodies.push_back("    BodyState<Real> " + b.name + ";");
     for (const auto& [point, locator] : model_.named_points())
-      points.push_back("    PointState<T> " + point + ";");
+      points.push_back("    PointState<Real> " + point + ";");
     for (const Joint& j : model_.joints)
-      joints.push_back(std::string(j.type == JointType::prismatic ? "    JointForceMoment<T> "
-                                                                  : "    JointForce<T> ") +
+      joints.push_back(std::string(j.type == JointType::prismatic ? "    JointForceMoment<Real> "
+                                                                  : "    JointForce<Real> ") +
                        j.name + ";  // " + to_string(j.type));
     for (const Driver& dr : model_.drivers)
-      drivers.push_back("    DriverState<T> " + dr.name + ";");
+      drivers.push_back("    DriverState<Real> " + dr.name + ";");
     v["input_fields"] = joined(inputs);
     std::string checks;
     for (const Driver& dr : model_.drivers)
@@ -230,7 +240,7 @@ class Emitter {
     if (!d_.warm_start.empty()) {
       warm = "  struct Warm {  // iterative groups' start angles (reference frame)\n";
       for (const auto& [field, value] : d_.warm_start)
-        warm += "    T " + field + " = " + literal(value) + ";\n";
+        warm += "    Real " + field + " = " + literal(value, "Real") + ";\n";
       warm += "  } warm;\n";
     }
     v["warm_fields"] = warm;
@@ -402,7 +412,7 @@ class Emitter {
     for (const Driver& dr : model_.drivers)
       for (const char* suffix : {"", "_d", "_dd"}) {
         const std::string name = dr.name + suffix;
-        fields.push_back("  const T* " + name + " = nullptr;");
+        fields.push_back("  const Real* " + name + " = nullptr;");
         inputs.push_back("    in." + name + " = batch_" + name + "[i];");
         locals.push_back("  const T* const batch_" + name + " = inputs." + name + ";");
         checks += " + (in." + name + " - in." + name + ")";

@@ -34,12 +34,13 @@ std::string read_text(const std::string& path) {
   return text.str();
 }
 
-std::string number_literal(double value) {
+// `scalar`(value): T in functions, Real in the structs that hold the model's names.
+std::string number_literal(double value, const std::string& scalar = "T") {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   std::string text(buffer, result.ptr);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return "T(" + text + ")";
+  return scalar + "(" + text + ")";
 }
 
 std::string lines(const std::vector<std::string>& items) {
@@ -151,7 +152,7 @@ class SpatialEmitter {
       if (!frontier.count(symbol)) continue;
       constants.assign("k." + symbol.get_name(), symbol);
       hoist[symbol] = GiNaC::symbol("k." + symbol.get_name());
-      fields.push_back("  T " + symbol.get_name() + ";");
+      fields.push_back("  Real " + symbol.get_name() + ";");
     }
     for (const auto& [symbol, value] : d_.definitions) {
       if (!varying.count(symbol)) continue;
@@ -246,7 +247,7 @@ class SpatialEmitter {
       const Parameter& par = m_.common.parameters[i];
       std::string comment = par.unit;
       if (!par.doc.empty()) comment += (comment.empty() ? "" : ": ") + par.doc;
-      params.push_back("  T " + par.name + " = " + number_literal(defaults[i]) + ";" +
+      params.push_back("  Real " + par.name + " = " + number_literal(defaults[i], "Real") + ";" +
                        (comment.empty() ? "" : "  // " + comment));
       set_params.push_back("  p." + par.name + " = values[" + std::to_string(i) + "];");
       names.push_back(par.name);
@@ -262,9 +263,9 @@ class SpatialEmitter {
     GiNaC::exmap rename = spatial_parameter_symbols(m_);
     rename[m_.common.t] = GiNaC::symbol("t");
     for (const SpatialPrimaryInput& d : inputs_) {
-      inputs.push_back("  T " + d.name + " = T(0), " + d.name + "_d = T(0), " + d.name +
-                       "_dd = T(0);");
-      drivers.push_back("    DriverState<T> " + d.name + ";");
+      inputs.push_back("  Real " + d.name + " = Real(0), " + d.name + "_d = Real(0), " + d.name +
+                       "_dd = Real(0);");
+      drivers.push_back("    DriverState<Real> " + d.name + ";");
       for (const char* suffix : {"", "_d", "_dd"})
         checks += std::string(" + T(0) * in.") + d.name + suffix;
       motion.assign("in." + d.name, d.value.subs(rename));
@@ -280,24 +281,24 @@ class SpatialEmitter {
     std::vector<std::string> bodies, body_jacobians, points, point_jacobians, joints;
     for (const SpatialBody& b : m_.bodies) {
       if (b.ground || b.is_virtual) continue;
-      bodies.push_back("    BodyState<T> " + b.name + ";");
+      bodies.push_back("    BodyState<Real> " + b.name + ";");
       if (m_.emits_jacobian(b.name))
-        body_jacobians.push_back("    T " + b.name + "[6][primary_count] = {};");
+        body_jacobians.push_back("    Real " + b.name + "[6][primary_count] = {};");
     }
     for (const auto& [point, body] : m_.named_points()) {
-      points.push_back("    PointState<T> " + point + ";");
+      points.push_back("    PointState<Real> " + point + ";");
       if (!m_.bodies[static_cast<size_t>(body)].ground && m_.emits_jacobian(point))
-        point_jacobians.push_back("    T " + point + "[3][primary_count] = {};");
+        point_jacobians.push_back("    Real " + point + "[3][primary_count] = {};");
     }
     for (const SpatialJoint& j : m_.joints) {
       if (j.is_virtual) continue;
       std::string q;
       for (size_t k = 0; k < j.columns.size(); ++k) {
         const std::string c = j.columns.size() == 1 ? "q" : "q" + std::to_string(k + 1);
-        q += std::string(q.empty() ? "T " : ", ") + c + ", " + c + "d, " + c + "dd";
+        q += std::string(q.empty() ? "Real " : ", ") + c + ", " + c + "d, " + c + "dd";
       }
       joints.push_back("    struct {" + (q.empty() ? "" : "\n      " + q + ";") +
-                       "\n      T fx, fy, fz, mx, my, mz;\n    } " + j.name + ";");
+                       "\n      Real fx, fy, fz, mx, my, mz;\n    } " + j.name + ";");
     }
     v["body_fields"] = lines(bodies);
     v["body_jacobian_fields"] = lines(body_jacobians);
@@ -375,7 +376,7 @@ class SpatialEmitter {
     if (!d_.closed_chain) return;
     std::string start;
     for (const double q : d_.closure_start)
-      start += (start.empty() ? "" : ", ") + number_literal(q);
+      start += (start.empty() ? "" : ", ") + number_literal(q, "Real");
     const std::string n = std::to_string(d_.closure_start.size());
     // The closure is the last solve group (the stages inputs, positions, ... follow it).
     const std::string closure_group = std::to_string(d_.groups.size() - 1);
@@ -385,7 +386,7 @@ class SpatialEmitter {
     const bool angles = !d_.angle_start.empty();
     std::string angle_start;
     for (const double q : d_.angle_start)
-      angle_start += (angle_start.empty() ? "" : ", ") + number_literal(q);
+      angle_start += (angle_start.empty() ? "" : ", ") + number_literal(q, "Real");
     const std::string na = std::to_string(d_.angle_start.size());
     v["keep_warm_start"] =
         newton || angles ? "  cleared.closure = s.closure;  // the warm start survives a failure\n"
@@ -400,9 +401,10 @@ class SpatialEmitter {
                              "last call's angles"
                            : "") +
         ".\n  struct {\n" +
-        (newton ? "    T q[" + n + "] = {" + start + "};\n    T next[" + n + "];\n" : "") +
-        (angles ? "    T w[" + na + "] = {" + angle_start + "};\n    T wnext[" + na + "];\n" : "") +
-        "    T residual, det;\n  } closure;\n";
+        (newton ? "    Real q[" + n + "] = {" + start + "};\n    Real next[" + n + "];\n" : "") +
+        (angles ? "    Real w[" + na + "] = {" + angle_start + "};\n    Real wnext[" + na + "];\n"
+                : "") +
+        "    Real residual, det;\n  } closure;\n";
     v["closure_check"] =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"

@@ -392,6 +392,41 @@ drivers:
 step: {t0: 0, t1: 1}
 )"),
                  "bad.yaml:5:12: error: ", "body name 'upper arm' is not an identifier"));
+  // Names that would not compile as fields of a generated kernel: the scalar type of the kernels'
+  // structs (`Real`; `T` is allowed: tests/spatial_ondemand_test.cpp), a C++ keyword, a reserved
+  // identifier.
+  EXPECT_TRUE(
+      Is(read_error(R"(name: m
+parameters: {l: 0.5}
+bodies:
+  - {name: ground, ground: true, points: {O: [0, 0]}}
+  - {name: arm, points: {O: [0, 0], Real: [l, 0]}, mass: {mass: 1, com: [l/2, 0], inertia: 0.02}}
+joints:
+  - {name: jO, type: revolute, first: ground, second: arm, point: O}
+drivers:
+  - {name: theta, joint: jO, kind: angle, value: t}
+step: {t0: 0, t1: 1}
+)"),
+         "bad.yaml:5:37: error: ",
+         "point name 'Real' is reserved: the generated kernels use it (their scalar type or "
+         "a struct); rename it (e.g. 'Real_')"));
+  EXPECT_TRUE(Is(read_error(R"(name: m
+parameters: {l: 0.5}
+bodies:
+  - {name: ground, ground: true, points: {O: [0, 0]}}
+  - {name: arm, points: {O: [0, 0], P: [l, 0]}, mass: {mass: 1, com: [l/2, 0], inertia: 0.02}}
+joints:
+  - {name: class, type: revolute, first: ground, second: arm, point: O}
+drivers:
+  - {name: theta, joint: class, kind: angle, value: t}
+step: {t0: 0, t1: 1}
+)"),
+                 "bad.yaml:7:12: error: ", "joint name 'class' is reserved: it is a C++ keyword"));
+  EXPECT_TRUE(Is(
+      read_error(R"(name: m
+parameters: {l__2: 0.5}
+)"),
+      "bad.yaml:2:14: error: ", "parameter name 'l__2' is reserved: C++ reserves names with '__'"));
   // Points: one coordinate, three coordinates, a point named twice.
   EXPECT_TRUE(Is(read_error(R"(name: m
 parameters: {l: 0.5}

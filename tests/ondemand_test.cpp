@@ -96,6 +96,28 @@ TEST(OnDemand, ModelInAnyFolderIsBuiltCachedAndEqualsNumeric) {
   fs::remove_all(dir);
 }
 
+// Names a linkage drawing often uses: a period `T` (a parameter, and a derived speed 2 pi / T that
+// names it) and a point `T` (the slider's). They are fields of the kernel's structs, whose scalar
+// is Real (T in functions), so the kernel compiles and equals the numeric solver.
+TEST(OnDemand, ParameterAndPointNamedTCompile) {
+  const fs::path dir = write_model("crank_named_t");
+  const fs::path model_file = dir / "crank_named_t.yaml";
+  std::string text = file_text(model_file);
+  text = replaced(text, "w: {value: 20, unit: rad/s,",
+                  "T: {value: 0.314, unit: s, doc: \"period\"}\n  w: {value: 2*pi/T, unit: rad/s,");
+  text = replaced(text, "points: {Q: [0, 0]}", "points: {Q: [0, 0], T: [0.01, 0.02]}");
+  std::ofstream(model_file) << text;
+  const ScopedEnv cache("MECHGEN_CACHE", (dir / "cache").string());
+  const Model model = read_model(model_file.string());
+  SweepOptions options = default_sweep(model);
+  const SweepResult generated = run_sweep(model, options);
+  options.solver = "numeric";
+  expect_equal_to_numeric(generated.columns, generated.rows, run_sweep(model, options).rows);
+  EXPECT_NE(std::find(generated.columns.begin(), generated.columns.end(), "T.x"),
+            generated.columns.end());
+  fs::remove_all(dir);
+}
+
 TEST(OnDemand, EditedShippedModelGetsItsOwnKernelBesideTheCompiledInOne) {
   // The case: slider_crank edited (no gravity, the crank law doubled) but not renamed. The
   // compiled-in slider_crank is stale; the one built on demand has the same namespace and names

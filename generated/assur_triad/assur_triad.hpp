@@ -21,33 +21,37 @@
 
 namespace mechgen::gen::assur_triad {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T r = T(0.05);  // m: crank radius (link1's pin P stays at (0.05, 0) in its frame)
-  T w = T(4.0);  // rad/s: crank speed
-  T rho = T(2700.0);  // kg/m^3: link density (aluminium)
-  T bw = T(0.015);  // m: link width
-  T bt = T(0.006);  // m: link thickness
-  T m_p = T(0.4);  // kg: plate mass
-  T I_p = T(0.002);  // kg m^2: plate inertia about its centre of mass
+  Real r = Real(0.05);  // m: crank radius (link1's pin P stays at (0.05, 0) in its frame)
+  Real w = Real(4.0);  // rad/s: crank speed
+  Real rho = Real(2700.0);  // kg/m^3: link density (aluminium)
+  Real bw = Real(0.015);  // m: link width
+  Real bt = Real(0.006);  // m: link thickness
+  Real m_p = Real(0.4);  // kg: plate mass
+  Real I_p = Real(0.002);  // kg m^2: plate inertia about its centre of mass
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -168,43 +172,43 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> link1;
-    BodyState<T> link2;
-    BodyState<T> link3;
-    BodyState<T> plate;
+    BodyState<Real> crank;
+    BodyState<Real> link1;
+    BodyState<Real> link2;
+    BodyState<Real> link3;
+    BodyState<Real> plate;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> D;
-    PointState<T> P;
-    PointState<T> C1;
-    PointState<T> C2;
-    PointState<T> C3;
-    PointState<T> Tip;
+    PointState<Real> A;
+    PointState<Real> B;
+    PointState<Real> D;
+    PointState<Real> P;
+    PointState<Real> C1;
+    PointState<Real> C2;
+    PointState<Real> C3;
+    PointState<Real> Tip;
   } points;
   struct Joints {
-    JointForce<T> jA;  // revolute
-    JointForce<T> jP;  // revolute
-    JointForce<T> jC1;  // revolute
-    JointForce<T> jB;  // revolute
-    JointForce<T> jC2;  // revolute
-    JointForce<T> jD;  // revolute
-    JointForce<T> jC3;  // revolute
+    JointForce<Real> jA;  // revolute
+    JointForce<Real> jP;  // revolute
+    JointForce<Real> jC1;  // revolute
+    JointForce<Real> jB;  // revolute
+    JointForce<Real> jC2;  // revolute
+    JointForce<Real> jD;  // revolute
+    JointForce<Real> jC3;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
   struct Warm {  // iterative groups' start angles (reference frame)
-    T g2_link1_plate_link2_link3_link1 = T(0.0);
-    T g2_link1_plate_link2_link3_plate = T(0.0);
-    T g2_link1_plate_link2_link3_link2 = T(0.0);
-    T g2_link1_plate_link2_link3_link3 = T(0.0);
+    Real g2_link1_plate_link2_link3_link1 = Real(0.0);
+    Real g2_link1_plate_link2_link3_plate = Real(0.0);
+    Real g2_link1_plate_link2_link3_link2 = Real(0.0);
+    Real g2_link1_plate_link2_link3_link3 = Real(0.0);
   } warm;
 };
 
@@ -3596,7 +3600,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x216a6fd473e5ff0bULL;
+inline constexpr unsigned long long fingerprint = 0x6ba33b767a68bf44ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -79,41 +79,45 @@
 
 namespace mechgen::gen::bioloid {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T m_total = T(1.7);  // kg: total mass (seed section 3.1)
-  T height = T(0.397);  // m: sole to the top of the head (seed section 3.1)
-  T l1 = T(0.075);  // m: thigh (hip to knee)
-  T l2 = T(0.075);  // m: calf (knee to ankle)
-  T l3 = T(0.0335);  // m: ankle axis to sole
-  T hy = T(0.037);  // m: half the distance between the hip points
-  T sy = T(0.082);  // m: shoulder point from the mid-plane
-  T sz = T(0.13);  // m: shoulder point above the waist
-  T la = T(0.068);  // m: upper arm (shoulder to elbow)
-  T lf = T(0.094);  // m: forearm (elbow to hand point)
-  T cx = T(0.014563);  // m: trunk centre of mass ahead of the waist (seed)
-  T cz = T(0.086397);  // m: trunk centre of mass above the waist (seed)
-  T foot_l = T(0.1);  // m: sole length
-  T foot_w = T(0.066);  // m: sole width
-  T m_hip1 = T(0.03);  // kg: hip yaw bracket
-  T m_hip2 = T(0.06);  // kg: hip roll servo and bracket
-  T m_thigh = T(0.09);  // kg: thigh (hip pitch and knee servos' frames)
-  T m_calf = T(0.08);  // kg: calf
-  T m_ankle = T(0.06);  // kg: ankle servo and bracket
-  T m_foot = T(0.06);  // kg: foot
-  T m_shoulder = T(0.06);  // kg: shoulder roll servo and bracket
-  T m_upper = T(0.07);  // kg: upper arm with the elbow servo
-  T m_fore = T(0.05);  // kg: forearm with the gripper
-  T crouch = T(0.02);  // m: waist lowered from the straight stance (knees bent)
-  T arm_pitch = T(0.15);  // rad: shoulder pitch of the hands' pose
-  T elbow = T(-0.5);  // rad: elbow of the hands' pose (forearm forward)
-  T sway = T(0.012);  // m: lateral weight shift of the standing motion
-  T w = T(3.14159);  // rad/s: frequency of the standing motion
-  T step_length = T(0.04);  // m: gait: stride of one step
-  T step_time = T(0.5);  // s: gait: duration of one step (single support)
-  T swing_height = T(0.02);  // m: gait: foot clearance at mid-swing
-  T steps = T(6.0);  // 1: gait: number of steps
+  Real m_total = Real(1.7);  // kg: total mass (seed section 3.1)
+  Real height = Real(0.397);  // m: sole to the top of the head (seed section 3.1)
+  Real l1 = Real(0.075);  // m: thigh (hip to knee)
+  Real l2 = Real(0.075);  // m: calf (knee to ankle)
+  Real l3 = Real(0.0335);  // m: ankle axis to sole
+  Real hy = Real(0.037);  // m: half the distance between the hip points
+  Real sy = Real(0.082);  // m: shoulder point from the mid-plane
+  Real sz = Real(0.13);  // m: shoulder point above the waist
+  Real la = Real(0.068);  // m: upper arm (shoulder to elbow)
+  Real lf = Real(0.094);  // m: forearm (elbow to hand point)
+  Real cx = Real(0.014563);  // m: trunk centre of mass ahead of the waist (seed)
+  Real cz = Real(0.086397);  // m: trunk centre of mass above the waist (seed)
+  Real foot_l = Real(0.1);  // m: sole length
+  Real foot_w = Real(0.066);  // m: sole width
+  Real m_hip1 = Real(0.03);  // kg: hip yaw bracket
+  Real m_hip2 = Real(0.06);  // kg: hip roll servo and bracket
+  Real m_thigh = Real(0.09);  // kg: thigh (hip pitch and knee servos' frames)
+  Real m_calf = Real(0.08);  // kg: calf
+  Real m_ankle = Real(0.06);  // kg: ankle servo and bracket
+  Real m_foot = Real(0.06);  // kg: foot
+  Real m_shoulder = Real(0.06);  // kg: shoulder roll servo and bracket
+  Real m_upper = Real(0.07);  // kg: upper arm with the elbow servo
+  Real m_fore = Real(0.05);  // kg: forearm with the gripper
+  Real crouch = Real(0.02);  // m: waist lowered from the straight stance (knees bent)
+  Real arm_pitch = Real(0.15);  // rad: shoulder pitch of the hands' pose
+  Real elbow = Real(-0.5);  // rad: elbow of the hands' pose (forearm forward)
+  Real sway = Real(0.012);  // m: lateral weight shift of the standing motion
+  Real w = Real(3.14159);  // rad/s: frequency of the standing motion
+  Real step_length = Real(0.04);  // m: gait: stride of one step
+  Real step_time = Real(0.5);  // s: gait: duration of one step (single support)
+  Real swing_height = Real(0.02);  // m: gait: foot clearance at mid-swing
+  Real steps = Real(6.0);  // 1: gait: number of steps
 };
 
 namespace detail {
@@ -211,39 +215,39 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T vFB_x = T(0), vFB_x_d = T(0), vFB_x_dd = T(0);
-  T vFB_y = T(0), vFB_y_d = T(0), vFB_y_dd = T(0);
-  T vFB_z = T(0), vFB_z_d = T(0), vFB_z_dd = T(0);
-  T vFB_rz = T(0), vFB_rz_d = T(0), vFB_rz_dd = T(0);
-  T vFB_ry = T(0), vFB_ry_d = T(0), vFB_ry_dd = T(0);
-  T vFB_rx = T(0), vFB_rx_d = T(0), vFB_rx_dd = T(0);
-  T vRL_x = T(0), vRL_x_d = T(0), vRL_x_dd = T(0);
-  T vRL_y = T(0), vRL_y_d = T(0), vRL_y_dd = T(0);
-  T vRL_z = T(0), vRL_z_d = T(0), vRL_z_dd = T(0);
-  T vRL_rz = T(0), vRL_rz_d = T(0), vRL_rz_dd = T(0);
-  T vRL_ry = T(0), vRL_ry_d = T(0), vRL_ry_dd = T(0);
-  T vRL_rx = T(0), vRL_rx_d = T(0), vRL_rx_dd = T(0);
-  T vLL_x = T(0), vLL_x_d = T(0), vLL_x_dd = T(0);
-  T vLL_y = T(0), vLL_y_d = T(0), vLL_y_dd = T(0);
-  T vLL_z = T(0), vLL_z_d = T(0), vLL_z_dd = T(0);
-  T vLL_rz = T(0), vLL_rz_d = T(0), vLL_rz_dd = T(0);
-  T vLL_ry = T(0), vLL_ry_d = T(0), vLL_ry_dd = T(0);
-  T vLL_rx = T(0), vLL_rx_d = T(0), vLL_rx_dd = T(0);
-  T vRA_x = T(0), vRA_x_d = T(0), vRA_x_dd = T(0);
-  T vRA_y = T(0), vRA_y_d = T(0), vRA_y_dd = T(0);
-  T vRA_z = T(0), vRA_z_d = T(0), vRA_z_dd = T(0);
-  T vRA_rz = T(0), vRA_rz_d = T(0), vRA_rz_dd = T(0);
-  T vRA_ry = T(0), vRA_ry_d = T(0), vRA_ry_dd = T(0);
-  T vRA_rx = T(0), vRA_rx_d = T(0), vRA_rx_dd = T(0);
-  T vLA_x = T(0), vLA_x_d = T(0), vLA_x_dd = T(0);
-  T vLA_y = T(0), vLA_y_d = T(0), vLA_y_dd = T(0);
-  T vLA_z = T(0), vLA_z_d = T(0), vLA_z_dd = T(0);
-  T vLA_rz = T(0), vLA_rz_d = T(0), vLA_rz_dd = T(0);
-  T vLA_ry = T(0), vLA_ry_d = T(0), vLA_ry_dd = T(0);
-  T vLA_rx = T(0), vLA_rx_d = T(0), vLA_rx_dd = T(0);
+  Real t = Real(0);
+  Real vFB_x = Real(0), vFB_x_d = Real(0), vFB_x_dd = Real(0);
+  Real vFB_y = Real(0), vFB_y_d = Real(0), vFB_y_dd = Real(0);
+  Real vFB_z = Real(0), vFB_z_d = Real(0), vFB_z_dd = Real(0);
+  Real vFB_rz = Real(0), vFB_rz_d = Real(0), vFB_rz_dd = Real(0);
+  Real vFB_ry = Real(0), vFB_ry_d = Real(0), vFB_ry_dd = Real(0);
+  Real vFB_rx = Real(0), vFB_rx_d = Real(0), vFB_rx_dd = Real(0);
+  Real vRL_x = Real(0), vRL_x_d = Real(0), vRL_x_dd = Real(0);
+  Real vRL_y = Real(0), vRL_y_d = Real(0), vRL_y_dd = Real(0);
+  Real vRL_z = Real(0), vRL_z_d = Real(0), vRL_z_dd = Real(0);
+  Real vRL_rz = Real(0), vRL_rz_d = Real(0), vRL_rz_dd = Real(0);
+  Real vRL_ry = Real(0), vRL_ry_d = Real(0), vRL_ry_dd = Real(0);
+  Real vRL_rx = Real(0), vRL_rx_d = Real(0), vRL_rx_dd = Real(0);
+  Real vLL_x = Real(0), vLL_x_d = Real(0), vLL_x_dd = Real(0);
+  Real vLL_y = Real(0), vLL_y_d = Real(0), vLL_y_dd = Real(0);
+  Real vLL_z = Real(0), vLL_z_d = Real(0), vLL_z_dd = Real(0);
+  Real vLL_rz = Real(0), vLL_rz_d = Real(0), vLL_rz_dd = Real(0);
+  Real vLL_ry = Real(0), vLL_ry_d = Real(0), vLL_ry_dd = Real(0);
+  Real vLL_rx = Real(0), vLL_rx_d = Real(0), vLL_rx_dd = Real(0);
+  Real vRA_x = Real(0), vRA_x_d = Real(0), vRA_x_dd = Real(0);
+  Real vRA_y = Real(0), vRA_y_d = Real(0), vRA_y_dd = Real(0);
+  Real vRA_z = Real(0), vRA_z_d = Real(0), vRA_z_dd = Real(0);
+  Real vRA_rz = Real(0), vRA_rz_d = Real(0), vRA_rz_dd = Real(0);
+  Real vRA_ry = Real(0), vRA_ry_d = Real(0), vRA_ry_dd = Real(0);
+  Real vRA_rx = Real(0), vRA_rx_d = Real(0), vRA_rx_dd = Real(0);
+  Real vLA_x = Real(0), vLA_x_d = Real(0), vLA_x_dd = Real(0);
+  Real vLA_y = Real(0), vLA_y_d = Real(0), vLA_y_dd = Real(0);
+  Real vLA_z = Real(0), vLA_z_d = Real(0), vLA_z_dd = Real(0);
+  Real vLA_rz = Real(0), vLA_rz_d = Real(0), vLA_rz_dd = Real(0);
+  Real vLA_ry = Real(0), vLA_ry_d = Real(0), vLA_ry_dd = Real(0);
+  Real vLA_rx = Real(0), vLA_rx_d = Real(0), vLA_rx_dd = Real(0);
 };
 
 template <class T>
@@ -284,206 +288,206 @@ struct DriverState {
 
 inline constexpr int primary_count = 30;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> waist;
-    BodyState<T> r_hip1;
-    BodyState<T> r_hip2;
-    BodyState<T> r_thigh;
-    BodyState<T> r_calf;
-    BodyState<T> r_ankle;
-    BodyState<T> r_foot;
-    BodyState<T> l_hip1;
-    BodyState<T> l_hip2;
-    BodyState<T> l_thigh;
-    BodyState<T> l_calf;
-    BodyState<T> l_ankle;
-    BodyState<T> l_foot;
-    BodyState<T> r_shoulder;
-    BodyState<T> r_upper_arm;
-    BodyState<T> r_forearm;
-    BodyState<T> r_wrist1;
-    BodyState<T> r_wrist2;
-    BodyState<T> r_hand;
-    BodyState<T> l_shoulder;
-    BodyState<T> l_upper_arm;
-    BodyState<T> l_forearm;
-    BodyState<T> l_wrist1;
-    BodyState<T> l_wrist2;
-    BodyState<T> l_hand;
+    BodyState<Real> waist;
+    BodyState<Real> r_hip1;
+    BodyState<Real> r_hip2;
+    BodyState<Real> r_thigh;
+    BodyState<Real> r_calf;
+    BodyState<Real> r_ankle;
+    BodyState<Real> r_foot;
+    BodyState<Real> l_hip1;
+    BodyState<Real> l_hip2;
+    BodyState<Real> l_thigh;
+    BodyState<Real> l_calf;
+    BodyState<Real> l_ankle;
+    BodyState<Real> l_foot;
+    BodyState<Real> r_shoulder;
+    BodyState<Real> r_upper_arm;
+    BodyState<Real> r_forearm;
+    BodyState<Real> r_wrist1;
+    BodyState<Real> r_wrist2;
+    BodyState<Real> r_hand;
+    BodyState<Real> l_shoulder;
+    BodyState<Real> l_upper_arm;
+    BodyState<Real> l_forearm;
+    BodyState<Real> l_wrist1;
+    BodyState<Real> l_wrist2;
+    BodyState<Real> l_hand;
   } bodies;
   struct Points {
-    PointState<T> W;
-    PointState<T> head;
-    PointState<T> RH;
-    PointState<T> RK;
-    PointState<T> RA;
-    PointState<T> RF;
-    PointState<T> r_toe_out;
-    PointState<T> r_toe_in;
-    PointState<T> r_heel_in;
-    PointState<T> r_heel_out;
-    PointState<T> LH;
-    PointState<T> LK;
-    PointState<T> LA;
-    PointState<T> LF;
-    PointState<T> l_toe_out;
-    PointState<T> l_toe_in;
-    PointState<T> l_heel_in;
-    PointState<T> l_heel_out;
-    PointState<T> RS;
-    PointState<T> RE;
-    PointState<T> RP;
-    PointState<T> LS;
-    PointState<T> LE;
-    PointState<T> LP;
+    PointState<Real> W;
+    PointState<Real> head;
+    PointState<Real> RH;
+    PointState<Real> RK;
+    PointState<Real> RA;
+    PointState<Real> RF;
+    PointState<Real> r_toe_out;
+    PointState<Real> r_toe_in;
+    PointState<Real> r_heel_in;
+    PointState<Real> r_heel_out;
+    PointState<Real> LH;
+    PointState<Real> LK;
+    PointState<Real> LA;
+    PointState<Real> LF;
+    PointState<Real> l_toe_out;
+    PointState<Real> l_toe_in;
+    PointState<Real> l_heel_in;
+    PointState<Real> l_heel_out;
+    PointState<Real> RS;
+    PointState<Real> RE;
+    PointState<Real> RP;
+    PointState<Real> LS;
+    PointState<Real> LE;
+    PointState<Real> LP;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA6;
   } joints;
   struct Drivers {
-    DriverState<T> vFB_x;
-    DriverState<T> vFB_y;
-    DriverState<T> vFB_z;
-    DriverState<T> vFB_rz;
-    DriverState<T> vFB_ry;
-    DriverState<T> vFB_rx;
-    DriverState<T> vRL_x;
-    DriverState<T> vRL_y;
-    DriverState<T> vRL_z;
-    DriverState<T> vRL_rz;
-    DriverState<T> vRL_ry;
-    DriverState<T> vRL_rx;
-    DriverState<T> vLL_x;
-    DriverState<T> vLL_y;
-    DriverState<T> vLL_z;
-    DriverState<T> vLL_rz;
-    DriverState<T> vLL_ry;
-    DriverState<T> vLL_rx;
-    DriverState<T> vRA_x;
-    DriverState<T> vRA_y;
-    DriverState<T> vRA_z;
-    DriverState<T> vRA_rz;
-    DriverState<T> vRA_ry;
-    DriverState<T> vRA_rx;
-    DriverState<T> vLA_x;
-    DriverState<T> vLA_y;
-    DriverState<T> vLA_z;
-    DriverState<T> vLA_rz;
-    DriverState<T> vLA_ry;
-    DriverState<T> vLA_rx;
+    DriverState<Real> vFB_x;
+    DriverState<Real> vFB_y;
+    DriverState<Real> vFB_z;
+    DriverState<Real> vFB_rz;
+    DriverState<Real> vFB_ry;
+    DriverState<Real> vFB_rx;
+    DriverState<Real> vRL_x;
+    DriverState<Real> vRL_y;
+    DriverState<Real> vRL_z;
+    DriverState<Real> vRL_rz;
+    DriverState<Real> vRL_ry;
+    DriverState<Real> vRL_rx;
+    DriverState<Real> vLL_x;
+    DriverState<Real> vLL_y;
+    DriverState<Real> vLL_z;
+    DriverState<Real> vLL_rz;
+    DriverState<Real> vLL_ry;
+    DriverState<Real> vLL_rx;
+    DriverState<Real> vRA_x;
+    DriverState<Real> vRA_y;
+    DriverState<Real> vRA_z;
+    DriverState<Real> vRA_rz;
+    DriverState<Real> vRA_ry;
+    DriverState<Real> vRA_rx;
+    DriverState<Real> vLA_x;
+    DriverState<Real> vLA_y;
+    DriverState<Real> vLA_z;
+    DriverState<Real> vLA_rz;
+    DriverState<Real> vLA_ry;
+    DriverState<Real> vLA_rx;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T r_foot[6][primary_count] = {};
-    T l_foot[6][primary_count] = {};
-    T r_hand[6][primary_count] = {};
-    T l_hand[6][primary_count] = {};
+    Real r_foot[6][primary_count] = {};
+    Real l_foot[6][primary_count] = {};
+    Real r_hand[6][primary_count] = {};
+    Real l_hand[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
 
   } point_jacobians;
   // The closure: squared closure error and det N_s.
   struct {
-    T residual, det;
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -16915,55 +16919,55 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s0_RL2_z;
-  T s0_RL3_z;
-  T s0_RL4_z;
-  T s0_LL2_z;
-  T s0_LL3_z;
-  T s0_LL4_z;
-  T s0_RA1_z;
-  T s0_RA2_z;
-  T s0_RA3_z;
-  T s0_RA5_z;
-  T s0_LA1_z;
-  T s0_LA2_z;
-  T s0_LA3_z;
-  T s0_LA5_z;
-  T s0_vFB_ry_z;
-  T s0_vFB_rx_z;
-  T s0_vRA_ry_z;
-  T s0_vRA_rx_z;
-  T s0_vLA_ry_z;
-  T s0_vLA_rx_z;
-  T ik_vRL_arm_u;
-  T ik_vRL_arm_v;
-  T ik_vLL_arm_u;
-  T ik_vLL_arm_v;
-  T ik_vRA_arm_u;
-  T ik_vRA_arm_v;
-  T ik_vLA_arm_u;
-  T ik_vLA_arm_v;
-  T pt_local_W_z;
-  T pt_local_RH_z;
-  T pt_local_RK_z;
-  T pt_local_r_toe_out_y;
-  T pt_local_r_toe_in_y;
-  T pt_local_r_heel_in_y;
-  T pt_local_r_heel_out_y;
-  T pt_local_LH_z;
-  T pt_local_LK_z;
-  T pt_local_l_toe_out_y;
-  T pt_local_l_toe_in_y;
-  T pt_local_l_heel_in_y;
-  T pt_local_l_heel_out_y;
-  T pt_local_RS_z;
-  T pt_local_RE_z;
-  T pt_local_RP_z;
-  T pt_local_LS_z;
-  T pt_local_LE_z;
-  T pt_local_LP_z;
+  Real s0_RL2_z;
+  Real s0_RL3_z;
+  Real s0_RL4_z;
+  Real s0_LL2_z;
+  Real s0_LL3_z;
+  Real s0_LL4_z;
+  Real s0_RA1_z;
+  Real s0_RA2_z;
+  Real s0_RA3_z;
+  Real s0_RA5_z;
+  Real s0_LA1_z;
+  Real s0_LA2_z;
+  Real s0_LA3_z;
+  Real s0_LA5_z;
+  Real s0_vFB_ry_z;
+  Real s0_vFB_rx_z;
+  Real s0_vRA_ry_z;
+  Real s0_vRA_rx_z;
+  Real s0_vLA_ry_z;
+  Real s0_vLA_rx_z;
+  Real ik_vRL_arm_u;
+  Real ik_vRL_arm_v;
+  Real ik_vLL_arm_u;
+  Real ik_vLL_arm_v;
+  Real ik_vRA_arm_u;
+  Real ik_vRA_arm_v;
+  Real ik_vLA_arm_u;
+  Real ik_vLA_arm_v;
+  Real pt_local_W_z;
+  Real pt_local_RH_z;
+  Real pt_local_RK_z;
+  Real pt_local_r_toe_out_y;
+  Real pt_local_r_toe_in_y;
+  Real pt_local_r_heel_in_y;
+  Real pt_local_r_heel_out_y;
+  Real pt_local_LH_z;
+  Real pt_local_LK_z;
+  Real pt_local_l_toe_out_y;
+  Real pt_local_l_toe_in_y;
+  Real pt_local_l_heel_in_y;
+  Real pt_local_l_heel_out_y;
+  Real pt_local_RS_z;
+  Real pt_local_RE_z;
+  Real pt_local_RP_z;
+  Real pt_local_LS_z;
+  Real pt_local_LE_z;
+  Real pt_local_LP_z;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -17846,7 +17850,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x90972d82b4c83dc1ULL;
+inline constexpr unsigned long long fingerprint = 0xc8b670b4e0cddc7fULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 32;

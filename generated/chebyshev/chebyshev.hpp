@@ -21,31 +21,35 @@
 
 namespace mechgen::gen::chebyshev {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l = T(0.03);  // m: crank length; every length is a multiple of it (PASIBOT's l8)
-  T w = T(2.0);  // rad/s: constant crank speed
-  T rho = T(2700.0);  // kg/m^3: bar density (aluminium)
-  T bar_w = T(0.02);  // m: bar width, in the plane
-  T bar_t = T(0.005);  // m: bar thickness, normal to the plane
+  Real l = Real(0.03);  // m: crank length; every length is a multiple of it (PASIBOT's l8)
+  Real w = Real(2.0);  // rad/s: constant crank speed
+  Real rho = Real(2700.0);  // kg/m^3: bar density (aluminium)
+  Real bar_w = Real(0.02);  // m: bar width, in the plane
+  Real bar_t = Real(0.005);  // m: bar thickness, normal to the plane
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -166,28 +170,28 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
+    BodyState<Real> crank;
+    BodyState<Real> coupler;
+    BodyState<Real> rocker;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> P;
-    PointState<T> C;
-    PointState<T> M;
+    PointState<Real> A;
+    PointState<Real> B;
+    PointState<Real> P;
+    PointState<Real> C;
+    PointState<Real> M;
   } points;
   struct Joints {
-    JointForce<T> A_ground_crank;  // revolute
-    JointForce<T> P_crank_coupler;  // revolute
-    JointForce<T> M_rocker_coupler;  // revolute
-    JointForce<T> B_ground_rocker;  // revolute
+    JointForce<Real> A_ground_crank;  // revolute
+    JointForce<Real> P_crank_coupler;  // revolute
+    JointForce<Real> M_rocker_coupler;  // revolute
+    JointForce<Real> B_ground_rocker;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -975,7 +979,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x545ec0b1c638ff47ULL;
+inline constexpr unsigned long long fingerprint = 0xfde51c4212057a40ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -28,14 +28,18 @@
 
 namespace mechgen::gen::chebyshev_spatial {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l = T(0.03);  // m: crank length; every length is a multiple of it
-  T w = T(2.0);  // rad/s: constant crank speed
-  T rho = T(2700.0);  // kg/m^3: bar density (aluminium)
-  T bar_w = T(0.02);  // m: bar width, in the plane
-  T bar_t = T(0.005);  // m: bar thickness, normal to the plane
+  Real l = Real(0.03);  // m: crank length; every length is a multiple of it
+  Real w = Real(2.0);  // rad/s: constant crank speed
+  Real rho = Real(2700.0);  // kg/m^3: bar density (aluminium)
+  Real bar_w = Real(0.02);  // m: bar width, in the plane
+  Real bar_t = Real(0.005);  // m: bar thickness, normal to the plane
 };
 
 namespace detail {
@@ -133,10 +137,10 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);
 };
 
 template <class T>
@@ -177,61 +181,61 @@ struct DriverState {
 
 inline constexpr int primary_count = 1;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
+    BodyState<Real> crank;
+    BodyState<Real> coupler;
+    BodyState<Real> rocker;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> P;
-    PointState<T> C;
-    PointState<T> M;
+    PointState<Real> A;
+    PointState<Real> B;
+    PointState<Real> P;
+    PointState<Real> C;
+    PointState<Real> M;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } A_ground_crank;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } P_crank_coupler;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } M_rocker_coupler;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } B_ground_rocker;
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T crank[6][primary_count] = {};
-    T coupler[6][primary_count] = {};
-    T rocker[6][primary_count] = {};
+    Real crank[6][primary_count] = {};
+    Real coupler[6][primary_count] = {};
+    Real rocker[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T P[3][primary_count] = {};
-    T C[3][primary_count] = {};
-    T M[3][primary_count] = {};
+    Real P[3][primary_count] = {};
+    Real C[3][primary_count] = {};
+    Real M[3][primary_count] = {};
   } point_jacobians;
   // The closure: secondary coordinates left to Newton-Raphson (the warm start, the assembly at t0
   // by default, replaced by every call that closes the circuits), the last call's result,
   // squared closure error and det N_s.
   struct {
-    T q[3] = {T(0.0), T(0.0), T(0.0)};
-    T next[3];
-    T residual, det;
+    Real q[3] = {Real(0.0), Real(0.0), Real(0.0)};
+    Real next[3];
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1778,14 +1782,14 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T n0_ipiv0;
-  T n1_ipiv0;
-  T n2_ipiv0;
-  T n3_ipiv0;
-  T n4_ipiv0;
-  T lu_ipiv0;
+  Real n0_ipiv0;
+  Real n1_ipiv0;
+  Real n2_ipiv0;
+  Real n3_ipiv0;
+  Real n4_ipiv0;
+  Real lu_ipiv0;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -2160,7 +2164,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x9b593b429627ad45ULL;
+inline constexpr unsigned long long fingerprint = 0xe292d29be0187163ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

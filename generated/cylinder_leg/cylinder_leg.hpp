@@ -21,49 +21,53 @@
 
 namespace mechgen::gen::cylinder_leg {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l_th = T(0.4);  // m: thigh length, hip H to knee K
-  T l_sh = T(0.45);  // m: shank length, knee K to foot-end D
-  T gx = T(0.2);  // m: cylinder 1 base G behind the hip
-  T ty = T(0.15);  // m: cylinder 1 thigh pin T1 below the hip
-  T fx = T(0.07);  // m: cylinder 2 base F behind the thigh axis
-  T fy = T(0.1);  // m: cylinder 2 base F below the hip
-  T sx = T(0.06);  // m: cylinder 2 shank pin S behind the shank axis
-  T sy = T(0.1);  // m: cylinder 2 shank pin S below the knee
-  T r1 = T(0.1);  // m: rod 1 length beyond its end R1
-  T r2 = T(0.12);  // m: rod 2 length beyond its end R2
-  T s1 = T(0.15);  // m: cylinder 1 mean stroke
-  T s2 = T(0.1870929008336097);  // m: cylinder 2 mean stroke (knee at -1 rad)
-  T a1 = T(0.03);  // m: cylinder 1 stroke amplitude
-  T a2 = T(0.04);  // m: cylinder 2 stroke amplitude
-  T w = T(3.0);  // rad/s: stroke frequency
-  T m_th = T(2.0);  // kg: thigh mass
-  T m_sh = T(1.2);  // kg: shank mass
-  T m_b = T(0.5);  // kg: barrel mass
-  T m_r = T(0.2);  // kg: rod mass
+  Real l_th = Real(0.4);  // m: thigh length, hip H to knee K
+  Real l_sh = Real(0.45);  // m: shank length, knee K to foot-end D
+  Real gx = Real(0.2);  // m: cylinder 1 base G behind the hip
+  Real ty = Real(0.15);  // m: cylinder 1 thigh pin T1 below the hip
+  Real fx = Real(0.07);  // m: cylinder 2 base F behind the thigh axis
+  Real fy = Real(0.1);  // m: cylinder 2 base F below the hip
+  Real sx = Real(0.06);  // m: cylinder 2 shank pin S behind the shank axis
+  Real sy = Real(0.1);  // m: cylinder 2 shank pin S below the knee
+  Real r1 = Real(0.1);  // m: rod 1 length beyond its end R1
+  Real r2 = Real(0.12);  // m: rod 2 length beyond its end R2
+  Real s1 = Real(0.15);  // m: cylinder 1 mean stroke
+  Real s2 = Real(0.1870929008336097);  // m: cylinder 2 mean stroke (knee at -1 rad)
+  Real a1 = Real(0.03);  // m: cylinder 1 stroke amplitude
+  Real a2 = Real(0.04);  // m: cylinder 2 stroke amplitude
+  Real w = Real(3.0);  // rad/s: stroke frequency
+  Real m_th = Real(2.0);  // kg: thigh mass
+  Real m_sh = Real(1.2);  // kg: shank mass
+  Real m_b = Real(0.5);  // kg: barrel mass
+  Real m_r = Real(0.2);  // kg: rod mass
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T l1 = T(0), l1_d = T(0), l1_dd = T(0);  // m
-  T l2 = T(0), l2_d = T(0), l2_dd = T(0);  // m
+  Real t = Real(0);
+  Real l1 = Real(0), l1_d = Real(0), l1_dd = Real(0);  // m
+  Real l2 = Real(0), l2_d = Real(0), l2_dd = Real(0);  // m
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* l1 = nullptr;
-  const T* l1_d = nullptr;
-  const T* l1_dd = nullptr;
-  const T* l2 = nullptr;
-  const T* l2_d = nullptr;
-  const T* l2_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* l1 = nullptr;
+  const Real* l1_d = nullptr;
+  const Real* l1_dd = nullptr;
+  const Real* l2 = nullptr;
+  const Real* l2_d = nullptr;
+  const Real* l2_dd = nullptr;
 };
 
 namespace detail {
@@ -184,40 +188,40 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> barrel1;
-    BodyState<T> rod1;
-    BodyState<T> barrel2;
-    BodyState<T> rod2;
+    BodyState<Real> thigh;
+    BodyState<Real> shank;
+    BodyState<Real> barrel1;
+    BodyState<Real> rod1;
+    BodyState<Real> barrel2;
+    BodyState<Real> rod2;
   } bodies;
   struct Points {
-    PointState<T> H;
-    PointState<T> G;
-    PointState<T> T1;
-    PointState<T> F;
-    PointState<T> K;
-    PointState<T> S;
-    PointState<T> D;
-    PointState<T> R1;
-    PointState<T> R2;
+    PointState<Real> H;
+    PointState<Real> G;
+    PointState<Real> T1;
+    PointState<Real> F;
+    PointState<Real> K;
+    PointState<Real> S;
+    PointState<Real> D;
+    PointState<Real> R1;
+    PointState<Real> R2;
   } points;
   struct Joints {
-    JointForce<T> hip;  // revolute
-    JointForce<T> knee;  // revolute
-    JointForce<T> base1;  // revolute
-    JointForceMoment<T> stroke1;  // prismatic
-    JointForce<T> tip1;  // revolute
-    JointForce<T> base2;  // revolute
-    JointForceMoment<T> stroke2;  // prismatic
-    JointForce<T> tip2;  // revolute
+    JointForce<Real> hip;  // revolute
+    JointForce<Real> knee;  // revolute
+    JointForce<Real> base1;  // revolute
+    JointForceMoment<Real> stroke1;  // prismatic
+    JointForce<Real> tip1;  // revolute
+    JointForce<Real> base2;  // revolute
+    JointForceMoment<Real> stroke2;  // prismatic
+    JointForce<Real> tip2;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> l1;
-    DriverState<T> l2;
+    DriverState<Real> l1;
+    DriverState<Real> l2;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1717,7 +1721,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x12a14c1cc6d3b860ULL;
+inline constexpr unsigned long long fingerprint = 0xec5dc76d9f1eb309ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 19;

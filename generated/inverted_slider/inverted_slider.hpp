@@ -21,37 +21,41 @@
 
 namespace mechgen::gen::inverted_slider {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T r = T(0.05);  // m: crank length (r < d - h, so that the rocker oscillates)
-  T d = T(0.15);  // m: ground distance from the crank pivot O to the rocker pivot B
-  T L = T(0.3);  // m: rocker length
-  T h = T(0.01);  // m: offset of the slide from the block's pin
-  T alpha = T(0.2);  // rad: block angle to the rocker
-  T w = T(4.0);  // rad/s: constant crank speed
-  T rho = T(7850.0);  // kg/m^3: crank and rocker density (steel)
-  T bar_w = T(0.015);  // m: bar width, in the plane
-  T bar_t = T(0.006);  // m: bar thickness
-  T m_b = T(0.1);  // kg: block mass
-  T T_r = T(0.5);  // N m: load torque on the rocker (clockwise)
+  Real r = Real(0.05);  // m: crank length (r < d - h, so that the rocker oscillates)
+  Real d = Real(0.15);  // m: ground distance from the crank pivot O to the rocker pivot B
+  Real L = Real(0.3);  // m: rocker length
+  Real h = Real(0.01);  // m: offset of the slide from the block's pin
+  Real alpha = Real(0.2);  // rad: block angle to the rocker
+  Real w = Real(4.0);  // rad/s: constant crank speed
+  Real rho = Real(7850.0);  // kg/m^3: crank and rocker density (steel)
+  Real bar_w = Real(0.015);  // m: bar width, in the plane
+  Real bar_t = Real(0.006);  // m: bar thickness
+  Real m_b = Real(0.1);  // kg: block mass
+  Real T_r = Real(0.5);  // N m: load torque on the rocker (clockwise)
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -172,28 +176,28 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> rocker;
-    BodyState<T> block;
+    BodyState<Real> crank;
+    BodyState<Real> rocker;
+    BodyState<Real> block;
   } bodies;
   struct Points {
-    PointState<T> O;
-    PointState<T> B;
-    PointState<T> A;
-    PointState<T> E;
-    PointState<T> S;
+    PointState<Real> O;
+    PointState<Real> B;
+    PointState<Real> A;
+    PointState<Real> E;
+    PointState<Real> S;
   } points;
   struct Joints {
-    JointForce<T> O_crank;  // revolute
-    JointForce<T> B_rocker;  // revolute
-    JointForce<T> A_block;  // revolute
-    JointForceMoment<T> slide;  // prismatic
+    JointForce<Real> O_crank;  // revolute
+    JointForce<Real> B_rocker;  // revolute
+    JointForce<Real> A_block;  // revolute
+    JointForceMoment<Real> slide;  // prismatic
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -933,7 +937,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xca444d12cca2e565ULL;
+inline constexpr unsigned long long fingerprint = 0x33b1efebd032c6deULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 11;

@@ -34,17 +34,21 @@
 
 namespace mechgen::gen::lecture_leg_abstract {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l = T(0.2);  // m: thigh = shank length (the lecture's l)
-  T f = T(0.08);  // m: |v3|: ankle to the foot point along the sole
-  T r = T(0.012);  // m: bar radius
-  T rho = T(1200.0);  // kg/m^3: bar density
-  T w = T(3.0);  // rad/s: default motion: frequency
-  T eta = T(0.85);  // default motion: leg extension
-  T theta_leg = T(0.1);  // rad: default motion: leg angle
-  T theta_foot = T(0.0);  // rad: default motion: foot angle
+  Real l = Real(0.2);  // m: thigh = shank length (the lecture's l)
+  Real f = Real(0.08);  // m: |v3|: ankle to the foot point along the sole
+  Real r = Real(0.012);  // m: bar radius
+  Real rho = Real(1200.0);  // kg/m^3: bar density
+  Real w = Real(3.0);  // rad/s: default motion: frequency
+  Real eta = Real(0.85);  // default motion: leg extension
+  Real theta_leg = Real(0.1);  // rad: default motion: leg angle
+  Real theta_foot = Real(0.0);  // rad: default motion: foot angle
 };
 
 namespace detail {
@@ -142,12 +146,12 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T leg_pose_x = T(0), leg_pose_x_d = T(0), leg_pose_x_dd = T(0);
-  T leg_pose_y = T(0), leg_pose_y_d = T(0), leg_pose_y_dd = T(0);
-  T leg_pose_rz = T(0), leg_pose_rz_d = T(0), leg_pose_rz_dd = T(0);
+  Real t = Real(0);
+  Real leg_pose_x = Real(0), leg_pose_x_d = Real(0), leg_pose_x_dd = Real(0);
+  Real leg_pose_y = Real(0), leg_pose_y_d = Real(0), leg_pose_y_dd = Real(0);
+  Real leg_pose_rz = Real(0), leg_pose_rz_d = Real(0), leg_pose_rz_dd = Real(0);
 };
 
 template <class T>
@@ -188,54 +192,54 @@ struct DriverState {
 
 inline constexpr int primary_count = 3;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> foot;
+    BodyState<Real> thigh;
+    BodyState<Real> shank;
+    BodyState<Real> foot;
   } bodies;
   struct Points {
-    PointState<T> hip;
-    PointState<T> knee;
-    PointState<T> ankle;
-    PointState<T> toe;
+    PointState<Real> hip;
+    PointState<Real> knee;
+    PointState<Real> ankle;
+    PointState<Real> toe;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j3;
   } joints;
   struct Drivers {
-    DriverState<T> leg_pose_x;
-    DriverState<T> leg_pose_y;
-    DriverState<T> leg_pose_rz;
+    DriverState<Real> leg_pose_x;
+    DriverState<Real> leg_pose_y;
+    DriverState<Real> leg_pose_rz;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T thigh[6][primary_count] = {};
-    T shank[6][primary_count] = {};
-    T foot[6][primary_count] = {};
+    Real thigh[6][primary_count] = {};
+    Real shank[6][primary_count] = {};
+    Real foot[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T knee[3][primary_count] = {};
-    T ankle[3][primary_count] = {};
-    T toe[3][primary_count] = {};
+    Real knee[3][primary_count] = {};
+    Real ankle[3][primary_count] = {};
+    Real toe[3][primary_count] = {};
   } point_jacobians;
   // The closure: squared closure error and det N_s.
   struct {
-    T residual, det;
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1431,10 +1435,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T ik_leg_pose_link_dot;
-  T ik_leg_pose_link_product;
+  Real ik_leg_pose_link_dot;
+  Real ik_leg_pose_link_product;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -1591,7 +1595,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x0bce3bd633b6197cULL;
+inline constexpr unsigned long long fingerprint = 0x75a8d77ce3452d2cULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;

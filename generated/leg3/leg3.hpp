@@ -22,47 +22,51 @@
 
 namespace mechgen::gen::leg3 {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l_th = T(0.4);  // m: thigh length, hip to knee
-  T l_sh = T(0.4);  // m: shank length, knee to ankle
-  T h_ft = T(0.08);  // m: ankle height above the sole
-  T l_toe = T(0.15);  // m: toe ahead of the ankle
-  T l_heel = T(0.05);  // m: heel behind the ankle
-  T m_th = T(3.0);  // kg: thigh mass
-  T m_sh = T(1.5);  // kg: shank mass
-  T m_ft = T(0.6);  // kg: foot mass
-  T w = T(4.0);  // rad/s: gait phase rate (one stride per 2 pi / w)
-  T S = T(0.3);  // rad: leg swing amplitude
-  T eta0 = T(0.99);  // leg extension in stance (below 1)
-  T a_lift = T(0.2);  // leg shortening at mid-swing (eta0 - a_lift > 0)
-  T th_foot = T(0.0);  // rad: foot angle (0: sole horizontal)
+  Real l_th = Real(0.4);  // m: thigh length, hip to knee
+  Real l_sh = Real(0.4);  // m: shank length, knee to ankle
+  Real h_ft = Real(0.08);  // m: ankle height above the sole
+  Real l_toe = Real(0.15);  // m: toe ahead of the ankle
+  Real l_heel = Real(0.05);  // m: heel behind the ankle
+  Real m_th = Real(3.0);  // kg: thigh mass
+  Real m_sh = Real(1.5);  // kg: shank mass
+  Real m_ft = Real(0.6);  // kg: foot mass
+  Real w = Real(4.0);  // rad/s: gait phase rate (one stride per 2 pi / w)
+  Real S = Real(0.3);  // rad: leg swing amplitude
+  Real eta0 = Real(0.99);  // leg extension in stance (below 1)
+  Real a_lift = Real(0.2);  // leg shortening at mid-swing (eta0 - a_lift > 0)
+  Real th_foot = Real(0.0);  // rad: foot angle (0: sole horizontal)
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T q1 = T(0), q1_d = T(0), q1_dd = T(0);  // rad
-  T q2 = T(0), q2_d = T(0), q2_dd = T(0);  // rad
-  T q3 = T(0), q3_d = T(0), q3_dd = T(0);  // rad
+  Real t = Real(0);
+  Real q1 = Real(0), q1_d = Real(0), q1_dd = Real(0);  // rad
+  Real q2 = Real(0), q2_d = Real(0), q2_dd = Real(0);  // rad
+  Real q3 = Real(0), q3_d = Real(0), q3_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* q1 = nullptr;
-  const T* q1_d = nullptr;
-  const T* q1_dd = nullptr;
-  const T* q2 = nullptr;
-  const T* q2_d = nullptr;
-  const T* q2_dd = nullptr;
-  const T* q3 = nullptr;
-  const T* q3_d = nullptr;
-  const T* q3_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* q1 = nullptr;
+  const Real* q1_d = nullptr;
+  const Real* q1_dd = nullptr;
+  const Real* q2 = nullptr;
+  const Real* q2_d = nullptr;
+  const Real* q2_dd = nullptr;
+  const Real* q3 = nullptr;
+  const Real* q3_d = nullptr;
+  const Real* q3_dd = nullptr;
 };
 
 namespace detail {
@@ -183,29 +187,29 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> foot;
+    BodyState<Real> thigh;
+    BodyState<Real> shank;
+    BodyState<Real> foot;
   } bodies;
   struct Points {
-    PointState<T> H;
-    PointState<T> K;
-    PointState<T> Ank;
-    PointState<T> Toe;
-    PointState<T> Heel;
+    PointState<Real> H;
+    PointState<Real> K;
+    PointState<Real> Ank;
+    PointState<Real> Toe;
+    PointState<Real> Heel;
   } points;
   struct Joints {
-    JointForce<T> hip;  // revolute
-    JointForce<T> knee;  // revolute
-    JointForce<T> ankle;  // revolute
+    JointForce<Real> hip;  // revolute
+    JointForce<Real> knee;  // revolute
+    JointForce<Real> ankle;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> q1;
-    DriverState<T> q2;
-    DriverState<T> q3;
+    DriverState<Real> q1;
+    DriverState<Real> q2;
+    DriverState<Real> q3;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -970,7 +974,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x2c0d04b4198819d5ULL;
+inline constexpr unsigned long long fingerprint = 0x58b1324cb8ab32ceULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;

@@ -32,36 +32,40 @@
 
 namespace mechgen::gen::pasibot {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l8 = T(0.03);  // m: crank length; every length is a multiple of it
-  T w8 = T(2.0);  // rad/s: constant motor (crank) speed
-  T rho = T(2700.0);  // kg/m^3: bar density (aluminium)
-  T bar_w = T(0.02);  // m: bar width, in the plane
-  T bar_t = T(0.005);  // m: bar thickness, normal to the plane
-  T leg_bar_factor = T(2.0);  // thickness factor of femur l3, tibia l2 and link 11 (doubled in the seed)
-  T m_hip = T(4.0);  // kg: hip mass: plate, motor, gearbox
-  T m_load = T(0.0);  // kg: extra load on the hip (the seed sweeps 5, 10, 15 kg)
-  T hip_cx = T(4.0);  // hip centre of mass x, hip frame, units of l8
-  T hip_cy = T(-6.0);  // hip centre of mass y, hip frame, units of l8
+  Real l8 = Real(0.03);  // m: crank length; every length is a multiple of it
+  Real w8 = Real(2.0);  // rad/s: constant motor (crank) speed
+  Real rho = Real(2700.0);  // kg/m^3: bar density (aluminium)
+  Real bar_w = Real(0.02);  // m: bar width, in the plane
+  Real bar_t = Real(0.005);  // m: bar thickness, normal to the plane
+  Real leg_bar_factor = Real(2.0);  // thickness factor of femur l3, tibia l2 and link 11 (doubled in the seed)
+  Real m_hip = Real(4.0);  // kg: hip mass: plate, motor, gearbox
+  Real m_load = Real(0.0);  // kg: extra load on the hip (the seed sweeps 5, 10, 15 kg)
+  Real hip_cx = Real(4.0);  // hip centre of mass x, hip frame, units of l8
+  Real hip_cy = Real(-6.0);  // hip centre of mass y, hip frame, units of l8
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T theta8 = T(0), theta8_d = T(0), theta8_dd = T(0);  // rad
+  Real t = Real(0);
+  Real theta8 = Real(0), theta8_d = Real(0), theta8_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* theta8 = nullptr;
-  const T* theta8_d = nullptr;
-  const T* theta8_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* theta8 = nullptr;
+  const Real* theta8_d = nullptr;
+  const Real* theta8_dd = nullptr;
 };
 
 namespace detail {
@@ -182,97 +186,97 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> l13;
-    BodyState<T> l8;
-    BodyState<T> l7;
-    BodyState<T> l9;
-    BodyState<T> l6;
-    BodyState<T> l3;
-    BodyState<T> l10;
-    BodyState<T> l5;
-    BodyState<T> l12;
-    BodyState<T> l4;
-    BodyState<T> l2;
-    BodyState<T> l11;
-    BodyState<T> l7p;
-    BodyState<T> l9p;
-    BodyState<T> l6p;
-    BodyState<T> l3p;
-    BodyState<T> l10p;
-    BodyState<T> l5p;
-    BodyState<T> l12p;
-    BodyState<T> l4p;
-    BodyState<T> l2p;
-    BodyState<T> l11p;
-    BodyState<T> l1p;
+    BodyState<Real> l13;
+    BodyState<Real> l8;
+    BodyState<Real> l7;
+    BodyState<Real> l9;
+    BodyState<Real> l6;
+    BodyState<Real> l3;
+    BodyState<Real> l10;
+    BodyState<Real> l5;
+    BodyState<Real> l12;
+    BodyState<Real> l4;
+    BodyState<Real> l2;
+    BodyState<Real> l11;
+    BodyState<Real> l7p;
+    BodyState<Real> l9p;
+    BodyState<Real> l6p;
+    BodyState<Real> l3p;
+    BodyState<Real> l10p;
+    BodyState<Real> l5p;
+    BodyState<Real> l12p;
+    BodyState<Real> l4p;
+    BodyState<Real> l2p;
+    BodyState<Real> l11p;
+    BodyState<Real> l1p;
   } bodies;
   struct Points {
-    PointState<T> E;
-    PointState<T> F;
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> D;
-    PointState<T> P;
-    PointState<T> Pp;
-    PointState<T> C;
-    PointState<T> M;
-    PointState<T> K;
-    PointState<T> J;
-    PointState<T> S;
-    PointState<T> R;
-    PointState<T> L;
-    PointState<T> Cp;
-    PointState<T> Mp;
-    PointState<T> Kp;
-    PointState<T> Jp;
-    PointState<T> Sp;
-    PointState<T> Rp;
-    PointState<T> Lp;
-    PointState<T> Ep;
-    PointState<T> Fp;
+    PointState<Real> E;
+    PointState<Real> F;
+    PointState<Real> A;
+    PointState<Real> B;
+    PointState<Real> D;
+    PointState<Real> P;
+    PointState<Real> Pp;
+    PointState<Real> C;
+    PointState<Real> M;
+    PointState<Real> K;
+    PointState<Real> J;
+    PointState<Real> S;
+    PointState<Real> R;
+    PointState<Real> L;
+    PointState<Real> Cp;
+    PointState<Real> Mp;
+    PointState<Real> Kp;
+    PointState<Real> Jp;
+    PointState<Real> Sp;
+    PointState<Real> Rp;
+    PointState<Real> Lp;
+    PointState<Real> Ep;
+    PointState<Real> Fp;
   } points;
   struct Joints {
-    JointForce<T> A_13_8;  // revolute
-    JointForce<T> B_13_9;  // revolute
-    JointForce<T> P_8_7;  // revolute
-    JointForce<T> M_9_7;  // revolute
-    JointForce<T> C_7_3;  // revolute
-    JointForce<T> D_13_6;  // revolute
-    JointForce<T> K_6_3;  // revolute
-    JointForce<T> D_13_4;  // revolute
-    JointForce<T> J_3_2;  // revolute
-    JointForce<T> L_4_2;  // revolute
-    JointForce<T> C_3_10;  // revolute
-    JointForce<T> S_13_10;  // pin_in_slot
-    JointForce<T> S_10_12;  // revolute
-    JointForce<T> J_3_5;  // revolute
-    JointForce<T> R_12_5;  // revolute
-    JointForce<T> R_12_11;  // revolute
-    JointForce<T> E_2_1;  // revolute
-    JointForce<T> F_11_1;  // revolute
-    JointForce<T> B_13_9p;  // revolute
-    JointForce<T> Pp_8_7p;  // revolute
-    JointForce<T> Mp_9p_7p;  // revolute
-    JointForce<T> Cp_7p_3p;  // revolute
-    JointForce<T> D_13_6p;  // revolute
-    JointForce<T> Kp_6p_3p;  // revolute
-    JointForce<T> D_13_4p;  // revolute
-    JointForce<T> Jp_3p_2p;  // revolute
-    JointForce<T> Lp_4p_2p;  // revolute
-    JointForce<T> Cp_3p_10p;  // revolute
-    JointForce<T> Sp_13_10p;  // pin_in_slot
-    JointForce<T> Sp_10p_12p;  // revolute
-    JointForce<T> Jp_3p_5p;  // revolute
-    JointForce<T> Rp_12p_5p;  // revolute
-    JointForce<T> Rp_12p_11p;  // revolute
-    JointForce<T> Ep_2p_1p;  // revolute
-    JointForce<T> Fp_11p_1p;  // revolute
+    JointForce<Real> A_13_8;  // revolute
+    JointForce<Real> B_13_9;  // revolute
+    JointForce<Real> P_8_7;  // revolute
+    JointForce<Real> M_9_7;  // revolute
+    JointForce<Real> C_7_3;  // revolute
+    JointForce<Real> D_13_6;  // revolute
+    JointForce<Real> K_6_3;  // revolute
+    JointForce<Real> D_13_4;  // revolute
+    JointForce<Real> J_3_2;  // revolute
+    JointForce<Real> L_4_2;  // revolute
+    JointForce<Real> C_3_10;  // revolute
+    JointForce<Real> S_13_10;  // pin_in_slot
+    JointForce<Real> S_10_12;  // revolute
+    JointForce<Real> J_3_5;  // revolute
+    JointForce<Real> R_12_5;  // revolute
+    JointForce<Real> R_12_11;  // revolute
+    JointForce<Real> E_2_1;  // revolute
+    JointForce<Real> F_11_1;  // revolute
+    JointForce<Real> B_13_9p;  // revolute
+    JointForce<Real> Pp_8_7p;  // revolute
+    JointForce<Real> Mp_9p_7p;  // revolute
+    JointForce<Real> Cp_7p_3p;  // revolute
+    JointForce<Real> D_13_6p;  // revolute
+    JointForce<Real> Kp_6p_3p;  // revolute
+    JointForce<Real> D_13_4p;  // revolute
+    JointForce<Real> Jp_3p_2p;  // revolute
+    JointForce<Real> Lp_4p_2p;  // revolute
+    JointForce<Real> Cp_3p_10p;  // revolute
+    JointForce<Real> Sp_13_10p;  // pin_in_slot
+    JointForce<Real> Sp_10p_12p;  // revolute
+    JointForce<Real> Jp_3p_5p;  // revolute
+    JointForce<Real> Rp_12p_5p;  // revolute
+    JointForce<Real> Rp_12p_11p;  // revolute
+    JointForce<Real> Ep_2p_1p;  // revolute
+    JointForce<Real> Fp_11p_1p;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> theta8;
+    DriverState<Real> theta8;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -7622,7 +7626,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xbb5c11bc0a07b77dULL;
+inline constexpr unsigned long long fingerprint = 0x6754ce91430d3266ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

@@ -21,57 +21,64 @@
 
 namespace mechgen::gen::plate_crank {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T a = T(0.02);  // m (20 mm in the model): crank A-P
-  T g = T(0.06);  // m (60 mm in the model): ground A-B
-  T b = T(0.055);  // m (55 mm in the model): coupler P-M
-  T c = T(0.05);  // m (50 mm in the model): rocker B-M
-  T e = T(0.04);  // m (40 mm in the model): coupler point C: distance from P
-  T phi = T(1.0471975511965976);  // rad (60 deg in the model): coupler point C: angle from P-M
-  T theta0 = T(1.5707963267948966);  // rad (90 deg in the model): crank angle at t0
-  T w = T(6.283185307179586);  // rad/s (60 rpm in the model): constant crank speed
-  T rho = T(2700.0);  // kg/m^3 (2.7 g/cm^3 in the model): aluminium
-  T t_plate = T(0.003);  // m (3 mm in the model): plate and bar thickness
-  T w_bar = T(0.01);  // m (10 mm in the model): bar width, in the plane
-  T m_tool = T(0.15);  // kg (150 g in the model): tool carried at C
-  T k = T(200.0);  // N/m: return spring on the bell crank
-  T s0 = T(0.03);  // m (30 mm in the model): spring free length
+  Real a = Real(0.02);  // m (20 mm in the model): crank A-P
+  Real g = Real(0.06);  // m (60 mm in the model): ground A-B
+  Real b = Real(0.055);  // m (55 mm in the model): coupler P-M
+  Real c = Real(0.05);  // m (50 mm in the model): rocker B-M
+  Real e = Real(0.04);  // m (40 mm in the model): coupler point C: distance from P
+  Real phi = Real(1.0471975511965976);  // rad (60 deg in the model): coupler point C: angle from P-M
+  Real theta0 = Real(1.5707963267948966);  // rad (90 deg in the model): crank angle at t0
+  Real w = Real(6.283185307179586);  // rad/s (60 rpm in the model): constant crank speed
+  Real rho = Real(2700.0);  // kg/m^3 (2.7 g/cm^3 in the model): aluminium
+  Real t_plate = Real(0.003);  // m (3 mm in the model): plate and bar thickness
+  Real w_bar = Real(0.01);  // m (10 mm in the model): bar width, in the plane
+  Real m_tool = Real(0.15);  // kg (150 g in the model): tool carried at C
+  Real k = Real(200.0);  // N/m: return spring on the bell crank
+  Real s0 = Real(0.03);  // m (30 mm in the model): spring free length
 
   // Derived parameters: not fields but computed from the fields above (the kernel uses
   // the same expressions inline), so setting a field moves them too.
-  T cx() const noexcept {  // e*cos(phi) [m]: C in the coupler frame (derived)
+  Real cx() const noexcept {  // e*cos(phi) [m]: C in the coupler frame (derived)
+    using T = Real;
     using std::cos;
     const T value = cos(phi)*e;
     return value;
   }
-  T cy() const noexcept {  // e*sin(phi) [m]: C in the coupler frame (derived)
+  Real cy() const noexcept {  // e*sin(phi) [m]: C in the coupler frame (derived)
+    using T = Real;
     using std::sin;
     const T value = e*sin(phi);
     return value;
   }
-  T r() const noexcept {  // c/2 [m]: bell-crank arm B-R (derived)
+  Real r() const noexcept {  // c/2 [m]: bell-crank arm B-R (derived)
+    using T = Real;
     const T value = T(0.5)*c;
     return value;
   }
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -192,30 +199,30 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
+    BodyState<Real> crank;
+    BodyState<Real> coupler;
+    BodyState<Real> rocker;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> B;
-    PointState<T> S;
-    PointState<T> P;
-    PointState<T> M;
-    PointState<T> C;
-    PointState<T> R;
+    PointState<Real> A;
+    PointState<Real> B;
+    PointState<Real> S;
+    PointState<Real> P;
+    PointState<Real> M;
+    PointState<Real> C;
+    PointState<Real> R;
   } points;
   struct Joints {
-    JointForce<T> A_ground_crank;  // revolute
-    JointForce<T> P_crank_coupler;  // revolute
-    JointForce<T> M_rocker_coupler;  // revolute
-    JointForce<T> B_ground_rocker;  // revolute
+    JointForce<Real> A_ground_crank;  // revolute
+    JointForce<Real> P_crank_coupler;  // revolute
+    JointForce<Real> M_rocker_coupler;  // revolute
+    JointForce<Real> B_ground_rocker;  // revolute
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1058,7 +1065,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xa5cd64fe42aa4ee7ULL;
+inline constexpr unsigned long long fingerprint = 0x5b32d9c7ea23f1e0ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 14;

@@ -40,34 +40,38 @@
 
 namespace mechgen::gen::quadruped_leg {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T a = T(0.14);  // m: QC = AB (seed)
-  T b = T(0.27);  // m: QA = BC (seed)
-  T c = T(0.4);  // m: BD (seed)
-  T d = T(0.4);  // m: QH: cylinder 1 base on the swing frame
-  T e = T(0.44);  // m: QF: cylinder 2 base on the swing frame
-  T f = T(0.14);  // m: QG: cylinder 1 rod end on the thigh
-  T h = T(0.1);  // m: hip pivot Q below the side-swing axis
-  T i = T(0.3);  // m: OM: cylinder 3 base on the torso
-  T j = T(0.1);  // m: ON: cylinder 3 rod end on the swing frame
-  T theta5 = T(0.17453292519943295);  // rad: QA to QG, clockwise (10 deg)
-  T theta7 = T(0.17453292519943295);  // rad: angle of QF (10 deg)
-  T theta8 = T(1.7453292519943295);  // rad: angle of QH (100 deg)
-  T theta11 = T(0.05235987755982988);  // rad: angle of OM from Y (3 deg)
-  T theta1_0 = T(-2.7);  // rad: reference pose: thigh angle
-  T theta12_0 = T(-1.1);  // rad: reference pose: lower link angle theta1 + theta2
-  T l1_c = T(0.425);  // m: default motion: cylinder 1 mean length
-  T l2_c = T(0.425);  // m: default motion: cylinder 2 mean length
-  T l3_c = T(0.31);  // m: default motion: cylinder 3 mean length
-  T l_a = T(0.06);  // m: default motion: cylinder 1, 2 amplitude
-  T w = T(3.0);  // rad/s: default motion: frequency
-  T r = T(0.015);  // m: bar radius
-  T rho = T(2700.0);  // kg/m^3: bar density (aluminium)
-  T m_frame = T(1.5);  // kg: swing frame
-  T m_barrel = T(0.8);  // kg: cylinder barrel (with motor), at its base pivot
-  T m_rod = T(0.25);  // kg: cylinder rod, at its end
+  Real a = Real(0.14);  // m: QC = AB (seed)
+  Real b = Real(0.27);  // m: QA = BC (seed)
+  Real c = Real(0.4);  // m: BD (seed)
+  Real d = Real(0.4);  // m: QH: cylinder 1 base on the swing frame
+  Real e = Real(0.44);  // m: QF: cylinder 2 base on the swing frame
+  Real f = Real(0.14);  // m: QG: cylinder 1 rod end on the thigh
+  Real h = Real(0.1);  // m: hip pivot Q below the side-swing axis
+  Real i = Real(0.3);  // m: OM: cylinder 3 base on the torso
+  Real j = Real(0.1);  // m: ON: cylinder 3 rod end on the swing frame
+  Real theta5 = Real(0.17453292519943295);  // rad: QA to QG, clockwise (10 deg)
+  Real theta7 = Real(0.17453292519943295);  // rad: angle of QF (10 deg)
+  Real theta8 = Real(1.7453292519943295);  // rad: angle of QH (100 deg)
+  Real theta11 = Real(0.05235987755982988);  // rad: angle of OM from Y (3 deg)
+  Real theta1_0 = Real(-2.7);  // rad: reference pose: thigh angle
+  Real theta12_0 = Real(-1.1);  // rad: reference pose: lower link angle theta1 + theta2
+  Real l1_c = Real(0.425);  // m: default motion: cylinder 1 mean length
+  Real l2_c = Real(0.425);  // m: default motion: cylinder 2 mean length
+  Real l3_c = Real(0.31);  // m: default motion: cylinder 3 mean length
+  Real l_a = Real(0.06);  // m: default motion: cylinder 1, 2 amplitude
+  Real w = Real(3.0);  // rad/s: default motion: frequency
+  Real r = Real(0.015);  // m: bar radius
+  Real rho = Real(2700.0);  // kg/m^3: bar density (aluminium)
+  Real m_frame = Real(1.5);  // kg: swing frame
+  Real m_barrel = Real(0.8);  // kg: cylinder barrel (with motor), at its base pivot
+  Real m_rod = Real(0.25);  // kg: cylinder rod, at its end
 };
 
 namespace detail {
@@ -165,12 +169,12 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T l1 = T(0), l1_d = T(0), l1_dd = T(0);
-  T l2 = T(0), l2_d = T(0), l2_dd = T(0);
-  T l3 = T(0), l3_d = T(0), l3_dd = T(0);
+  Real t = Real(0);
+  Real l1 = Real(0), l1_d = Real(0), l1_dd = Real(0);
+  Real l2 = Real(0), l2_d = Real(0), l2_dd = Real(0);
+  Real l3 = Real(0), l3_d = Real(0), l3_dd = Real(0);
 };
 
 template <class T>
@@ -211,134 +215,134 @@ struct DriverState {
 
 inline constexpr int primary_count = 3;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> frame;
-    BodyState<T> thigh;
-    BodyState<T> crank;
-    BodyState<T> shank;
-    BodyState<T> coupler;
-    BodyState<T> barrel1;
-    BodyState<T> rod1;
-    BodyState<T> barrel2;
-    BodyState<T> rod2;
-    BodyState<T> barrel3;
-    BodyState<T> rod3;
+    BodyState<Real> frame;
+    BodyState<Real> thigh;
+    BodyState<Real> crank;
+    BodyState<Real> shank;
+    BodyState<Real> coupler;
+    BodyState<Real> barrel1;
+    BodyState<Real> rod1;
+    BodyState<Real> barrel2;
+    BodyState<Real> rod2;
+    BodyState<Real> barrel3;
+    BodyState<Real> rod3;
   } bodies;
   struct Points {
-    PointState<T> O;
-    PointState<T> M;
-    PointState<T> Q;
-    PointState<T> H;
-    PointState<T> F;
-    PointState<T> N;
-    PointState<T> A;
-    PointState<T> G;
-    PointState<T> C;
-    PointState<T> B;
-    PointState<T> D;
+    PointState<Real> O;
+    PointState<Real> M;
+    PointState<Real> Q;
+    PointState<Real> H;
+    PointState<Real> F;
+    PointState<Real> N;
+    PointState<Real> A;
+    PointState<Real> G;
+    PointState<Real> C;
+    PointState<Real> B;
+    PointState<Real> D;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } swing;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } hip;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } crank_pivot;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } knee;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } coupler_B;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } coupler_C;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl1_base;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl1;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl1_end;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl2_base;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl2;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl2_end;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl3_base;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl3;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } cyl3_end;
   } joints;
   struct Drivers {
-    DriverState<T> l1;
-    DriverState<T> l2;
-    DriverState<T> l3;
+    DriverState<Real> l1;
+    DriverState<Real> l2;
+    DriverState<Real> l3;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T frame[6][primary_count] = {};
-    T thigh[6][primary_count] = {};
-    T crank[6][primary_count] = {};
-    T shank[6][primary_count] = {};
-    T coupler[6][primary_count] = {};
-    T barrel1[6][primary_count] = {};
-    T rod1[6][primary_count] = {};
-    T barrel2[6][primary_count] = {};
-    T rod2[6][primary_count] = {};
-    T barrel3[6][primary_count] = {};
-    T rod3[6][primary_count] = {};
+    Real frame[6][primary_count] = {};
+    Real thigh[6][primary_count] = {};
+    Real crank[6][primary_count] = {};
+    Real shank[6][primary_count] = {};
+    Real coupler[6][primary_count] = {};
+    Real barrel1[6][primary_count] = {};
+    Real rod1[6][primary_count] = {};
+    Real barrel2[6][primary_count] = {};
+    Real rod2[6][primary_count] = {};
+    Real barrel3[6][primary_count] = {};
+    Real rod3[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T Q[3][primary_count] = {};
-    T H[3][primary_count] = {};
-    T F[3][primary_count] = {};
-    T N[3][primary_count] = {};
-    T A[3][primary_count] = {};
-    T G[3][primary_count] = {};
-    T C[3][primary_count] = {};
-    T B[3][primary_count] = {};
-    T D[3][primary_count] = {};
+    Real Q[3][primary_count] = {};
+    Real H[3][primary_count] = {};
+    Real F[3][primary_count] = {};
+    Real N[3][primary_count] = {};
+    Real A[3][primary_count] = {};
+    Real G[3][primary_count] = {};
+    Real C[3][primary_count] = {};
+    Real B[3][primary_count] = {};
+    Real D[3][primary_count] = {};
   } point_jacobians;
   // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
-    T w[24] = {T(-0.012685980514781018), T(-0.0010834286315873482), T(-8.696533047216142e-23), T(-0.01160255188319367), T(-3.578397058740295e-24), T(9.462753191483704e-23), T(-0.08337488972024684), T(-0.010092885865430529), T(-9.152101152640766e-21), T(-5.248757161194311e-20), T(0.07328200385481631), T(9.123143668184774e-20), T(-0.4760039937669238), T(-0.03571159670914986), T(-6.325231183497818e-19), T(3.1229536850619025e-19), T(0.4402923970577739), T(4.348146434349636e-19), T(-0.392629104046677), T(3.9860627762258414e-20), T(-0.39262910404667684), T(-2.33513155751659e-19), T(0.3926291040466768), T(3.313282896946004e-19)};
-    T wnext[24];
-    T residual, det;
+    Real w[24] = {Real(-0.012685980514781018), Real(-0.0010834286315873482), Real(-8.696533047216142e-23), Real(-0.01160255188319367), Real(-3.578397058740295e-24), Real(9.462753191483704e-23), Real(-0.08337488972024684), Real(-0.010092885865430529), Real(-9.152101152640766e-21), Real(-5.248757161194311e-20), Real(0.07328200385481631), Real(9.123143668184774e-20), Real(-0.4760039937669238), Real(-0.03571159670914986), Real(-6.325231183497818e-19), Real(3.1229536850619025e-19), Real(0.4402923970577739), Real(4.348146434349636e-19), Real(-0.392629104046677), Real(3.9860627762258414e-20), Real(-0.39262910404667684), Real(-2.33513155751659e-19), Real(0.3926291040466768), Real(3.313282896946004e-19)};
+    Real wnext[24];
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -9344,59 +9348,59 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s0_knee_x;
-  T s0_knee_z;
-  T s0_coupler_C_1_x;
-  T s0_coupler_C_1_z;
-  T s0_cyl1_base_1_x;
-  T s0_cyl1_base_1_z;
-  T s_cyl1_x;
-  T s_cyl1_z;
-  T s0_cyl1_end_1_x;
-  T s0_cyl2_base_1_x;
-  T s0_cyl2_base_1_z;
-  T s_cyl2_x;
-  T s_cyl2_z;
-  T s0_cyl2_end_1_x;
-  T s0_cyl3_base_1_y;
-  T s0_cyl3_base_1_z;
-  T s_cyl3_y;
-  T s_cyl3_z;
-  T Rref_thigh_00;
-  T Rref_thigh_02;
-  T Rref_thigh_20;
-  T Rref_thigh_22;
-  T Rref_crank_00;
-  T Rref_crank_20;
-  T Rref_shank_00;
-  T Rref_shank_20;
-  T cf_swing_d0_z;
-  T cf_swing_len0;
-  T cf_swing_A;
-  T cf_swing_B;
-  T cf_swing_r2;
-  T cf_hip_d0_x;
-  T cf_hip_d0_z;
-  T cf_hip_len0;
-  T cf_hip_v_z;
-  T cf_crank_pivot_d0_x;
-  T cf_crank_pivot_d0_z;
-  T cf_crank_pivot_len0;
-  T cf_crank_pivot_v_z;
-  T cf_knee_len0_sq;
-  T cf_knee_v_x;
-  T cf_knee_v_z;
-  T pt_local_M_y;
-  T pt_local_M_z;
-  T pt_local_H_x;
-  T pt_local_H_z;
-  T pt_local_F_x;
-  T pt_local_F_z;
-  T pt_local_G_x;
-  T pt_local_G_z;
-  T pt_local_D_x;
+  Real s0_knee_x;
+  Real s0_knee_z;
+  Real s0_coupler_C_1_x;
+  Real s0_coupler_C_1_z;
+  Real s0_cyl1_base_1_x;
+  Real s0_cyl1_base_1_z;
+  Real s_cyl1_x;
+  Real s_cyl1_z;
+  Real s0_cyl1_end_1_x;
+  Real s0_cyl2_base_1_x;
+  Real s0_cyl2_base_1_z;
+  Real s_cyl2_x;
+  Real s_cyl2_z;
+  Real s0_cyl2_end_1_x;
+  Real s0_cyl3_base_1_y;
+  Real s0_cyl3_base_1_z;
+  Real s_cyl3_y;
+  Real s_cyl3_z;
+  Real Rref_thigh_00;
+  Real Rref_thigh_02;
+  Real Rref_thigh_20;
+  Real Rref_thigh_22;
+  Real Rref_crank_00;
+  Real Rref_crank_20;
+  Real Rref_shank_00;
+  Real Rref_shank_20;
+  Real cf_swing_d0_z;
+  Real cf_swing_len0;
+  Real cf_swing_A;
+  Real cf_swing_B;
+  Real cf_swing_r2;
+  Real cf_hip_d0_x;
+  Real cf_hip_d0_z;
+  Real cf_hip_len0;
+  Real cf_hip_v_z;
+  Real cf_crank_pivot_d0_x;
+  Real cf_crank_pivot_d0_z;
+  Real cf_crank_pivot_len0;
+  Real cf_crank_pivot_v_z;
+  Real cf_knee_len0_sq;
+  Real cf_knee_v_x;
+  Real cf_knee_v_z;
+  Real pt_local_M_y;
+  Real pt_local_M_z;
+  Real pt_local_H_x;
+  Real pt_local_H_z;
+  Real pt_local_F_x;
+  Real pt_local_F_z;
+  Real pt_local_G_x;
+  Real pt_local_G_z;
+  Real pt_local_D_x;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -9795,7 +9799,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xa8c39af367253756ULL;
+inline constexpr unsigned long long fingerprint = 0xc58d40bb3392507aULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 25;

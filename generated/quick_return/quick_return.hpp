@@ -22,36 +22,40 @@
 
 namespace mechgen::gen::quick_return {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T r = T(0.05);  // m: crank radius (r < d)
-  T d = T(0.1);  // m: crank pivot O above the lever pivot Q
-  T h = T(0.25);  // m: ram line above the lever pivot
-  T L = T(0.3);  // m: lever length
-  T w = T(5.0);  // rad/s: crank speed
-  T m_c = T(0.3);  // kg: crank mass
-  T m_l = T(1.0);  // kg: lever mass
-  T m_b = T(0.2);  // kg: block mass
-  T m_r = T(2.0);  // kg: ram mass
-  T F_cut = T(20.0);  // N: cutting force on the ram (against +x)
+  Real r = Real(0.05);  // m: crank radius (r < d)
+  Real d = Real(0.1);  // m: crank pivot O above the lever pivot Q
+  Real h = Real(0.25);  // m: ram line above the lever pivot
+  Real L = Real(0.3);  // m: lever length
+  Real w = Real(5.0);  // rad/s: crank speed
+  Real m_c = Real(0.3);  // kg: crank mass
+  Real m_l = Real(1.0);  // kg: lever mass
+  Real m_b = Real(0.2);  // kg: block mass
+  Real m_r = Real(2.0);  // kg: ram mass
+  Real F_cut = Real(20.0);  // N: cutting force on the ram (against +x)
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -172,32 +176,32 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> lever;
-    BodyState<T> block;
-    BodyState<T> ram;
+    BodyState<Real> crank;
+    BodyState<Real> lever;
+    BodyState<Real> block;
+    BodyState<Real> ram;
   } bodies;
   struct Points {
-    PointState<T> Q;
-    PointState<T> O;
-    PointState<T> P;
-    PointState<T> E;
-    PointState<T> C;
-    PointState<T> Tool;
+    PointState<Real> Q;
+    PointState<Real> O;
+    PointState<Real> P;
+    PointState<Real> E;
+    PointState<Real> C;
+    PointState<Real> Tool;
   } points;
   struct Joints {
-    JointForce<T> crank_pivot;  // revolute
-    JointForce<T> lever_pivot;  // revolute
-    JointForce<T> crank_pin;  // pin_in_slot
-    JointForceMoment<T> block_slide;  // prismatic
-    JointForce<T> ram_pin;  // revolute
-    JointForceMoment<T> ram_slide;  // prismatic
+    JointForce<Real> crank_pivot;  // revolute
+    JointForce<Real> lever_pivot;  // revolute
+    JointForce<Real> crank_pin;  // pin_in_slot
+    JointForceMoment<Real> block_slide;  // prismatic
+    JointForce<Real> ram_pin;  // revolute
+    JointForceMoment<Real> ram_slide;  // prismatic
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -960,7 +964,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x6ca6849498b1b3c2ULL;
+inline constexpr unsigned long long fingerprint = 0x05d04ed2d1559493ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;

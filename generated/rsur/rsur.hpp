@@ -29,16 +29,20 @@
 
 namespace mechgen::gen::rsur {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T a = T(0.02);  // m: crank length
-  T d = T(0.1);  // m: y offset of the rocker axis
-  T h = T(0.05);  // m: height of the rocker axis
-  T c = T(0.07);  // m: rocker length
-  T r = T(0.004);  // m: bar radius
-  T rho = T(2700.0);  // kg/m^3: bar density
-  T w = T(2.0);  // rad/s: crank speed
+  Real a = Real(0.02);  // m: crank length
+  Real d = Real(0.1);  // m: y offset of the rocker axis
+  Real h = Real(0.05);  // m: height of the rocker axis
+  Real c = Real(0.07);  // m: rocker length
+  Real r = Real(0.004);  // m: bar radius
+  Real rho = Real(2700.0);  // kg/m^3: bar density
+  Real w = Real(2.0);  // rad/s: crank speed
 };
 
 namespace detail {
@@ -136,10 +140,10 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T theta = T(0), theta_d = T(0), theta_dd = T(0);
+  Real t = Real(0);
+  Real theta = Real(0), theta_d = Real(0), theta_dd = Real(0);
 };
 
 template <class T>
@@ -180,58 +184,58 @@ struct DriverState {
 
 inline constexpr int primary_count = 1;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
+    BodyState<Real> crank;
+    BodyState<Real> coupler;
+    BodyState<Real> rocker;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> D;
-    PointState<T> B;
-    PointState<T> C;
+    PointState<Real> A;
+    PointState<Real> D;
+    PointState<Real> B;
+    PointState<Real> C;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } jA;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } jB;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } jC;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } jD;
   } joints;
   struct Drivers {
-    DriverState<T> theta;
+    DriverState<Real> theta;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T crank[6][primary_count] = {};
-    T coupler[6][primary_count] = {};
-    T rocker[6][primary_count] = {};
+    Real crank[6][primary_count] = {};
+    Real coupler[6][primary_count] = {};
+    Real rocker[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T B[3][primary_count] = {};
-    T C[3][primary_count] = {};
+    Real B[3][primary_count] = {};
+    Real C[3][primary_count] = {};
   } point_jacobians;
   // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
-    T w[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
-    T wnext[6];
-    T residual, det;
+    Real w[6] = {Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0)};
+    Real wnext[6];
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1959,13 +1963,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s0_jC_1_z;
-  T cf_jD_len0_sq;
-  T cf_jD_v_z;
-  T cf_jD_A;
-  T pt_local_C_z;
+  Real s0_jC_1_z;
+  Real cf_jD_len0_sq;
+  Real cf_jD_v_z;
+  Real cf_jD_A;
+  Real pt_local_C_z;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -2139,7 +2143,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x6ac5c22149501e25ULL;
+inline constexpr unsigned long long fingerprint = 0x23315fba4c9b8f43ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -21,39 +21,43 @@
 
 namespace mechgen::gen::slider_crank {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T r = T(0.05);  // m: crank length
-  T L = T(0.2);  // m: connecting rod length (L > r)
-  T w = T(10.0);  // rad/s: constant crank speed
-  T rho = T(7850.0);  // kg/m^3: crank and rod density (steel)
-  T bar_w = T(0.02);  // m: crank and rod width, in the plane
-  T bar_t = T(0.008);  // m: crank and rod thickness
-  T m_s = T(0.5);  // kg: slider mass
-  T I_s = T(2e-04);  // kg m^2: slider inertia about its centre of mass
-  T k_s = T(500.0);  // N/m: spring stiffness
-  T c_s = T(2.0);  // N s/m: damping coefficient
-  T s0 = T(0.15);  // m: spring free length
-  T F0 = T(100.0);  // N: peak piston load
-  T T_f = T(0.05);  // N m: crank bearing friction torque
+  Real r = Real(0.05);  // m: crank length
+  Real L = Real(0.2);  // m: connecting rod length (L > r)
+  Real w = Real(10.0);  // rad/s: constant crank speed
+  Real rho = Real(7850.0);  // kg/m^3: crank and rod density (steel)
+  Real bar_w = Real(0.02);  // m: crank and rod width, in the plane
+  Real bar_t = Real(0.008);  // m: crank and rod thickness
+  Real m_s = Real(0.5);  // kg: slider mass
+  Real I_s = Real(2e-04);  // kg m^2: slider inertia about its centre of mass
+  Real k_s = Real(500.0);  // N/m: spring stiffness
+  Real c_s = Real(2.0);  // N s/m: damping coefficient
+  Real s0 = Real(0.15);  // m: spring free length
+  Real F0 = Real(100.0);  // N: peak piston load
+  Real T_f = Real(0.05);  // N m: crank bearing friction torque
 };
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T crank_angle = T(0), crank_angle_d = T(0), crank_angle_dd = T(0);  // rad
+  Real t = Real(0);
+  Real crank_angle = Real(0), crank_angle_d = Real(0), crank_angle_dd = Real(0);  // rad
 };
 
 // N samples of driver inputs as structure of arrays (each pointer to n values), for
 // evaluate_batch.
-template <class T>
+template <class Real>
 struct BatchInputs {
-  const T* t = nullptr;
-  const T* crank_angle = nullptr;
-  const T* crank_angle_d = nullptr;
-  const T* crank_angle_dd = nullptr;
+  const Real* t = nullptr;
+  const Real* crank_angle = nullptr;
+  const Real* crank_angle_d = nullptr;
+  const Real* crank_angle_dd = nullptr;
 };
 
 namespace detail {
@@ -174,27 +178,27 @@ struct DriverState {
   T q, qd, qdd, effort;
 };
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> rod;
-    BodyState<T> slider;
+    BodyState<Real> crank;
+    BodyState<Real> rod;
+    BodyState<Real> slider;
   } bodies;
   struct Points {
-    PointState<T> O;
-    PointState<T> G;
-    PointState<T> P;
-    PointState<T> Q;
+    PointState<Real> O;
+    PointState<Real> G;
+    PointState<Real> P;
+    PointState<Real> Q;
   } points;
   struct Joints {
-    JointForce<T> O_ground_crank;  // revolute
-    JointForce<T> P_crank_rod;  // revolute
-    JointForce<T> Q_rod_slider;  // revolute
-    JointForceMoment<T> slide;  // prismatic
+    JointForce<Real> O_ground_crank;  // revolute
+    JointForce<Real> P_crank_rod;  // revolute
+    JointForce<Real> Q_rod_slider;  // revolute
+    JointForceMoment<Real> slide;  // prismatic
   } joints;
   struct Drivers {
-    DriverState<T> crank_angle;
+    DriverState<Real> crank_angle;
   } drivers;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -852,7 +856,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xf2f5697fbd51bb4aULL;
+inline constexpr unsigned long long fingerprint = 0xe95de81031f509abULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;

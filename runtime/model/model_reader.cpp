@@ -112,10 +112,46 @@ std::string Reader::scalar(const YAML::Node& node, const std::string& what) cons
   return node.Scalar();
 }
 
+// Why a name cannot be a field of a generated kernel (empty when it can): every name becomes a
+// member of a class template whose scalar parameter is `Real` (`T` is free: a point or a
+// parameter is often called T) and whose nested types are the kernel's own, and C++ reserves its
+// keywords and names with `__` or a leading `_X`.
+std::string reserved_in_kernels(const std::string& s) {
+  const auto words = [](const char* text) {
+    std::set<std::string> out;
+    std::istringstream in(text);
+    for (std::string w; in >> w;) out.insert(w);
+    return out;
+  };
+  static const std::set<std::string> kernel_names = words(
+      "Real BatchInputs Bodies BodyJacobians BodyState Drivers DriverState Inputs JointForce "
+      "JointForceMoment Joints Params PointJacobians PointState Points PositionConstants State "
+      "Status Warm");
+  static const std::set<std::string> keywords = words(
+      "alignas alignof and and_eq asm auto bitand bitor bool break case catch char char8_t "
+      "char16_t char32_t class compl concept const consteval constexpr constinit const_cast "
+      "continue co_await co_return co_yield decltype default delete do double dynamic_cast else "
+      "enum explicit export extern false float for friend goto if inline int long mutable "
+      "namespace new noexcept not not_eq nullptr operator or or_eq private protected public "
+      "register reinterpret_cast requires return short signed sizeof static static_assert "
+      "static_cast struct switch template this thread_local throw true try typedef typeid "
+      "typename union unsigned using virtual void volatile wchar_t while xor xor_eq");
+  if (kernel_names.count(s)) return "the generated kernels use it (their scalar type or a struct)";
+  if (keywords.count(s)) return "it is a C++ keyword (names become fields of generated kernels)";
+  if (s.find("__") != std::string::npos ||
+      (s.size() > 1 && s[0] == '_' && std::isupper(static_cast<unsigned char>(s[1]))))
+    return "C++ reserves names with '__' or a leading '_' and capital letter";
+  return "";
+}
+
 std::string Reader::identifier(const YAML::Node& node, const std::string& what) const {
   const std::string s = scalar(node, what);
   if (!is_identifier(s))
     fail(node, what + " '" + s + "' is not an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+  const std::string why = reserved_in_kernels(s);
+  if (!why.empty())
+    fail(node, what + " '" + s + "' is reserved: " + why + "; rename it" +
+                   (s[0] == '_' ? std::string() : " (e.g. '" + s + "_')"));
   return s;
 }
 

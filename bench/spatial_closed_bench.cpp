@@ -1,9 +1,9 @@
 // <model>/generated for the closed chains rsur, chebyshev_spatial and quadruped_leg: the
 // generated kernel's evaluate() per sample (positions: closed-form link groups for rsur and
-// quadruped_leg, 5 unrolled Newton-Raphson steps from the previous sample for
-// chebyshev_spatial; Davies' velocities and accelerations, every body's pose, twist and twist
-// rate, the named points, the screw Jacobians, the driver efforts by virtual power and every
-// joint reaction through N_s transposed). <model>/numeric_kinematics: the reference solver's
+// quadruped_leg, the planar loop's RRR dyad in its plane for chebyshev_spatial (5 unrolled
+// Newton-Raphson steps before it); Davies' velocities and accelerations, every body's pose, twist
+// and twist rate, the named points, the screw Jacobians, the driver efforts by virtual power and
+// every joint reaction through N_s transposed). <model>/numeric_kinematics: the reference solver's
 // SpatialSolver::solve on the same walk (Newton closure from the previous sample, Davies'
 // velocities, exact accelerations); <model>/numeric (bench/spatial_bench.cpp) adds its inverse
 // dynamics: the like-for-like baseline of evaluate(). quadruped_leg/point_positions: one

@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 
+#include "spatial_circuit_loop.hpp"
+
 namespace mechgen::gen {
 
 using GiNaC::ex;
@@ -20,12 +22,7 @@ using Pose = geometry::Pose<ex>;
 
 constexpr double kTwoPi = 2 * 3.14159265358979323846;
 
-// One joint of a circuit in loop order: moving from one body to the next through `joint`,
-// forwards (+1: from its first body to its second) or backwards (-1).
-struct Step {
-  int joint = -1;
-  int direction = 1;
-};
+using Step = CircuitStep;
 
 // A circuit split into the limb (its real joints with secondary coordinates, contiguous, fixed
 // joints between them allowed) and the rest of the loop, from the limb's end back to its start.
@@ -39,38 +36,10 @@ bool vanishes(const ex& e) {
   return e.expand().is_zero();
 }
 
-// The circuit of `chord` as a loop: from the tree's lowest common ancestor down to the chord's
-// first body, the chord, then up from its second body.
-std::vector<Step> loop(const SpatialModel& m, const SpatialGraph& g, int circuit) {
-  const int chord = g.chords[static_cast<size_t>(circuit)];
-  const SpatialJoint& cj = m.joints[static_cast<size_t>(chord)];
-  const auto ancestors = [&g](int b) {
-    std::vector<int> out{b};
-    while (g.parent[static_cast<size_t>(b)] >= 0)
-      out.push_back(b = g.parent[static_cast<size_t>(b)]);
-    return out;
-  };
-  const std::vector<int> a = ancestors(cj.first), b = ancestors(cj.second);
-  size_t ia = 0, ib = 0;
-  while (std::find(b.begin(), b.end(), a[ia]) == b.end()) ++ia;
-  while (b[ib] != a[ia]) ++ib;
-  std::vector<Step> steps;
-  for (size_t k = ia; k-- > 0;) {
-    const int j = g.parent_joint[static_cast<size_t>(a[k])];
-    steps.push_back({j, m.joints[static_cast<size_t>(j)].first == a[k + 1] ? 1 : -1});
-  }
-  steps.push_back({chord, 1});
-  for (size_t k = 0; k < ib; ++k) {
-    const int j = g.parent_joint[static_cast<size_t>(b[k])];
-    steps.push_back({j, m.joints[static_cast<size_t>(j)].first == b[k] ? 1 : -1});
-  }
-  return steps;
-}
-
 std::optional<LimbCircuit> limb_circuit(const CircuitSolverContext& c, int circuit) {
   const SpatialModel& m = c.model;
   const SpatialGraph& g = c.graph;
-  const std::vector<Step> steps = loop(m, g, circuit);
+  const std::vector<Step> steps = circuit_loop(m, g, circuit);
   const size_t n = steps.size();
   enum Kind { limb, fixed, other };
   std::vector<Kind> kind(n, other);

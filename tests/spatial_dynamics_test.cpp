@@ -1,6 +1,7 @@
 // Spatial Newton-Euler: the power balance (driver power = dT/dt + dV/dt, with dT/dt also checked
-// against finite differences of T), the spatial rewrite of the planar Chebyshev four-bar against
-// the planar reference solver (efforts; reactions where unique), and its redundancy.
+// against finite differences of T), the spatial rewrite of the planar Chebyshev four-bar (the
+// numeric spatial sweep and the generated kernel's) against the planar reference solver
+// (efforts; reactions where unique), and its redundancy.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -9,9 +10,11 @@
 #include "model/spatial_model.hpp"
 #include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_kernel_sweep.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_test_models.hpp"
+#include "sweep/compiled_kernel.hpp"
 #include "sweep/sweep.hpp"
 
 namespace mechgen::spatial {
@@ -92,7 +95,11 @@ TEST(SpatialDynamics, SpatialChebyshevEqualsThePlanarSweep) {
   SweepOptions po = default_sweep(planar);
   po.solver = "numeric";
   po.samples = 73;
-  const SpatialSweepResult sr = run_spatial_sweep(spatial_model, so);
+  // The numeric spatial sweep and the generated kernel's (its planar loop in closed form).
+  const CompiledKernel* kernel = find_compiled_kernel("chebyshev_spatial");
+  ASSERT_NE(kernel, nullptr);
+  const std::vector<SpatialSweepResult> spatial_sweeps{
+      run_spatial_sweep(spatial_model, so), run_spatial_kernel_sweep(spatial_model, so, *kernel)};
   const SweepResult pr = run_sweep(planar, po);
   auto column = [](const std::vector<std::string>& cols, const std::string& name) {
     const auto at = std::find(cols.begin(), cols.end(), name);
@@ -104,18 +111,20 @@ TEST(SpatialDynamics, SpatialChebyshevEqualsThePlanarSweep) {
   for (const char* j : {"A_ground_crank", "P_crank_coupler", "M_rocker_coupler", "B_ground_rocker"})
     for (const char* f : {".fx", ".fy"}) compared.push_back(std::string(j) + f);
   double worst = 0;
-  for (const std::string& name : compared) {
-    const size_t cs = column(sr.columns, name), cp = column(pr.columns, name);
-    for (size_t i = 0; i < sr.rows.size(); ++i) {
-      const double d = std::abs(sr.rows[i][cs] - pr.rows[i][cp]);
-      worst = std::max(worst, d);
-      EXPECT_LT(d, 1e-9 * std::max(1.0, std::abs(pr.rows[i][cp]))) << name << " at row " << i;
+  for (const SpatialSweepResult& sr : spatial_sweeps) {
+    for (const std::string& name : compared) {
+      const size_t cs = column(sr.columns, name), cp = column(pr.columns, name);
+      for (size_t i = 0; i < sr.rows.size(); ++i) {
+        const double d = std::abs(sr.rows[i][cs] - pr.rows[i][cp]);
+        worst = std::max(worst, d);
+        EXPECT_LT(d, 1e-9 * std::max(1.0, std::abs(pr.rows[i][cp]))) << name << " at row " << i;
+      }
     }
+    // The driver angle is measured from the reference pose (planar: pi/2 + w t).
+    const size_t qs = column(sr.columns, "crank_angle.q"), qp = column(pr.columns, "crank_angle.q");
+    for (size_t i = 0; i < sr.rows.size(); ++i)
+      EXPECT_NEAR(sr.rows[i][qs] + M_PI / 2, pr.rows[i][qp], 1e-12);
   }
-  // The driver angle is measured from the reference pose (planar: pi/2 + w t).
-  const size_t qs = column(sr.columns, "crank_angle.q"), qp = column(pr.columns, "crank_angle.q");
-  for (size_t i = 0; i < sr.rows.size(); ++i)
-    EXPECT_NEAR(sr.rows[i][qs] + M_PI / 2, pr.rows[i][qp], 1e-12);
   std::cout << "chebyshev spatial vs planar: largest difference " << worst << "\n";
 }
 

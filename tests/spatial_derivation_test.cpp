@@ -18,6 +18,7 @@
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
+#include "spatial_derivation_values.hpp"
 
 namespace mechgen::gen {
 namespace {
@@ -56,32 +57,6 @@ drivers:
   - {name: d7, joint: lj3, kind: angle, value: t}
 step: {t0: 0, t1: 1}
 )";
-
-using Values = std::map<std::string, double>;
-
-double evaluate(const GiNaC::ex& e, const Values& values) {
-  GiNaC::exmap subs;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it))
-      subs[*it] = values.at(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
-  return GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(e.subs(subs))).to_double();
-}
-
-// The kernel's inputs: parameters as `p.<name>`, each driver's coordinate and rates as `in.<d>`.
-Values input_values(const SpatialModel& model, const SpatialGraph& graph,
-                    const std::vector<double>& parameters, const Eigen::VectorXd& q,
-                    const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-  Values values;
-  for (size_t i = 0; i < parameters.size(); ++i)
-    values["p." + model.common.parameters[i].name] = parameters[i];
-  for (const SpatialDriver& dr : model.drivers) {
-    const int c = graph.joint_column[static_cast<size_t>(dr.joint)] + dr.column;
-    values["in." + dr.name] = q[c];
-    values["in." + dr.name + "_d"] = qd[c];
-    values["in." + dr.name + "_dd"] = qdd[c];
-  }
-  return values;
-}
 
 // The derivation's outputs at one random configuration against the solver's: the worst
 // relative difference (floor 1) and the number of outputs compared.
@@ -240,23 +215,6 @@ TEST(SpatialDerivation, KernelJacobiansNamesAreChecked) {
           std::string::npos)
           << what;
     }
-  }
-}
-
-// A model with applied loads is refused (the kernels' Newton-Euler has none) with a message that
-// names the load and says what to use instead, never a kernel that silently leaves it out.
-TEST(SpatialDerivation, AppliedLoadsAreRefusedNotLeftOut) {
-  const SpatialModel model = read_spatial_model_text(
-      std::string(kTree) +
-          "forces:\n  - {name: push, type: force, body: r3, point: tip, value: [0, 0, -5]}\n",
-      "tree_kinds.yaml");
-  try {
-    derive_spatial(model, build_spatial_graph(model));
-    ADD_FAILURE() << "a model with applied loads was generated";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("'push'"), std::string::npos) << what;
-    EXPECT_NE(what.find("--solver numeric"), std::string::npos) << what;
   }
 }
 

@@ -49,14 +49,15 @@ inline std::vector<double> perturbed_parameters(const SpatialModel& model, unsig
 // largest magnitude, at least 1 % of the largest of its kind, as the leg6 test; a reaction's at
 // least 1e-3 of the largest reaction force or moment: a component that is zero (a revolute's
 // moments in chebyshev_spatial, the numeric solver's at 1e-16) has no scale of its own).
-// `perturbed` more parameter sets from perturbed_parameters.
-inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
+// `perturbed` more parameter sets from perturbed_parameters; `sets` replace the default and
+// changed parameters when given.
+inline void sweep_equals_numeric(const std::string& name, int perturbed = 0,
+                                 std::vector<std::vector<double>> sets = {}) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  std::vector<std::vector<double>> sets{model.common.default_parameters(),
-                                        changed_parameters(model)};
+  if (sets.empty()) sets = {model.common.default_parameters(), changed_parameters(model)};
   for (int k = 0; k < perturbed; ++k)
     sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
   for (const std::vector<double>& parameters : sets) {

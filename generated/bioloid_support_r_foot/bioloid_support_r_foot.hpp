@@ -15905,18 +15905,23 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 174;
 inline constexpr int ne_size = 174;
 inline constexpr const char* ne_unknowns[] = { "RL1.fx", "RL1.fy", "RL1.fz", "RL1.mx", "RL1.my", "RL1.mz", "RL2.fx", "RL2.fy", "RL2.fz", "RL2.mx", "RL2.my", "RL2.mz", "RL3.fx", "RL3.fy", "RL3.fz", "RL3.mx", "RL3.my", "RL3.mz", "RL4.fx", "RL4.fy", "RL4.fz", "RL4.mx", "RL4.my", "RL4.mz", "RL5.fx", "RL5.fy", "RL5.fz", "RL5.mx", "RL5.my", "RL5.mz", "RL6.fx", "RL6.fy", "RL6.fz", "RL6.mx", "RL6.my", "RL6.mz", "LL1.fx", "LL1.fy", "LL1.fz", "LL1.mx", "LL1.my", "LL1.mz", "LL2.fx", "LL2.fy", "LL2.fz", "LL2.mx", "LL2.my", "LL2.mz", "LL3.fx", "LL3.fy", "LL3.fz", "LL3.mx", "LL3.my", "LL3.mz", "LL4.fx", "LL4.fy", "LL4.fz", "LL4.mx", "LL4.my", "LL4.mz", "LL5.fx", "LL5.fy", "LL5.fz", "LL5.mx", "LL5.my", "LL5.mz", "LL6.fx", "LL6.fy", "LL6.fz", "LL6.mx", "LL6.my", "LL6.mz", "RA1.fx", "RA1.fy", "RA1.fz", "RA1.mx", "RA1.my", "RA1.mz", "RA2.fx", "RA2.fy", "RA2.fz", "RA2.mx", "RA2.my", "RA2.mz", "RA3.fx", "RA3.fy", "RA3.fz", "RA3.mx", "RA3.my", "RA3.mz", "RA4.fx", "RA4.fy", "RA4.fz", "RA4.mx", "RA4.my", "RA4.mz", "RA5.fx", "RA5.fy", "RA5.fz", "RA5.mx", "RA5.my", "RA5.mz", "RA6.fx", "RA6.fy", "RA6.fz", "RA6.mx", "RA6.my", "RA6.mz", "LA1.fx", "LA1.fy", "LA1.fz", "LA1.mx", "LA1.my", "LA1.mz", "LA2.fx", "LA2.fy", "LA2.fz", "LA2.mx", "LA2.my", "LA2.mz", "LA3.fx", "LA3.fy", "LA3.fz", "LA3.mx", "LA3.my", "LA3.mz", "LA4.fx", "LA4.fy", "LA4.fz", "LA4.mx", "LA4.my", "LA4.mz", "LA5.fx", "LA5.fy", "LA5.fz", "LA5.mx", "LA5.my", "LA5.mz", "LA6.fx", "LA6.fy", "LA6.fz", "LA6.mx", "LA6.my", "LA6.mz", "r_foot_weld.fx", "r_foot_weld.fy", "r_foot_weld.fz", "r_foot_weld.mx", "r_foot_weld.my", "r_foot_weld.mz", "RL1_drive.effort", "RL2_drive.effort", "RL3_drive.effort", "RL4_drive.effort", "RL5_drive.effort", "RL6_drive.effort", "LL1_drive.effort", "LL2_drive.effort", "LL3_drive.effort", "LL4_drive.effort", "LL5_drive.effort", "LL6_drive.effort", "RA1_drive.effort", "RA2_drive.effort", "RA3_drive.effort", "RA4_drive.effort", "RA5_drive.effort", "RA6_drive.effort", "LA1_drive.effort", "LA2_drive.effort", "LA3_drive.effort", "LA4_drive.effort", "LA5_drive.effort", "LA6_drive.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 25, Status::unreachable);
   // Total ops: 15691
   const T s0_RL1_z = p.l1 + p.l2 + p.l3 + p.support_z;
   const T cos_RL1 = cos(in.RL1_drive);
@@ -18864,9 +18869,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T _sum_forces_45 = ((_sum_forces_32 + _sum_forces_33) + (_sum_forces_34 + _sum_forces_35)) + ((_sum_forces_36 + _sum_forces_37) + (_sum_forces_38 + _sum_forces_39));
   const T _sum_forces_46 = _sum_forces_40;
   const T _sum_forces = (_sum_forces_41 + (_sum_forces_42 + _sum_forces_43)) + (_sum_forces_44 + (_sum_forces_45 + _sum_forces_46));
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 28, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -18960,7 +18981,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x4824b155aab56b9fULL;
+inline constexpr unsigned long long fingerprint = 0xacadaa6ccfdb2bddULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 36;

@@ -1064,19 +1064,24 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 21;
 inline constexpr int ne_size = 21;
 inline constexpr const char* ne_unknowns[] = { "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "q1.effort", "q2.effort", "q3.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 219
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -1239,9 +1244,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T _sum_forces_1 = ((b[0] + b[1]) + (b[5] + b[6])) + ((b[7] + b[11]) + (b[12] + b[13]));
   const T _sum_forces_2 = b[17];
   const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -1277,7 +1298,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x6f08b0dfdf66ef4dULL;
+inline constexpr unsigned long long fingerprint = 0xc7cf9f3b06923503ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

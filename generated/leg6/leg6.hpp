@@ -2432,19 +2432,24 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 42;
 inline constexpr int ne_size = 42;
 inline constexpr const char* ne_unknowns[] = { "hip_yaw.fx", "hip_yaw.fy", "hip_yaw.fz", "hip_yaw.mx", "hip_yaw.my", "hip_yaw.mz", "hip_roll.fx", "hip_roll.fy", "hip_roll.fz", "hip_roll.mx", "hip_roll.my", "hip_roll.mz", "hip_pitch.fx", "hip_pitch.fy", "hip_pitch.fz", "hip_pitch.mx", "hip_pitch.my", "hip_pitch.mz", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "ankle_pitch.fx", "ankle_pitch.fy", "ankle_pitch.fz", "ankle_pitch.mx", "ankle_pitch.my", "ankle_pitch.mz", "ankle_roll.fx", "ankle_roll.fy", "ankle_roll.fz", "ankle_roll.mx", "ankle_roll.my", "ankle_roll.mz", "q1.effort", "q2.effort", "q3.effort", "q4.effort", "q5.effort", "q6.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
   // Total ops: 1311
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
@@ -2960,9 +2965,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T _sum_forces_6 = ((b[23] + b[24]) + (b[25] + b[26])) + ((b[27] + b[28]) + (b[29] + b[30]));
   const T _sum_forces_7 = (b[31] + b[32]) + (b[33] + (b[34] + b[35]));
   const T _sum_forces = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 9, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -3010,7 +3031,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x3b5027572453fba7ULL;
+inline constexpr unsigned long long fingerprint = 0x83d3979aa2025035ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -9,9 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
@@ -22,13 +20,6 @@
 
 namespace mechgen::gen {
 namespace {
-
-std::string model_text(const std::string& name) {
-  std::ifstream in(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
@@ -58,13 +49,7 @@ Worst loaded_derivation_equals_numeric(const std::string& text, const std::strin
     solver.solve(options.t0 + (options.t1 - options.t0) * (i + 0.5) / poses, st);
     const spatial::SpatialLoads loads = spatial::inverse_dynamics(solver, st);
     const spatial::NewtonEulerSystem system = spatial::newton_euler_system(solver, st);
-    Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd, st.t);
-    for (size_t k = 0; k < graph.secondary.size(); ++k)
-      values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
-    for (size_t k = 0; k < d.angle_start.size(); ++k)
-      values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
-    for (const auto& [symbol, value] : d.definitions)
-      values[symbol.get_name()] = evaluate(value, values);
+    const Values values = derivation_values(model, graph, d, parameters, st);
     std::map<std::string, double> out;
     for (const SpatialOutput& o : d.dynamics) out[o.target] = evaluate(o.value, values);
     // Efforts: input k is primary column graph_column.

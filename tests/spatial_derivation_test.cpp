@@ -236,14 +236,7 @@ void closed_reactions_equal_numeric(const std::string& text, const std::string& 
     solver.solve(options.t0 + (options.t1 - options.t0) * i / 12, st);
     const spatial::SpatialLoads loads = spatial::inverse_dynamics(solver, st);
     EXPECT_EQ(loads.redundancy, expected_redundancy);
-    Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd);
-    for (size_t k = 0; k < graph.secondary.size(); ++k)
-      values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
-    // Closed-form angles unwound to the assembly's (the reactions read their cosines and sines).
-    for (size_t k = 0; k < d.angle_start.size(); ++k)
-      values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
-    for (const auto& [symbol, value] : d.definitions)
-      values[symbol.get_name()] = evaluate(value, values);
+    const Values values = derivation_values(model, graph, d, parameters, st);
     std::map<std::string, double> out;
     for (const SpatialOutput& o : d.dynamics) out[o.target] = evaluate(o.value, values);
     for (size_t j = 0; j < model.joints.size(); ++j) {
@@ -264,13 +257,6 @@ void closed_reactions_equal_numeric(const std::string& text, const std::string& 
   std::cout << label << ": reactions (minimum norm, redundancy " << expected_redundancy
             << ") against the numeric solver, 12 poses: worst " << worst << " of " << largest
             << "\n";
-}
-
-std::string model_text(const std::string& name) {
-  std::ifstream in(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 TEST(SpatialDerivation, ClosedChainReactionsAreTheNumericSolversMinimumNormOnes) {

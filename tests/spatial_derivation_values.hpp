@@ -5,12 +5,16 @@
 #include <ginac/ginac.h>
 
 #include <Eigen/Dense>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
+#include "spatial/spatial_solver.hpp"
+#include "spatial_derivation.hpp"
 
 namespace mechgen::gen {
 
@@ -39,6 +43,30 @@ inline Values input_values(const SpatialModel& model, const SpatialGraph& graph,
     values["in." + dr.name + "_dd"] = qdd[c];
   }
   return values;
+}
+
+// Every definition of `d` evaluated at a state the numeric solver solved: the inputs, the Newton
+// coordinates' warm start at the solved coordinates, the closed-form angles' unwound to the
+// assembly's (the outputs read their cosines and sines).
+inline Values derivation_values(const SpatialModel& model, const SpatialGraph& graph,
+                                const SpatialDerivation& d, const std::vector<double>& parameters,
+                                const spatial::SpatialState& st) {
+  Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd, st.t);
+  for (size_t k = 0; k < graph.secondary.size(); ++k)
+    values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
+  for (size_t k = 0; k < d.angle_start.size(); ++k)
+    values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
+  for (const auto& [symbol, value] : d.definitions)
+    values[symbol.get_name()] = evaluate(value, values);
+  return values;
+}
+
+// A shipped model's description text (tests edit it before reading).
+inline std::string model_text(const std::string& name) {
+  std::ifstream in(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace mechgen::gen

@@ -58,7 +58,7 @@ struct ClosedFormGroup {
   std::map<int, ex> warm;  // per column: its warm start's placeholder
 };
 
-// The chain Y -near- L1 [-prismatic- L2] -far- X found around one revolute K-Y.
+// The chain Y -near- L1 [-prismatic- L2] -far- X found around one revolute (or prismatic) K-Y.
 struct Link {
   int revolute = -1, K = -1, Y = -1;
   int y_end = -1, x_end = -1;  // the link's joints at Y and at X
@@ -134,7 +134,8 @@ class LinkSolver {
     prefix_ = "cf_" + rname + "_";
     const std::optional<ex> length2 = link_length2();
     if (!length2) return std::nullopt;
-    if (!revolute(*length2)) return std::nullopt;
+    const bool slider = joint(l_.revolute).type == SpatialJointType::prismatic;
+    if (!(slider ? slide(*length2) : revolute(*length2))) return std::nullopt;
     if (!ends()) return std::nullopt;
     // The group must reproduce the numeric solver's assembly (mod 2 pi).
     for (const int c : g_.columns) {
@@ -144,14 +145,15 @@ class LinkSolver {
     }
     const SpatialJoint& u = joint(universal_end());
     const SpatialJoint& s = joint(spherical_end());
-    g_.plan =
-        "closed form, link '" + body(l_.L1) +
-        (l_.prismatic >= 0
-             ? "' + '" + body(l_.L2) + "' (length driven by '" + joint(l_.prismatic).name + "')"
-             : "'") +
-        " from '" + body(l_.X) + "': A cos q + B sin q = C (branch " + (tau_ > 0 ? "+1" : "-1") +
-        " from the assembly), then '" + u.name + "' (universal) from the link's direction, '" +
-        s.name + "' (spherical) from the relative rotation";
+    g_.plan = "closed form, link '" + body(l_.L1) +
+              (l_.prismatic >= 0 ? "' + '" + body(l_.L2) + "' (length driven by '" +
+                                       joint(l_.prismatic).name + "')"
+                                 : "'") +
+              " from '" + body(l_.X) +
+              "': " + (slider ? "a quadratic in the slider's q" : "A cos q + B sin q = C") +
+              " (branch " + (tau_ > 0 ? "+1" : "-1") + " from the assembly), then '" + u.name +
+              "' (universal) from the link's direction, '" + s.name +
+              "' (spherical) from the relative rotation";
     return g_;
   }
 
@@ -272,6 +274,43 @@ class LinkSolver {
     return true;
   }
 
+  // The prismatic K-Y (a slider): |c_Y(q) - c_X|^2 = L^2 in K's frame is a quadratic in q.
+  bool slide(const ex& length2) {
+    const size_t c = column(l_.revolute);
+    const V& s = ctx_.axes[c].s;
+    const ex sigma = joint(l_.revolute).first == l_.K ? 1 : -1;
+    const Pose& DK = ctx_.tree_pose[static_cast<size_t>(l_.K)];
+    const Pose& DX = ctx_.tree_pose[static_cast<size_t>(l_.X)];
+    cX_ = def("cX", geometry::apply(DX, centre(l_.x_end)));
+    const V e = def("e", centre(l_.y_end) - geometry::transpose(DK.R) * (cX_ - DK.p));
+    // (s.s) u^2 + 2 (s.e) u + e.e - L^2 = 0 for the displacement u = sigma q along s.
+    const ex ss = def("ss", geometry::dot(s, s));
+    const ex se = def("se", geometry::dot(s, e));
+    const ex disc = def("disc", se * se - ss * (geometry::dot(e, e) - length2));
+    g_.reach.push_back(disc);
+    const ex rt = def("root", root(disc));
+    const double qa = ctx_.assembly_q[c];
+    int match = 0;
+    for (const int t : {1, -1}) {
+      const double u = ctx_.value(sigma * (-se + t * rt) / ss);
+      if (std::abs(u - qa) < 1e-8 * (1 + std::abs(qa))) tau_ = t, ++match;
+    }
+    if (match != 1 || !(ctx_.value(disc) > 0)) return false;  // no branch, or at a dead point
+    const symbol q = GiNaC::ex_to<symbol>(ctx_.q[c]);
+    const ex value = (sigma * (-se + tau_ * rt) / ss).expand();
+    g_.definitions.emplace_back(q, value);
+    ctx_.assembly[q] = ctx_.value(value);
+    g_.columns.push_back(static_cast<int>(c));
+    // Y's displacement: K's, then the translation along the axis (against it when K is second).
+    M I;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) I(i, j) = i == j ? 1 : 0;
+    const Pose DY = DK * Pose{I, (sigma * q) * s};
+    DY_ = {def("RY", DY.R), def("pY", DY.p)};
+    cY_ = def("cY", geometry::apply(DY_, centre(l_.y_end)));
+    return true;
+  }
+
   const Pose& pose(int b) const { return b == l_.Y ? DY_ : ctx_.tree_pose[static_cast<size_t>(b)]; }
 
   // The universal end's angles from the link's direction, the spherical end's from the rest.
@@ -370,7 +409,9 @@ std::optional<ClosedFormGroup> link_group(
   const SpatialModel& m = ctx.model;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     const SpatialJoint& r = m.joints[j];
-    if (r.type != SpatialJointType::revolute || !unknown(ctx, static_cast<int>(j))) continue;
+    const bool one_axis =
+        r.type == SpatialJointType::revolute || r.type == SpatialJointType::prismatic;
+    if (!one_axis || !unknown(ctx, static_cast<int>(j))) continue;
     for (const auto& [K, Y] : {std::pair{r.first, r.second}, std::pair{r.second, r.first}}) {
       if (Y == m.ground || !ctx.pose_known(K)) continue;
       for (const int near : joints_of(m, Y, static_cast<int>(j))) {

@@ -1,9 +1,10 @@
 // Closed forms of binary links with a universal and a spherical end (issue 11 item 1b), a
 // circuit solver (spatial_circuit_solvers.hpp): a link (one body, or a cylinder's barrel and rod
 // joined by a known prismatic along the line of its end centres) joins a known body X to a body Y
-// turned by one unknown revolute from a known body K. The distance between the end centres is the
-// link's length (constant, or the cylinder's), which gives A cos q + B sin q = C for the
-// revolute; then the universal end's two angles from the link's direction (two rotations about
+// turned by one unknown revolute from a known body K, or slid by one unknown prismatic (a spatial
+// slider-crank's slider). The distance between the end centres is the link's length (constant, or
+// the cylinder's), which gives A cos q + B sin q = C for the revolute, a quadratic in q for the
+// prismatic; then the universal end's two angles from the link's direction (two rotations about
 // crossed axes) and the spherical end's three from the remaining relative rotation (x-y-z
 // angles). rsur's RSUR loop and every circuit of quadruped_leg (cylinders l3, l2, l1 on the
 // swing, the crank and the hip, then the coupler on the knee, which needs the crank's: dependency

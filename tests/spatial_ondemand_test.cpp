@@ -12,12 +12,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <string>
 #include <vector>
 
 #include "ondemand_test_support.hpp"
 #include "report/csv_table.hpp"
+#include "sweep_column_compare.hpp"
 
 namespace mechgen {
 namespace {
@@ -73,25 +73,9 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
     ASSERT_EQ(generated.rows[r].size(), generated.header.size());
     ASSERT_EQ(numeric.rows[r].size(), numeric.header.size());
   }
-  // Each column to 1e-9 of its largest magnitude over the sweep, at least 1 % of the largest of
-  // its kind (a reaction moment about the joint's own axis is zero but for rounding), as
-  // tests/spatial_kernel_test.cpp compares the compiled-in kernel.
-  auto kind = [](const std::string& name) { return name.substr(name.rfind('.') + 1); };
-  std::map<std::string, double> kind_scale;
-  for (const auto& row : numeric.rows)
-    for (size_t c = 0; c < numeric.header.size(); ++c)
-      kind_scale[kind(numeric.header[c])] =
-          std::max(kind_scale[kind(numeric.header[c])], std::abs(row[c]));
-  double worst = 0;
   std::string where;
-  for (size_t c = 0; c < numeric.header.size(); ++c) {
-    double scale = std::max(1e-300, 0.01 * kind_scale[kind(numeric.header[c])]);
-    for (const auto& row : numeric.rows) scale = std::max(scale, std::abs(row[c]));
-    for (size_t r = 0; r < numeric.rows.size(); ++r) {
-      const double e = std::abs(generated.rows[r][c] - numeric.rows[r][c]) / scale;
-      if (e > worst) worst = e, where = numeric.header[c];
-    }
-  }
+  const double worst =
+      test::worst_column_difference(numeric.header, numeric.rows, generated.rows, where);
   EXPECT_LT(worst, 1e-9) << where;
   std::cout << "edited leg6, kernel built on demand against numeric: worst " << worst << " ("
             << where << ")\n";
@@ -107,6 +91,72 @@ TEST(SpatialOnDemand, EditedLeg6InAnotherFolderGetsItsOwnKernelEqualToNumeric) {
     const double x = row[column("K.x")], y = row[column("K.y")], z = row[column("K.z")];
     EXPECT_NEAR(std::sqrt(x * x + y * y + z * z), 0.085, 1e-12);
   }
+  fs::remove_all(dir);
+}
+
+// A user's spatial slider-crank (RSUP: crank about z, a rod with a spherical and a universal end,
+// a slider along x offset by e and h) written outside models/: its kernel is generated on demand
+// with the slider in closed form (a quadratic, no Newton: `check` says so), equal to the numeric
+// solver on every column, and its slider follows |C - B| = L written out here:
+// x = a cos(theta) + sqrt(L^2 - (e - a sin(theta))^2 - h^2).
+TEST(SpatialOnDemand, UserSpatialSliderCrankClosesInClosedFormEqualToNumeric) {
+  const fs::path dir = fresh_dir("rsup");
+  const fs::path model = dir / "rsup.yaml";
+  std::ofstream(model)
+      << "name: rsup\ndimension: spatial\ngravity: [0, 0, -9.81]\nparameters:\n"
+         "  a: {value: 0.03, unit: m}\n  e: {value: 0.02, unit: m}\n"
+         "  h: {value: 0.015, unit: m}\n  L: {value: 0.12, unit: m}\n"
+         "  w: {value: 3, unit: rad/s}\n  x0: {value: 0.03 + sqrt(0.12^2 - 0.02^2 - 0.015^2)}\n"
+         "bodies:\n  - {name: ground, ground: true, points: {A: [0, 0, 0]}}\n"
+         "  - {name: crank, points: {B: [a, 0, 0]}, mass: {mass: 0.1, com: [a/2, 0, 0], "
+         "inertia: [1e-5, 1e-5, 1e-5]}}\n"
+         "  - {name: rod, points: {C: [x0, e, h]}, mass: {mass: 0.2, com: [(a + x0)/2, e/2, h/2], "
+         "inertia: [1e-4, 1e-4, 1e-4]}}\n"
+         "  - {name: slider, points: {P: [x0, e, h]}, mass: {mass: 0.5, com: [x0, e, h], "
+         "inertia: [1e-4, 1e-4, 1e-4]}}\n"
+         "joints:\n"
+         "  - {name: jA, type: revolute, first: ground, second: crank, s: [0, 0, 1], s0: A}\n"
+         "  - {name: jB, type: spherical, first: crank, second: rod, s0: [a, 0, 0]}\n"
+         "  - {name: jC, type: universal, first: rod, second: slider, s: [0, 0, 1], "
+         "s2: [0, 1, 0], s0: [x0, e, h]}\n"
+         "  - {name: jP, type: prismatic, first: ground, second: slider, s: [1, 0, 0], "
+         "s0: [x0, e, h]}\n"
+         "drivers:\n  - {name: theta, joint: jA, kind: angle, value: w*t}\n"
+         "step: {t0: 0, t1: 2*pi/w, samples: 61}\n";
+  std::string err;
+  ASSERT_EQ(mechgen("generate " + model.string() + " -o " + (dir / "kernel").string(), dir, err), 0)
+      << err;
+  EXPECT_NE(file_text(dir / "kernel" / "rsup.hpp").find("every circuit in closed form, no Newton"),
+            std::string::npos);
+  const std::string cache = " --cache " + (dir / "cache").string();
+  const std::string common = "sweep " + model.string();
+  ASSERT_EQ(mechgen(common + cache + " --out " + (dir / "gen.csv").string(), dir, err), 0) << err;
+  ASSERT_EQ(mechgen(common + " --solver numeric --out " + (dir / "num.csv").string(), dir, err), 0)
+      << err;
+  const report::CsvTable generated = report::read_csv((dir / "gen.csv").string());
+  const report::CsvTable numeric = report::read_csv((dir / "num.csv").string());
+  ASSERT_EQ(generated.header, numeric.header);
+  ASSERT_EQ(generated.rows.size(), 61u);
+  std::string where;
+  EXPECT_LT(test::worst_column_difference(numeric.header, numeric.rows, generated.rows, where),
+            1e-9)
+      << where;
+  const auto column = [&generated](const std::string& name) {
+    const auto at = std::find(generated.header.begin(), generated.header.end(), name);
+    EXPECT_NE(at, generated.header.end()) << name;
+    return static_cast<size_t>(at - generated.header.begin());
+  };
+  const double a = 0.03, e = 0.02, h = 0.015, L = 0.12;
+  const double x0 = a + std::sqrt(L * L - e * e - h * h);
+  double worst_slider = 0;
+  for (const auto& row : generated.rows) {
+    const double theta = row[column("theta.q")];
+    const double x =
+        a * std::cos(theta) +
+        std::sqrt(L * L - (e - a * std::sin(theta)) * (e - a * std::sin(theta)) - h * h);
+    worst_slider = std::max(worst_slider, std::abs(row[column("jP.q")] - (x - x0)));
+  }
+  EXPECT_LT(worst_slider, 1e-14);
   fs::remove_all(dir);
 }
 

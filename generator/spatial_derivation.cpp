@@ -76,12 +76,11 @@ class Builder {
     twist_rates();
     body_outputs();
     jacobians();
-    if (closed()) {
+    if (closed())
       closed_efforts();
-    } else {
+    else
       dynamics();
-      ne_system();
-    }
+    ne_system();
     out_.primary_count = static_cast<int>(g_.primary.size());
     out_.closed_chain = closed();
     return std::move(out_);
@@ -122,11 +121,6 @@ class Builder {
 
   void check_supported() const {
     const std::string file = m_.common.file + ": error: ";
-    // The kernels' Newton-Euler has no applied loads: refused rather than silently left out.
-    if (!m_.loads.empty())
-      throw std::runtime_error(
-          file + "applied loads ('forces:', first '" + m_.loads[0].name +
-          "') are not in generated spatial kernels yet (use --solver numeric)");
     for (const SpatialColumn& c : g_.columns)
       if (!c.primary && !closed())
         throw std::runtime_error(file + "joint '" + m_.joints[static_cast<size_t>(c.joint)].name +
@@ -1044,7 +1038,8 @@ class Builder {
     return 0;
   }
 
-  // Rate of momentum minus gravity of body b, as a wrench about the ground origin.
+  // Rate of momentum minus gravity and the applied loads of body b, as a wrench about the ground
+  // origin (the numeric solver's right-hand side).
   Wrench momentum_rate(size_t b) {
     const SpatialBody& body = m_.bodies[b];
     const std::string& n = body.name;
@@ -1068,8 +1063,35 @@ class Builder {
     const V Ia = frame_[b].R * named("Ialb_" + n, I * named("alb_" + n, Rt * A_[b].w));
     const V F = named("F_" + n, mass * (acc_[b] - vec(m_.gravity)));
     const V Mo = named("M_" + n, Ia + geometry::cross(V_[b].w, h) + geometry::cross(com_[b], F));
-    momentum_[b] = {F, Mo};
-    return {F, Mo};
+    const std::optional<Wrench> applied = applied_wrench(b);
+    momentum_[b] =
+        applied ? Wrench{named("Fnet_" + n, F - applied->f), named("Mnet_" + n, Mo - applied->m)}
+                : Wrench{F, Mo};
+    return momentum_[b];
+  }
+
+  // The applied loads (`forces:`) on body b as one wrench about the ground origin, as the
+  // numeric solver's applied_wrenches: a force at a point of the body (its moment x x f), a
+  // couple; components are ground-frame functions of the parameters and t (the input in.t).
+  std::optional<Wrench> applied_wrench(size_t b) {
+    std::optional<Wrench> sum;
+    const GiNaC::exmap time{{m_.common.t, symbol("in.t")}};
+    for (const SpatialLoad& load : m_.loads) {
+      if (load.body != static_cast<int>(b)) continue;
+      V value = vec(load.value);
+      for (ex& e : value) e = e.subs(time);
+      value = named("load_" + load.name, value);
+      Wrench w{V{0, 0, 0}, value};
+      if (!load.torque) {
+        const Pose& F = frame_[b];
+        for (const SpatialPoint& sp : m_.bodies[b].points)
+          if (sp.name == load.point)
+            w = {value,
+                 geometry::cross(named("at_" + load.name, F.R * vec(sp.local) + F.p), value)};
+      }
+      sum = sum ? *sum + w : w;
+    }
+    return sum;
   }
 
   void dynamics() {

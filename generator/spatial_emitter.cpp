@@ -323,20 +323,20 @@ class SpatialEmitter {
             o.target.rfind("s.closure.", 0) == 0)
           control.push_back(o);
     const CodeBlock kin = block(kinematic), full = block(all), lean = block(control);
+    // A and b; a closed chain's also close its circuits from the State's warm start, checked as
+    // evaluate() checks them.
     std::vector<SpatialOutput> system;
     for (const auto& [index, value] : d_.ne_matrix)
       system.push_back({"A[" + std::to_string(index) + "]", value});
     for (size_t r = 0; r < d_.ne_rhs.size(); ++r)
       if (!d_.ne_rhs[r].is_zero()) system.push_back({"b[" + std::to_string(r) + "]", d_.ne_rhs[r]});
-    const CodeBlock ne = block(system, false);
+    for (const SpatialOutput& o : d_.kinematics)
+      if (o.target.rfind("s.closure.", 0) == 0) system.push_back(o);
+    const CodeBlock ne = block(system);
     v["ne_using"] = using_std(ne);
     v["ne_ops"] = std::to_string(ne.op_count());
-    v["ne_body"] = ne.render("  ") + spatial_output_checks(
-                                         system,
-                                         [](OutputStage, const std::string& c) {
-                                           return "if (!(" + c + ")) return Status::non_finite;";
-                                         },
-                                         OutputStage::forces);
+    v["ne_body"] =
+        ne.render("  ") + spatial_output_checks(system, stage_check, OutputStage::forces);
     v["ne_rows"] = std::to_string(d_.ne_rows);
     v["ne_size"] = std::to_string(d_.ne_unknowns.size());
     v["ne_unknowns"] = d_.ne_unknowns.empty() ? "nullptr" : quoted(d_.ne_unknowns);

@@ -18,6 +18,7 @@
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
+#include "spatial_derivation_values.hpp"
 
 namespace mechgen::gen {
 namespace {
@@ -56,32 +57,6 @@ drivers:
   - {name: d7, joint: lj3, kind: angle, value: t}
 step: {t0: 0, t1: 1}
 )";
-
-using Values = std::map<std::string, double>;
-
-double evaluate(const GiNaC::ex& e, const Values& values) {
-  GiNaC::exmap subs;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it))
-      subs[*it] = values.at(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
-  return GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(e.subs(subs))).to_double();
-}
-
-// The kernel's inputs: parameters as `p.<name>`, each driver's coordinate and rates as `in.<d>`.
-Values input_values(const SpatialModel& model, const SpatialGraph& graph,
-                    const std::vector<double>& parameters, const Eigen::VectorXd& q,
-                    const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
-  Values values;
-  for (size_t i = 0; i < parameters.size(); ++i)
-    values["p." + model.common.parameters[i].name] = parameters[i];
-  for (const SpatialDriver& dr : model.drivers) {
-    const int c = graph.joint_column[static_cast<size_t>(dr.joint)] + dr.column;
-    values["in." + dr.name] = q[c];
-    values["in." + dr.name + "_d"] = qd[c];
-    values["in." + dr.name + "_dd"] = qdd[c];
-  }
-  return values;
-}
 
 // The derivation's outputs at one random configuration against the solver's: the worst
 // relative difference (floor 1) and the number of outputs compared.
@@ -243,23 +218,6 @@ TEST(SpatialDerivation, KernelJacobiansNamesAreChecked) {
   }
 }
 
-// A model with applied loads is refused (the kernels' Newton-Euler has none) with a message that
-// names the load and says what to use instead, never a kernel that silently leaves it out.
-TEST(SpatialDerivation, AppliedLoadsAreRefusedNotLeftOut) {
-  const SpatialModel model = read_spatial_model_text(
-      std::string(kTree) +
-          "forces:\n  - {name: push, type: force, body: r3, point: tip, value: [0, 0, -5]}\n",
-      "tree_kinds.yaml");
-  try {
-    derive_spatial(model, build_spatial_graph(model));
-    ADD_FAILURE() << "a model with applied loads was generated";
-  } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("'push'"), std::string::npos) << what;
-    EXPECT_NE(what.find("--solver numeric"), std::string::npos) << what;
-  }
-}
-
 // A closed chain's reactions (N_s transposed, minimum norm over the redundant rows' null space)
 // evaluated numerically against the numeric solver's A x = b along the step: chebyshev_spatial
 // with gravity tilted out of its plane, so that its three redundant components (fz, mx, my of
@@ -278,14 +236,7 @@ void closed_reactions_equal_numeric(const std::string& text, const std::string& 
     solver.solve(options.t0 + (options.t1 - options.t0) * i / 12, st);
     const spatial::SpatialLoads loads = spatial::inverse_dynamics(solver, st);
     EXPECT_EQ(loads.redundancy, expected_redundancy);
-    Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd);
-    for (size_t k = 0; k < graph.secondary.size(); ++k)
-      values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
-    // Closed-form angles unwound to the assembly's (the reactions read their cosines and sines).
-    for (size_t k = 0; k < d.angle_start.size(); ++k)
-      values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
-    for (const auto& [symbol, value] : d.definitions)
-      values[symbol.get_name()] = evaluate(value, values);
+    const Values values = derivation_values(model, graph, d, parameters, st);
     std::map<std::string, double> out;
     for (const SpatialOutput& o : d.dynamics) out[o.target] = evaluate(o.value, values);
     for (size_t j = 0; j < model.joints.size(); ++j) {
@@ -306,13 +257,6 @@ void closed_reactions_equal_numeric(const std::string& text, const std::string& 
   std::cout << label << ": reactions (minimum norm, redundancy " << expected_redundancy
             << ") against the numeric solver, 12 poses: worst " << worst << " of " << largest
             << "\n";
-}
-
-std::string model_text(const std::string& name) {
-  std::ifstream in(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 TEST(SpatialDerivation, ClosedChainReactionsAreTheNumericSolversMinimumNormOnes) {

@@ -36,14 +36,15 @@ inline std::vector<double> perturbed_parameters(const SpatialModel& model, unsig
 // numeric sweep: every column (kinematics, driver efforts, joint reactions; where circuits are
 // redundant the numeric solver's minimum-norm reactions) to 1e-9 of its scale
 // (test::worst_column_difference).
-// `perturbed` more parameter sets from perturbed_parameters.
-inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
+// `perturbed` more parameter sets from perturbed_parameters; `sets` replace the default and
+// changed parameters when given.
+inline void sweep_equals_numeric(const std::string& name, int perturbed = 0,
+                                 std::vector<std::vector<double>> sets = {}) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  std::vector<std::vector<double>> sets{model.common.default_parameters(),
-                                        changed_parameters(model)};
+  if (sets.empty()) sets = {model.common.default_parameters(), changed_parameters(model)};
   for (int k = 0; k < perturbed; ++k)
     sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
   for (const std::vector<double>& parameters : sets) {

@@ -2,6 +2,7 @@
 #include "spatial/spatial_dynamics.hpp"
 
 #include <sstream>
+#include <utility>
 
 namespace mechgen::spatial {
 
@@ -109,6 +110,11 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
 }
 
 }  // namespace
+
+NewtonEulerSystem newton_euler_system(const SpatialSolver& solver, const SpatialState& s) {
+  System sys = assemble(solver, s);
+  return {std::move(sys.A), std::move(sys.b)};
+}
 
 SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s) {
   const System sys = assemble(solver, s);

@@ -34,6 +34,15 @@ struct Redundancy {
   bool efforts_unique = true;
 };
 
+// The system A x = b itself at a solved state: rows 6 per moving body (force, moment about the
+// ground origin), then one per joint coordinate; unknowns 6 per joint (force, moment at its
+// point), then one effort per primary column. The generated kernels' ne_system() returns the same.
+struct NewtonEulerSystem {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+};
+NewtonEulerSystem newton_euler_system(const SpatialSolver& solver, const SpatialState& state);
+
 // Inverse dynamics of a solved state (positions, velocities, accelerations). Throws ModelError
 // when no wrench set balances the bodies (a motion the joints cannot transmit).
 SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& state);

@@ -59,11 +59,18 @@ double velocities_equal_kinematics(const std::string& name) {
     }
     solver.solve(t, numeric);
     for (const int k : solver.graph().secondary) {
-      const std::string joint =
-          model.joints[static_cast<size_t>(solver.graph().columns[static_cast<size_t>(k)].joint)]
-              .name;
-      const auto at = std::find(names.begin(), names.end(), joint + ".qd") - names.begin();
-      worst_qd = std::max(worst_qd, std::abs(a[static_cast<size_t>(at)] - numeric.qd[k]));
+      // A joint's columns are q, or q1, q2, ... when it has several coordinates.
+      const int j = solver.graph().columns[static_cast<size_t>(k)].joint;
+      const SpatialJoint& joint = model.joints[static_cast<size_t>(j)];
+      const int within = k - solver.graph().joint_column[static_cast<size_t>(j)];
+      const std::string column =
+          joint.name +
+          (joint.columns.size() == 1 ? ".qd" : ".q" + std::to_string(within + 1) + "d");
+      const auto at = std::find(names.begin(), names.end(), column);
+      EXPECT_NE(at, names.end()) << column;
+      if (at == names.end()) continue;
+      worst_qd = std::max(worst_qd, std::abs(a[static_cast<size_t>(at - names.begin())] -
+                                             numeric.qd[static_cast<Eigen::Index>(k)]));
     }
   }
   return worst_qd;

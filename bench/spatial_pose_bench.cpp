@@ -4,6 +4,8 @@
 //    form from the five virtual chains, Davies' velocities and exact accelerations through the
 //    fixed-pivot elimination of the 24 x 24 N_s (block-diagonal per limb: no fill between
 //    limbs), every body's pose, twist and twist rate, the named points and the screw Jacobians;
+//  - bioloid/generated_velocities: velocities(), the same without accelerations and Jacobians
+//    (positions, Davies velocities, twists, point velocities);
 //  - bioloid/numeric_davies: the reference solver's rates() at the same (already placed) pose:
 //    N built, N_s q_s' = -N_p q_p' and the accelerations by its dense solve (issue 13's baseline:
 //    the velocity solve alone, less than the generated kernel computes);
@@ -126,6 +128,21 @@ namespace leg = gen::lecture_leg_ik;
         return bio::kinematics(bioloid->params, in, *state);
       },
       true);
+  // Issue 13's like-for-like measure: positions and Davies velocities alone (velocities()).
+  bioloid->check("bioloid velocities()", [&](const bio::Inputs<double>& in) {
+    if (bio::velocities(bioloid->params, in, *state) != bio::Status::ok)
+      throw std::runtime_error("bioloid: the generated velocities() failed");
+    const auto& j = state->joints;
+    return std::vector<double>{j.RL1.qd, j.RL2.qd, j.RL3.qd, j.RL4.qd, j.RL5.qd, j.RL6.qd};
+  });
+  benchmark::RegisterBenchmark("bioloid/generated_velocities", [bioloid,
+                                                                state](benchmark::State& bench) {
+    size_t i = 0;
+    for (auto _ : bench) {
+      benchmark::DoNotOptimize(bio::velocities(bioloid->params, bioloid->inputs[i], *state));
+      i = (i + 1) % bioloid->inputs.size();
+    }
+  })->Unit(benchmark::kNanosecond);
   auto lecture = std::make_shared<PoseWalk<leg::Inputs<double>, leg::Params<double>>>(
       "lecture_leg_ik", [](const leg::Params<double>& p, double t, leg::Inputs<double>& in) {
         leg::driver_inputs(p, t, in);

@@ -29,6 +29,10 @@ namespace {
 using V = geometry::Vec3<ex>;
 using M = geometry::Mat3<ex>;
 using Pose = geometry::Pose<ex>;
+// Substitution maps keyed by symbols alone: a lookup per node instead of GiNaC's pattern match
+// against every key (which made evaluating thousands of definitions at the assembly quadratic).
+constexpr unsigned kSymbolKeys =
+    GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product;
 using Twist = geometry::Twist<ex>;
 using Wrench = geometry::Wrench<ex>;
 
@@ -325,13 +329,15 @@ class Builder {
       // is not needed: its value is the solver's.
       for (size_t k = start; k < out_.definitions.size(); ++k)
         if (!num.count(out_.definitions[k].first))
-          num[out_.definitions[k].first] = out_.definitions[k].second.subs(num).evalf();
+          num[out_.definitions[k].first] =
+              out_.definitions[k].second.subs(num, kSymbolKeys).evalf();
       std::vector<std::vector<double>> m(rows, std::vector<double>(ns));
       for (size_t r = 0; r < rows; ++r)
         for (size_t i = 0; i < ns; ++i)
-          m[r][i] = GiNaC::ex_to<GiNaC::numeric>(
-                        network_[r][static_cast<size_t>(g_.secondary[i])].subs(num).evalf())
-                        .to_double();
+          m[r][i] =
+              GiNaC::ex_to<GiNaC::numeric>(
+                  network_[r][static_cast<size_t>(g_.secondary[i])].subs(num, kSymbolKeys).evalf())
+                  .to_double();
       samples_.push_back(m);
     }
   }
@@ -502,8 +508,8 @@ class Builder {
       for (; evaluated < out_.definitions.size(); ++evaluated)
         if (!num.count(out_.definitions[evaluated].first))
           num[out_.definitions[evaluated].first] =
-              out_.definitions[evaluated].second.subs(num).evalf();
-      return GiNaC::ex_to<GiNaC::numeric>(e.subs(num).evalf()).to_double();
+              out_.definitions[evaluated].second.subs(num, kSymbolKeys).evalf();
+      return GiNaC::ex_to<GiNaC::numeric>(e.subs(num, kSymbolKeys).evalf()).to_double();
     };
     std::vector<int> secondary_index(g_.columns.size(), -1);
     for (size_t i = 0; i < g_.secondary.size(); ++i)

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "code_block.hpp"
+#include "finite_sentinels.hpp"
 #include "kernel_fingerprint.hpp"
 #include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
@@ -72,8 +73,9 @@ std::string using_std(const CodeBlock& code) {
 // A value written to several outputs (a screw in every body's Jacobian beyond its joint, a point
 // and its Jacobian's entry, up to sign) is checked once, in the earliest stage that writes it:
 // its copies are finite exactly when it is, and a failure names the same stage.
+// Of those, only each stage's sentinels are summed (finite_sentinels.hpp).
 std::string spatial_output_checks(
-    const std::vector<SpatialOutput>& outputs,
+    const std::vector<SpatialOutput>& outputs, const SymbolDefinitions& definitions,
     const std::function<std::string(OutputStage, const std::string& condition)>& check_line,
     OutputStage stage = OutputStage::none) {
   std::map<ex, CheckedOutput, GiNaC::ex_is_less> first;  // per value (sign aside)
@@ -89,8 +91,22 @@ std::string spatial_output_checks(
       it->second = {at, o.target};
   }
   std::vector<CheckedOutput> checked;
-  for (const ex& key : order) checked.push_back(first.at(key));
+  for (int k = static_cast<int>(OutputStage::positions); k < kStageCount; ++k) {
+    std::vector<ex> values;
+    for (const ex& key : order)
+      if (first.at(key).stage == static_cast<OutputStage>(k)) values.push_back(key);
+    for (const size_t i : finite_sentinels(values, definitions))
+      checked.push_back(first.at(values[i]));
+  }
   return output_checks(checked, "  ", check_line);
+}
+
+// An output of the second rates: a body's or point's acceleration (ax, alx, ...) or a
+// coordinate's (qdd, q1dd, ...).
+bool is_acceleration_target(const std::string& target) {
+  const std::string field = target.substr(target.rfind('.') + 1);
+  return field == "ax" || field == "ay" || field == "az" || field.rfind("al", 0) == 0 ||
+         (field.size() > 2 && field.compare(field.size() - 2, 2, "dd") == 0);
 }
 
 std::string kernel_math_functions(const std::string& templates_dir) {
@@ -335,14 +351,15 @@ class SpatialEmitter {
     const CodeBlock ne = block(system);
     v["ne_using"] = using_std(ne);
     v["ne_ops"] = std::to_string(ne.op_count());
-    v["ne_body"] =
-        ne.render("  ") + spatial_output_checks(system, stage_check, OutputStage::forces);
+    v["ne_body"] = ne.render("  ") +
+                   spatial_output_checks(system, definition_, stage_check, OutputStage::forces);
     v["ne_rows"] = std::to_string(d_.ne_rows);
     v["ne_size"] = std::to_string(d_.ne_unknowns.size());
     v["ne_unknowns"] = d_.ne_unknowns.empty() ? "nullptr" : quoted(d_.ne_unknowns);
     v["control_using"] = using_std(lean);
     v["control_ops"] = std::to_string(lean.op_count());
-    v["control_body"] = lean.render("  ") + spatial_output_checks(control, stage_check);
+    v["control_body"] =
+        lean.render("  ") + spatial_output_checks(control, definition_, stage_check);
     // A workspace's sample: the named points' positions alone (no rates, Jacobians or forces),
     // with what closes the circuits' positions checked.
     std::vector<SpatialOutput> placed;
@@ -351,13 +368,24 @@ class SpatialEmitter {
           (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0))
         placed.push_back(o);
     hoisted_positions(placed, v);
-    v["positions_body"] += spatial_output_checks(placed, stage_check);
+    v["positions_body"] += spatial_output_checks(placed, definition_, stage_check);
+    // Issue 13's velocity solve: positions and first rates (Davies' velocities, twists, point
+    // velocities); no accelerations, Jacobians or forces.
+    std::vector<SpatialOutput> velocity;
+    for (const SpatialOutput& o : d_.kinematics)
+      if (!is_acceleration_target(o.target)) velocity.push_back(o);
+    const CodeBlock vel = block(velocity);
+    v["velocities_using"] = using_std(vel);
+    v["velocities_ops"] = std::to_string(vel.op_count());
+    v["velocities_body"] =
+        vel.render("  ") + spatial_output_checks(velocity, definition_, stage_check);
     v["kinematics_using"] = using_std(kin);
     v["kinematics_ops"] = std::to_string(kin.op_count());
-    v["kinematics_body"] = kin.render("  ") + spatial_output_checks(kinematic, stage_check);
+    v["kinematics_body"] =
+        kin.render("  ") + spatial_output_checks(kinematic, definition_, stage_check);
     v["evaluate_using"] = using_std(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
-    v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, stage_check);
+    v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, definition_, stage_check);
     closure(v);
     columns(v);
     return v;

@@ -97,8 +97,12 @@ std::optional<LimbCircuit> limb_circuit(const CircuitSolverContext& c, int circu
 
 // The rest's motion from the limb's end back to its start with the free columns at zero; the
 // limb's own motion from its start to its end is its inverse.
-Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc) {
+// Named joint by joint (`<prefix>rest<k>_R_ij`, `_p_x`): expanded whole, the product of a
+// virtual chain's six displacements and the body path's grows to thousands of terms per entry
+// (bioloid's arms: 22k of the kernel's 28k operations, most of the generation time).
+Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc, const std::string& prefix) {
   Pose M;
+  int step = 0;
   for (const Step& s : lc.rest) {
     const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
     const auto c0 = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
@@ -106,6 +110,10 @@ Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc) {
     for (size_t i = 0; i < j.columns.size(); ++i)
       if (c.graph.columns[c0 + i].primary) E = E * c.columns[c0 + i].displacement;
     M = M * (s.direction > 0 ? E : geometry::inverse(E));
+    const std::string name = prefix + "rest" + std::to_string(step++);
+    for (size_t k = 0; k < 9; ++k)
+      M.R.m[k] = c.named(name + "_R_" + std::to_string(k / 3) + std::to_string(k % 3), M.R.m[k]);
+    for (size_t k = 0; k < 3; ++k) M.p[k] = c.named(name + "_p_" + "xyz"[k], M.p[k]);
   }
   return {M.R, M.p};
 }
@@ -212,7 +220,7 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
   const std::string prefix = name + "_";
   // The limb's motion equals the inverse of the rest's; the ankle axis point P3 is fixed by the
   // last joint, so E1 E2 P3 = T P3: a two-link problem in the plane normal to n.
-  const Pose rest = rest_motion(c, lc);
+  const Pose rest = rest_motion(c, lc, prefix);
   const Pose T = geometry::inverse(rest);
   const V P1 = c.columns[column(lc.limb[0])].axis.s0, P2 = c.columns[column(lc.limb[1])].axis.s0,
           P3 = c.columns[column(lc.limb[2])].axis.s0;
@@ -343,7 +351,7 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
   LimbCircuit lc = *found;
   // The limb's motion from its start to its end is the inverse of the rest's; seen from the
   // other end, the rest's motion itself.
-  const Pose rest = rest_motion(c, lc);
+  const Pose rest = rest_motion(c, lc, group_name(c, lc, circuit) + "_");
   Pose T = geometry::inverse(rest);
   std::optional<std::vector<LimbAxis>> axes = pieper_layout(c, lc.limb);
   if (!axes) {

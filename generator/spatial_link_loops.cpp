@@ -22,6 +22,10 @@ namespace {
 using V = geometry::Vec3<ex>;
 using M = geometry::Mat3<ex>;
 using Pose = geometry::Pose<ex>;
+// Substitution maps keyed by symbols alone: a lookup per node instead of GiNaC's pattern match
+// against every key (which made evaluating thousands of definitions at the assembly quadratic).
+constexpr unsigned kSymbolKeys =
+    GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product;
 
 // What the link solver works from: the derivation's columns and tree poses, the columns known so
 // far, and the assembly (default parameters, t0: the numeric solver's pose) to choose branches
@@ -37,7 +41,7 @@ struct ClosureContext {
   const std::vector<double>& assembly_q;      // per column: the coordinate at the assembly
   GiNaC::exmap assembly;                      // the group's own definitions -> their values
 
-  double value(const ex& e) const { return circuit.at_assembly(e.subs(assembly)); }
+  double value(const ex& e) const { return circuit.at_assembly(e.subs(assembly, kSymbolKeys)); }
   // Body b's tree pose is usable: every coordinate on its tree path is known.
   bool pose_known(int body) const {
     const std::vector<int>& path = graph.path_sign[static_cast<size_t>(body)];

@@ -492,19 +492,184 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[1][1] = pt_toe_x + sv_j2_y;
   s.point_jacobians.toe[0][2] = sv_j3_x - pt_toe_y;
   s.point_jacobians.toe[1][2] = pt_toe_x + sv_j3_y;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
-  const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
-  const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
-  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.points.knee.x + s.points.knee.y));
+  const T _sum_positions_1 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
-  const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
-  const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
-  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j2.qd + s.joints.j2.qdd));
-  const T _sum_rates_4 = s.joints.j3.qd + s.joints.j3.qdd;
-  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
+  const T _sum_rates_0 = ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.foot.ax + s.bodies.foot.ay) + (s.points.knee.ax + s.points.knee.ay));
+  const T _sum_rates_1 = (s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay);
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
+
+  return Status::ok;
+}
+
+// Positions and velocities alone (issue 13's velocity solve): every body's pose and twist, the
+// named points and their velocities, every coordinate and its rate (Davies' velocities of a closed
+// chain); the same values as kinematics(), which also fills the accelerations and Jacobians. Those
+// fields are left untouched.
+template <class T>
+Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
+  using detail::cos;
+  using detail::sin;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
+  // Total ops: 124
+  const T cos_j1 = cos(in.q1);
+  const T sin_j1 = sin(in.q1);
+  const T cos_j2 = cos(in.q2);
+  const T sin_j2 = sin(in.q2);
+  const T cos_j3 = cos(in.q3);
+  const T sin_j3 = sin(in.q3);
+  const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
+  const T _tmp0 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp0;
+  const T R_shank_10 = _tmp0;
+  const T R_shank_11 = R_shank_00;
+  const T _tmp1 = p.l*sin_j1;
+  const T p_shank_x = _tmp1 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp2 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp2 - p.l*sin_j1*sin_j2;
+  const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
+  const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
+  const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
+  const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
+  const T _tmp3 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp3;
+  const T _tmp4 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp4;
+  const T sv_j2_x = -_tmp2;
+  const T sv_j2_y = -_tmp1;
+  const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
+  const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
+  const T w_shank_z = in.q1_d + in.q2_d;
+  const T v_shank_x = in.q2_d*sv_j2_x;
+  const T v_shank_y = in.q2_d*sv_j2_y;
+  const T w_foot_z = in.q3_d + w_shank_z;
+  const T v_foot_x = in.q3_d*sv_j3_x + v_shank_x;
+  const T v_foot_y = in.q3_d*sv_j3_y + v_shank_y;
+  const T com_thigh_x = T(0.5)*p.l*sin_j1;
+  const T com_thigh_y = -T(0.5)*p.l*cos_j1;
+  const T vc_thigh_x = -com_thigh_y*in.q1_d;
+  const T vc_thigh_y = com_thigh_x*in.q1_d;
+  const T com_shank_x = p_shank_x - T(1.5)*p.l*R_shank_01;
+  const T com_shank_y = p_shank_y - T(1.5)*p.l*R_shank_11;
+  const T vc_shank_x = v_shank_x - com_shank_y*w_shank_z;
+  const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
+  const T _tmp5 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp5;
+  const T _tmp6 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp6;
+  const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
+  const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
+  const T pt_knee_x = _tmp1;
+  const T pt_knee_y = -_tmp2;
+  const T vp_knee_x = -in.q1_d*pt_knee_y;
+  const T vp_knee_y = in.q1_d*pt_knee_x;
+  const T pt_ankle_x = p_shank_x - _tmp3;
+  const T pt_ankle_y = p_shank_y - _tmp4;
+  const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
+  const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp5;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp6;
+  const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
+  const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
+  s.bodies.thigh.x = com_thigh_x;
+  s.bodies.thigh.y = com_thigh_y;
+  s.bodies.thigh.z = T(0);
+  s.bodies.thigh.R[0] = cos_j1;
+  s.bodies.thigh.R[1] = -sin_j1;
+  s.bodies.thigh.R[2] = T(0);
+  s.bodies.thigh.R[3] = sin_j1;
+  s.bodies.thigh.R[4] = cos_j1;
+  s.bodies.thigh.R[5] = T(0);
+  s.bodies.thigh.R[6] = T(0);
+  s.bodies.thigh.R[7] = T(0);
+  s.bodies.thigh.R[8] = T(1);
+  s.bodies.thigh.vx = vc_thigh_x;
+  s.bodies.thigh.vy = vc_thigh_y;
+  s.bodies.thigh.vz = T(0);
+  s.bodies.thigh.wx = T(0);
+  s.bodies.thigh.wy = T(0);
+  s.bodies.thigh.wz = in.q1_d;
+  s.bodies.shank.x = com_shank_x;
+  s.bodies.shank.y = com_shank_y;
+  s.bodies.shank.z = T(0);
+  s.bodies.shank.R[0] = R_shank_00;
+  s.bodies.shank.R[1] = R_shank_01;
+  s.bodies.shank.R[2] = T(0);
+  s.bodies.shank.R[3] = R_shank_10;
+  s.bodies.shank.R[4] = R_shank_11;
+  s.bodies.shank.R[5] = T(0);
+  s.bodies.shank.R[6] = T(0);
+  s.bodies.shank.R[7] = T(0);
+  s.bodies.shank.R[8] = T(1);
+  s.bodies.shank.vx = vc_shank_x;
+  s.bodies.shank.vy = vc_shank_y;
+  s.bodies.shank.vz = T(0);
+  s.bodies.shank.wx = T(0);
+  s.bodies.shank.wy = T(0);
+  s.bodies.shank.wz = w_shank_z;
+  s.bodies.foot.x = com_foot_x;
+  s.bodies.foot.y = com_foot_y;
+  s.bodies.foot.z = T(0);
+  s.bodies.foot.R[0] = R_foot_00;
+  s.bodies.foot.R[1] = R_foot_01;
+  s.bodies.foot.R[2] = T(0);
+  s.bodies.foot.R[3] = R_foot_10;
+  s.bodies.foot.R[4] = R_foot_11;
+  s.bodies.foot.R[5] = T(0);
+  s.bodies.foot.R[6] = T(0);
+  s.bodies.foot.R[7] = T(0);
+  s.bodies.foot.R[8] = T(1);
+  s.bodies.foot.vx = vc_foot_x;
+  s.bodies.foot.vy = vc_foot_y;
+  s.bodies.foot.vz = T(0);
+  s.bodies.foot.wx = T(0);
+  s.bodies.foot.wy = T(0);
+  s.bodies.foot.wz = w_foot_z;
+  s.points.hip.x = T(0);
+  s.points.hip.y = T(0);
+  s.points.hip.z = T(0);
+  s.points.hip.vx = T(0);
+  s.points.hip.vy = T(0);
+  s.points.hip.vz = T(0);
+  s.points.knee.x = pt_knee_x;
+  s.points.knee.y = pt_knee_y;
+  s.points.knee.z = T(0);
+  s.points.knee.vx = vp_knee_x;
+  s.points.knee.vy = vp_knee_y;
+  s.points.knee.vz = T(0);
+  s.points.ankle.x = pt_ankle_x;
+  s.points.ankle.y = pt_ankle_y;
+  s.points.ankle.z = T(0);
+  s.points.ankle.vx = vp_ankle_x;
+  s.points.ankle.vy = vp_ankle_y;
+  s.points.ankle.vz = T(0);
+  s.points.toe.x = pt_toe_x;
+  s.points.toe.y = pt_toe_y;
+  s.points.toe.z = T(0);
+  s.points.toe.vx = vp_toe_x;
+  s.points.toe.vy = vp_toe_y;
+  s.points.toe.vz = T(0);
+  s.joints.j1.q = in.q1;
+  s.joints.j1.qd = in.q1_d;
+  s.joints.j2.q = in.q2;
+  s.joints.j2.qd = in.q2_d;
+  s.joints.j3.q = in.q3;
+  s.joints.j3.qd = in.q3_d;
+  s.drivers.q1.q = in.q1;
+  s.drivers.q1.qd = in.q1_d;
+  s.drivers.q2.q = in.q2;
+  s.drivers.q2.qd = in.q2_d;
+  s.drivers.q3.q = in.q3;
+  s.drivers.q3.qd = in.q3_d;
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.points.knee.x + s.points.knee.y));
+  const T _sum_positions_1 = (s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y);
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+  if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
+  const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.shank.vx + s.bodies.shank.vy)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.points.knee.vx + s.points.knee.vy));
+  const T _sum_rates_1 = (s.points.ankle.vx + s.points.ankle.vy) + (s.points.toe.vx + s.points.toe.vy);
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
@@ -804,23 +969,15 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.j1.mx = T(0);
   s.joints.j1.my = T(0);
   s.joints.j1.mz = T(0);
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.thigh.R[0] + s.bodies.thigh.R[1])) + ((s.bodies.shank.x + s.bodies.shank.y) + (s.bodies.shank.R[0] + s.bodies.shank.R[1]));
-  const T _sum_positions_1 = ((s.bodies.shank.R[3] + s.bodies.shank.R[4]) + (s.bodies.foot.x + s.bodies.foot.y)) + ((s.bodies.foot.R[0] + s.bodies.foot.R[1]) + (s.bodies.foot.R[3] + s.bodies.foot.R[4]));
-  const T _sum_positions_2 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_3 = ((s.joints.j3.q + s.drivers.q1.q) + (s.drivers.q2.q + s.drivers.q3.q)) + ((s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]) + (s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]));
-  const T _sum_positions_4 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + (_sum_positions_3 + _sum_positions_4));
+  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.points.knee.x + s.points.knee.y));
+  const T _sum_positions_1 = (s.point_jacobians.ankle[0][1] + (s.point_jacobians.ankle[1][1] + s.point_jacobians.toe[0][1])) + (s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
+  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
-  const T _sum_rates_0 = ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.thigh.wz + s.bodies.thigh.alz) + (s.bodies.shank.vx + s.bodies.shank.vy));
-  const T _sum_rates_1 = ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.shank.wz + s.bodies.shank.alz)) + ((s.bodies.foot.vx + s.bodies.foot.vy) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_2 = ((s.bodies.foot.wz + s.bodies.foot.alz) + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.knee.ax + s.points.knee.ay) + (s.points.ankle.vx + s.points.ankle.vy));
-  const T _sum_rates_3 = ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.vx + s.points.toe.vy)) + ((s.points.toe.ax + s.points.toe.ay) + (s.joints.j2.qd + s.joints.j2.qdd));
-  const T _sum_rates_4 = s.joints.j3.qd + s.joints.j3.qdd;
-  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
+  const T _sum_rates_0 = ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.foot.ax + s.bodies.foot.ay) + (s.points.knee.ax + s.points.knee.ay));
+  const T _sum_rates_1 = (s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay);
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
-  const T _sum_forces_0 = ((s.drivers.q3.effort + s.joints.j3.fx) + (s.joints.j3.fy + s.joints.j3.mz)) + ((s.drivers.q2.effort + s.joints.j2.fx) + (s.joints.j2.fy + s.joints.j2.mz));
-  const T _sum_forces_1 = s.drivers.q1.effort + (s.joints.j1.fx + s.joints.j1.fy);
-  const T _sum_forces = _sum_forces_0 + _sum_forces_1;
+  const T _sum_forces = (s.joints.j3.mz + s.joints.j2.mz) + (s.drivers.q1.effort + (s.joints.j1.fx + s.joints.j1.fy));
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
@@ -974,9 +1131,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.q3.effort = tau_j3;
   s.drivers.q2.effort = tau_j2;
   s.drivers.q1.effort = tm_thigh_z;
-  const T _sum_positions_0 = ((s.points.knee.x + s.points.knee.y) + (s.points.ankle.x + s.points.ankle.y)) + ((s.points.toe.x + s.points.toe.y) + (s.body_jacobians.shank[3][1] + s.body_jacobians.shank[4][1]));
-  const T _sum_positions_1 = ((s.body_jacobians.foot[3][2] + s.body_jacobians.foot[4][2]) + (s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
-  const T _sum_positions = _sum_positions_0 + _sum_positions_1;
+  const T _sum_positions = ((s.points.knee.x + s.points.knee.y) + (s.point_jacobians.ankle[0][1] + s.point_jacobians.ankle[1][1])) + ((s.point_jacobians.toe[0][1] + s.point_jacobians.toe[1][1]) + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces = s.drivers.q3.effort + (s.drivers.q2.effort + s.drivers.q1.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
@@ -1064,24 +1219,19 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
-// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
-// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
-// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
-// (the overload without a State: from the assembly) and reports unreachable or singular
-// configurations the same way. A and b are zero unless the status is ok; non_finite when an
-// entry of A or b is not finite.
+// driver's effort). evaluate() solves it by the recursive backward pass instead.
+// Status::non_finite when an entry of A or b is not finite.
 inline constexpr int ne_rows = 21;
 inline constexpr int ne_size = 21;
 inline constexpr const char* ne_unknowns[] = { "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "q1.effort", "q2.effort", "q3.effort" };
-namespace detail {
 template <class T>
-Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
-               T* b) noexcept {
+Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  if (!inputs_finite(in)) return Status::unreachable;
   // Total ops: 219
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -1240,29 +1390,10 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   b[12] = F_foot_x;
   b[13] = F_foot_y;
   b[17] = M_foot_z;
-  const T _sum_forces_0 = ((A[71] + A[92]) + (A[203] + A[224])) + ((A[405] + A[406]) + (A[432] + A[433]));
-  const T _sum_forces_1 = ((b[0] + b[1]) + (b[5] + b[6])) + ((b[7] + b[11]) + (b[12] + b[13]));
-  const T _sum_forces_2 = b[17];
-  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
-  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
+  const T _sum_forces = (A[405] + (A[406] + A[432])) + ((A[433] + b[5]) + (b[11] + b[17]));
+  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
 
   return Status::ok;
-}
-}  // namespace detail
-template <class T>
-Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  const Status status = detail::ne_fill(p, in, s, A, b);
-  if (status == Status::ok) return status;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  return status;
-}
-template <class T>
-Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
-  State<T> s;
-  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -1298,7 +1429,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xc7cf9f3b06923503ULL;
+inline constexpr unsigned long long fingerprint = 0x6cef27e23581b3b9ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

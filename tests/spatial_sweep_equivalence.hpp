@@ -49,16 +49,14 @@ inline std::vector<double> perturbed_parameters(const SpatialModel& model, unsig
 // largest magnitude, at least 1 % of the largest of its kind, as the leg6 test; a reaction's at
 // least 1e-3 of the largest reaction force or moment: a component that is zero (a revolute's
 // moments in chebyshev_spatial, the numeric solver's at 1e-16) has no scale of its own).
-// `perturbed` more parameter sets from perturbed_parameters.
-inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
+// At each of the parameter sets given; `floor`: the smallest scale of a column (SI).
+inline void sweep_equals_numeric_at(const std::string& name,
+                                    const std::vector<std::vector<double>>& sets,
+                                    double floor = 1e-6) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  std::vector<std::vector<double>> sets{model.common.default_parameters(),
-                                        changed_parameters(model)};
-  for (int k = 0; k < perturbed; ++k)
-    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
   for (const std::vector<double>& parameters : sets) {
     const SpatialSweepOptions options = default_spatial_sweep(model, parameters);
     const SpatialSweepResult numeric = run_spatial_sweep(model, options);
@@ -89,7 +87,7 @@ inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
       // At least 1 % of its kind's largest, and 1e-6 (SI: 1e-15 absolute): a kind that stays
       // near round-off level over the whole step (the standing bioloid's vertical velocities and
       // accelerations) has no scale of its own.
-      double scale = std::max(1e-6, 0.01 * kind_scale[kind(numeric.columns[c])]);
+      double scale = std::max(floor, 0.01 * kind_scale[kind(numeric.columns[c])]);
       if (is_reaction(numeric.columns[c]))
         scale = std::max(scale, 1e-3 * std::max(force_scale, moment_scale));
       for (const auto& row : numeric.rows) scale = std::max(scale, std::abs(row[c]));
@@ -103,6 +101,18 @@ inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
     std::cout << name << " sweep (" << numeric.rows.size() << " samples, " << compared
               << " columns), generated against numeric: worst " << worst << " (" << where << ")\n";
   }
+}
+
+// At the default parameters, changed_parameters and `perturbed` more sets from
+// perturbed_parameters.
+inline void sweep_equals_numeric(const std::string& name, int perturbed = 0) {
+  const SpatialModel model =
+      read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
+  std::vector<std::vector<double>> sets{model.common.default_parameters(),
+                                        changed_parameters(model)};
+  for (int k = 0; k < perturbed; ++k)
+    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
+  sweep_equals_numeric_at(name, sets);
 }
 
 }  // namespace mechgen::spatial

@@ -1,12 +1,12 @@
 // Closed-form inverse kinematics of pose-driven limbs (spatial_limb_ik.hpp).
 #include "spatial_limb_ik.hpp"
 
-#include "spatial_limb_circuit.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
+
+#include "spatial_limb_circuit.hpp"
 
 namespace mechgen::gen {
 

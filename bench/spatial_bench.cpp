@@ -88,6 +88,7 @@ void register_spatial_benchmarks() {
   register_closed_chain("rsur");
   register_closed_chain("chebyshev_spatial");
   register_closed_chain("quadruped_leg");
+  register_closed_chain("quadruped_leg_swing");
   auto leg = std::make_shared<Leg6>();
   {  // The two must agree before either is timed.
     KDL::ChainIdSolver_RNE id(leg->chain, kdl_model::vec(leg->solver.instance().gravity));

@@ -1,4 +1,5 @@
-// <model>/generated for the closed chains rsur, chebyshev_spatial and quadruped_leg: the
+// <model>/generated for the closed chains rsur, chebyshev_spatial, quadruped_leg and
+// quadruped_leg_swing (the leg's inverse kinematics along the seed's swing, closed form): the
 // generated kernel's evaluate() per sample (positions: closed-form link groups for rsur and
 // quadruped_leg, the planar loop's RRR dyad in its plane for chebyshev_spatial (5 unrolled
 // Newton-Raphson steps before it); Davies' velocities and accelerations, every body's pose, twist
@@ -20,6 +21,7 @@
 
 #include "chebyshev_spatial/chebyshev_spatial.hpp"
 #include "quadruped_leg/quadruped_leg.hpp"
+#include "quadruped_leg_swing/quadruped_leg_swing.hpp"
 #include "rsur/rsur.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
@@ -116,6 +118,7 @@ void register_model(const std::string& name, const Kernel<P, I, S, St>& k, const
 namespace r = gen::rsur;
 namespace c = gen::chebyshev_spatial;
 namespace q = gen::quadruped_leg;
+namespace qs = gen::quadruped_leg_swing;
 
 [[maybe_unused]] const bool registered = [] {
   register_model("rsur",
@@ -135,6 +138,14 @@ namespace q = gen::quadruped_leg;
                      &q::evaluate<double>, &q::driver_inputs<double>},
                  "D", [](const q::State<double>& s) {
                    return std::array<double, 3>{s.points.D.x, s.points.D.y, s.points.D.z};
+                 });
+  // The leg's inverse kinematics along the seed's swing (closed form: side swing, planar 2R,
+  // coupler, cylinders from their end centres); G, cylinder 1's end on the thigh, checked.
+  register_model("quadruped_leg_swing",
+                 Kernel<qs::Params<double>, qs::Inputs<double>, qs::State<double>, qs::Status>{
+                     &qs::evaluate<double>, &qs::driver_inputs<double>},
+                 "G", [](const qs::State<double>& s) {
+                   return std::array<double, 3>{s.points.G.x, s.points.G.y, s.points.G.z};
                  });
   // One workspace sample: the stroke box walked on a 9 x 9 x 9 grid.
   benchmark::RegisterBenchmark("quadruped_leg/point_positions", [](benchmark::State& state) {

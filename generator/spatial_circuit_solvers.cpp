@@ -4,12 +4,14 @@
 #include "spatial_limb_ik.hpp"
 #include "spatial_link_loops.hpp"
 #include "spatial_planar_loops.hpp"
+#include "spatial_position_ik.hpp"
 
 namespace mechgen::gen {
 
 const std::vector<CircuitSolver>& circuit_solvers() {
   static const std::vector<CircuitSolver> solvers{planar_limb_ik, six_revolute_limb_ik,
-                                                  link_loop_closed_form, planar_loop_closed_form};
+                                                  link_loop_closed_form, planar_loop_closed_form,
+                                                  position_limb_ik};
   return solvers;
 }
 

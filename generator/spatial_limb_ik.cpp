@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "spatial_circuit_loop.hpp"
+#include "spatial_limb_circuit.hpp"
 
 namespace mechgen::gen {
 
@@ -22,124 +22,8 @@ using Pose = geometry::Pose<ex>;
 
 constexpr double kTwoPi = 2 * 3.14159265358979323846;
 
-using Step = CircuitStep;
-
-// A circuit split into the limb (its real joints with secondary coordinates, contiguous, fixed
-// joints between them allowed) and the rest of the loop, from the limb's end back to its start.
-struct LimbCircuit {
-  std::vector<Step> limb, rest;
-  std::vector<int> free;  // the rest's secondary (free virtual) columns
-  int pose_driver = -1;   // theirs, or of any virtual joint of the rest
-};
-
 bool vanishes(const ex& e) {
   return e.expand().is_zero();
-}
-
-std::optional<LimbCircuit> limb_circuit(const CircuitSolverContext& c, int circuit) {
-  const SpatialModel& m = c.model;
-  const SpatialGraph& g = c.graph;
-  const std::vector<Step> steps = circuit_loop(m, g, circuit);
-  const size_t n = steps.size();
-  enum Kind { limb, fixed, other };
-  std::vector<Kind> kind(n, other);
-  for (size_t k = 0; k < n; ++k) {
-    const SpatialJoint& j = m.joints[static_cast<size_t>(steps[k].joint)];
-    const int c0 = g.joint_column[static_cast<size_t>(steps[k].joint)];
-    if (j.columns.empty()) kind[k] = fixed;
-    if (!j.is_virtual && !j.columns.empty() && !g.columns[static_cast<size_t>(c0)].primary) {
-      if (j.type != SpatialJointType::revolute) return std::nullopt;
-      kind[k] = limb;
-    }
-  }
-  // The limb starts at a limb joint whose previous non-fixed step is not a limb joint.
-  const auto previous = [&](size_t k) {
-    for (size_t i = 1; i < n; ++i)
-      if (kind[(k + n - i) % n] != fixed) return kind[(k + n - i) % n];
-    return fixed;
-  };
-  size_t start = n;
-  for (size_t k = 0; k < n; ++k)
-    if (kind[k] == limb && previous(k) != limb) {
-      if (start != n) return std::nullopt;  // two separate runs of real joints
-      start = k;
-    }
-  if (start == n) return std::nullopt;
-  size_t end = start;  // one past the limb's last joint
-  for (size_t k = start; k < start + n && kind[k % n] != other; ++k)
-    if (kind[k % n] == limb) end = k + 1;
-  LimbCircuit out;
-  for (size_t k = start; k < end; ++k)
-    if (kind[k % n] == limb) out.limb.push_back(steps[k % n]);
-  for (size_t k = end; k < start + n; ++k) {
-    const Step& s = steps[k % n];
-    if (kind[k % n] == limb) return std::nullopt;
-    out.rest.push_back(s);
-    const SpatialJoint& j = m.joints[static_cast<size_t>(s.joint)];
-    if (j.is_virtual) {
-      if (out.pose_driver >= 0 && out.pose_driver != j.pose_driver) {
-        // A second pose driver in the rest must be fully prescribed (checked below).
-      } else {
-        out.pose_driver = j.pose_driver;
-      }
-    }
-    const auto c0 = static_cast<size_t>(g.joint_column[static_cast<size_t>(s.joint)]);
-    for (size_t i = 0; i < j.columns.size(); ++i)
-      if (!g.columns[c0 + i].primary) out.free.push_back(static_cast<int>(c0 + i));
-  }
-  for (const int col : out.free)
-    if (g.columns[static_cast<size_t>(col)].pose_driver < 0) return std::nullopt;
-  if (!out.free.empty()) out.pose_driver = g.columns[static_cast<size_t>(out.free[0])].pose_driver;
-  for (const int col : out.free)
-    if (g.columns[static_cast<size_t>(col)].pose_driver != out.pose_driver) return std::nullopt;
-  return out;
-}
-
-// The rest's motion from the limb's end back to its start with the free columns at zero; the
-// limb's own motion from its start to its end is its inverse.
-// Named joint by joint (`<prefix>rest<k>_R_ij`, `_p_x`): expanded whole, the product of a
-// virtual chain's six displacements and the body path's grows to thousands of terms per entry
-// (bioloid's arms: 22k of the kernel's 28k operations, most of the generation time).
-Pose rest_motion(const CircuitSolverContext& c, const LimbCircuit& lc, const std::string& prefix) {
-  Pose M;
-  int step = 0;
-  for (const Step& s : lc.rest) {
-    const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
-    const auto c0 = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
-    Pose E;
-    for (size_t i = 0; i < j.columns.size(); ++i)
-      if (c.graph.columns[c0 + i].primary) E = E * c.columns[c0 + i].displacement;
-    M = M * (s.direction > 0 ? E : geometry::inverse(E));
-    const std::string name = prefix + "rest" + std::to_string(step++);
-    for (size_t k = 0; k < 9; ++k)
-      M.R.m[k] = c.named(name + "_R_" + std::to_string(k / 3) + std::to_string(k % 3), M.R.m[k]);
-    for (size_t k = 0; k < 3; ++k) M.p[k] = c.named(name + "_p_" + "xyz"[k], M.p[k]);
-  }
-  return {M.R, M.p};
-}
-
-std::string group_name(const CircuitSolverContext& c, const LimbCircuit& lc, int circuit) {
-  return lc.pose_driver >= 0
-             ? "ik_" + c.model.pose_drivers[static_cast<size_t>(lc.pose_driver)].name
-             : "ik_circuit" + std::to_string(circuit);
-}
-
-// The multiple of 2 pi that brings `value` nearest to `target`.
-double turns(double target, double value) {
-  return std::round((target - value) / kTwoPi);
-}
-ex plus_turns(const ex& e, double k) {
-  return k == 0 ? e : e + static_cast<long>(k) * 2 * GiNaC::Pi;
-}
-V named_vector(const CircuitSolverContext& c, const std::string& name, const V& v) {
-  return {c.named(name + "_x", v[0]), c.named(name + "_y", v[1]), c.named(name + "_z", v[2])};
-}
-
-// Paden-Kahan subproblems on axes through the origin of the vectors given (directions unit).
-// 1: the angle about w that takes x to y (their components normal to w).
-ex rotation_taking(const V& w, const V& x, const V& y) {
-  return GiNaC::atan2(geometry::dot(w, geometry::cross(x, y)),
-                      geometry::dot(x, y) - geometry::dot(w, x) * geometry::dot(w, y));
 }
 
 // A limb joint's screw seen along the limb: rotation by theta = direction * q about the axis.
@@ -178,12 +62,12 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
   if (!found || found->limb.size() != 3) return std::nullopt;
   const LimbCircuit& lc = *found;
   const SpatialGraph& g = c.graph;
-  const auto column = [&](const Step& s) {
+  const auto column = [&](const LimbStep& s) {
     return static_cast<size_t>(g.joint_column[static_cast<size_t>(s.joint)]);
   };
   const V n = c.columns[column(lc.limb[0])].axis.s;
   std::vector<ex> sign;  // theta_i = sign_i q_i about n
-  for (const Step& s : lc.limb) {
+  for (const LimbStep& s : lc.limb) {
     const V& si = c.columns[column(s)].axis.s;
     if (!vanishes(geometry::cross(si, n)[0]) || !vanishes(geometry::cross(si, n)[1]) ||
         !vanishes(geometry::cross(si, n)[2]))
@@ -194,7 +78,7 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
   // coordinates are the translation along n and two rotations normal to it (all zero).
   ex phi = 0;  // the limb's total rotation about n
   int free_translations = 0, free_rotations = 0;
-  for (const Step& s : lc.rest) {
+  for (const LimbStep& s : lc.rest) {
     const SpatialJoint& j = c.model.joints[static_cast<size_t>(s.joint)];
     for (size_t i = 0; i < j.columns.size(); ++i) {
       const size_t col = column(s) + i;
@@ -216,7 +100,7 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
     }
   }
   if (free_translations != 1 || free_rotations != 2) return std::nullopt;
-  const std::string name = group_name(c, lc, circuit);
+  const std::string name = limb_group_name(c, lc, circuit);
   const std::string prefix = name + "_";
   // The limb's motion equals the inverse of the rest's; the ankle axis point P3 is fixed by the
   // last joint, so E1 E2 P3 = T P3: a two-link problem in the plane normal to n.
@@ -277,62 +161,11 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
 
 namespace {
 
-// Pieper's 6R inverse kinematics on the limb `axes` (in order from the limb's start), whose
-// motion is T; nullopt when the layout does not fit.
-struct SixR {
-  const CircuitSolverContext& c;
-  std::string prefix;
-  CircuitClosedForm out;
-  std::vector<int> branches;
-
-  // Chooses between the two branches of a square root by the assembly: the one whose angles
-  // `angles(sign)` are nearest (modulo 2 pi) to the assembly's `target`.
-  int branch(const std::function<std::vector<ex>(int)>& angles, const std::vector<double>& target) {
-    double best = 1e300;
-    int chosen = 1;
-    for (const int sign : {1, -1}) {
-      const std::vector<ex> a = angles(sign);
-      double off = 0;
-      for (size_t i = 0; i < a.size(); ++i) {
-        const double v = c.at_assembly(a[i]);
-        off += std::abs(target[i] - v - kTwoPi * turns(target[i], v));
-      }
-      if (off < best) best = off, chosen = sign;
-    }
-    branches.push_back(chosen);
-    return chosen;
-  }
-  ex angle(const std::string& name, const ex& value, double target) {
-    return c.named(prefix + name, plus_turns(value, turns(target, c.at_assembly(value))));
-  }
-  // Subproblem 2: angles (a1, a2) about w1 then w2 (meeting) with R1(a1) R2(a2) u = v.
-  std::vector<ex> two_axes(const std::string& name, const V& w1, const V& w2, const V& u,
-                           const V& v, const std::vector<double>& target) {
-    const ex k = geometry::dot(w1, w2);
-    const ex den = c.named(prefix + name + "_den", k * k - 1);
-    const ex alpha =
-        c.named(prefix + name + "_alpha", (k * geometry::dot(w2, u) - geometry::dot(w1, v)) / den);
-    const ex beta =
-        c.named(prefix + name + "_beta", (k * geometry::dot(w1, v) - geometry::dot(w2, u)) / den);
-    const V n = geometry::cross(w1, w2);
-    const ex gamma2 = c.named(prefix + name + "_reach", (geometry::dot(u, u) - alpha * alpha -
-                                                         beta * beta - 2 * alpha * beta * k) /
-                                                            geometry::dot(n, n));
-    out.reach.push_back(gamma2);
-    const ex root = c.named(prefix + name + "_root", GiNaC::sqrt(gamma2));
-    const auto angles = [&](int sign) {
-      const V z = alpha * w1 + beta * w2 + (sign * root) * n;
-      return std::vector<ex>{rotation_taking(w1, z, v), rotation_taking(w2, u, z)};
-    };
-    const std::vector<ex> a = angles(branch(angles, target));
-    return {angle(name + "_a1", a[0], target[0]), angle(name + "_a2", a[1], target[1])};
-  }
-};
-
+// The limb's axes (in order from its start) when they are in Pieper's layout, else nullopt.
 std::optional<std::vector<LimbAxis>> pieper_layout(const CircuitSolverContext& c,
-                                                   const std::vector<Step>& limb) {
+                                                   const std::vector<LimbStep>& limb) {
   std::vector<LimbAxis> axes;
-  for (const Step& s : limb) {
+  for (const LimbStep& s : limb) {
     const auto col = static_cast<size_t>(c.graph.joint_column[static_cast<size_t>(s.joint)]);
     axes.push_back({c.columns[col].axis.s, c.columns[col].axis.s0, ex(s.direction), col});
   }
@@ -351,20 +184,20 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
   LimbCircuit lc = *found;
   // The limb's motion from its start to its end is the inverse of the rest's; seen from the
   // other end, the rest's motion itself.
-  const Pose rest = rest_motion(c, lc, group_name(c, lc, circuit) + "_");
+  const Pose rest = rest_motion(c, lc, limb_group_name(c, lc, circuit) + "_");
   Pose T = geometry::inverse(rest);
   std::optional<std::vector<LimbAxis>> axes = pieper_layout(c, lc.limb);
   if (!axes) {
-    std::vector<Step> reversed(lc.limb.rbegin(), lc.limb.rend());
-    for (Step& s : reversed) s.direction = -s.direction;
+    std::vector<LimbStep> reversed(lc.limb.rbegin(), lc.limb.rend());
+    for (LimbStep& s : reversed) s.direction = -s.direction;
     axes = pieper_layout(c, reversed);
     if (!axes) return std::nullopt;
     lc.limb = reversed;
     T = rest;
   }
   const std::vector<LimbAxis>& a = *axes;
-  SixR ik{c, group_name(c, lc, circuit) + "_", {}, {}};
-  ik.out.name = group_name(c, lc, circuit);
+  LimbIk ik{c, limb_group_name(c, lc, circuit) + "_", {}, {}};
+  ik.out.name = limb_group_name(c, lc, circuit);
   std::vector<double> target;  // the assembly's angles theta_i = direction_i q_i
   for (const LimbAxis& x : a) target.push_back(c.at_assembly(x.direction) * c.assembly_q[x.column]);
   const V W = named_vector(c, ik.prefix + "wrist_ref", crossing(a[3], a[4]));
@@ -410,12 +243,10 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
                                     (a[i].direction * theta[i]).expand());
     joints += (i ? ", " : "") + c.model.joints[static_cast<size_t>(lc.limb[i].joint)].name;
   }
-  std::string signs;
-  for (const int b : ik.branches) signs += b > 0 ? "+" : "-";
   ik.out.plan = "pose-driven 6R limb " + joints +
                 " in closed form (Pieper: the first two axes and the last three meet; Paden-Kahan "
                 "subproblems 3, 2, 2, 1; branches " +
-                signs + " from the assembly)";
+                ik.branch_signs() + " from the assembly)";
   return ik.out;
 }
 

@@ -127,19 +127,44 @@ std::optional<Link> find_link(const ClosureContext& ctx, int revolute, int K, in
   return l;
 }
 
+// A cylinder whose prismatic is unknown and whose barrel and rod each have one other joint, an
+// end joint to a known body: Y at the barrel's end, X at the rod's (revolute and K unused).
+std::optional<Link> find_measured_link(const ClosureContext& ctx, int prismatic) {
+  const SpatialModel& m = ctx.model;
+  const SpatialJoint& pj = m.joints[static_cast<size_t>(prismatic)];
+  Link l;
+  l.prismatic = prismatic, l.L1 = pj.first, l.L2 = pj.second;
+  const std::vector<int> near = joints_of(m, l.L1, prismatic), far = joints_of(m, l.L2, prismatic);
+  if (l.L1 == m.ground || l.L2 == m.ground || near.size() != 1 || far.size() != 1 ||
+      !end_joint(ctx, near[0]) || !end_joint(ctx, far[0]))
+    return std::nullopt;
+  l.y_end = near[0], l.x_end = far[0];
+  l.Y = other(m.joints[static_cast<size_t>(l.y_end)], l.L1);
+  l.X = other(m.joints[static_cast<size_t>(l.x_end)], l.L2);
+  if (l.X == l.Y ||
+      m.joints[static_cast<size_t>(l.y_end)].type == m.joints[static_cast<size_t>(l.x_end)].type ||
+      !ctx.pose_known(l.X) || !ctx.pose_known(l.Y))
+    return std::nullopt;
+  return l;
+}
+
 class LinkSolver {
  public:
   LinkSolver(ClosureContext& ctx, const Link& l) : ctx_(ctx), m_(ctx.model), l_(l) {}
 
   // The group, or nothing when the geometry does not fit (checked at the assembly).
   std::optional<ClosedFormGroup> solve() {
-    const std::string& rname = joint(l_.revolute).name;
+    const bool measured = l_.revolute < 0;  // both ends known: the cylinder's length measured
+    const std::string& rname = joint(measured ? l_.prismatic : l_.revolute).name;
     g_.name = rname + " (link " + body(l_.L1) + ")";
     prefix_ = "cf_" + rname + "_";
-    const std::optional<ex> length2 = link_length2();
-    if (!length2) return std::nullopt;
-    const bool slider = joint(l_.revolute).type == SpatialJointType::prismatic;
-    if (!(slider ? slide(*length2) : revolute(*length2))) return std::nullopt;
+    const bool slider = !measured && joint(l_.revolute).type == SpatialJointType::prismatic;
+    if (measured) {
+      if (!measured_length()) return std::nullopt;
+    } else {
+      const std::optional<ex> length2 = link_length2();
+      if (!length2 || !(slider ? slide(*length2) : revolute(*length2))) return std::nullopt;
+    }
     if (!ends()) return std::nullopt;
     // The group must reproduce the numeric solver's assembly (mod 2 pi).
     for (const int c : g_.columns) {
@@ -149,14 +174,19 @@ class LinkSolver {
     }
     const SpatialJoint& u = joint(universal_end());
     const SpatialJoint& s = joint(spherical_end());
+    const std::string from =
+        measured
+            ? " between known '" + body(l_.Y) + "' and '" + body(l_.X) +
+                  "': its coordinate from the distance of the end centres"
+            : " from '" + body(l_.X) +
+                  "': " + (slider ? "a quadratic in the slider's q" : "A cos q + B sin q = C") +
+                  " (branch " + (tau_ > 0 ? "+1" : "-1") + " from the assembly)";
     g_.plan = "closed form, link '" + body(l_.L1) +
-              (l_.prismatic >= 0 ? "' + '" + body(l_.L2) + "' (length driven by '" +
-                                       joint(l_.prismatic).name + "')"
-                                 : "'") +
-              " from '" + body(l_.X) +
-              "': " + (slider ? "a quadratic in the slider's q" : "A cos q + B sin q = C") +
-              " (branch " + (tau_ > 0 ? "+1" : "-1") + " from the assembly), then '" + u.name +
-              "' (universal) from the link's direction, '" + s.name +
+              (l_.prismatic >= 0
+                   ? "' + '" + body(l_.L2) + "' (length " + (measured ? "of '" : "driven by '") +
+                         joint(l_.prismatic).name + "')"
+                   : "'") +
+              from + ", then '" + u.name + "' (universal) from the link's direction, '" + s.name +
               "' (spherical) from the relative rotation";
     return g_;
   }
@@ -226,6 +256,33 @@ class LinkSolver {
     length_ = def("len", n + sign * ctx_.q[c] * geometry::dot(s, d0_) / n);
     scale_ = def("len_ratio", length_ / n);
     return length_ * length_;
+  }
+
+  // Both end bodies known, the prismatic unknown (a cylinder following a pose-driven leg): the
+  // end centres' distance is the length, the coordinate its excess over the reference length
+  // along the prismatic's axis.
+  bool measured_length() {
+    d0_ = def("d0", centre(l_.x_end) - centre(l_.y_end));
+    const ex n2 = def("len0_sq", geometry::dot(d0_, d0_));
+    const size_t c = column(l_.prismatic);
+    const V& s = ctx_.axes[c].s;
+    const V sx = geometry::cross(s, d0_);
+    if (!(std::sqrt(ctx_.value(geometry::dot(sx, sx))) <= 1e-9 * std::sqrt(ctx_.value(n2))))
+      return false;
+    const ex n = def("len0", GiNaC::sqrt(n2));
+    DY_ = ctx_.tree_pose[static_cast<size_t>(l_.Y)];
+    cX_ = def("cX", geometry::apply(ctx_.tree_pose[static_cast<size_t>(l_.X)], centre(l_.x_end)));
+    cY_ = def("cY", geometry::apply(DY_, centre(l_.y_end)));
+    const V span = cX_ - cY_;
+    length_ = def("len", GiNaC::sqrt(geometry::dot(span, span)));
+    scale_ = def("len_ratio", length_ / n);
+    const ex sign = joint(l_.prismatic).first == l_.L1 ? 1 : -1;
+    const symbol q = GiNaC::ex_to<symbol>(ctx_.q[c]);
+    const ex value = (sign * (length_ - n) * n / geometry::dot(s, d0_)).expand();
+    g_.definitions.emplace_back(q, value);
+    ctx_.assembly[q] = ctx_.value(value);
+    g_.columns.push_back(static_cast<int>(c));
+    return std::abs(ctx_.value(q) - ctx_.assembly_q[c]) < 1e-8;
   }
 
   // The revolute K-Y: |c_Y(q) - c_X|^2 = L^2 in K's frame is A cos q + B sin q = C.
@@ -427,6 +484,15 @@ std::optional<ClosedFormGroup> link_group(
         if (group && accept(*group)) return group;
       }
     }
+  }
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    if (m.joints[j].type != SpatialJointType::prismatic || !unknown(ctx, static_cast<int>(j)))
+      continue;
+    const std::optional<Link> link = find_measured_link(ctx, static_cast<int>(j));
+    if (!link) continue;
+    ctx.assembly.clear();
+    std::optional<ClosedFormGroup> group = LinkSolver(ctx, *link).solve();
+    if (group && accept(*group)) return group;
   }
   return std::nullopt;
 }

@@ -35,18 +35,15 @@ inline std::vector<double> perturbed_parameters(const SpatialModel& model, unsig
 // The whole step through the registry's kernel (warm-started from one call to the next) and the
 // numeric sweep: every column (kinematics, driver efforts, joint reactions; where circuits are
 // redundant the numeric solver's minimum-norm reactions) to 1e-9 of its scale
-// (test::worst_column_difference).
-// `perturbed` more parameter sets from perturbed_parameters; `sets` replace the default and
-// changed parameters when given.
-inline void sweep_equals_numeric(const std::string& name, int perturbed = 0,
-                                 std::vector<std::vector<double>> sets = {}) {
+// (test::worst_column_difference), at each of the parameter sets given; `floor`: the smallest
+// scale of a column (SI).
+inline void sweep_equals_numeric_at(const std::string& name,
+                                    const std::vector<std::vector<double>>& sets,
+                                    double floor = 1e-6) {
   const SpatialModel model =
       read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
   const CompiledKernel* kernel = find_compiled_kernel(name);
   ASSERT_NE(kernel, nullptr);
-  if (sets.empty()) sets = {model.common.default_parameters(), changed_parameters(model)};
-  for (int k = 0; k < perturbed; ++k)
-    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
   for (const std::vector<double>& parameters : sets) {
     const SpatialSweepOptions options = default_spatial_sweep(model, parameters);
     const SpatialSweepResult numeric = run_spatial_sweep(model, options);
@@ -55,13 +52,25 @@ inline void sweep_equals_numeric(const std::string& name, int perturbed = 0,
     ASSERT_EQ(numeric.rows.size(), generated.rows.size());
     std::string where;
     const double worst =
-        test::worst_column_difference(numeric.columns, numeric.rows, generated.rows, where);
+        test::worst_column_difference(numeric.columns, numeric.rows, generated.rows, where, floor);
     const size_t compared = numeric.columns.size();
-    EXPECT_GT(compared, 80);
+    EXPECT_GT(compared, 80u);
     EXPECT_LT(worst, 1e-9) << where;
     std::cout << name << " sweep (" << numeric.rows.size() << " samples, " << compared
               << " columns), generated against numeric: worst " << worst << " (" << where << ")\n";
   }
+}
+
+// At the default parameters and changed_parameters (or the `sets` given instead), and `perturbed`
+// more sets from perturbed_parameters.
+inline void sweep_equals_numeric(const std::string& name, int perturbed = 0,
+                                 std::vector<std::vector<double>> sets = {}) {
+  const SpatialModel model =
+      read_spatial_model(std::string(MECHGEN_SOURCE_DIR "/models/") + name + ".yaml");
+  if (sets.empty()) sets = {model.common.default_parameters(), changed_parameters(model)};
+  for (int k = 0; k < perturbed; ++k)
+    sets.push_back(perturbed_parameters(model, static_cast<unsigned>(k + 1)));
+  sweep_equals_numeric_at(name, sets);
 }
 
 }  // namespace mechgen::spatial

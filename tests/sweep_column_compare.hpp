@@ -22,14 +22,15 @@ inline bool is_reaction(const std::string& column) {
 // Every column of `generated` against `numeric` to its scale: the column's largest magnitude, at
 // least 1 % of the largest of its kind (the suffix without digits: a spherical joint's q1, q2, q3
 // are one kind) and 1e-6 (SI: 1e-15 absolute: a kind that stays near round-off level over the
-// whole step, such as the standing bioloid's vertical velocities, has no scale of its own); a
+// whole step, such as the standing bioloid's vertical velocities, has no scale of its own; `floor`
+// replaces that 1e-6); a
 // reaction's at least 1e-3 of the largest reaction force or moment (a component that is zero, a
 // revolute's moments in chebyshev_spatial, the numeric solver's at 1e-16, has none either).
 // Returns the worst relative difference, its column in `where`.
 inline double worst_column_difference(const std::vector<std::string>& columns,
                                       const std::vector<std::vector<double>>& numeric,
                                       const std::vector<std::vector<double>>& generated,
-                                      std::string& where) {
+                                      std::string& where, double floor = 1e-6) {
   auto kind = [](const std::string& c) {
     std::string k;
     for (const char ch : c.substr(c.rfind('.') + 1))
@@ -47,7 +48,7 @@ inline double worst_column_difference(const std::vector<std::string>& columns,
     }
   double worst = 0;
   for (size_t c = 0; c < columns.size(); ++c) {
-    double scale = std::max(1e-6, 0.01 * kind_scale[kind(columns[c])]);
+    double scale = std::max(floor, 0.01 * kind_scale[kind(columns[c])]);
     if (is_reaction(columns[c]))
       scale = std::max(scale, 1e-3 * std::max(force_scale, moment_scale));
     for (const auto& row : numeric) scale = std::max(scale, std::abs(row[c]));

@@ -49,45 +49,49 @@
 
 namespace mechgen::gen::bioloid_support_r_foot {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T m_total = T(1.7);  // kg: total mass (seed section 3.1)
-  T height = T(0.397);  // m: sole to the top of the head (seed section 3.1)
-  T l1 = T(0.075);  // m: thigh (hip to knee)
-  T l2 = T(0.075);  // m: calf (knee to ankle)
-  T l3 = T(0.0335);  // m: ankle axis to sole
-  T hy = T(0.037);  // m: half the distance between the hip points
-  T sy = T(0.082);  // m: shoulder point from the mid-plane
-  T sz = T(0.13);  // m: shoulder point above the waist
-  T la = T(0.068);  // m: upper arm (shoulder to elbow)
-  T lf = T(0.094);  // m: forearm (elbow to hand point)
-  T cx = T(0.014563);  // m: trunk centre of mass ahead of the waist (seed)
-  T cz = T(0.086397);  // m: trunk centre of mass above the waist (seed)
-  T foot_l = T(0.1);  // m: sole length
-  T foot_w = T(0.066);  // m: sole width
-  T m_hip1 = T(0.03);  // kg: hip yaw bracket
-  T m_hip2 = T(0.06);  // kg: hip roll servo and bracket
-  T m_thigh = T(0.09);  // kg: thigh (hip pitch and knee servos' frames)
-  T m_calf = T(0.08);  // kg: calf
-  T m_ankle = T(0.06);  // kg: ankle servo and bracket
-  T m_foot = T(0.06);  // kg: foot
-  T m_shoulder = T(0.06);  // kg: shoulder roll servo and bracket
-  T m_upper = T(0.07);  // kg: upper arm with the elbow servo
-  T m_fore = T(0.05);  // kg: forearm with the gripper
-  T crouch = T(0.02);  // m: waist lowered from the straight stance (knees bent)
-  T arm_pitch = T(0.15);  // rad: shoulder pitch of the hands' pose
-  T elbow = T(-0.5);  // rad: elbow of the hands' pose (forearm forward)
-  T sway = T(0.012);  // m: lateral weight shift of the standing motion
-  T w = T(3.14159);  // rad/s: frequency of the standing motion
-  T step_length = T(0.04);  // m: gait: stride of one step
-  T step_time = T(0.5);  // s: gait: duration of one step (single support)
-  T swing_height = T(0.02);  // m: gait: foot clearance at mid-swing
-  T steps = T(6.0);  // 1: gait: number of steps
-  T support_x = T(0.0);  // m: support placement: ground x of its point RF
-  T support_y = T(-0.037);  // m: support placement: ground y of its point RF
-  T support_z = T(0.0);  // m: support placement: ground z of its point RF
-  T support_heading = T(0.0);  // rad: support placement: turn about the ground z axis
+  Real m_total = Real(1.7);  // kg: total mass (seed section 3.1)
+  Real height = Real(0.397);  // m: sole to the top of the head (seed section 3.1)
+  Real l1 = Real(0.075);  // m: thigh (hip to knee)
+  Real l2 = Real(0.075);  // m: calf (knee to ankle)
+  Real l3 = Real(0.0335);  // m: ankle axis to sole
+  Real hy = Real(0.037);  // m: half the distance between the hip points
+  Real sy = Real(0.082);  // m: shoulder point from the mid-plane
+  Real sz = Real(0.13);  // m: shoulder point above the waist
+  Real la = Real(0.068);  // m: upper arm (shoulder to elbow)
+  Real lf = Real(0.094);  // m: forearm (elbow to hand point)
+  Real cx = Real(0.014563);  // m: trunk centre of mass ahead of the waist (seed)
+  Real cz = Real(0.086397);  // m: trunk centre of mass above the waist (seed)
+  Real foot_l = Real(0.1);  // m: sole length
+  Real foot_w = Real(0.066);  // m: sole width
+  Real m_hip1 = Real(0.03);  // kg: hip yaw bracket
+  Real m_hip2 = Real(0.06);  // kg: hip roll servo and bracket
+  Real m_thigh = Real(0.09);  // kg: thigh (hip pitch and knee servos' frames)
+  Real m_calf = Real(0.08);  // kg: calf
+  Real m_ankle = Real(0.06);  // kg: ankle servo and bracket
+  Real m_foot = Real(0.06);  // kg: foot
+  Real m_shoulder = Real(0.06);  // kg: shoulder roll servo and bracket
+  Real m_upper = Real(0.07);  // kg: upper arm with the elbow servo
+  Real m_fore = Real(0.05);  // kg: forearm with the gripper
+  Real crouch = Real(0.02);  // m: waist lowered from the straight stance (knees bent)
+  Real arm_pitch = Real(0.15);  // rad: shoulder pitch of the hands' pose
+  Real elbow = Real(-0.5);  // rad: elbow of the hands' pose (forearm forward)
+  Real sway = Real(0.012);  // m: lateral weight shift of the standing motion
+  Real w = Real(3.14159);  // rad/s: frequency of the standing motion
+  Real step_length = Real(0.04);  // m: gait: stride of one step
+  Real step_time = Real(0.5);  // s: gait: duration of one step (single support)
+  Real swing_height = Real(0.02);  // m: gait: foot clearance at mid-swing
+  Real steps = Real(6.0);  // 1: gait: number of steps
+  Real support_x = Real(0.0);  // m: support placement: ground x of its point RF
+  Real support_y = Real(-0.037);  // m: support placement: ground y of its point RF
+  Real support_z = Real(0.0);  // m: support placement: ground z of its point RF
+  Real support_heading = Real(0.0);  // rad: support placement: turn about the ground z axis
 };
 
 namespace detail {
@@ -185,33 +189,33 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T RL1_drive = T(0), RL1_drive_d = T(0), RL1_drive_dd = T(0);
-  T RL2_drive = T(0), RL2_drive_d = T(0), RL2_drive_dd = T(0);
-  T RL3_drive = T(0), RL3_drive_d = T(0), RL3_drive_dd = T(0);
-  T RL4_drive = T(0), RL4_drive_d = T(0), RL4_drive_dd = T(0);
-  T RL5_drive = T(0), RL5_drive_d = T(0), RL5_drive_dd = T(0);
-  T RL6_drive = T(0), RL6_drive_d = T(0), RL6_drive_dd = T(0);
-  T LL1_drive = T(0), LL1_drive_d = T(0), LL1_drive_dd = T(0);
-  T LL2_drive = T(0), LL2_drive_d = T(0), LL2_drive_dd = T(0);
-  T LL3_drive = T(0), LL3_drive_d = T(0), LL3_drive_dd = T(0);
-  T LL4_drive = T(0), LL4_drive_d = T(0), LL4_drive_dd = T(0);
-  T LL5_drive = T(0), LL5_drive_d = T(0), LL5_drive_dd = T(0);
-  T LL6_drive = T(0), LL6_drive_d = T(0), LL6_drive_dd = T(0);
-  T RA1_drive = T(0), RA1_drive_d = T(0), RA1_drive_dd = T(0);
-  T RA2_drive = T(0), RA2_drive_d = T(0), RA2_drive_dd = T(0);
-  T RA3_drive = T(0), RA3_drive_d = T(0), RA3_drive_dd = T(0);
-  T RA4_drive = T(0), RA4_drive_d = T(0), RA4_drive_dd = T(0);
-  T RA5_drive = T(0), RA5_drive_d = T(0), RA5_drive_dd = T(0);
-  T RA6_drive = T(0), RA6_drive_d = T(0), RA6_drive_dd = T(0);
-  T LA1_drive = T(0), LA1_drive_d = T(0), LA1_drive_dd = T(0);
-  T LA2_drive = T(0), LA2_drive_d = T(0), LA2_drive_dd = T(0);
-  T LA3_drive = T(0), LA3_drive_d = T(0), LA3_drive_dd = T(0);
-  T LA4_drive = T(0), LA4_drive_d = T(0), LA4_drive_dd = T(0);
-  T LA5_drive = T(0), LA5_drive_d = T(0), LA5_drive_dd = T(0);
-  T LA6_drive = T(0), LA6_drive_d = T(0), LA6_drive_dd = T(0);
+  Real t = Real(0);
+  Real RL1_drive = Real(0), RL1_drive_d = Real(0), RL1_drive_dd = Real(0);
+  Real RL2_drive = Real(0), RL2_drive_d = Real(0), RL2_drive_dd = Real(0);
+  Real RL3_drive = Real(0), RL3_drive_d = Real(0), RL3_drive_dd = Real(0);
+  Real RL4_drive = Real(0), RL4_drive_d = Real(0), RL4_drive_dd = Real(0);
+  Real RL5_drive = Real(0), RL5_drive_d = Real(0), RL5_drive_dd = Real(0);
+  Real RL6_drive = Real(0), RL6_drive_d = Real(0), RL6_drive_dd = Real(0);
+  Real LL1_drive = Real(0), LL1_drive_d = Real(0), LL1_drive_dd = Real(0);
+  Real LL2_drive = Real(0), LL2_drive_d = Real(0), LL2_drive_dd = Real(0);
+  Real LL3_drive = Real(0), LL3_drive_d = Real(0), LL3_drive_dd = Real(0);
+  Real LL4_drive = Real(0), LL4_drive_d = Real(0), LL4_drive_dd = Real(0);
+  Real LL5_drive = Real(0), LL5_drive_d = Real(0), LL5_drive_dd = Real(0);
+  Real LL6_drive = Real(0), LL6_drive_d = Real(0), LL6_drive_dd = Real(0);
+  Real RA1_drive = Real(0), RA1_drive_d = Real(0), RA1_drive_dd = Real(0);
+  Real RA2_drive = Real(0), RA2_drive_d = Real(0), RA2_drive_dd = Real(0);
+  Real RA3_drive = Real(0), RA3_drive_d = Real(0), RA3_drive_dd = Real(0);
+  Real RA4_drive = Real(0), RA4_drive_d = Real(0), RA4_drive_dd = Real(0);
+  Real RA5_drive = Real(0), RA5_drive_d = Real(0), RA5_drive_dd = Real(0);
+  Real RA6_drive = Real(0), RA6_drive_d = Real(0), RA6_drive_dd = Real(0);
+  Real LA1_drive = Real(0), LA1_drive_d = Real(0), LA1_drive_dd = Real(0);
+  Real LA2_drive = Real(0), LA2_drive_d = Real(0), LA2_drive_dd = Real(0);
+  Real LA3_drive = Real(0), LA3_drive_d = Real(0), LA3_drive_dd = Real(0);
+  Real LA4_drive = Real(0), LA4_drive_d = Real(0), LA4_drive_dd = Real(0);
+  Real LA5_drive = Real(0), LA5_drive_d = Real(0), LA5_drive_dd = Real(0);
+  Real LA6_drive = Real(0), LA6_drive_d = Real(0), LA6_drive_dd = Real(0);
 };
 
 template <class T>
@@ -252,243 +256,243 @@ struct DriverState {
 
 inline constexpr int primary_count = 24;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> waist;
-    BodyState<T> r_hip1;
-    BodyState<T> r_hip2;
-    BodyState<T> r_thigh;
-    BodyState<T> r_calf;
-    BodyState<T> r_ankle;
-    BodyState<T> r_foot;
-    BodyState<T> l_hip1;
-    BodyState<T> l_hip2;
-    BodyState<T> l_thigh;
-    BodyState<T> l_calf;
-    BodyState<T> l_ankle;
-    BodyState<T> l_foot;
-    BodyState<T> r_shoulder;
-    BodyState<T> r_upper_arm;
-    BodyState<T> r_forearm;
-    BodyState<T> r_wrist1;
-    BodyState<T> r_wrist2;
-    BodyState<T> r_hand;
-    BodyState<T> l_shoulder;
-    BodyState<T> l_upper_arm;
-    BodyState<T> l_forearm;
-    BodyState<T> l_wrist1;
-    BodyState<T> l_wrist2;
-    BodyState<T> l_hand;
+    BodyState<Real> waist;
+    BodyState<Real> r_hip1;
+    BodyState<Real> r_hip2;
+    BodyState<Real> r_thigh;
+    BodyState<Real> r_calf;
+    BodyState<Real> r_ankle;
+    BodyState<Real> r_foot;
+    BodyState<Real> l_hip1;
+    BodyState<Real> l_hip2;
+    BodyState<Real> l_thigh;
+    BodyState<Real> l_calf;
+    BodyState<Real> l_ankle;
+    BodyState<Real> l_foot;
+    BodyState<Real> r_shoulder;
+    BodyState<Real> r_upper_arm;
+    BodyState<Real> r_forearm;
+    BodyState<Real> r_wrist1;
+    BodyState<Real> r_wrist2;
+    BodyState<Real> r_hand;
+    BodyState<Real> l_shoulder;
+    BodyState<Real> l_upper_arm;
+    BodyState<Real> l_forearm;
+    BodyState<Real> l_wrist1;
+    BodyState<Real> l_wrist2;
+    BodyState<Real> l_hand;
   } bodies;
   struct Points {
-    PointState<T> W;
-    PointState<T> head;
-    PointState<T> RH;
-    PointState<T> RK;
-    PointState<T> RA;
-    PointState<T> RF;
-    PointState<T> r_toe_out;
-    PointState<T> r_toe_in;
-    PointState<T> r_heel_in;
-    PointState<T> r_heel_out;
-    PointState<T> LH;
-    PointState<T> LK;
-    PointState<T> LA;
-    PointState<T> LF;
-    PointState<T> l_toe_out;
-    PointState<T> l_toe_in;
-    PointState<T> l_heel_in;
-    PointState<T> l_heel_out;
-    PointState<T> RS;
-    PointState<T> RE;
-    PointState<T> RP;
-    PointState<T> LS;
-    PointState<T> LE;
-    PointState<T> LP;
+    PointState<Real> W;
+    PointState<Real> head;
+    PointState<Real> RH;
+    PointState<Real> RK;
+    PointState<Real> RA;
+    PointState<Real> RF;
+    PointState<Real> r_toe_out;
+    PointState<Real> r_toe_in;
+    PointState<Real> r_heel_in;
+    PointState<Real> r_heel_out;
+    PointState<Real> LH;
+    PointState<Real> LK;
+    PointState<Real> LA;
+    PointState<Real> LF;
+    PointState<Real> l_toe_out;
+    PointState<Real> l_toe_in;
+    PointState<Real> l_heel_in;
+    PointState<Real> l_heel_out;
+    PointState<Real> RS;
+    PointState<Real> RE;
+    PointState<Real> RP;
+    PointState<Real> LS;
+    PointState<Real> LE;
+    PointState<Real> LP;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RL6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LL6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } RA6;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA3;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA4;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA5;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } LA6;
     struct {
-      T fx, fy, fz, mx, my, mz;
+      Real fx, fy, fz, mx, my, mz;
     } r_foot_weld;
   } joints;
   struct Drivers {
-    DriverState<T> RL1_drive;
-    DriverState<T> RL2_drive;
-    DriverState<T> RL3_drive;
-    DriverState<T> RL4_drive;
-    DriverState<T> RL5_drive;
-    DriverState<T> RL6_drive;
-    DriverState<T> LL1_drive;
-    DriverState<T> LL2_drive;
-    DriverState<T> LL3_drive;
-    DriverState<T> LL4_drive;
-    DriverState<T> LL5_drive;
-    DriverState<T> LL6_drive;
-    DriverState<T> RA1_drive;
-    DriverState<T> RA2_drive;
-    DriverState<T> RA3_drive;
-    DriverState<T> RA4_drive;
-    DriverState<T> RA5_drive;
-    DriverState<T> RA6_drive;
-    DriverState<T> LA1_drive;
-    DriverState<T> LA2_drive;
-    DriverState<T> LA3_drive;
-    DriverState<T> LA4_drive;
-    DriverState<T> LA5_drive;
-    DriverState<T> LA6_drive;
+    DriverState<Real> RL1_drive;
+    DriverState<Real> RL2_drive;
+    DriverState<Real> RL3_drive;
+    DriverState<Real> RL4_drive;
+    DriverState<Real> RL5_drive;
+    DriverState<Real> RL6_drive;
+    DriverState<Real> LL1_drive;
+    DriverState<Real> LL2_drive;
+    DriverState<Real> LL3_drive;
+    DriverState<Real> LL4_drive;
+    DriverState<Real> LL5_drive;
+    DriverState<Real> LL6_drive;
+    DriverState<Real> RA1_drive;
+    DriverState<Real> RA2_drive;
+    DriverState<Real> RA3_drive;
+    DriverState<Real> RA4_drive;
+    DriverState<Real> RA5_drive;
+    DriverState<Real> RA6_drive;
+    DriverState<Real> LA1_drive;
+    DriverState<Real> LA2_drive;
+    DriverState<Real> LA3_drive;
+    DriverState<Real> LA4_drive;
+    DriverState<Real> LA5_drive;
+    DriverState<Real> LA6_drive;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T waist[6][primary_count] = {};
-    T r_hip1[6][primary_count] = {};
-    T r_hip2[6][primary_count] = {};
-    T r_thigh[6][primary_count] = {};
-    T r_calf[6][primary_count] = {};
-    T r_ankle[6][primary_count] = {};
-    T r_foot[6][primary_count] = {};
-    T l_hip1[6][primary_count] = {};
-    T l_hip2[6][primary_count] = {};
-    T l_thigh[6][primary_count] = {};
-    T l_calf[6][primary_count] = {};
-    T l_ankle[6][primary_count] = {};
-    T l_foot[6][primary_count] = {};
-    T r_shoulder[6][primary_count] = {};
-    T r_upper_arm[6][primary_count] = {};
-    T r_forearm[6][primary_count] = {};
-    T r_wrist1[6][primary_count] = {};
-    T r_wrist2[6][primary_count] = {};
-    T r_hand[6][primary_count] = {};
-    T l_shoulder[6][primary_count] = {};
-    T l_upper_arm[6][primary_count] = {};
-    T l_forearm[6][primary_count] = {};
-    T l_wrist1[6][primary_count] = {};
-    T l_wrist2[6][primary_count] = {};
-    T l_hand[6][primary_count] = {};
+    Real waist[6][primary_count] = {};
+    Real r_hip1[6][primary_count] = {};
+    Real r_hip2[6][primary_count] = {};
+    Real r_thigh[6][primary_count] = {};
+    Real r_calf[6][primary_count] = {};
+    Real r_ankle[6][primary_count] = {};
+    Real r_foot[6][primary_count] = {};
+    Real l_hip1[6][primary_count] = {};
+    Real l_hip2[6][primary_count] = {};
+    Real l_thigh[6][primary_count] = {};
+    Real l_calf[6][primary_count] = {};
+    Real l_ankle[6][primary_count] = {};
+    Real l_foot[6][primary_count] = {};
+    Real r_shoulder[6][primary_count] = {};
+    Real r_upper_arm[6][primary_count] = {};
+    Real r_forearm[6][primary_count] = {};
+    Real r_wrist1[6][primary_count] = {};
+    Real r_wrist2[6][primary_count] = {};
+    Real r_hand[6][primary_count] = {};
+    Real l_shoulder[6][primary_count] = {};
+    Real l_upper_arm[6][primary_count] = {};
+    Real l_forearm[6][primary_count] = {};
+    Real l_wrist1[6][primary_count] = {};
+    Real l_wrist2[6][primary_count] = {};
+    Real l_hand[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T W[3][primary_count] = {};
-    T head[3][primary_count] = {};
-    T RH[3][primary_count] = {};
-    T RK[3][primary_count] = {};
-    T RA[3][primary_count] = {};
-    T RF[3][primary_count] = {};
-    T r_toe_out[3][primary_count] = {};
-    T r_toe_in[3][primary_count] = {};
-    T r_heel_in[3][primary_count] = {};
-    T r_heel_out[3][primary_count] = {};
-    T LH[3][primary_count] = {};
-    T LK[3][primary_count] = {};
-    T LA[3][primary_count] = {};
-    T LF[3][primary_count] = {};
-    T l_toe_out[3][primary_count] = {};
-    T l_toe_in[3][primary_count] = {};
-    T l_heel_in[3][primary_count] = {};
-    T l_heel_out[3][primary_count] = {};
-    T RS[3][primary_count] = {};
-    T RE[3][primary_count] = {};
-    T RP[3][primary_count] = {};
-    T LS[3][primary_count] = {};
-    T LE[3][primary_count] = {};
-    T LP[3][primary_count] = {};
+    Real W[3][primary_count] = {};
+    Real head[3][primary_count] = {};
+    Real RH[3][primary_count] = {};
+    Real RK[3][primary_count] = {};
+    Real RA[3][primary_count] = {};
+    Real RF[3][primary_count] = {};
+    Real r_toe_out[3][primary_count] = {};
+    Real r_toe_in[3][primary_count] = {};
+    Real r_heel_in[3][primary_count] = {};
+    Real r_heel_out[3][primary_count] = {};
+    Real LH[3][primary_count] = {};
+    Real LK[3][primary_count] = {};
+    Real LA[3][primary_count] = {};
+    Real LF[3][primary_count] = {};
+    Real l_toe_out[3][primary_count] = {};
+    Real l_toe_in[3][primary_count] = {};
+    Real l_heel_in[3][primary_count] = {};
+    Real l_heel_out[3][primary_count] = {};
+    Real RS[3][primary_count] = {};
+    Real RE[3][primary_count] = {};
+    Real RP[3][primary_count] = {};
+    Real LS[3][primary_count] = {};
+    Real LE[3][primary_count] = {};
+    Real LP[3][primary_count] = {};
   } point_jacobians;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -16759,157 +16763,157 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s_RL2_x;
-  T s_RL2_y;
-  T s0_RL2_z;
-  T s_RL3_x;
-  T s_RL3_y;
-  T s0_RL3_z;
-  T s_RL4_x;
-  T s_RL4_y;
-  T s0_RL4_z;
-  T s_RL5_x;
-  T s_RL5_y;
-  T s0_RL5_z;
-  T s_RL6_x;
-  T s_RL6_y;
-  T s0_RL6_z;
-  T s0_LL1_x;
-  T s0_LL1_y;
-  T s_LL2_x;
-  T s_LL2_y;
-  T s0_LL2_x;
-  T s0_LL2_y;
-  T s0_LL2_z;
-  T s_LL3_x;
-  T s_LL3_y;
-  T s0_LL3_x;
-  T s0_LL3_y;
-  T s0_LL3_z;
-  T s_LL4_x;
-  T s_LL4_y;
-  T s0_LL4_x;
-  T s0_LL4_y;
-  T s0_LL4_z;
-  T s_LL5_x;
-  T s_LL5_y;
-  T s0_LL5_x;
-  T s0_LL5_y;
-  T s0_LL5_z;
-  T s_LL6_x;
-  T s_LL6_y;
-  T s0_LL6_x;
-  T s0_LL6_y;
-  T s0_LL6_z;
-  T s_RA1_x;
-  T s_RA1_y;
-  T s0_RA1_x;
-  T s0_RA1_y;
-  T s0_RA1_z;
-  T s_RA2_x;
-  T s_RA2_y;
-  T s0_RA2_x;
-  T s0_RA2_y;
-  T s0_RA2_z;
-  T s_RA3_x;
-  T s_RA3_y;
-  T s0_RA3_x;
-  T s0_RA3_y;
-  T s0_RA3_z;
-  T s0_RA4_x;
-  T s0_RA4_y;
-  T s_RA5_x;
-  T s_RA5_y;
-  T s0_RA5_x;
-  T s0_RA5_y;
-  T s0_RA5_z;
-  T s_RA6_x;
-  T s_RA6_y;
-  T s0_RA6_x;
-  T s0_RA6_y;
-  T s0_RA6_z;
-  T s_LA1_x;
-  T s_LA1_y;
-  T s0_LA1_x;
-  T s0_LA1_y;
-  T s0_LA1_z;
-  T s_LA2_x;
-  T s_LA2_y;
-  T s0_LA2_x;
-  T s0_LA2_y;
-  T s0_LA2_z;
-  T s_LA3_x;
-  T s_LA3_y;
-  T s0_LA3_x;
-  T s0_LA3_y;
-  T s0_LA3_z;
-  T s0_LA4_x;
-  T s0_LA4_y;
-  T s_LA5_x;
-  T s_LA5_y;
-  T s0_LA5_x;
-  T s0_LA5_y;
-  T s0_LA5_z;
-  T s_LA6_x;
-  T s_LA6_y;
-  T s0_LA6_x;
-  T s0_LA6_y;
-  T s0_LA6_z;
-  T Rref_r_calf_01;
-  T Rref_r_calf_11;
-  T Rref_r_thigh_01;
-  T Rref_r_thigh_11;
-  T Rref_r_hip1_01;
-  T Rref_r_hip1_11;
-  T Rref_l_hip1_01;
-  T Rref_l_hip1_11;
-  T Rref_r_shoulder_01;
-  T Rref_r_shoulder_11;
-  T Rref_l_shoulder_01;
-  T Rref_l_shoulder_11;
-  T Rref_r_upper_arm_01;
-  T Rref_r_upper_arm_11;
-  T Rref_l_upper_arm_01;
-  T Rref_l_upper_arm_11;
-  T Rref_l_thigh_01;
-  T Rref_l_thigh_11;
-  T Rref_l_calf_01;
-  T Rref_l_calf_11;
-  T Rref_l_foot_00;
-  T Rref_l_foot_01;
-  T Rref_l_foot_10;
-  T Rref_l_foot_11;
-  T Rref_r_hand_01;
-  T Rref_r_hand_11;
-  T Rref_l_hand_01;
-  T Rref_l_hand_11;
-  T pt_local_W_z;
-  T pt_local_RH_z;
-  T pt_local_RK_z;
-  T pt_RF_x;
-  T pt_RF_y;
-  T pt_r_toe_out_x;
-  T pt_r_toe_out_y;
-  T pt_r_toe_in_x;
-  T pt_r_toe_in_y;
-  T pt_r_heel_in_x;
-  T pt_r_heel_in_y;
-  T pt_r_heel_out_x;
-  T pt_r_heel_out_y;
-  T pt_local_LH_z;
-  T pt_local_LK_z;
-  T pt_local_l_toe_out_y;
-  T pt_local_l_toe_in_y;
-  T pt_local_l_heel_in_y;
-  T pt_local_l_heel_out_y;
-  T pt_local_RS_z;
-  T pt_local_RE_z;
-  T pt_local_RP_z;
-  T pt_local_LS_z;
-  T pt_local_LE_z;
-  T pt_local_LP_z;
+  Real s_RL2_x;
+  Real s_RL2_y;
+  Real s0_RL2_z;
+  Real s_RL3_x;
+  Real s_RL3_y;
+  Real s0_RL3_z;
+  Real s_RL4_x;
+  Real s_RL4_y;
+  Real s0_RL4_z;
+  Real s_RL5_x;
+  Real s_RL5_y;
+  Real s0_RL5_z;
+  Real s_RL6_x;
+  Real s_RL6_y;
+  Real s0_RL6_z;
+  Real s0_LL1_x;
+  Real s0_LL1_y;
+  Real s_LL2_x;
+  Real s_LL2_y;
+  Real s0_LL2_x;
+  Real s0_LL2_y;
+  Real s0_LL2_z;
+  Real s_LL3_x;
+  Real s_LL3_y;
+  Real s0_LL3_x;
+  Real s0_LL3_y;
+  Real s0_LL3_z;
+  Real s_LL4_x;
+  Real s_LL4_y;
+  Real s0_LL4_x;
+  Real s0_LL4_y;
+  Real s0_LL4_z;
+  Real s_LL5_x;
+  Real s_LL5_y;
+  Real s0_LL5_x;
+  Real s0_LL5_y;
+  Real s0_LL5_z;
+  Real s_LL6_x;
+  Real s_LL6_y;
+  Real s0_LL6_x;
+  Real s0_LL6_y;
+  Real s0_LL6_z;
+  Real s_RA1_x;
+  Real s_RA1_y;
+  Real s0_RA1_x;
+  Real s0_RA1_y;
+  Real s0_RA1_z;
+  Real s_RA2_x;
+  Real s_RA2_y;
+  Real s0_RA2_x;
+  Real s0_RA2_y;
+  Real s0_RA2_z;
+  Real s_RA3_x;
+  Real s_RA3_y;
+  Real s0_RA3_x;
+  Real s0_RA3_y;
+  Real s0_RA3_z;
+  Real s0_RA4_x;
+  Real s0_RA4_y;
+  Real s_RA5_x;
+  Real s_RA5_y;
+  Real s0_RA5_x;
+  Real s0_RA5_y;
+  Real s0_RA5_z;
+  Real s_RA6_x;
+  Real s_RA6_y;
+  Real s0_RA6_x;
+  Real s0_RA6_y;
+  Real s0_RA6_z;
+  Real s_LA1_x;
+  Real s_LA1_y;
+  Real s0_LA1_x;
+  Real s0_LA1_y;
+  Real s0_LA1_z;
+  Real s_LA2_x;
+  Real s_LA2_y;
+  Real s0_LA2_x;
+  Real s0_LA2_y;
+  Real s0_LA2_z;
+  Real s_LA3_x;
+  Real s_LA3_y;
+  Real s0_LA3_x;
+  Real s0_LA3_y;
+  Real s0_LA3_z;
+  Real s0_LA4_x;
+  Real s0_LA4_y;
+  Real s_LA5_x;
+  Real s_LA5_y;
+  Real s0_LA5_x;
+  Real s0_LA5_y;
+  Real s0_LA5_z;
+  Real s_LA6_x;
+  Real s_LA6_y;
+  Real s0_LA6_x;
+  Real s0_LA6_y;
+  Real s0_LA6_z;
+  Real Rref_r_calf_01;
+  Real Rref_r_calf_11;
+  Real Rref_r_thigh_01;
+  Real Rref_r_thigh_11;
+  Real Rref_r_hip1_01;
+  Real Rref_r_hip1_11;
+  Real Rref_l_hip1_01;
+  Real Rref_l_hip1_11;
+  Real Rref_r_shoulder_01;
+  Real Rref_r_shoulder_11;
+  Real Rref_l_shoulder_01;
+  Real Rref_l_shoulder_11;
+  Real Rref_r_upper_arm_01;
+  Real Rref_r_upper_arm_11;
+  Real Rref_l_upper_arm_01;
+  Real Rref_l_upper_arm_11;
+  Real Rref_l_thigh_01;
+  Real Rref_l_thigh_11;
+  Real Rref_l_calf_01;
+  Real Rref_l_calf_11;
+  Real Rref_l_foot_00;
+  Real Rref_l_foot_01;
+  Real Rref_l_foot_10;
+  Real Rref_l_foot_11;
+  Real Rref_r_hand_01;
+  Real Rref_r_hand_11;
+  Real Rref_l_hand_01;
+  Real Rref_l_hand_11;
+  Real pt_local_W_z;
+  Real pt_local_RH_z;
+  Real pt_local_RK_z;
+  Real pt_RF_x;
+  Real pt_RF_y;
+  Real pt_r_toe_out_x;
+  Real pt_r_toe_out_y;
+  Real pt_r_toe_in_x;
+  Real pt_r_toe_in_y;
+  Real pt_r_heel_in_x;
+  Real pt_r_heel_in_y;
+  Real pt_r_heel_out_x;
+  Real pt_r_heel_out_y;
+  Real pt_local_LH_z;
+  Real pt_local_LK_z;
+  Real pt_local_l_toe_out_y;
+  Real pt_local_l_toe_in_y;
+  Real pt_local_l_heel_in_y;
+  Real pt_local_l_heel_out_y;
+  Real pt_local_RS_z;
+  Real pt_local_RE_z;
+  Real pt_local_RP_z;
+  Real pt_local_LS_z;
+  Real pt_local_LE_z;
+  Real pt_local_LP_z;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -17894,18 +17898,23 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 174;
 inline constexpr int ne_size = 174;
 inline constexpr const char* ne_unknowns[] = { "RL1.fx", "RL1.fy", "RL1.fz", "RL1.mx", "RL1.my", "RL1.mz", "RL2.fx", "RL2.fy", "RL2.fz", "RL2.mx", "RL2.my", "RL2.mz", "RL3.fx", "RL3.fy", "RL3.fz", "RL3.mx", "RL3.my", "RL3.mz", "RL4.fx", "RL4.fy", "RL4.fz", "RL4.mx", "RL4.my", "RL4.mz", "RL5.fx", "RL5.fy", "RL5.fz", "RL5.mx", "RL5.my", "RL5.mz", "RL6.fx", "RL6.fy", "RL6.fz", "RL6.mx", "RL6.my", "RL6.mz", "LL1.fx", "LL1.fy", "LL1.fz", "LL1.mx", "LL1.my", "LL1.mz", "LL2.fx", "LL2.fy", "LL2.fz", "LL2.mx", "LL2.my", "LL2.mz", "LL3.fx", "LL3.fy", "LL3.fz", "LL3.mx", "LL3.my", "LL3.mz", "LL4.fx", "LL4.fy", "LL4.fz", "LL4.mx", "LL4.my", "LL4.mz", "LL5.fx", "LL5.fy", "LL5.fz", "LL5.mx", "LL5.my", "LL5.mz", "LL6.fx", "LL6.fy", "LL6.fz", "LL6.mx", "LL6.my", "LL6.mz", "RA1.fx", "RA1.fy", "RA1.fz", "RA1.mx", "RA1.my", "RA1.mz", "RA2.fx", "RA2.fy", "RA2.fz", "RA2.mx", "RA2.my", "RA2.mz", "RA3.fx", "RA3.fy", "RA3.fz", "RA3.mx", "RA3.my", "RA3.mz", "RA4.fx", "RA4.fy", "RA4.fz", "RA4.mx", "RA4.my", "RA4.mz", "RA5.fx", "RA5.fy", "RA5.fz", "RA5.mx", "RA5.my", "RA5.mz", "RA6.fx", "RA6.fy", "RA6.fz", "RA6.mx", "RA6.my", "RA6.mz", "LA1.fx", "LA1.fy", "LA1.fz", "LA1.mx", "LA1.my", "LA1.mz", "LA2.fx", "LA2.fy", "LA2.fz", "LA2.mx", "LA2.my", "LA2.mz", "LA3.fx", "LA3.fy", "LA3.fz", "LA3.mx", "LA3.my", "LA3.mz", "LA4.fx", "LA4.fy", "LA4.fz", "LA4.mx", "LA4.my", "LA4.mz", "LA5.fx", "LA5.fy", "LA5.fz", "LA5.mx", "LA5.my", "LA5.mz", "LA6.fx", "LA6.fy", "LA6.fz", "LA6.mx", "LA6.my", "LA6.mz", "r_foot_weld.fx", "r_foot_weld.fy", "r_foot_weld.fz", "r_foot_weld.mx", "r_foot_weld.my", "r_foot_weld.mz", "RL1_drive.effort", "RL2_drive.effort", "RL3_drive.effort", "RL4_drive.effort", "RL5_drive.effort", "RL6_drive.effort", "LL1_drive.effort", "LL2_drive.effort", "LL3_drive.effort", "LL4_drive.effort", "LL5_drive.effort", "LL6_drive.effort", "RA1_drive.effort", "RA2_drive.effort", "RA3_drive.effort", "RA4_drive.effort", "RA5_drive.effort", "RA6_drive.effort", "LA1_drive.effort", "LA2_drive.effort", "LA3_drive.effort", "LA4_drive.effort", "LA5_drive.effort", "LA6_drive.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 25, Status::unreachable);
   // Total ops: 15691
   const T s0_RL1_z = p.l1 + p.l2 + p.l3 + p.support_z;
   const T cos_RL1 = cos(in.RL1_drive);
@@ -20826,9 +20835,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T _sum_forces_18 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
   const T _sum_forces_19 = _sum_forces_16;
   const T _sum_forces = _sum_forces_17 + (_sum_forces_18 + _sum_forces_19);
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 28, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -20922,7 +20947,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x82941a10f3b8dcabULL;
+inline constexpr unsigned long long fingerprint = 0xba6128ee1e58b76bULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 36;

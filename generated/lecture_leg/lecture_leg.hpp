@@ -27,14 +27,18 @@
 
 namespace mechgen::gen::lecture_leg {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l = T(0.2);  // m: thigh = shank length (the lecture's l)
-  T f = T(0.08);  // m: |v3|: ankle to the foot point along the sole
-  T r = T(0.012);  // m: bar radius
-  T rho = T(1200.0);  // kg/m^3: bar density
-  T w = T(3.0);  // rad/s: default motion: frequency
+  Real l = Real(0.2);  // m: thigh = shank length (the lecture's l)
+  Real f = Real(0.08);  // m: |v3|: ankle to the foot point along the sole
+  Real r = Real(0.012);  // m: bar radius
+  Real rho = Real(1200.0);  // kg/m^3: bar density
+  Real w = Real(3.0);  // rad/s: default motion: frequency
 };
 
 namespace detail {
@@ -132,12 +136,12 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T q1 = T(0), q1_d = T(0), q1_dd = T(0);
-  T q2 = T(0), q2_d = T(0), q2_dd = T(0);
-  T q3 = T(0), q3_d = T(0), q3_dd = T(0);
+  Real t = Real(0);
+  Real q1 = Real(0), q1_d = Real(0), q1_dd = Real(0);
+  Real q2 = Real(0), q2_d = Real(0), q2_dd = Real(0);
+  Real q3 = Real(0), q3_d = Real(0), q3_dd = Real(0);
 };
 
 template <class T>
@@ -178,50 +182,50 @@ struct DriverState {
 
 inline constexpr int primary_count = 3;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> foot;
+    BodyState<Real> thigh;
+    BodyState<Real> shank;
+    BodyState<Real> foot;
   } bodies;
   struct Points {
-    PointState<T> hip;
-    PointState<T> knee;
-    PointState<T> ankle;
-    PointState<T> toe;
+    PointState<Real> hip;
+    PointState<Real> knee;
+    PointState<Real> ankle;
+    PointState<Real> toe;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j3;
   } joints;
   struct Drivers {
-    DriverState<T> q1;
-    DriverState<T> q2;
-    DriverState<T> q3;
+    DriverState<Real> q1;
+    DriverState<Real> q2;
+    DriverState<Real> q3;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T thigh[6][primary_count] = {};
-    T shank[6][primary_count] = {};
-    T foot[6][primary_count] = {};
+    Real thigh[6][primary_count] = {};
+    Real shank[6][primary_count] = {};
+    Real foot[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T knee[3][primary_count] = {};
-    T ankle[3][primary_count] = {};
-    T toe[3][primary_count] = {};
+    Real knee[3][primary_count] = {};
+    Real ankle[3][primary_count] = {};
+    Real toe[3][primary_count] = {};
   } point_jacobians;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1140,7 +1144,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
 
 };
@@ -1219,19 +1223,24 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 21;
 inline constexpr int ne_size = 21;
 inline constexpr const char* ne_unknowns[] = { "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "q1.effort", "q2.effort", "q3.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
   // Total ops: 219
   const T cos_j1 = cos(in.q1);
   const T sin_j1 = sin(in.q1);
@@ -1391,9 +1400,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   b[13] = F_foot_y;
   b[17] = M_foot_z;
   const T _sum_forces = (A[405] + (A[406] + A[432])) + ((A[433] + b[5]) + (b[11] + b[17]));
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 6, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -1429,7 +1454,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x6cef27e23581b3b9ULL;
+inline constexpr unsigned long long fingerprint = 0xbb8bbd8c7563f2c5ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -34,17 +34,21 @@
 
 namespace mechgen::gen::lecture_leg_ik {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l = T(0.2);  // m: thigh = shank length (the lecture's l)
-  T f = T(0.08);  // m: |v3|: ankle to the foot point along the sole
-  T r = T(0.012);  // m: bar radius
-  T rho = T(1200.0);  // kg/m^3: bar density
-  T w = T(3.0);  // rad/s: default motion: frequency
-  T px = T(0.1);  // m: default motion: toe x
-  T py = T(-0.34);  // m: default motion: toe y
-  T theta = T(0.0);  // rad: default motion: foot angle
+  Real l = Real(0.2);  // m: thigh = shank length (the lecture's l)
+  Real f = Real(0.08);  // m: |v3|: ankle to the foot point along the sole
+  Real r = Real(0.012);  // m: bar radius
+  Real rho = Real(1200.0);  // kg/m^3: bar density
+  Real w = Real(3.0);  // rad/s: default motion: frequency
+  Real px = Real(0.1);  // m: default motion: toe x
+  Real py = Real(-0.34);  // m: default motion: toe y
+  Real theta = Real(0.0);  // rad: default motion: foot angle
 };
 
 namespace detail {
@@ -142,12 +146,12 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T foot_pose_x = T(0), foot_pose_x_d = T(0), foot_pose_x_dd = T(0);
-  T foot_pose_y = T(0), foot_pose_y_d = T(0), foot_pose_y_dd = T(0);
-  T foot_pose_rz = T(0), foot_pose_rz_d = T(0), foot_pose_rz_dd = T(0);
+  Real t = Real(0);
+  Real foot_pose_x = Real(0), foot_pose_x_d = Real(0), foot_pose_x_dd = Real(0);
+  Real foot_pose_y = Real(0), foot_pose_y_d = Real(0), foot_pose_y_dd = Real(0);
+  Real foot_pose_rz = Real(0), foot_pose_rz_d = Real(0), foot_pose_rz_dd = Real(0);
 };
 
 template <class T>
@@ -188,54 +192,54 @@ struct DriverState {
 
 inline constexpr int primary_count = 3;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> thigh;
-    BodyState<T> shank;
-    BodyState<T> foot;
+    BodyState<Real> thigh;
+    BodyState<Real> shank;
+    BodyState<Real> foot;
   } bodies;
   struct Points {
-    PointState<T> hip;
-    PointState<T> knee;
-    PointState<T> ankle;
-    PointState<T> toe;
+    PointState<Real> hip;
+    PointState<Real> knee;
+    PointState<Real> ankle;
+    PointState<Real> toe;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j1;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j2;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } j3;
   } joints;
   struct Drivers {
-    DriverState<T> foot_pose_x;
-    DriverState<T> foot_pose_y;
-    DriverState<T> foot_pose_rz;
+    DriverState<Real> foot_pose_x;
+    DriverState<Real> foot_pose_y;
+    DriverState<Real> foot_pose_rz;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T thigh[6][primary_count] = {};
-    T shank[6][primary_count] = {};
-    T foot[6][primary_count] = {};
+    Real thigh[6][primary_count] = {};
+    Real shank[6][primary_count] = {};
+    Real foot[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T knee[3][primary_count] = {};
-    T ankle[3][primary_count] = {};
-    T toe[3][primary_count] = {};
+    Real knee[3][primary_count] = {};
+    Real ankle[3][primary_count] = {};
+    Real toe[3][primary_count] = {};
   } point_jacobians;
   // The closure: squared closure error and det N_s.
   struct {
-    T residual, det;
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -1697,10 +1701,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T ik_foot_pose_link_dot;
-  T ik_foot_pose_link_product;
+  Real ik_foot_pose_link_dot;
+  Real ik_foot_pose_link_product;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -1802,24 +1806,469 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
   return point_positions(p, k, in, s);
 }
 
-// The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
+// The Newton-Euler system itself, A x = b (57 x 57, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
-inline constexpr int ne_rows = 0;
-inline constexpr int ne_size = 0;
-inline constexpr const char* ne_unknowns[] = { nullptr };
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
+inline constexpr int ne_rows = 57;
+inline constexpr int ne_size = 57;
+inline constexpr const char* ne_unknowns[] = { "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "foot_pose_x.fx", "foot_pose_x.fy", "foot_pose_x.fz", "foot_pose_x.mx", "foot_pose_x.my", "foot_pose_x.mz", "foot_pose_y.fx", "foot_pose_y.fy", "foot_pose_y.fz", "foot_pose_y.mx", "foot_pose_y.my", "foot_pose_y.mz", "foot_pose_z.fx", "foot_pose_z.fy", "foot_pose_z.fz", "foot_pose_z.mx", "foot_pose_z.my", "foot_pose_z.mz", "foot_pose_rz.fx", "foot_pose_rz.fy", "foot_pose_rz.fz", "foot_pose_rz.mx", "foot_pose_rz.my", "foot_pose_rz.mz", "foot_pose_rx.fx", "foot_pose_rx.fy", "foot_pose_rx.fz", "foot_pose_rx.mx", "foot_pose_rx.my", "foot_pose_rx.mz", "foot_pose_ry.fx", "foot_pose_ry.fy", "foot_pose_ry.fz", "foot_pose_ry.mx", "foot_pose_ry.my", "foot_pose_ry.mz", "foot_pose.x.effort", "foot_pose.y.effort", "foot_pose.rz.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
+  using std::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
+  // Total ops: 542
+  const T q_foot_pose_x = in.foot_pose_x - p.f;
+  const T _tmp0 = T(2)*p.l;
+  const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
+  const T cos_foot_pose_rz = cos(in.foot_pose_rz);
+  const T sin_foot_pose_rz = sin(in.foot_pose_rz);
+  const T _tmp1 = T(2)*p.l*sin_foot_pose_rz;
+  const T _tmp2 = p.f*cos_foot_pose_rz;
+  const T _tmp3 = _tmp1 + _tmp2 - p.f - q_foot_pose_x;
+  const T p_foot_pose_b4_x = -_tmp3;
+  const T _tmp4 = T(2)*p.l*cos_foot_pose_rz;
+  const T _tmp5 = p.f*sin_foot_pose_rz;
+  const T p_foot_pose_b4_y = _tmp4 + q_foot_pose_y - _tmp0 - _tmp5;
+  const T _tmp6 = _tmp0 - q_foot_pose_y;
+  const T sv_foot_pose_rz_x = -_tmp6;
+  const T _tmp7 = p.f + q_foot_pose_x;
+  const T sv_foot_pose_rz_y = -_tmp7;
+  const T sv_foot_pose_rx_z = _tmp0 + p_foot_pose_b4_x*sin_foot_pose_rz - cos_foot_pose_rz*p_foot_pose_b4_y;
+  const T ik_foot_pose_rest3_p_x = -_tmp3;
+  const T ik_foot_pose_rest3_p_y = p_foot_pose_b4_y;
+  const T ik_foot_pose_reach_vector_x = -cos_foot_pose_rz*ik_foot_pose_rest3_p_x - ik_foot_pose_rest3_p_y*sin_foot_pose_rz;
+  const T ik_foot_pose_reach_vector_y = _tmp0 + ik_foot_pose_rest3_p_x*sin_foot_pose_rz - cos_foot_pose_rz*ik_foot_pose_rest3_p_y;
+  const T ik_foot_pose_link_dot = p.l*p.l;
+  const T ik_foot_pose_link_product = sqrt(ik_foot_pose_link_dot*ik_foot_pose_link_dot);
+  const T _tmp8 = T(1)/ik_foot_pose_link_product;
+  const T ik_foot_pose_cos = T(0.5)*_tmp8*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp8*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp8;
+  const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
+  if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
+  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
+  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp8*ik_foot_pose_cos;
+  const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp8*ik_foot_pose_sin;
+  const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
+  const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
+  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
+  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T q_j2 = -ik_foot_pose_theta2;
+  const T q_j3 = -ik_foot_pose_theta1;
+  const T q_foot_pose_z = T(0);
+  const T q_foot_pose_rx = T(0);
+  const T q_foot_pose_ry = T(0);
+  const T cos_j1 = cos(q_j1);
+  const T sin_j1 = sin(q_j1);
+  const T cos_j2 = cos(q_j2);
+  const T sin_j2 = sin(q_j2);
+  const T cos_j3 = cos(q_j3);
+  const T sin_j3 = sin(q_j3);
+  const T cos_foot_pose_rx = cos(q_foot_pose_rx);
+  const T sin_foot_pose_rx = sin(q_foot_pose_rx);
+  const T cos_foot_pose_ry = cos(q_foot_pose_ry);
+  const T sin_foot_pose_ry = sin(q_foot_pose_ry);
+  const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
+  const T _tmp9 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp9;
+  const T R_shank_10 = _tmp9;
+  const T R_shank_11 = R_shank_00;
+  const T _tmp10 = p.l*sin_j1;
+  const T p_shank_x = _tmp10 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp11 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp11 - p.l*sin_j1*sin_j2;
+  const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
+  const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
+  const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
+  const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - T(2)*p.l*R_shank_01;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - T(2)*p.l*R_shank_11;
+  const T R_foot_pose_b5_00 = cos_foot_pose_ry*R_foot_00;
+  const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
+  const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
+  const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
+  const T _tmp12 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp13 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp12*p.f*R_foot_00 + p.f*_tmp13*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp12*p.f*R_foot_10 + p.f*_tmp13*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp14 = p.f*sin_foot_pose_ry;
+  const T p_foot_pose_b5_z = -_tmp14;
+  const T sv_j2_x = -_tmp11;
+  const T sv_j2_y = -_tmp10;
+  const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
+  const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
+  const T sv_foot_pose_rx_x = -q_foot_pose_z*sin_foot_pose_rz;
+  const T sv_foot_pose_rx_y = q_foot_pose_z*cos_foot_pose_rz;
+  const T sv_foot_pose_ry_x = p.f*R_foot_pose_b5_02 - p_foot_pose_b5_z*R_foot_11;
+  const T sv_foot_pose_ry_y = p_foot_pose_b5_z*R_foot_01 + p.f*R_foot_pose_b5_12;
+  const T sv_foot_pose_ry_z = R_foot_11*p_foot_pose_b5_x + cos_foot_pose_ry*p.f - R_foot_01*p_foot_pose_b5_y;
+  const T X0_R_01 = R_foot_pose_b5_10*cos_foot_pose_rz + sin_foot_pose_rx*R_foot_pose_b5_12*sin_foot_pose_rz - cos_foot_pose_rx*R_foot_11*sin_foot_pose_rz;
+  const T X0_R_02 = cos_foot_pose_ry*sin_foot_pose_rx*sin_foot_pose_rz + sin_foot_pose_ry*cos_foot_pose_rz;
+  const T X0_R_10 = cos_foot_pose_rx*R_foot_01*cos_foot_pose_rz + R_foot_pose_b5_00*sin_foot_pose_rz - sin_foot_pose_rx*R_foot_pose_b5_02*cos_foot_pose_rz;
+  const T X0_R_12 = sin_foot_pose_ry*sin_foot_pose_rz - cos_foot_pose_ry*sin_foot_pose_rx*cos_foot_pose_rz;
+  const T X0_R_20 = sin_foot_pose_rx*R_foot_01 + cos_foot_pose_rx*R_foot_pose_b5_02;
+  const T X0_R_21 = sin_foot_pose_rx*R_foot_11 + cos_foot_pose_rx*R_foot_pose_b5_12;
+  const T X0_wx = T(0.5)*X0_R_21 - T(0.5)*X0_R_12;
+  const T X0_wy = T(0.5)*X0_R_02 - T(0.5)*X0_R_20;
+  const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
+  const T X0_vx = cos_foot_pose_rx*R_foot_01*p_foot_pose_b5_x*sin_foot_pose_rz + cos_foot_pose_rx*R_foot_11*p_foot_pose_b5_y*sin_foot_pose_rz + _tmp1 + p_foot_pose_b4_x - R_foot_pose_b5_00*cos_foot_pose_rz*p_foot_pose_b5_x - sin_foot_pose_rx*R_foot_pose_b5_02*p_foot_pose_b5_x*sin_foot_pose_rz - R_foot_pose_b5_10*cos_foot_pose_rz*p_foot_pose_b5_y - sin_foot_pose_rx*R_foot_pose_b5_12*p_foot_pose_b5_y*sin_foot_pose_rz - T(2)*cos_foot_pose_rx*p.l*sin_foot_pose_rz - cos_foot_pose_ry*p_foot_pose_b5_z*sin_foot_pose_rx*sin_foot_pose_rz - p_foot_pose_b5_z*sin_foot_pose_ry*cos_foot_pose_rz;
+  const T X0_vy = sin_foot_pose_rx*R_foot_pose_b5_02*cos_foot_pose_rz*p_foot_pose_b5_x + sin_foot_pose_rx*R_foot_pose_b5_12*cos_foot_pose_rz*p_foot_pose_b5_y + T(2)*cos_foot_pose_rx*p.l*cos_foot_pose_rz + cos_foot_pose_ry*p_foot_pose_b5_z*sin_foot_pose_rx*cos_foot_pose_rz + p_foot_pose_b4_y - cos_foot_pose_rx*R_foot_01*cos_foot_pose_rz*p_foot_pose_b5_x - cos_foot_pose_rx*R_foot_11*cos_foot_pose_rz*p_foot_pose_b5_y - R_foot_pose_b5_00*p_foot_pose_b5_x*sin_foot_pose_rz - R_foot_pose_b5_10*p_foot_pose_b5_y*sin_foot_pose_rz - _tmp4 - p_foot_pose_b5_z*sin_foot_pose_ry*sin_foot_pose_rz;
+  const T X0_vz = T(2)*p.l*sin_foot_pose_rx + q_foot_pose_z - sin_foot_pose_rx*R_foot_01*p_foot_pose_b5_x - sin_foot_pose_rx*R_foot_11*p_foot_pose_b5_y - cos_foot_pose_rx*R_foot_pose_b5_02*p_foot_pose_b5_x - cos_foot_pose_rx*R_foot_pose_b5_12*p_foot_pose_b5_y - cos_foot_pose_rx*cos_foot_pose_ry*p_foot_pose_b5_z;
+  const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_vz*X0_vz + X0_wx*X0_wx + X0_wy*X0_wy + X0_wz*X0_wz;
+  const T lu_ipiv0 = -T(1);
+  const T lu_ipiv2 = T(1)/cos_foot_pose_rz;
+  const T lu_f3_2 = lu_ipiv2*sin_foot_pose_rz;
+  const T lu_a2_3_3 = R_foot_11 - R_foot_01*lu_f3_2;
+  const T lu_ipiv4 = -T(1)/sv_j3_x;
+  const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
+  const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
+  const T lu_ipiv5 = T(1)/lu_a4_5_5;
+  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
+  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
+  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
+  const T vel_x5 = lu_ipiv5*vel_b4_5;
+  const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
+  const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T w_shank_z = vel_x0 + vel_x5;
+  const T v_shank_x = sv_j2_x*vel_x5;
+  const T v_shank_y = sv_j2_y*vel_x5;
+  const T dsv_j2_x = -sv_j2_y*vel_x0;
+  const T dsv_j2_y = sv_j2_x*vel_x0;
+  const T w_foot_z = vel_x4 + w_shank_z;
+  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
+  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
+  const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
+  const T _tmp15 = dsv_j2_x*vel_x5;
+  const T _tmp16 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp15 + _tmp16 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp17 = dsv_j2_y*vel_x5;
+  const T _tmp18 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp17 + _tmp18 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
+  const T acc_x5 = acc_b4_5*lu_ipiv5;
+  const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
+  const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
+  const T dw_shank_z = acc_x0 + acc_x5;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp15;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp17;
+  const T dw_foot_z = acc_x4 + dw_shank_z;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp16 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp18 + dv_shank_y;
+  const T com_thigh_x = T(0.5)*p.l*sin_j1;
+  const T com_thigh_y = -T(0.5)*p.l*cos_j1;
+  const T vc_thigh_x = -com_thigh_y*vel_x0;
+  const T vc_thigh_y = com_thigh_x*vel_x0;
+  const T ac_thigh_x = -acc_x0*com_thigh_y - vc_thigh_y*vel_x0;
+  const T ac_thigh_y = acc_x0*com_thigh_x + vc_thigh_x*vel_x0;
+  const T com_shank_x = p_shank_x - T(1.5)*p.l*R_shank_01;
+  const T com_shank_y = p_shank_y - T(1.5)*p.l*R_shank_11;
+  const T vc_shank_x = v_shank_x - com_shank_y*w_shank_z;
+  const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
+  const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
+  const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
+  const T _tmp19 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp19;
+  const T _tmp20 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp20;
+  const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
+  const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
+  const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
+  const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
+  const T _tmp21 = p.r*p.r;
+  const T _tmp22 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp21*p.rho*_tmp22;
+  const T _tmp23 = _tmp21*_tmp21;
+  const T _tmp24 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp23*p.rho*_tmp22 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp21*p.rho*_tmp22*_tmp24;
+  const T Ialb_thigh_z = I_thigh_22*acc_x0;
+  const T F_thigh_x = m_thigh*ac_thigh_x;
+  const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
+  const T M_thigh_z = F_thigh_y*com_thigh_x + Ialb_thigh_z - F_thigh_x*com_thigh_y;
+  const T m_shank = m_thigh;
+  const T I_shank_22 = I_thigh_22;
+  const T Ialb_shank_z = I_shank_22*dw_shank_z;
+  const T F_shank_x = m_shank*ac_shank_x;
+  const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
+  const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
+  const T _tmp25 = p.f*p.f;
+  const T _tmp26 = sqrt(_tmp25);
+  const T m_foot = T(3.14159265358979323846)*_tmp21*p.rho*_tmp26;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp23*p.rho*_tmp26 + T(3.14159265358979323846)*_tmp25*_tmp21*p.rho*_tmp26*_tmp24;
+  const T Ialb_foot_z = I_foot_22*dw_foot_z;
+  const T F_foot_x = m_foot*ac_foot_x;
+  const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
+  const T M_foot_z = F_foot_y*com_foot_x + Ialb_foot_z - F_foot_x*com_foot_y;
+  const T P_j2_x = p_shank_x - p.l*R_shank_01;
+  const T P_j2_y = p_shank_y - p.l*R_shank_11;
+  const T P_j3_x = p_foot_x - _tmp19;
+  const T P_j3_y = p_foot_y - _tmp20;
+  const T P_foot_pose_x_x = _tmp7;
+  const T P_foot_pose_y_x = _tmp7;
+  const T P_foot_pose_y_y = -_tmp6;
+  const T P_foot_pose_z_x = _tmp7;
+  const T P_foot_pose_z_y = -_tmp6;
+  const T P_foot_pose_rz_x = _tmp1 + _tmp2 + p_foot_pose_b4_x;
+  const T P_foot_pose_rz_y = _tmp5 + p_foot_pose_b4_y - _tmp4;
+  const T P_foot_pose_rx_x = p.f*R_foot_pose_b5_00 + p_foot_pose_b5_x - _tmp19;
+  const T P_foot_pose_rx_y = p.f*R_foot_pose_b5_10 + p_foot_pose_b5_y - _tmp20;
+  const T P_foot_pose_rx_z = _tmp14 + p_foot_pose_b5_z;
+  const T P_foot_pose_ry_x = p.f*R_foot_00 + p_foot_x - _tmp19;
+  const T P_foot_pose_ry_y = p.f*R_foot_10 + p_foot_y - _tmp20;
+  A[0] = T(1);
+  A[6] = -T(1);
+  A[58] = T(1);
+  A[64] = -T(1);
+  A[116] = T(1);
+  A[122] = -T(1);
+  A[174] = T(1);
+  A[179] = -P_j2_y;
+  A[180] = -T(1);
+  A[232] = T(1);
+  A[236] = P_j2_x;
+  A[238] = -T(1);
+  A[290] = T(1);
+  A[291] = P_j2_y;
+  A[292] = -P_j2_x;
+  A[296] = -T(1);
+  A[348] = T(1);
+  A[354] = -T(1);
+  A[406] = T(1);
+  A[412] = -T(1);
+  A[464] = T(1);
+  A[470] = -T(1);
+  A[521] = P_j2_y;
+  A[522] = T(1);
+  A[527] = -P_j3_y;
+  A[528] = -T(1);
+  A[578] = -P_j2_x;
+  A[580] = T(1);
+  A[584] = P_j3_x;
+  A[586] = -T(1);
+  A[633] = -P_j2_y;
+  A[634] = P_j2_x;
+  A[638] = T(1);
+  A[639] = P_j3_y;
+  A[640] = -P_j3_x;
+  A[644] = -T(1);
+  A[696] = T(1);
+  A[732] = T(1);
+  A[754] = T(1);
+  A[790] = T(1);
+  A[812] = T(1);
+  A[848] = T(1);
+  A[869] = P_j3_y;
+  A[870] = T(1);
+  A[905] = P_foot_pose_ry_y;
+  A[906] = T(1);
+  A[926] = -P_j3_x;
+  A[928] = T(1);
+  A[962] = -P_foot_pose_ry_x;
+  A[964] = T(1);
+  A[981] = -P_j3_y;
+  A[982] = P_j3_x;
+  A[986] = T(1);
+  A[1017] = -P_foot_pose_ry_y;
+  A[1018] = P_foot_pose_ry_x;
+  A[1022] = T(1);
+  A[1044] = T(1);
+  A[1050] = -T(1);
+  A[1080] = T(1);
+  A[1102] = T(1);
+  A[1108] = -T(1);
+  A[1138] = -T(1);
+  A[1160] = T(1);
+  A[1166] = -T(1);
+  A[1217] = -_tmp0;
+  A[1218] = T(1);
+  A[1223] = -P_foot_pose_y_y;
+  A[1224] = -T(1);
+  A[1274] = -P_foot_pose_x_x;
+  A[1276] = T(1);
+  A[1280] = P_foot_pose_y_x;
+  A[1282] = -T(1);
+  A[1329] = _tmp0;
+  A[1330] = P_foot_pose_x_x;
+  A[1334] = T(1);
+  A[1335] = P_foot_pose_y_y;
+  A[1336] = -P_foot_pose_y_x;
+  A[1340] = -T(1);
+  A[1365] = _tmp0;
+  A[1366] = -P_foot_pose_y_x;
+  A[1392] = T(1);
+  A[1398] = -T(1);
+  A[1450] = T(1);
+  A[1456] = -T(1);
+  A[1480] = T(1);
+  A[1508] = T(1);
+  A[1514] = -T(1);
+  A[1565] = P_foot_pose_y_y;
+  A[1566] = T(1);
+  A[1570] = q_foot_pose_z;
+  A[1571] = -P_foot_pose_z_y;
+  A[1572] = -T(1);
+  A[1622] = -P_foot_pose_y_x;
+  A[1624] = T(1);
+  A[1626] = -q_foot_pose_z;
+  A[1628] = P_foot_pose_z_x;
+  A[1630] = -T(1);
+  A[1677] = -P_foot_pose_y_y;
+  A[1678] = P_foot_pose_y_x;
+  A[1682] = T(1);
+  A[1683] = P_foot_pose_z_y;
+  A[1684] = -P_foot_pose_z_x;
+  A[1688] = -T(1);
+  A[1708] = P_foot_pose_y_x;
+  A[1740] = T(1);
+  A[1746] = -T(1);
+  A[1798] = T(1);
+  A[1804] = -T(1);
+  A[1856] = T(1);
+  A[1862] = -T(1);
+  A[1912] = -q_foot_pose_z;
+  A[1913] = P_foot_pose_z_y;
+  A[1914] = T(1);
+  A[1918] = q_foot_pose_z;
+  A[1919] = -P_foot_pose_rz_y;
+  A[1920] = -T(1);
+  A[1968] = q_foot_pose_z;
+  A[1970] = -P_foot_pose_z_x;
+  A[1972] = T(1);
+  A[1974] = -q_foot_pose_z;
+  A[1976] = P_foot_pose_rz_x;
+  A[1978] = -T(1);
+  A[2025] = -P_foot_pose_z_y;
+  A[2026] = P_foot_pose_z_x;
+  A[2030] = T(1);
+  A[2031] = P_foot_pose_rz_y;
+  A[2032] = -P_foot_pose_rz_x;
+  A[2036] = -T(1);
+  A[2051] = -T(1);
+  A[2088] = T(1);
+  A[2094] = -T(1);
+  A[2146] = T(1);
+  A[2152] = -T(1);
+  A[2204] = T(1);
+  A[2210] = -T(1);
+  A[2260] = -q_foot_pose_z;
+  A[2261] = P_foot_pose_rz_y;
+  A[2262] = T(1);
+  A[2266] = P_foot_pose_rx_z;
+  A[2267] = -P_foot_pose_rx_y;
+  A[2268] = -T(1);
+  A[2316] = q_foot_pose_z;
+  A[2318] = -P_foot_pose_rz_x;
+  A[2320] = T(1);
+  A[2322] = -P_foot_pose_rx_z;
+  A[2324] = P_foot_pose_rx_x;
+  A[2326] = -T(1);
+  A[2373] = -P_foot_pose_rz_y;
+  A[2374] = P_foot_pose_rz_x;
+  A[2378] = T(1);
+  A[2379] = P_foot_pose_rx_y;
+  A[2380] = -P_foot_pose_rx_x;
+  A[2384] = -T(1);
+  A[2393] = T(1);
+  A[2436] = T(1);
+  A[2442] = -T(1);
+  A[2494] = T(1);
+  A[2500] = -T(1);
+  A[2552] = T(1);
+  A[2558] = -T(1);
+  A[2608] = -P_foot_pose_rx_z;
+  A[2609] = P_foot_pose_rx_y;
+  A[2610] = T(1);
+  A[2615] = -P_foot_pose_ry_y;
+  A[2616] = -T(1);
+  A[2664] = P_foot_pose_rx_z;
+  A[2666] = -P_foot_pose_rx_x;
+  A[2668] = T(1);
+  A[2672] = P_foot_pose_ry_x;
+  A[2674] = -T(1);
+  A[2721] = -P_foot_pose_rx_y;
+  A[2722] = P_foot_pose_rx_x;
+  A[2726] = T(1);
+  A[2727] = P_foot_pose_ry_y;
+  A[2728] = -P_foot_pose_ry_x;
+  A[2732] = -T(1);
+  A[2741] = T(1);
+  A[2799] = sv_j2_x - P_j2_y;
+  A[2800] = P_j2_x + sv_j2_y;
+  A[2804] = T(1);
+  A[2862] = sv_j3_x - P_j3_y;
+  A[2863] = P_j3_x + sv_j3_y;
+  A[2867] = T(1);
+  A[2925] = T(1);
+  A[2989] = T(1);
+  A[3053] = T(1);
+  A[3114] = sv_foot_pose_rz_x - P_foot_pose_rz_y;
+  A[3115] = P_foot_pose_rz_x + sv_foot_pose_rz_y;
+  A[3119] = T(1);
+  A[3177] = P_foot_pose_rx_z*sin_foot_pose_rz + sv_foot_pose_rx_x;
+  A[3178] = sv_foot_pose_rx_y - P_foot_pose_rx_z*cos_foot_pose_rz;
+  A[3179] = P_foot_pose_rx_y*cos_foot_pose_rz + sv_foot_pose_rx_z - P_foot_pose_rx_x*sin_foot_pose_rz;
+  A[3180] = cos_foot_pose_rz;
+  A[3181] = sin_foot_pose_rz;
+  A[3240] = sv_foot_pose_ry_x;
+  A[3241] = sv_foot_pose_ry_y;
+  A[3242] = P_foot_pose_ry_y*R_foot_01 + sv_foot_pose_ry_z - P_foot_pose_ry_x*R_foot_11;
+  A[3243] = R_foot_01;
+  A[3244] = R_foot_11;
+  b[0] = F_thigh_x;
+  b[1] = F_thigh_y;
+  b[5] = M_thigh_z;
+  b[6] = F_shank_x;
+  b[7] = F_shank_y;
+  b[11] = M_shank_z;
+  b[12] = F_foot_x;
+  b[13] = F_foot_y;
+  b[17] = M_foot_z;
+  s.closure.residual = closure_residual;
+  s.closure.det = closure_det;
+  const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1274] + A[1280])) + ((A[1571] + A[1628]) + (A[2799] + A[2800]));
+  const T _sum_forces_1 = ((A[2862] + A[2863]) + (A[3114] + A[3115])) + ((A[3177] + A[3178]) + (A[3179] + A[3240]));
+  const T _sum_forces_2 = (A[3241] + (A[3242] + b[5])) + ((b[11] + b[17]) + (s.closure.residual + s.closure.det));
+  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
+  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
+  // singular there (|det| below 1e-9 of its value at the assembly).
+  using std::abs;
+  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon()))
+    return s.failed_group = 9, Status::unreachable;
+  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
   for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
   for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 0
-
-  return Status::ok;
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -1855,7 +2304,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x958f70d7a3785e57ULL;
+inline constexpr unsigned long long fingerprint = 0xe9edd8f0c73b73afULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;

@@ -30,16 +30,20 @@
 
 namespace mechgen::gen::leg6 {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T l1 = T(0.075);  // m: thigh (hip to knee)
-  T l2 = T(0.075);  // m: calf (knee to ankle)
-  T l3 = T(0.0335);  // m: ankle axis to sole
-  T r = T(0.008);  // m: radius of the thigh and calf bars
-  T rho = T(1200.0);  // kg/m^3: density of the thigh and calf bars
-  T w = T(3.0);  // rad/s: gait frequency
-  T a = T(0.4);  // rad: swing amplitude
+  Real l1 = Real(0.075);  // m: thigh (hip to knee)
+  Real l2 = Real(0.075);  // m: calf (knee to ankle)
+  Real l3 = Real(0.0335);  // m: ankle axis to sole
+  Real r = Real(0.008);  // m: radius of the thigh and calf bars
+  Real rho = Real(1200.0);  // kg/m^3: density of the thigh and calf bars
+  Real w = Real(3.0);  // rad/s: gait frequency
+  Real a = Real(0.4);  // rad: swing amplitude
 };
 
 namespace detail {
@@ -137,15 +141,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T q1 = T(0), q1_d = T(0), q1_dd = T(0);
-  T q2 = T(0), q2_d = T(0), q2_dd = T(0);
-  T q3 = T(0), q3_d = T(0), q3_dd = T(0);
-  T q4 = T(0), q4_d = T(0), q4_dd = T(0);
-  T q5 = T(0), q5_d = T(0), q5_dd = T(0);
-  T q6 = T(0), q6_d = T(0), q6_dd = T(0);
+  Real t = Real(0);
+  Real q1 = Real(0), q1_d = Real(0), q1_dd = Real(0);
+  Real q2 = Real(0), q2_d = Real(0), q2_dd = Real(0);
+  Real q3 = Real(0), q3_d = Real(0), q3_dd = Real(0);
+  Real q4 = Real(0), q4_d = Real(0), q4_dd = Real(0);
+  Real q5 = Real(0), q5_d = Real(0), q5_dd = Real(0);
+  Real q6 = Real(0), q6_d = Real(0), q6_dd = Real(0);
 };
 
 template <class T>
@@ -186,73 +190,73 @@ struct DriverState {
 
 inline constexpr int primary_count = 6;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> hip_yaw_link;
-    BodyState<T> hip_roll_link;
-    BodyState<T> thigh;
-    BodyState<T> calf;
-    BodyState<T> ankle_link;
-    BodyState<T> foot_link;
+    BodyState<Real> hip_yaw_link;
+    BodyState<Real> hip_roll_link;
+    BodyState<Real> thigh;
+    BodyState<Real> calf;
+    BodyState<Real> ankle_link;
+    BodyState<Real> foot_link;
   } bodies;
   struct Points {
-    PointState<T> H;
-    PointState<T> K;
-    PointState<T> A;
-    PointState<T> foot;
-    PointState<T> toe;
+    PointState<Real> H;
+    PointState<Real> K;
+    PointState<Real> A;
+    PointState<Real> foot;
+    PointState<Real> toe;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } hip_yaw;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } hip_roll;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } hip_pitch;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } knee;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } ankle_pitch;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } ankle_roll;
   } joints;
   struct Drivers {
-    DriverState<T> q1;
-    DriverState<T> q2;
-    DriverState<T> q3;
-    DriverState<T> q4;
-    DriverState<T> q5;
-    DriverState<T> q6;
+    DriverState<Real> q1;
+    DriverState<Real> q2;
+    DriverState<Real> q3;
+    DriverState<Real> q4;
+    DriverState<Real> q5;
+    DriverState<Real> q6;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T hip_yaw_link[6][primary_count] = {};
-    T hip_roll_link[6][primary_count] = {};
-    T thigh[6][primary_count] = {};
-    T calf[6][primary_count] = {};
-    T ankle_link[6][primary_count] = {};
-    T foot_link[6][primary_count] = {};
+    Real hip_yaw_link[6][primary_count] = {};
+    Real hip_roll_link[6][primary_count] = {};
+    Real thigh[6][primary_count] = {};
+    Real calf[6][primary_count] = {};
+    Real ankle_link[6][primary_count] = {};
+    Real foot_link[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T K[3][primary_count] = {};
-    T A[3][primary_count] = {};
-    T foot[3][primary_count] = {};
-    T toe[3][primary_count] = {};
+    Real K[3][primary_count] = {};
+    Real A[3][primary_count] = {};
+    Real foot[3][primary_count] = {};
+    Real toe[3][primary_count] = {};
   } point_jacobians;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -2595,13 +2599,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s0_ankle_pitch_z;
-  T s0_ankle_roll_z;
-  T pt_local_A_z;
-  T pt_local_foot_z;
-  T pt_local_toe_z;
+  Real s0_ankle_pitch_z;
+  Real s0_ankle_roll_z;
+  Real pt_local_A_z;
+  Real pt_local_foot_z;
+  Real pt_local_toe_z;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -2727,19 +2731,24 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
 inline constexpr int ne_rows = 42;
 inline constexpr int ne_size = 42;
 inline constexpr const char* ne_unknowns[] = { "hip_yaw.fx", "hip_yaw.fy", "hip_yaw.fz", "hip_yaw.mx", "hip_yaw.my", "hip_yaw.mz", "hip_roll.fx", "hip_roll.fy", "hip_roll.fz", "hip_roll.mx", "hip_roll.my", "hip_roll.mz", "hip_pitch.fx", "hip_pitch.fy", "hip_pitch.fz", "hip_pitch.mx", "hip_pitch.my", "hip_pitch.mz", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "ankle_pitch.fx", "ankle_pitch.fy", "ankle_pitch.fz", "ankle_pitch.mx", "ankle_pitch.my", "ankle_pitch.mz", "ankle_roll.fx", "ankle_roll.fy", "ankle_roll.fz", "ankle_roll.mx", "ankle_roll.my", "ankle_roll.mz", "q1.effort", "q2.effort", "q3.effort", "q4.effort", "q5.effort", "q6.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
-  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
+  if (!inputs_finite(in)) return detail::failed(s, 6, Status::unreachable);
   // Total ops: 1311
   const T cos_hip_yaw = cos(in.q1);
   const T sin_hip_yaw = sin(in.q1);
@@ -3252,9 +3261,25 @@ Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A,
   const T _sum_forces_3 = ((b[23] + b[24]) + (b[25] + b[27])) + ((b[28] + b[29]) + (b[30] + b[31]));
   const T _sum_forces_4 = b[33] + (b[34] + b[35]);
   const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + (_sum_forces_3 + _sum_forces_4));
-  if (!(_sum_forces - _sum_forces == T(0))) return Status::non_finite;
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 9, Status::non_finite);
 
   return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -3302,7 +3327,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x92b7f40898f47d93ULL;
+inline constexpr unsigned long long fingerprint = 0x52da77d478f40f23ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

@@ -29,16 +29,20 @@
 
 namespace mechgen::gen::rsur {
 
+// The structs that hold the model's names (fields named after its parameters, points, joints...)
+// take their scalar as `Real`, so that a model may name a point or a parameter `T`; functions use
+// `T`.
+
 // The model's parameters with their defaults (run-time values: no regeneration needed).
-template <class T>
+template <class Real>
 struct Params {
-  T a = T(0.02);  // m: crank length
-  T d = T(0.1);  // m: y offset of the rocker axis
-  T h = T(0.05);  // m: height of the rocker axis
-  T c = T(0.07);  // m: rocker length
-  T r = T(0.004);  // m: bar radius
-  T rho = T(2700.0);  // kg/m^3: bar density
-  T w = T(2.0);  // rad/s: crank speed
+  Real a = Real(0.02);  // m: crank length
+  Real d = Real(0.1);  // m: y offset of the rocker axis
+  Real h = Real(0.05);  // m: height of the rocker axis
+  Real c = Real(0.07);  // m: rocker length
+  Real r = Real(0.004);  // m: bar radius
+  Real rho = Real(2700.0);  // kg/m^3: bar density
+  Real w = Real(2.0);  // rad/s: crank speed
 };
 
 namespace detail {
@@ -136,10 +140,10 @@ MECHGEN_INLINE T cos(T x) noexcept {
 }  // namespace detail
 
 // Driver coordinates with their first and second time derivatives, and the time t.
-template <class T>
+template <class Real>
 struct Inputs {
-  T t = T(0);
-  T theta = T(0), theta_d = T(0), theta_dd = T(0);
+  Real t = Real(0);
+  Real theta = Real(0), theta_d = Real(0), theta_dd = Real(0);
 };
 
 template <class T>
@@ -180,58 +184,58 @@ struct DriverState {
 
 inline constexpr int primary_count = 1;
 
-template <class T>
+template <class Real>
 struct State {
   struct Bodies {
-    BodyState<T> crank;
-    BodyState<T> coupler;
-    BodyState<T> rocker;
+    BodyState<Real> crank;
+    BodyState<Real> coupler;
+    BodyState<Real> rocker;
   } bodies;
   struct Points {
-    PointState<T> A;
-    PointState<T> D;
-    PointState<T> B;
-    PointState<T> C;
+    PointState<Real> A;
+    PointState<Real> D;
+    PointState<Real> B;
+    PointState<Real> C;
   } points;
   struct Joints {
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } jA;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd, q3, q3d, q3dd;
+      Real fx, fy, fz, mx, my, mz;
     } jB;
     struct {
-      T q1, q1d, q1dd, q2, q2d, q2dd;
-      T fx, fy, fz, mx, my, mz;
+      Real q1, q1d, q1dd, q2, q2d, q2dd;
+      Real fx, fy, fz, mx, my, mz;
     } jC;
     struct {
-      T q, qd, qdd;
-      T fx, fy, fz, mx, my, mz;
+      Real q, qd, qdd;
+      Real fx, fy, fz, mx, my, mz;
     } jD;
   } joints;
   struct Drivers {
-    DriverState<T> theta;
+    DriverState<Real> theta;
   } drivers;
   // Twist Jacobians [6][primary_count] of the bodies, velocity Jacobians [3][primary_count] of
   // the named points; entries that are zero by the structure (a coordinate not on the body's
   // path) are zero from construction and never written.
   struct BodyJacobians {
-    T crank[6][primary_count] = {};
-    T coupler[6][primary_count] = {};
-    T rocker[6][primary_count] = {};
+    Real crank[6][primary_count] = {};
+    Real coupler[6][primary_count] = {};
+    Real rocker[6][primary_count] = {};
   } body_jacobians;
   struct PointJacobians {
-    T B[3][primary_count] = {};
-    T C[3][primary_count] = {};
+    Real B[3][primary_count] = {};
+    Real C[3][primary_count] = {};
   } point_jacobians;
   // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
-    T w[6] = {T(0.0), T(0.0), T(0.0), T(0.0), T(0.0), T(0.0)};
-    T wnext[6];
-    T residual, det;
+    Real w[6] = {Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0)};
+    Real wnext[6];
+    Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -2317,13 +2321,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
 }
 
 // What point_positions() computes from the parameters alone, once per parameter set.
-template <class T>
+template <class Real>
 struct PositionConstants {
-  T s0_jC_1_z;
-  T cf_jD_len0_sq;
-  T cf_jD_v_z;
-  T cf_jD_A;
-  T pt_local_C_z;
+  Real s0_jC_1_z;
+  Real cf_jD_len0_sq;
+  Real cf_jD_v_z;
+  Real cf_jD_A;
+  Real pt_local_C_z;
 };
 template <class T>
 void position_constants([[maybe_unused]] const Params<T>& p,
@@ -2455,24 +2459,567 @@ Status point_positions(const Params<T>& p, const Inputs<T>& in, State<T>& s) noe
   return point_positions(p, k, in, s);
 }
 
-// The Newton-Euler system itself, A x = b (0 x 0, A row-major), as the numeric
+// The Newton-Euler system itself, A x = b (25 x 25, A row-major), as the numeric
 // solver assembles it: rows are per moving body the force and the moment about the ground origin,
 // then one per joint coordinate (the reaction does no work on the joint's screw); unknowns are
 // ne_unknowns[] in order (per joint the force and the moment at the joint point, then each
-// driver's effort). evaluate() solves it by the recursive backward pass instead.
-// Status::non_finite when an entry of A or b is not finite.
-inline constexpr int ne_rows = 0;
-inline constexpr int ne_size = 0;
-inline constexpr const char* ne_unknowns[] = { nullptr };
+// driver's effort); b holds the bodies' rates of momentum minus gravity and the applied loads.
+// evaluate() solves it without forming A (a tree by the recursive backward pass, a closed chain
+// through Davies' N_s transposed: its reactions are the minimum-norm solution where the circuits
+// are redundant). A closed chain closes its circuits from s's warm start as evaluate() does
+// (the overload without a State: from the assembly) and reports unreachable or singular
+// configurations the same way. A and b are zero unless the status is ok; non_finite when an
+// entry of A or b is not finite.
+inline constexpr int ne_rows = 25;
+inline constexpr int ne_size = 25;
+inline constexpr const char* ne_unknowns[] = { "jA.fx", "jA.fy", "jA.fz", "jA.mx", "jA.my", "jA.mz", "jB.fx", "jB.fy", "jB.fz", "jB.mx", "jB.my", "jB.mz", "jC.fx", "jC.fy", "jC.fz", "jC.mx", "jC.my", "jC.mz", "jD.fx", "jD.fy", "jD.fz", "jD.mx", "jD.my", "jD.mz", "theta.effort" };
+namespace detail {
 template <class T>
-Status ne_system([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
+               T* b) noexcept {
+  using std::abs;
+  using std::atan2;
+  using detail::cos;
+  using detail::sin;
+  using std::sqrt;
+  if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
+  // Total ops: 2077
+  const T cos_jA = cos(in.theta);
+  const T sin_jA = sin(in.theta);
+  const T s0_jC_1_z = p.c + p.h;
+  const T _tmp0 = p.a*p.a;
+  const T _tmp1 = p.d*p.d;
+  const T _tmp2 = s0_jC_1_z*s0_jC_1_z;
+  const T cf_jD_len0_sq = _tmp0 + _tmp1 + _tmp2;
+  const T cf_jD_cX_x = p.a*cos_jA;
+  const T cf_jD_cX_y = p.a*sin_jA;
+  const T cf_jD_v_z = s0_jC_1_z - p.h;
+  const T cf_jD_e_y = p.d - cf_jD_cX_y;
+  const T cf_jD_A = T(2)*cf_jD_v_z*p.h;
+  const T cf_jD_B = -T(2)*cf_jD_v_z*cf_jD_e_y;
+  const T _tmp3 = p.h*p.h;
+  const T cf_jD_C = cf_jD_len0_sq - cf_jD_cX_x*cf_jD_cX_x - cf_jD_e_y*cf_jD_e_y - cf_jD_v_z*cf_jD_v_z - _tmp3;
+  const T cf_jD_r2 = cf_jD_A*cf_jD_A + cf_jD_B*cf_jD_B;
+  const T cf_jD_disc = cf_jD_r2 - cf_jD_C*cf_jD_C;
+  if (!(cf_jD_disc >= T(0))) return detail::failed(s, 3, Status::unreachable);
+  const T cf_jD_root = sqrt(T(0.5)*abs(cf_jD_disc) + T(0.5)*cf_jD_disc);
+  const T _tmp4 = T(1)/cf_jD_r2;
+  const T cf_jD_cos = cf_jD_A*cf_jD_C*_tmp4 - cf_jD_B*cf_jD_root*_tmp4;
+  const T cf_jD_sin = cf_jD_A*cf_jD_root*_tmp4 + cf_jD_B*cf_jD_C*_tmp4;
+  const T _tmp5 = p.d*cf_jD_cos;
+  const T cf_jD_pY_y = p.h*cf_jD_sin + p.d - _tmp5;
+  const T _tmp6 = p.d*cf_jD_sin;
+  const T cf_jD_pY_z = p.h - p.h*cf_jD_cos - _tmp6;
+  const T cf_jD_cY_y = _tmp5 + cf_jD_pY_y - s0_jC_1_z*cf_jD_sin;
+  const T cf_jD_cY_z = s0_jC_1_z*cf_jD_cos + cf_jD_pY_z + _tmp6;
+  const T cf_jD_w_y = cf_jD_cX_y*cf_jD_cos - cf_jD_cY_y*cf_jD_cos - cf_jD_cY_z*cf_jD_sin;
+  const T cf_jD_w_z = cf_jD_cY_y*cf_jD_sin - cf_jD_cX_y*cf_jD_sin - cf_jD_cY_z*cf_jD_cos;
+  const T cf_jD_u_disc = _tmp1 + _tmp2 - cf_jD_w_z*cf_jD_w_z;
+  if (!(cf_jD_u_disc >= T(0))) return detail::failed(s, 3, Status::unreachable);
+  const T cf_jD_u_root = sqrt(T(0.5)*abs(cf_jD_u_disc) + T(0.5)*cf_jD_u_disc);
+  const T _tmp7 = cos(s.closure.w[3]);
+  const T _tmp8 = sin(s.closure.w[3]);
+  const T q_jC_1 = atan2(s0_jC_1_z*cf_jD_u_root*_tmp7 + p.d*cf_jD_w_z*_tmp7 + s0_jC_1_z*cf_jD_w_z*_tmp8 - p.d*cf_jD_u_root*_tmp8, p.d*cf_jD_u_root*_tmp7 + s0_jC_1_z*cf_jD_u_root*_tmp8 + p.d*cf_jD_w_z*_tmp8 - s0_jC_1_z*cf_jD_w_z*_tmp7) + s.closure.w[3];
+  const T _tmp9 = cos(s.closure.w[4]);
+  const T _tmp10 = sin(s.closure.w[4]);
+  const T q_jC_2 = atan2(cf_jD_u_root*cf_jD_w_y*_tmp10 - cf_jD_cX_x*cf_jD_u_root*_tmp9 - p.a*cf_jD_cX_x*_tmp10 - p.a*cf_jD_w_y*_tmp9, p.a*cf_jD_cX_x*_tmp9 - cf_jD_cX_x*cf_jD_u_root*_tmp10 - cf_jD_u_root*cf_jD_w_y*_tmp9 - p.a*cf_jD_w_y*_tmp10) + s.closure.w[4];
+  const T _tmp11 = sin(s.closure.w[5]);
+  const T _tmp12 = cos(s.closure.w[5]);
+  const T q_jD = atan2(cf_jD_sin*_tmp12 - cf_jD_cos*_tmp11, cf_jD_cos*_tmp12 + cf_jD_sin*_tmp11) + s.closure.w[5];
+  const T cos_jC_1 = cos(q_jC_1);
+  const T sin_jC_1 = sin(q_jC_1);
+  const T cos_jC_2 = cos(q_jC_2);
+  const T sin_jC_2 = sin(q_jC_2);
+  const T cos_jD = cf_jD_cos;
+  const T sin_jD = cf_jD_sin;
+  const T _tmp13 = p.d*cos_jD;
+  const T _tmp14 = p.h*sin_jD;
+  const T p_rocker_y = p.d + _tmp14 - _tmp13;
+  const T _tmp15 = p.h*cos_jD;
+  const T _tmp16 = p.d*sin_jD;
+  const T p_rocker_z = p.h - _tmp15 - _tmp16;
+  const T cf_jD_RL_00 = cos_jC_2;
+  const T cf_jD_RL_01 = cos_jC_1*sin_jC_2;
+  const T cf_jD_RL_02 = sin_jC_1*sin_jC_2;
+  const T cf_jD_RL_10 = -cf_jD_cos*sin_jC_2;
+  const T cf_jD_RL_11 = cf_jD_cos*cos_jC_1*cos_jC_2 + cf_jD_sin*sin_jC_1;
+  const T cf_jD_RL_12 = cf_jD_cos*cos_jC_2*sin_jC_1 - cf_jD_sin*cos_jC_1;
+  const T cf_jD_RL_22 = cf_jD_cos*cos_jC_1 + cf_jD_sin*cos_jC_2*sin_jC_1;
+  const T cf_jD_m00 = cf_jD_RL_00*cos_jA + cf_jD_RL_10*sin_jA;
+  const T cf_jD_m01 = cf_jD_RL_01*cos_jA + cf_jD_RL_11*sin_jA;
+  const T cf_jD_m02 = cf_jD_RL_02*cos_jA + cf_jD_RL_12*sin_jA;
+  const T cf_jD_m12 = cf_jD_RL_12*cos_jA - cf_jD_RL_02*sin_jA;
+  const T _tmp17 = sin(s.closure.w[0]);
+  const T _tmp18 = cos(s.closure.w[0]);
+  const T q_jB_1 = atan2(-cf_jD_RL_22*_tmp17 - cf_jD_m12*_tmp18, cf_jD_RL_22*_tmp18 - cf_jD_m12*_tmp17) + s.closure.w[0];
+  const T _tmp19 = cos(s.closure.w[1]);
+  const T _tmp20 = sin(s.closure.w[1]);
+  const T _tmp21 = sqrt(cf_jD_RL_22*cf_jD_RL_22 + cf_jD_m12*cf_jD_m12);
+  const T q_jB_2 = atan2(cf_jD_m02*_tmp19 - _tmp20*_tmp21, cf_jD_m02*_tmp20 + _tmp19*_tmp21) + s.closure.w[1];
+  const T _tmp22 = sin(s.closure.w[2]);
+  const T _tmp23 = cos(s.closure.w[2]);
+  const T q_jB_3 = atan2(-cf_jD_m00*_tmp22 - cf_jD_m01*_tmp23, cf_jD_m00*_tmp23 - cf_jD_m01*_tmp22) + s.closure.w[2];
+  const T cos_jB_1 = cos(q_jB_1);
+  const T sin_jB_1 = sin(q_jB_1);
+  const T cos_jB_2 = cos(q_jB_2);
+  const T sin_jB_2 = sin(q_jB_2);
+  const T cos_jB_3 = cos(q_jB_3);
+  const T sin_jB_3 = sin(q_jB_3);
+  const T R_coupler_00 = cos_jA*cos_jB_2*cos_jB_3 - cos_jB_1*sin_jA*sin_jB_3 - cos_jB_3*sin_jA*sin_jB_1*sin_jB_2;
+  const T R_coupler_01 = sin_jA*sin_jB_1*sin_jB_2*sin_jB_3 - cos_jA*cos_jB_2*sin_jB_3 - cos_jB_1*cos_jB_3*sin_jA;
+  const T R_coupler_02 = cos_jA*sin_jB_2 + cos_jB_2*sin_jA*sin_jB_1;
+  const T R_coupler_10 = cos_jA*cos_jB_1*sin_jB_3 + cos_jA*cos_jB_3*sin_jB_1*sin_jB_2 + cos_jB_2*cos_jB_3*sin_jA;
+  const T R_coupler_11 = cos_jA*cos_jB_1*cos_jB_3 - cos_jA*sin_jB_1*sin_jB_2*sin_jB_3 - cos_jB_2*sin_jA*sin_jB_3;
+  const T _tmp24 = cos_jA*cos_jB_2*sin_jB_1 - sin_jA*sin_jB_2;
+  const T R_coupler_12 = -_tmp24;
+  const T R_coupler_20 = sin_jB_1*sin_jB_3 - cos_jB_1*cos_jB_3*sin_jB_2;
+  const T R_coupler_21 = cos_jB_1*sin_jB_2*sin_jB_3 + cos_jB_3*sin_jB_1;
+  const T R_coupler_22 = cos_jB_1*cos_jB_2;
+  const T p_coupler_x = cf_jD_cX_x + p.a*cos_jB_1*sin_jA*sin_jB_3 + p.a*cos_jB_3*sin_jA*sin_jB_1*sin_jB_2 - p.a*cos_jA*cos_jB_2*cos_jB_3;
+  const T p_coupler_y = cf_jD_cX_y - p.a*cos_jA*cos_jB_1*sin_jB_3 - p.a*cos_jA*cos_jB_3*sin_jB_1*sin_jB_2 - p.a*cos_jB_2*cos_jB_3*sin_jA;
+  const T p_coupler_z = p.a*cos_jB_1*cos_jB_3*sin_jB_2 - p.a*sin_jB_1*sin_jB_3;
+  const T sw_jB_2_x = -cos_jB_1*sin_jA;
+  const T sw_jB_2_y = cos_jA*cos_jB_1;
+  const T sv_jB_2_x = p.a*sin_jA*sin_jB_1;
+  const T sv_jB_2_y = -p.a*cos_jA*sin_jB_1;
+  const T sv_jB_2_z = p.a*cos_jB_1;
+  const T sw_jB_3_x = R_coupler_02;
+  const T sw_jB_3_y = -_tmp24;
+  const T sw_jB_3_z = R_coupler_22;
+  const T _tmp25 = cos_jB_2*cos_jB_2;
+  const T _tmp26 = sin_jB_2*sin_jB_2;
+  const T sv_jB_3_x = p.a*cos_jB_1*cos_jB_2*sin_jA + p.a*cos_jB_1*sin_jA - p.a*cos_jB_1*_tmp25*sin_jA - p.a*cos_jB_1*sin_jA*_tmp26;
+  const T sv_jB_3_y = p.a*cos_jA*cos_jB_1*_tmp25 + p.a*cos_jA*cos_jB_1*_tmp26 - p.a*cos_jA*cos_jB_1*cos_jB_2 - p.a*cos_jA*cos_jB_1;
+  const T _tmp27 = cos_jA*cos_jA;
+  const T _tmp28 = sin_jA*sin_jA;
+  const T sv_jB_3_z = p.a*_tmp27*_tmp25*sin_jB_1 + p.a*_tmp27*sin_jB_1*_tmp26 + p.a*_tmp25*_tmp28*sin_jB_1 + p.a*_tmp28*sin_jB_1*_tmp26 - p.a*_tmp27*cos_jB_2*sin_jB_1 - p.a*cos_jB_2*_tmp28*sin_jB_1 - p.a*sin_jB_1;
+  const T sv_jC_1_x = s0_jC_1_z*R_coupler_01 + R_coupler_20*p_coupler_y - p.d*R_coupler_02 - R_coupler_10*p_coupler_z;
+  const T sv_jC_1_y = R_coupler_00*p_coupler_z + s0_jC_1_z*R_coupler_11 - p.d*R_coupler_12 - R_coupler_20*p_coupler_x;
+  const T sv_jC_1_z = R_coupler_10*p_coupler_x + s0_jC_1_z*R_coupler_21 - R_coupler_00*p_coupler_y - p.d*R_coupler_22;
+  const T sw_jC_2_x = R_coupler_02*cos_jC_1 - R_coupler_01*sin_jC_1;
+  const T sw_jC_2_y = R_coupler_12*cos_jC_1 - R_coupler_11*sin_jC_1;
+  const T sw_jC_2_z = R_coupler_22*cos_jC_1 - R_coupler_21*sin_jC_1;
+  const T _tmp29 = cos_jC_1*cos_jC_1;
+  const T _tmp30 = sin_jC_1*sin_jC_1;
+  const T sv_jC_2_x = p.d*R_coupler_00 + p.d*R_coupler_11*R_coupler_22*cos_jC_1 + s0_jC_1_z*R_coupler_11*R_coupler_22*sin_jC_1 + R_coupler_11*p_coupler_z*sin_jC_1 + p.d*R_coupler_12*R_coupler_21*_tmp29 + p.d*R_coupler_12*R_coupler_21*_tmp30 + R_coupler_22*cos_jC_1*p_coupler_y - p.d*R_coupler_11*R_coupler_22*_tmp29 - p.d*R_coupler_11*R_coupler_22*_tmp30 - p.d*R_coupler_12*R_coupler_21*cos_jC_1 - s0_jC_1_z*R_coupler_12*R_coupler_21*sin_jC_1 - R_coupler_12*cos_jC_1*p_coupler_z - R_coupler_21*p_coupler_y*sin_jC_1;
+  const T sv_jC_2_y = p.d*R_coupler_01*R_coupler_22*_tmp29 + p.d*R_coupler_01*R_coupler_22*_tmp30 + p.d*R_coupler_02*R_coupler_21*cos_jC_1 + s0_jC_1_z*R_coupler_02*R_coupler_21*sin_jC_1 + R_coupler_02*cos_jC_1*p_coupler_z + p.d*R_coupler_10 + R_coupler_21*p_coupler_x*sin_jC_1 - p.d*R_coupler_01*R_coupler_22*cos_jC_1 - s0_jC_1_z*R_coupler_01*R_coupler_22*sin_jC_1 - R_coupler_01*p_coupler_z*sin_jC_1 - p.d*R_coupler_02*R_coupler_21*_tmp29 - p.d*R_coupler_02*R_coupler_21*_tmp30 - R_coupler_22*cos_jC_1*p_coupler_x;
+  const T sv_jC_2_z = p.d*R_coupler_01*R_coupler_12*cos_jC_1 + s0_jC_1_z*R_coupler_01*R_coupler_12*sin_jC_1 + R_coupler_01*p_coupler_y*sin_jC_1 + p.d*R_coupler_02*R_coupler_11*_tmp29 + p.d*R_coupler_02*R_coupler_11*_tmp30 + R_coupler_12*cos_jC_1*p_coupler_x + p.d*R_coupler_20 - p.d*R_coupler_01*R_coupler_12*_tmp29 - p.d*R_coupler_01*R_coupler_12*_tmp30 - p.d*R_coupler_02*R_coupler_11*cos_jC_1 - s0_jC_1_z*R_coupler_02*R_coupler_11*sin_jC_1 - R_coupler_02*cos_jC_1*p_coupler_y - R_coupler_11*p_coupler_x*sin_jC_1;
+  const T X0_R_01 = R_coupler_01*cos_jC_1*cos_jC_2*cos_jD + R_coupler_01*sin_jC_1*sin_jD + R_coupler_02*cos_jC_2*cos_jD*sin_jC_1 - R_coupler_00*cos_jD*sin_jC_2 - R_coupler_02*cos_jC_1*sin_jD;
+  const T X0_R_02 = R_coupler_01*cos_jC_1*cos_jC_2*sin_jD + R_coupler_02*cos_jC_1*cos_jD + R_coupler_02*cos_jC_2*sin_jC_1*sin_jD - R_coupler_00*sin_jC_2*sin_jD - R_coupler_01*cos_jD*sin_jC_1;
+  const T X0_R_10 = R_coupler_10*cos_jC_2 + R_coupler_11*cos_jC_1*sin_jC_2 + R_coupler_12*sin_jC_1*sin_jC_2;
+  const T X0_R_12 = R_coupler_11*cos_jC_1*cos_jC_2*sin_jD + R_coupler_12*cos_jC_1*cos_jD + R_coupler_12*cos_jC_2*sin_jC_1*sin_jD - R_coupler_10*sin_jC_2*sin_jD - R_coupler_11*cos_jD*sin_jC_1;
+  const T X0_R_20 = R_coupler_20*cos_jC_2 + R_coupler_21*cos_jC_1*sin_jC_2 + R_coupler_22*sin_jC_1*sin_jC_2;
+  const T X0_R_21 = R_coupler_21*cos_jC_1*cos_jC_2*cos_jD + R_coupler_21*sin_jC_1*sin_jD + R_coupler_22*cos_jC_2*cos_jD*sin_jC_1 - R_coupler_20*cos_jD*sin_jC_2 - R_coupler_22*cos_jC_1*sin_jD;
+  const T X0_wx = T(0.5)*X0_R_21 - T(0.5)*X0_R_12;
+  const T X0_wy = T(0.5)*X0_R_02 - T(0.5)*X0_R_20;
+  const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
+  const T X0_vx = R_coupler_00*cos_jD*p_rocker_y*sin_jC_2 + p.d*R_coupler_00*sin_jC_2 + R_coupler_00*p_rocker_z*sin_jC_2*sin_jD + R_coupler_01*cos_jD*p_rocker_z*sin_jC_1 + p.d*R_coupler_01 + s0_jC_1_z*R_coupler_01*sin_jC_1 + R_coupler_02*cos_jC_1*p_rocker_y*sin_jD + s0_jC_1_z*R_coupler_02 + p_coupler_x - R_coupler_01*cos_jC_1*cos_jC_2*cos_jD*p_rocker_y - p.d*R_coupler_01*cos_jC_1*cos_jC_2 - R_coupler_01*cos_jC_1*cos_jC_2*p_rocker_z*sin_jD - R_coupler_01*p_rocker_y*sin_jC_1*sin_jD - R_coupler_02*cos_jC_1*cos_jD*p_rocker_z - s0_jC_1_z*R_coupler_02*cos_jC_1 - R_coupler_02*cos_jC_2*cos_jD*p_rocker_y*sin_jC_1 - p.d*R_coupler_02*cos_jC_2*sin_jC_1 - R_coupler_02*cos_jC_2*p_rocker_z*sin_jC_1*sin_jD;
+  const T X0_vy = R_coupler_10*cos_jD*p_rocker_y*sin_jC_2 + p.d*R_coupler_10*sin_jC_2 + R_coupler_10*p_rocker_z*sin_jC_2*sin_jD + R_coupler_11*cos_jD*p_rocker_z*sin_jC_1 + p.d*R_coupler_11 + s0_jC_1_z*R_coupler_11*sin_jC_1 + R_coupler_12*cos_jC_1*p_rocker_y*sin_jD + s0_jC_1_z*R_coupler_12 + p_coupler_y - R_coupler_11*cos_jC_1*cos_jC_2*cos_jD*p_rocker_y - p.d*R_coupler_11*cos_jC_1*cos_jC_2 - R_coupler_11*cos_jC_1*cos_jC_2*p_rocker_z*sin_jD - R_coupler_11*p_rocker_y*sin_jC_1*sin_jD - R_coupler_12*cos_jC_1*cos_jD*p_rocker_z - s0_jC_1_z*R_coupler_12*cos_jC_1 - R_coupler_12*cos_jC_2*cos_jD*p_rocker_y*sin_jC_1 - p.d*R_coupler_12*cos_jC_2*sin_jC_1 - R_coupler_12*cos_jC_2*p_rocker_z*sin_jC_1*sin_jD;
+  const T X0_vz = R_coupler_20*cos_jD*p_rocker_y*sin_jC_2 + p.d*R_coupler_20*sin_jC_2 + R_coupler_20*p_rocker_z*sin_jC_2*sin_jD + R_coupler_21*cos_jD*p_rocker_z*sin_jC_1 + p.d*R_coupler_21 + s0_jC_1_z*R_coupler_21*sin_jC_1 + R_coupler_22*cos_jC_1*p_rocker_y*sin_jD + s0_jC_1_z*R_coupler_22 + p_coupler_z - R_coupler_21*cos_jC_1*cos_jC_2*cos_jD*p_rocker_y - p.d*R_coupler_21*cos_jC_1*cos_jC_2 - R_coupler_21*cos_jC_1*cos_jC_2*p_rocker_z*sin_jD - R_coupler_21*p_rocker_y*sin_jC_1*sin_jD - R_coupler_22*cos_jC_1*cos_jD*p_rocker_z - s0_jC_1_z*R_coupler_22*cos_jC_1 - R_coupler_22*cos_jC_2*cos_jD*p_rocker_y*sin_jC_1 - p.d*R_coupler_22*cos_jC_2*sin_jC_1 - R_coupler_22*cos_jC_2*p_rocker_z*sin_jC_1*sin_jD;
+  const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_vz*X0_vz + X0_wx*X0_wx + X0_wy*X0_wy + X0_wz*X0_wz;
+  const T lu_ipiv0 = -T(1);
+  const T lu_f2_0 = -lu_ipiv0*p.h;
+  const T lu_a0_2_1 = sv_jB_3_y - lu_f2_0*sw_jB_3_x;
+  const T lu_a0_2_2 = sv_jC_1_y - lu_f2_0*R_coupler_00;
+  const T lu_a0_2_3 = sv_jC_2_y - lu_f2_0*sw_jC_2_x;
+  const T lu_a0_2_4 = sv_jB_2_y - lu_f2_0*sw_jB_2_x;
+  const T lu_a0_2_5 = -lu_f2_0*cos_jA;
+  const T lu_f5_0 = lu_ipiv0*p.d;
+  const T lu_a0_5_1 = sv_jB_3_z - lu_f5_0*sw_jB_3_x;
+  const T lu_a0_5_2 = sv_jC_1_z - lu_f5_0*R_coupler_00;
+  const T lu_a0_5_3 = sv_jC_2_z - lu_f5_0*sw_jC_2_x;
+  const T lu_a0_5_4 = sv_jB_2_z - lu_f5_0*sw_jB_2_x;
+  const T lu_a0_5_5 = -lu_f5_0*cos_jA;
+  const T lu_ipiv1 = T(1)/sw_jB_3_z;
+  const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
+  const T lu_a1_2_2 = lu_a0_2_2 - R_coupler_20*lu_f2_1;
+  const T lu_a1_2_3 = lu_a0_2_3 - lu_f2_1*sw_jC_2_z;
+  const T lu_a1_2_4 = lu_a0_2_4 - lu_f2_1*sin_jB_1;
+  const T lu_f3_1 = lu_ipiv1*sv_jB_3_x;
+  const T lu_a1_3_2 = sv_jC_1_x - R_coupler_20*lu_f3_1;
+  const T lu_a1_3_3 = sv_jC_2_x - lu_f3_1*sw_jC_2_z;
+  const T lu_a1_3_4 = sv_jB_2_x - lu_f3_1*sin_jB_1;
+  const T lu_f4_1 = lu_ipiv1*sw_jB_3_y;
+  const T lu_a1_4_2 = R_coupler_10 - R_coupler_20*lu_f4_1;
+  const T lu_a1_4_3 = sw_jC_2_y - lu_f4_1*sw_jC_2_z;
+  const T lu_a1_4_4 = sw_jB_2_y - lu_f4_1*sin_jB_1;
+  const T lu_f5_1 = lu_a0_5_1*lu_ipiv1;
+  const T lu_a1_5_2 = lu_a0_5_2 - R_coupler_20*lu_f5_1;
+  const T lu_a1_5_3 = lu_a0_5_3 - lu_f5_1*sw_jC_2_z;
+  const T lu_a1_5_4 = lu_a0_5_4 - lu_f5_1*sin_jB_1;
+  const T lu_ipiv2 = T(1)/lu_a1_2_2;
+  const T lu_f3_2 = lu_a1_3_2*lu_ipiv2;
+  const T lu_a2_3_3 = lu_a1_3_3 - lu_a1_2_3*lu_f3_2;
+  const T lu_a2_3_4 = lu_a1_3_4 - lu_a1_2_4*lu_f3_2;
+  const T lu_a2_3_5 = -lu_a0_2_5*lu_f3_2;
+  const T lu_f4_2 = lu_a1_4_2*lu_ipiv2;
+  const T lu_a2_4_3 = lu_a1_4_3 - lu_a1_2_3*lu_f4_2;
+  const T lu_a2_4_4 = lu_a1_4_4 - lu_a1_2_4*lu_f4_2;
+  const T lu_a2_4_5 = sin_jA - lu_a0_2_5*lu_f4_2;
+  const T lu_f5_2 = lu_a1_5_2*lu_ipiv2;
+  const T lu_a2_5_3 = lu_a1_5_3 - lu_a1_2_3*lu_f5_2;
+  const T lu_a2_5_4 = lu_a1_5_4 - lu_a1_2_4*lu_f5_2;
+  const T lu_a2_5_5 = lu_a0_5_5 - lu_a0_2_5*lu_f5_2;
+  const T lu_ipiv3 = T(1)/lu_a2_3_3;
+  const T lu_f4_3 = lu_a2_4_3*lu_ipiv3;
+  const T lu_a3_4_4 = lu_a2_4_4 - lu_a2_3_4*lu_f4_3;
+  const T lu_a3_4_5 = lu_a2_4_5 - lu_a2_3_5*lu_f4_3;
+  const T lu_f5_3 = lu_a2_5_3*lu_ipiv3;
+  const T lu_a3_5_4 = lu_a2_5_4 - lu_a2_3_4*lu_f5_3;
+  const T lu_a3_5_5 = lu_a2_5_5 - lu_a2_3_5*lu_f5_3;
+  const T lu_ipiv4 = T(1)/lu_a3_4_4;
+  const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
+  const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
+  const T lu_ipiv5 = T(1)/lu_a4_5_5;
+  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
+  const T vel_b1_2 = in.theta_d*lu_f2_1;
+  const T vel_b1_3 = in.theta_d*lu_f3_1;
+  const T vel_b1_4 = in.theta_d*lu_f4_1;
+  const T vel_b1_5 = in.theta_d*lu_f5_1;
+  const T vel_b2_3 = vel_b1_3 - lu_f3_2*vel_b1_2;
+  const T vel_b2_4 = vel_b1_4 - lu_f4_2*vel_b1_2;
+  const T vel_b2_5 = vel_b1_5 - lu_f5_2*vel_b1_2;
+  const T vel_b3_4 = vel_b2_4 - lu_f4_3*vel_b2_3;
+  const T vel_b3_5 = vel_b2_5 - lu_f5_3*vel_b2_3;
+  const T vel_b4_5 = vel_b3_5 - lu_f5_4*vel_b3_4;
+  const T vel_x5 = lu_ipiv5*vel_b4_5;
+  const T vel_x4 = lu_ipiv4*vel_b3_4 - lu_a3_4_5*lu_ipiv4*vel_x5;
+  const T vel_x3 = lu_ipiv3*vel_b2_3 - lu_a2_3_4*lu_ipiv3*vel_x4 - lu_a2_3_5*lu_ipiv3*vel_x5;
+  const T vel_x2 = lu_ipiv2*vel_b1_2 - lu_a0_2_5*lu_ipiv2*vel_x5 - lu_a1_2_3*lu_ipiv2*vel_x3 - lu_a1_2_4*lu_ipiv2*vel_x4;
+  const T vel_x1 = -R_coupler_20*lu_ipiv1*vel_x2 - in.theta_d*lu_ipiv1 - lu_ipiv1*sin_jB_1*vel_x4 - lu_ipiv1*sw_jC_2_z*vel_x3;
+  const T vel_x0 = -lu_ipiv0*R_coupler_00*vel_x2 - lu_ipiv0*cos_jA*vel_x5 - lu_ipiv0*sw_jB_2_x*vel_x4 - lu_ipiv0*sw_jB_3_x*vel_x1 - lu_ipiv0*sw_jC_2_x*vel_x3;
+  const T v_rocker_y = p.h*vel_x0;
+  const T v_rocker_z = -p.d*vel_x0;
+  const T w_coupler_x = cos_jA*vel_x5 + sw_jB_2_x*vel_x4 + sw_jB_3_x*vel_x1;
+  const T w_coupler_y = sin_jA*vel_x5 + sw_jB_2_y*vel_x4 + sw_jB_3_y*vel_x1;
+  const T w_coupler_z = in.theta_d + sin_jB_1*vel_x4 + sw_jB_3_z*vel_x1;
+  const T v_coupler_x = sv_jB_2_x*vel_x4 + sv_jB_3_x*vel_x1;
+  const T v_coupler_y = sv_jB_2_y*vel_x4 + sv_jB_3_y*vel_x1;
+  const T v_coupler_z = sv_jB_2_z*vel_x4 + sv_jB_3_z*vel_x1;
+  const T dsw_jB_1_x = -in.theta_d*sin_jA;
+  const T dsw_jB_1_y = cos_jA*in.theta_d;
+  const T dsw_jB_2_x = sin_jA*sin_jB_1*vel_x5 - in.theta_d*sw_jB_2_y;
+  const T dsw_jB_2_y = in.theta_d*sw_jB_2_x - cos_jA*sin_jB_1*vel_x5;
+  const T dsw_jB_2_z = cos_jA*sw_jB_2_y*vel_x5 - sin_jA*sw_jB_2_x*vel_x5;
+  const T dsv_jB_2_x = sin_jA*sv_jB_2_z*vel_x5 - in.theta_d*sv_jB_2_y;
+  const T dsv_jB_2_y = in.theta_d*sv_jB_2_x - cos_jA*sv_jB_2_z*vel_x5;
+  const T dsv_jB_2_z = cos_jA*sv_jB_2_y*vel_x5 - sin_jA*sv_jB_2_x*vel_x5;
+  const T dsw_jB_3_x = sin_jA*sw_jB_3_z*vel_x5 + sw_jB_2_y*sw_jB_3_z*vel_x4 - in.theta_d*sw_jB_3_y - sin_jB_1*sw_jB_3_y*vel_x4;
+  const T dsw_jB_3_y = in.theta_d*sw_jB_3_x + sin_jB_1*sw_jB_3_x*vel_x4 - cos_jA*sw_jB_3_z*vel_x5 - sw_jB_2_x*sw_jB_3_z*vel_x4;
+  const T dsw_jB_3_z = cos_jA*sw_jB_3_y*vel_x5 + sw_jB_2_x*sw_jB_3_y*vel_x4 - sin_jA*sw_jB_3_x*vel_x5 - sw_jB_2_y*sw_jB_3_x*vel_x4;
+  const T dsv_jB_3_x = sin_jA*sv_jB_3_z*vel_x5 + sv_jB_2_y*sw_jB_3_z*vel_x4 + sv_jB_3_z*sw_jB_2_y*vel_x4 - in.theta_d*sv_jB_3_y - sin_jB_1*sv_jB_3_y*vel_x4 - sv_jB_2_z*sw_jB_3_y*vel_x4;
+  const T dsv_jB_3_y = in.theta_d*sv_jB_3_x + sin_jB_1*sv_jB_3_x*vel_x4 + sv_jB_2_z*sw_jB_3_x*vel_x4 - cos_jA*sv_jB_3_z*vel_x5 - sv_jB_2_x*sw_jB_3_z*vel_x4 - sv_jB_3_z*sw_jB_2_x*vel_x4;
+  const T dsv_jB_3_z = cos_jA*sv_jB_3_y*vel_x5 + sv_jB_2_x*sw_jB_3_y*vel_x4 + sv_jB_3_y*sw_jB_2_x*vel_x4 - sin_jA*sv_jB_3_x*vel_x5 - sv_jB_2_y*sw_jB_3_x*vel_x4 - sv_jB_3_x*sw_jB_2_y*vel_x4;
+  const T dsw_jC_1_x = R_coupler_20*w_coupler_y - R_coupler_10*w_coupler_z;
+  const T dsw_jC_1_y = R_coupler_00*w_coupler_z - R_coupler_20*w_coupler_x;
+  const T dsw_jC_1_z = R_coupler_10*w_coupler_x - R_coupler_00*w_coupler_y;
+  const T dsv_jC_1_x = R_coupler_20*v_coupler_y + sv_jC_1_z*w_coupler_y - R_coupler_10*v_coupler_z - sv_jC_1_y*w_coupler_z;
+  const T dsv_jC_1_y = R_coupler_00*v_coupler_z + sv_jC_1_x*w_coupler_z - R_coupler_20*v_coupler_x - sv_jC_1_z*w_coupler_x;
+  const T dsv_jC_1_z = R_coupler_10*v_coupler_x + sv_jC_1_y*w_coupler_x - R_coupler_00*v_coupler_y - sv_jC_1_x*w_coupler_y;
+  const T dsw_jC_2_x = R_coupler_10*sw_jC_2_z*vel_x2 + sw_jC_2_z*w_coupler_y - R_coupler_20*sw_jC_2_y*vel_x2 - sw_jC_2_y*w_coupler_z;
+  const T dsw_jC_2_y = R_coupler_20*sw_jC_2_x*vel_x2 + sw_jC_2_x*w_coupler_z - R_coupler_00*sw_jC_2_z*vel_x2 - sw_jC_2_z*w_coupler_x;
+  const T dsw_jC_2_z = R_coupler_00*sw_jC_2_y*vel_x2 + sw_jC_2_y*w_coupler_x - R_coupler_10*sw_jC_2_x*vel_x2 - sw_jC_2_x*w_coupler_y;
+  const T dsv_jC_2_x = R_coupler_10*sv_jC_2_z*vel_x2 + sv_jC_1_y*sw_jC_2_z*vel_x2 + sv_jC_2_z*w_coupler_y + sw_jC_2_z*v_coupler_y - R_coupler_20*sv_jC_2_y*vel_x2 - sv_jC_1_z*sw_jC_2_y*vel_x2 - sv_jC_2_y*w_coupler_z - sw_jC_2_y*v_coupler_z;
+  const T dsv_jC_2_y = R_coupler_20*sv_jC_2_x*vel_x2 + sv_jC_1_z*sw_jC_2_x*vel_x2 + sv_jC_2_x*w_coupler_z + sw_jC_2_x*v_coupler_z - R_coupler_00*sv_jC_2_z*vel_x2 - sv_jC_1_x*sw_jC_2_z*vel_x2 - sv_jC_2_z*w_coupler_x - sw_jC_2_z*v_coupler_x;
+  const T dsv_jC_2_z = R_coupler_00*sv_jC_2_y*vel_x2 + sv_jC_1_x*sw_jC_2_y*vel_x2 + sv_jC_2_y*w_coupler_x + sw_jC_2_y*v_coupler_x - R_coupler_10*sv_jC_2_x*vel_x2 - sv_jC_1_y*sw_jC_2_x*vel_x2 - sv_jC_2_x*w_coupler_y - sw_jC_2_x*v_coupler_y;
+  const T _tmp31 = dsw_jB_1_x*vel_x5;
+  const T _tmp32 = dsw_jB_2_x*vel_x4;
+  const T _tmp33 = dsw_jB_3_x*vel_x1;
+  const T acc_rhs0 = -_tmp31 - _tmp32 - _tmp33 - dsw_jC_1_x*vel_x2 - dsw_jC_2_x*vel_x3;
+  const T _tmp34 = dsw_jB_2_z*vel_x4;
+  const T _tmp35 = dsw_jB_3_z*vel_x1;
+  const T acc_rhs2 = -_tmp34 - _tmp35 - dsw_jC_1_z*vel_x2 - dsw_jC_2_z*vel_x3 - in.theta_dd;
+  const T _tmp36 = dsv_jB_2_y*vel_x4;
+  const T _tmp37 = dsv_jB_3_y*vel_x1;
+  const T acc_rhs4 = -_tmp36 - _tmp37 - dsv_jC_1_y*vel_x2 - dsv_jC_2_y*vel_x3;
+  const T _tmp38 = dsv_jB_2_x*vel_x4;
+  const T _tmp39 = dsv_jB_3_x*vel_x1;
+  const T acc_rhs3 = -_tmp38 - _tmp39 - dsv_jC_1_x*vel_x2 - dsv_jC_2_x*vel_x3;
+  const T _tmp40 = dsw_jB_1_y*vel_x5;
+  const T _tmp41 = dsw_jB_2_y*vel_x4;
+  const T _tmp42 = dsw_jB_3_y*vel_x1;
+  const T acc_rhs1 = -_tmp40 - _tmp41 - _tmp42 - dsw_jC_1_y*vel_x2 - dsw_jC_2_y*vel_x3;
+  const T _tmp43 = dsv_jB_2_z*vel_x4;
+  const T _tmp44 = dsv_jB_3_z*vel_x1;
+  const T acc_rhs5 = -_tmp43 - _tmp44 - dsv_jC_1_z*vel_x2 - dsv_jC_2_z*vel_x3;
+  const T acc_b0_2 = acc_rhs4 - lu_f2_0*acc_rhs0;
+  const T acc_b0_5 = acc_rhs5 - lu_f5_0*acc_rhs0;
+  const T acc_b1_2 = acc_b0_2 - acc_rhs2*lu_f2_1;
+  const T acc_b1_3 = acc_rhs3 - acc_rhs2*lu_f3_1;
+  const T acc_b1_4 = acc_rhs1 - acc_rhs2*lu_f4_1;
+  const T acc_b1_5 = acc_b0_5 - acc_rhs2*lu_f5_1;
+  const T acc_b2_3 = acc_b1_3 - acc_b1_2*lu_f3_2;
+  const T acc_b2_4 = acc_b1_4 - acc_b1_2*lu_f4_2;
+  const T acc_b2_5 = acc_b1_5 - acc_b1_2*lu_f5_2;
+  const T acc_b3_4 = acc_b2_4 - acc_b2_3*lu_f4_3;
+  const T acc_b3_5 = acc_b2_5 - acc_b2_3*lu_f5_3;
+  const T acc_b4_5 = acc_b3_5 - acc_b3_4*lu_f5_4;
+  const T acc_x5 = acc_b4_5*lu_ipiv5;
+  const T acc_x4 = acc_b3_4*lu_ipiv4 - acc_x5*lu_a3_4_5*lu_ipiv4;
+  const T acc_x3 = acc_b2_3*lu_ipiv3 - acc_x4*lu_a2_3_4*lu_ipiv3 - acc_x5*lu_a2_3_5*lu_ipiv3;
+  const T acc_x2 = acc_b1_2*lu_ipiv2 - acc_x3*lu_a1_2_3*lu_ipiv2 - acc_x4*lu_a1_2_4*lu_ipiv2 - acc_x5*lu_a0_2_5*lu_ipiv2;
+  const T acc_x1 = acc_rhs2*lu_ipiv1 - R_coupler_20*acc_x2*lu_ipiv1 - acc_x3*lu_ipiv1*sw_jC_2_z - acc_x4*lu_ipiv1*sin_jB_1;
+  const T acc_x0 = lu_ipiv0*acc_rhs0 - lu_ipiv0*R_coupler_00*acc_x2 - lu_ipiv0*acc_x1*sw_jB_3_x - lu_ipiv0*acc_x3*sw_jC_2_x - lu_ipiv0*acc_x4*sw_jB_2_x - lu_ipiv0*acc_x5*cos_jA;
+  const T dv_rocker_y = p.h*acc_x0;
+  const T dv_rocker_z = -p.d*acc_x0;
+  const T dw_coupler_x = acc_x1*sw_jB_3_x + acc_x4*sw_jB_2_x + acc_x5*cos_jA + _tmp31 + _tmp32 + _tmp33;
+  const T dw_coupler_y = acc_x1*sw_jB_3_y + acc_x4*sw_jB_2_y + acc_x5*sin_jA + _tmp40 + _tmp41 + _tmp42;
+  const T dw_coupler_z = acc_x1*sw_jB_3_z + acc_x4*sin_jB_1 + _tmp34 + _tmp35 + in.theta_dd;
+  const T dv_coupler_x = acc_x1*sv_jB_3_x + acc_x4*sv_jB_2_x + _tmp38 + _tmp39;
+  const T dv_coupler_y = acc_x1*sv_jB_3_y + acc_x4*sv_jB_2_y + _tmp36 + _tmp37;
+  const T dv_coupler_z = acc_x1*sv_jB_3_z + acc_x4*sv_jB_2_z + _tmp43 + _tmp44;
+  const T com_crank_x = T(0.5)*p.a*cos_jA;
+  const T com_crank_y = T(0.5)*p.a*sin_jA;
+  const T vc_crank_x = -com_crank_y*in.theta_d;
+  const T vc_crank_y = com_crank_x*in.theta_d;
+  const T ac_crank_x = -com_crank_y*in.theta_dd - in.theta_d*vc_crank_y;
+  const T ac_crank_y = com_crank_x*in.theta_dd + in.theta_d*vc_crank_x;
+  const T _tmp45 = T(0.5)*p.c;
+  const T com_local_coupler_z = _tmp45 + T(0.5)*p.h;
+  const T com_coupler_x = com_local_coupler_z*R_coupler_02 + T(0.5)*p.a*R_coupler_00 + T(0.5)*p.d*R_coupler_01 + p_coupler_x;
+  const T com_coupler_y = com_local_coupler_z*R_coupler_12 + T(0.5)*p.a*R_coupler_10 + T(0.5)*p.d*R_coupler_11 + p_coupler_y;
+  const T com_coupler_z = com_local_coupler_z*R_coupler_22 + T(0.5)*p.a*R_coupler_20 + T(0.5)*p.d*R_coupler_21 + p_coupler_z;
+  const T vc_coupler_x = com_coupler_z*w_coupler_y + v_coupler_x - com_coupler_y*w_coupler_z;
+  const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y - com_coupler_z*w_coupler_x;
+  const T vc_coupler_z = com_coupler_y*w_coupler_x + v_coupler_z - com_coupler_x*w_coupler_y;
+  const T ac_coupler_x = com_coupler_z*dw_coupler_y + dv_coupler_x + vc_coupler_z*w_coupler_y - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
+  const T ac_coupler_y = com_coupler_x*dw_coupler_z + dv_coupler_y + vc_coupler_x*w_coupler_z - com_coupler_z*dw_coupler_x - vc_coupler_z*w_coupler_x;
+  const T ac_coupler_z = com_coupler_y*dw_coupler_x + dv_coupler_z + vc_coupler_y*w_coupler_x - com_coupler_x*dw_coupler_y - vc_coupler_x*w_coupler_y;
+  const T com_local_rocker_z = _tmp45 + p.h;
+  const T com_rocker_y = _tmp13 + p_rocker_y - com_local_rocker_z*sin_jD;
+  const T com_rocker_z = com_local_rocker_z*cos_jD + _tmp16 + p_rocker_z;
+  const T vc_rocker_y = v_rocker_y - com_rocker_z*vel_x0;
+  const T vc_rocker_z = com_rocker_y*vel_x0 + v_rocker_z;
+  const T ac_rocker_y = dv_rocker_y - acc_x0*com_rocker_z - vc_rocker_z*vel_x0;
+  const T ac_rocker_z = acc_x0*com_rocker_y + dv_rocker_z + vc_rocker_y*vel_x0;
+  const T _tmp46 = p.r*p.r;
+  const T _tmp47 = sqrt(_tmp0);
+  const T m_crank = T(3.14159265358979323846)*_tmp46*p.rho*_tmp47;
+  const T _tmp48 = _tmp46*_tmp46;
+  const T _tmp49 = T(1)/T(12);
+  const T I_crank_22 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.rho*_tmp47 + T(3.14159265358979323846)*_tmp0*_tmp46*p.rho*_tmp47*_tmp49;
+  const T Ialb_crank_z = I_crank_22*in.theta_dd;
+  const T F_crank_x = m_crank*ac_crank_x;
+  const T F_crank_y = m_crank*ac_crank_y;
+  const T M_crank_x = T(9.81)*m_crank*com_crank_y;
+  const T M_crank_y = -T(9.81)*m_crank*com_crank_x;
+  const T M_crank_z = F_crank_y*com_crank_x + Ialb_crank_z - F_crank_x*com_crank_y;
+  const T _tmp50 = p.c*p.c;
+  const T _tmp51 = sqrt(T(2)*p.c*p.h + _tmp0 + _tmp50 + _tmp1 + _tmp3);
+  const T m_coupler = T(3.14159265358979323846)*_tmp46*p.rho*_tmp51;
+  const T _tmp52 = T(1)/_tmp51;
+  const T _tmp53 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.rho*_tmp51;
+  const T _tmp54 = T(3.14159265358979323846)*_tmp0*_tmp46*p.rho*_tmp51*_tmp49;
+  const T _tmp55 = T(3.14159265358979323846)*_tmp50*_tmp46*p.rho*_tmp51*_tmp49;
+  const T _tmp56 = T(3.14159265358979323846)*_tmp1*_tmp46*p.rho*_tmp51*_tmp49;
+  const T _tmp57 = T(3.14159265358979323846)*_tmp3*_tmp46*p.rho*_tmp51*_tmp49;
+  const T _tmp58 = T(3.14159265358979323846)*p.c*p.h*_tmp46*p.rho*_tmp51/T(6);
+  const T _tmp59 = T(1)/(T(12)*_tmp51);
+  const T _tmp60 = T(3.14159265358979323846)*_tmp0*_tmp50*_tmp46*p.rho*_tmp59;
+  const T _tmp61 = T(3.14159265358979323846)*_tmp0*_tmp1*_tmp46*p.rho*_tmp59;
+  const T _tmp62 = T(3.14159265358979323846)*_tmp0*_tmp3*_tmp46*p.rho*_tmp59;
+  const T _tmp63 = T(1)/(T(6)*_tmp51);
+  const T _tmp64 = T(3.14159265358979323846)*_tmp0*p.c*p.h*_tmp46*p.rho*_tmp63;
+  const T I_coupler_00 = T(0.25)*T(3.14159265358979323846)*_tmp48*_tmp0*p.rho*_tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 - T(3.14159265358979323846)*(_tmp0*_tmp0)*_tmp46*p.rho*_tmp59 - _tmp60 - _tmp61 - _tmp62 - _tmp64;
+  const T _tmp65 = _tmp0*p.a;
+  const T _tmp66 = _tmp1*p.d;
+  const T I_coupler_01 = T(3.14159265358979323846)*_tmp65*p.d*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*_tmp66*p.a*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*p.a*_tmp50*p.d*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*p.a*p.c*p.d*p.h*_tmp46*p.rho*_tmp63 + T(3.14159265358979323846)*p.a*p.d*_tmp3*_tmp46*p.rho*_tmp59 - T(0.25)*T(3.14159265358979323846)*_tmp48*p.a*p.d*p.rho*_tmp52;
+  const T _tmp67 = _tmp50*p.c;
+  const T _tmp68 = _tmp3*p.h;
+  const T I_coupler_02 = T(0.25)*T(3.14159265358979323846)*p.a*_tmp50*p.h*_tmp46*p.rho*_tmp52 + T(0.25)*T(3.14159265358979323846)*p.a*p.c*_tmp3*_tmp46*p.rho*_tmp52 + T(3.14159265358979323846)*_tmp65*p.c*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*_tmp65*p.h*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*_tmp67*p.a*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*_tmp68*p.a*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*p.a*_tmp1*p.h*_tmp46*p.rho*_tmp59 + T(3.14159265358979323846)*p.a*p.c*_tmp1*_tmp46*p.rho*_tmp59 - T(0.25)*T(3.14159265358979323846)*_tmp48*p.a*p.c*p.rho*_tmp52 - T(0.25)*T(3.14159265358979323846)*_tmp48*p.a*p.h*p.rho*_tmp52;
+  const T _tmp69 = T(3.14159265358979323846)*_tmp50*_tmp1*_tmp46*p.rho*_tmp59;
+  const T _tmp70 = T(3.14159265358979323846)*_tmp1*_tmp3*_tmp46*p.rho*_tmp59;
+  const T _tmp71 = T(3.14159265358979323846)*p.c*_tmp1*p.h*_tmp46*p.rho*_tmp63;
+  const T I_coupler_11 = T(0.25)*T(3.14159265358979323846)*_tmp48*_tmp1*p.rho*_tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 - T(3.14159265358979323846)*(_tmp1*_tmp1)*_tmp46*p.rho*_tmp59 - _tmp61 - _tmp69 - _tmp70 - _tmp71;
+  const T I_coupler_12 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.c*p.d*p.rho*_tmp52 + T(0.25)*T(3.14159265358979323846)*_tmp48*p.d*p.h*p.rho*_tmp52 - T(0.25)*T(3.14159265358979323846)*_tmp50*p.d*p.h*_tmp46*p.rho*_tmp52 - T(0.25)*T(3.14159265358979323846)*p.c*p.d*_tmp3*_tmp46*p.rho*_tmp52 - T(3.14159265358979323846)*_tmp67*p.d*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp66*p.c*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp66*p.h*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp68*p.d*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp0*p.c*p.d*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp0*p.d*p.h*_tmp46*p.rho*_tmp59;
+  const T _tmp72 = T(1)/(T(3)*_tmp51);
+  const T I_coupler_22 = T(0.25)*T(3.14159265358979323846)*_tmp48*_tmp50*p.rho*_tmp52 + T(0.25)*T(3.14159265358979323846)*_tmp48*_tmp3*p.rho*_tmp52 + _tmp53 + T(0.5)*T(3.14159265358979323846)*_tmp48*p.c*p.h*p.rho*_tmp52 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 - T(0.5)*T(3.14159265358979323846)*_tmp50*_tmp3*_tmp46*p.rho*_tmp52 - T(3.14159265358979323846)*(_tmp50*_tmp50)*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp67*p.h*_tmp46*p.rho*_tmp72 - T(3.14159265358979323846)*(_tmp3*_tmp3)*_tmp46*p.rho*_tmp59 - T(3.14159265358979323846)*_tmp68*p.c*_tmp46*p.rho*_tmp72 - _tmp60 - _tmp62 - _tmp64 - _tmp69 - _tmp70 - _tmp71;
+  const T wb_coupler_x = R_coupler_00*w_coupler_x + R_coupler_10*w_coupler_y + R_coupler_20*w_coupler_z;
+  const T wb_coupler_y = R_coupler_01*w_coupler_x + R_coupler_11*w_coupler_y + R_coupler_21*w_coupler_z;
+  const T wb_coupler_z = R_coupler_02*w_coupler_x + R_coupler_12*w_coupler_y + R_coupler_22*w_coupler_z;
+  const T Iwb_coupler_x = I_coupler_00*wb_coupler_x + I_coupler_01*wb_coupler_y + I_coupler_02*wb_coupler_z;
+  const T Iwb_coupler_y = I_coupler_01*wb_coupler_x + I_coupler_11*wb_coupler_y + I_coupler_12*wb_coupler_z;
+  const T Iwb_coupler_z = I_coupler_02*wb_coupler_x + I_coupler_12*wb_coupler_y + I_coupler_22*wb_coupler_z;
+  const T h_coupler_x = Iwb_coupler_x*R_coupler_00 + Iwb_coupler_y*R_coupler_01 + Iwb_coupler_z*R_coupler_02;
+  const T h_coupler_y = Iwb_coupler_x*R_coupler_10 + Iwb_coupler_y*R_coupler_11 + Iwb_coupler_z*R_coupler_12;
+  const T h_coupler_z = Iwb_coupler_x*R_coupler_20 + Iwb_coupler_y*R_coupler_21 + Iwb_coupler_z*R_coupler_22;
+  const T alb_coupler_x = R_coupler_00*dw_coupler_x + R_coupler_10*dw_coupler_y + R_coupler_20*dw_coupler_z;
+  const T alb_coupler_y = R_coupler_01*dw_coupler_x + R_coupler_11*dw_coupler_y + R_coupler_21*dw_coupler_z;
+  const T alb_coupler_z = R_coupler_02*dw_coupler_x + R_coupler_12*dw_coupler_y + R_coupler_22*dw_coupler_z;
+  const T Ialb_coupler_x = I_coupler_00*alb_coupler_x + I_coupler_01*alb_coupler_y + I_coupler_02*alb_coupler_z;
+  const T Ialb_coupler_y = I_coupler_01*alb_coupler_x + I_coupler_11*alb_coupler_y + I_coupler_12*alb_coupler_z;
+  const T Ialb_coupler_z = I_coupler_02*alb_coupler_x + I_coupler_12*alb_coupler_y + I_coupler_22*alb_coupler_z;
+  const T F_coupler_x = m_coupler*ac_coupler_x;
+  const T F_coupler_y = m_coupler*ac_coupler_y;
+  const T F_coupler_z = T(9.81)*m_coupler + m_coupler*ac_coupler_z;
+  const T M_coupler_x = F_coupler_z*com_coupler_y + Ialb_coupler_x*R_coupler_00 + Ialb_coupler_y*R_coupler_01 + Ialb_coupler_z*R_coupler_02 + h_coupler_z*w_coupler_y - F_coupler_y*com_coupler_z - h_coupler_y*w_coupler_z;
+  const T M_coupler_y = F_coupler_x*com_coupler_z + Ialb_coupler_x*R_coupler_10 + Ialb_coupler_y*R_coupler_11 + Ialb_coupler_z*R_coupler_12 + h_coupler_x*w_coupler_z - F_coupler_z*com_coupler_x - h_coupler_z*w_coupler_x;
+  const T M_coupler_z = F_coupler_y*com_coupler_x + Ialb_coupler_x*R_coupler_20 + Ialb_coupler_y*R_coupler_21 + Ialb_coupler_z*R_coupler_22 + h_coupler_y*w_coupler_x - F_coupler_x*com_coupler_y - h_coupler_x*w_coupler_y;
+  const T _tmp73 = sqrt(_tmp50);
+  const T m_rocker = T(3.14159265358979323846)*_tmp46*p.rho*_tmp73;
+  const T I_rocker_00 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.rho*_tmp73 + T(3.14159265358979323846)*_tmp50*_tmp46*p.rho*_tmp73*_tmp49;
+  const T Ialb_rocker_x = I_rocker_00*acc_x0;
+  const T F_rocker_y = m_rocker*ac_rocker_y;
+  const T F_rocker_z = T(9.81)*m_rocker + m_rocker*ac_rocker_z;
+  const T M_rocker_x = F_rocker_z*com_rocker_y + Ialb_rocker_x - F_rocker_y*com_rocker_z;
+  const T P_jB_x = p.a*R_coupler_00 + p_coupler_x;
+  const T P_jB_y = p.a*R_coupler_10 + p_coupler_y;
+  const T P_jB_z = p.a*R_coupler_20 + p_coupler_z;
+  const T P_jC_y = _tmp13 + p_rocker_y - s0_jC_1_z*sin_jD;
+  const T P_jC_z = s0_jC_1_z*cos_jD + _tmp16 + p_rocker_z;
+  const T P_jD_y = _tmp13 + p_rocker_y - _tmp14;
+  const T P_jD_z = _tmp15 + _tmp16 + p_rocker_z;
+  A[0] = T(1);
+  A[6] = -T(1);
+  A[26] = T(1);
+  A[32] = -T(1);
+  A[52] = T(1);
+  A[58] = -T(1);
+  A[78] = T(1);
+  A[82] = P_jB_z;
+  A[83] = -P_jB_y;
+  A[84] = -T(1);
+  A[104] = T(1);
+  A[106] = -P_jB_z;
+  A[108] = P_jB_x;
+  A[110] = -T(1);
+  A[130] = T(1);
+  A[131] = P_jB_y;
+  A[132] = -P_jB_x;
+  A[136] = -T(1);
+  A[149] = T(1);
+  A[156] = T(1);
+  A[162] = -T(1);
+  A[182] = T(1);
+  A[188] = -T(1);
+  A[208] = T(1);
+  A[214] = -T(1);
+  A[232] = -P_jB_z;
+  A[233] = P_jB_y;
+  A[234] = T(1);
+  A[238] = P_jC_z;
+  A[239] = -P_jC_y;
+  A[240] = -T(1);
+  A[256] = P_jB_z;
+  A[258] = -P_jB_x;
+  A[260] = T(1);
+  A[262] = -P_jC_z;
+  A[266] = -T(1);
+  A[281] = -P_jB_y;
+  A[282] = P_jB_x;
+  A[286] = T(1);
+  A[287] = P_jC_y;
+  A[292] = -T(1);
+  A[312] = T(1);
+  A[318] = T(1);
+  A[338] = T(1);
+  A[344] = T(1);
+  A[364] = T(1);
+  A[370] = T(1);
+  A[388] = -P_jC_z;
+  A[389] = P_jC_y;
+  A[390] = T(1);
+  A[394] = -P_jD_z;
+  A[395] = P_jD_y;
+  A[396] = T(1);
+  A[412] = P_jC_z;
+  A[416] = T(1);
+  A[418] = P_jD_z;
+  A[422] = T(1);
+  A[437] = -P_jC_y;
+  A[442] = T(1);
+  A[443] = -P_jD_y;
+  A[448] = T(1);
+  A[455] = T(1);
+  A[481] = P_jB_z*sin_jA;
+  A[482] = -P_jB_z*cos_jA;
+  A[483] = P_jB_y*cos_jA - P_jB_x*sin_jA;
+  A[484] = cos_jA;
+  A[485] = sin_jA;
+  A[506] = P_jB_z*sw_jB_2_y + sv_jB_2_x - P_jB_y*sin_jB_1;
+  A[507] = P_jB_x*sin_jB_1 + sv_jB_2_y - P_jB_z*sw_jB_2_x;
+  A[508] = P_jB_y*sw_jB_2_x + sv_jB_2_z - P_jB_x*sw_jB_2_y;
+  A[509] = sw_jB_2_x;
+  A[510] = sw_jB_2_y;
+  A[511] = sin_jB_1;
+  A[531] = P_jB_z*sw_jB_3_y + sv_jB_3_x - P_jB_y*sw_jB_3_z;
+  A[532] = P_jB_x*sw_jB_3_z + sv_jB_3_y - P_jB_z*sw_jB_3_x;
+  A[533] = P_jB_y*sw_jB_3_x + sv_jB_3_z - P_jB_x*sw_jB_3_y;
+  A[534] = sw_jB_3_x;
+  A[535] = sw_jB_3_y;
+  A[536] = sw_jB_3_z;
+  A[562] = P_jC_z*R_coupler_10 + sv_jC_1_x - P_jC_y*R_coupler_20;
+  A[563] = sv_jC_1_y - P_jC_z*R_coupler_00;
+  A[564] = P_jC_y*R_coupler_00 + sv_jC_1_z;
+  A[565] = R_coupler_00;
+  A[566] = R_coupler_10;
+  A[567] = R_coupler_20;
+  A[587] = P_jC_z*sw_jC_2_y + sv_jC_2_x - P_jC_y*sw_jC_2_z;
+  A[588] = sv_jC_2_y - P_jC_z*sw_jC_2_x;
+  A[589] = P_jC_y*sw_jC_2_x + sv_jC_2_z;
+  A[590] = sw_jC_2_x;
+  A[591] = sw_jC_2_y;
+  A[592] = sw_jC_2_z;
+  A[619] = p.h - P_jD_z;
+  A[620] = P_jD_y - p.d;
+  A[621] = T(1);
+  b[0] = F_crank_x;
+  b[1] = F_crank_y;
+  b[2] = T(9.81)*m_crank;
+  b[3] = M_crank_x;
+  b[4] = M_crank_y;
+  b[5] = M_crank_z;
+  b[6] = F_coupler_x;
+  b[7] = F_coupler_y;
+  b[8] = F_coupler_z;
+  b[9] = M_coupler_x;
+  b[10] = M_coupler_y;
+  b[11] = M_coupler_z;
+  b[13] = F_rocker_y;
+  b[14] = F_rocker_z;
+  b[15] = M_rocker_x;
+  s.closure.wnext[0] = q_jB_1;
+  s.closure.wnext[1] = q_jB_2;
+  s.closure.wnext[2] = q_jB_3;
+  s.closure.wnext[3] = q_jC_1;
+  s.closure.wnext[4] = q_jC_2;
+  s.closure.wnext[5] = q_jD;
+  s.closure.residual = closure_residual;
+  s.closure.det = closure_det;
+  const T _sum_forces_0 = ((A[481] + A[482]) + (A[483] + A[506])) + ((A[507] + A[508]) + (A[531] + A[532]));
+  const T _sum_forces_1 = ((A[533] + A[562]) + (A[563] + A[564])) + ((A[587] + A[588]) + (A[589] + A[619]));
+  const T _sum_forces_2 = ((A[620] + b[2]) + (b[3] + b[4])) + ((b[5] + b[9]) + (b[10] + b[11]));
+  const T _sum_forces_3 = ((b[15] + s.closure.wnext[0]) + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.wnext[3] + s.closure.wnext[4]) + (s.closure.wnext[5] + s.closure.residual));
+  const T _sum_forces_4 = s.closure.det;
+  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + (_sum_forces_3 + _sum_forces_4));
+  if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
+  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
+  // singular there (|det| below 1e-9 of its value at the assembly).
+  using std::abs;
+  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon()))
+    return s.failed_group = 4, Status::unreachable;
+  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+    return s.failed_group = 4, Status::singular;
+  for (int i = 0; i < 6; ++i) s.closure.w[i] = s.closure.wnext[i];
+  return Status::ok;
+}
+}  // namespace detail
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A, T* b) noexcept {
   for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
   for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
-  if (!inputs_finite(in)) return Status::unreachable;
-  // Total ops: 0
-
-  return Status::ok;
+  const Status status = detail::ne_fill(p, in, s, A, b);
+  if (status == Status::ok) return status;
+  for (int i = 0; i < ne_rows * ne_size; ++i) A[i] = T(0);
+  for (int i = 0; i < ne_rows; ++i) b[i] = T(0);
+  return status;
+}
+template <class T>
+Status ne_system(const Params<T>& p, const Inputs<T>& in, T* A, T* b) noexcept {
+  State<T> s;
+  return ne_system(p, in, s, A, b);
 }
 
 // evaluate() for n samples: status[i] for sample i, and out[i].failed_group when it is not ok (no
@@ -2497,7 +3044,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd8640ca771d4e0b1ULL;
+inline constexpr unsigned long long fingerprint = 0x5917c4d39dea5c4dULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;

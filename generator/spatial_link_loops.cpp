@@ -363,10 +363,7 @@ class LinkSolver {
     ctx_.assembly[q] = ctx_.value(value);
     g_.columns.push_back(static_cast<int>(c));
     // Y's displacement: K's, then the translation along the axis (against it when K is second).
-    M I;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) I(i, j) = i == j ? 1 : 0;
-    const Pose DY = DK * Pose{I, (sigma * q) * s};
+    const Pose DY = DK * Pose{M::identity(), (sigma * q) * s};
     DY_ = {def("RY", DY.R), def("pY", DY.p)};
     cY_ = def("cY", geometry::apply(DY_, centre(l_.y_end)));
     return true;

@@ -6,6 +6,7 @@
 
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
+#include "model/spatial_value_checks.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial_test_models.hpp"
 
@@ -188,6 +189,66 @@ TEST(SpatialModel, ErrorsAreLocatedAndSayWhatToChange) {
   EXPECT_TRUE(
       is(error_of(arm("  - {name: j1, type: ball, first: ground, second: a, s0: O}\n", driven)),
          "bad.yaml:9:", "unknown type 'ball'"));
+}
+
+// Issue 28 item 4: a spatial model's masses and inertias are checked as planar ones are, in the
+// file and through --set (located at the body's mass, naming the values set).
+TEST(SpatialModel, MassesAndInertiasAreCheckedInTheFileAndThroughSet) {
+  auto body = [](const std::string& mass) {
+    return "name: link\ndimension: spatial\nparameters: {m: 1, Izz: 0.015}\nbodies:\n"
+           "  - {name: ground, ground: true, points: {O: [0, 0, 0]}}\n"
+           "  - name: a\n    points: {P: [0.5, 0, 0]}\n    mass: " +
+           mass +
+           "\njoints:\n"
+           "  - {name: j1, type: revolute, first: ground, second: a, s: [0, 0, 1], s0: O}\n"
+           "drivers:\n  - {name: d1, joint: j1, kind: angle, value: t}\nstep: {t0: 0, t1: 1}\n";
+  };
+  const std::string good = "{mass: m, com: [0.25, 0, 0], inertia: [0.01, 0.01, Izz]}";
+  EXPECT_EQ(error_of(body(good), true), "<accepted>");
+  // Principal moments 0.01, 0.01, 0.03: no rigid body has them.
+  EXPECT_EQ(error_of(body("{mass: m, com: [0.25, 0, 0], inertia: [0.01, 0.01, 0.03]}")),
+            "bad.yaml:8:11: error: body 'a': principal moments 0.01, 0.01, 0.03 kg m^2 violate "
+            "the triangle inequality (I1 + I2 >= I3)");
+  EXPECT_EQ(error_of(body("{mass: m, com: [0.25, 0, 0], inertia: [[0.01, 0.02, 0], [0.02, 0.01, "
+                          "0], [0, 0, 0.015]]}")),
+            "bad.yaml:8:11: error: body 'a': the inertia tensor is not positive definite "
+            "(smallest principal moment -0.01 kg m^2)");
+  EXPECT_EQ(error_of(body("{mass: 0, com: [0.25, 0, 0], inertia: [0.01, 0.01, 0.01]}")),
+            "bad.yaml:8:11: error: body 'a' has no mass but an inertia tensor");
+  EXPECT_EQ(error_of(body("{mass: 0, com: [0.25, 0, 0], inertia: [0, 0, 0]}"), true),
+            "<accepted>");  // a massless link
+
+  const SpatialModel model = read_spatial_model_text(body(good), "link.yaml");
+  auto set_error = [&](const std::vector<std::string>& overrides) -> std::string {
+    std::vector<double> values = model.common.default_parameters();
+    try {
+      apply_overrides(model, overrides, values);
+    } catch (const ModelError& e) {
+      return e.what();
+    }
+    return "<accepted>";
+  };
+  EXPECT_EQ(set_error({"m=2", "Izz=0.019"}), "<accepted>");
+  EXPECT_EQ(set_error({"m=-1"}),
+            "link.yaml:8:11: error: body 'a' has a negative mass (-1 kg) (with m = -1)");
+  EXPECT_EQ(set_error({"Izz=0.5"}),
+            "link.yaml:8:11: error: body 'a': principal moments 0.01, 0.01, 0.5 kg m^2 violate "
+            "the triangle inequality (I1 + I2 >= I3) (with Izz = 0.5)");
+  EXPECT_EQ(set_error({"Izz=0"}),
+            "link.yaml:8:11: error: body 'a': the inertia tensor is not positive definite "
+            "(smallest principal moment 0 kg m^2) (with Izz = 0)");
+
+  // The issue's cases: a negative mass and a negative density in shipped models.
+  const SpatialModel bioloid =
+      read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/bioloid.yaml");
+  std::vector<double> values = bioloid.common.default_parameters();
+  EXPECT_THROW(apply_overrides(bioloid, {"m_hip2=-1"}, values), ModelError);
+  const SpatialModel rsur =
+      read_spatial_model(std::string(MECHGEN_SOURCE_DIR) + "/models/rsur.yaml");
+  values = rsur.common.default_parameters();
+  EXPECT_THROW(apply_overrides(rsur, {"rho=-2700"}, values), ModelError);
+  values = rsur.common.default_parameters();
+  EXPECT_NO_THROW(apply_overrides(rsur, {"rho=2000"}, values));
 }
 
 }  // namespace

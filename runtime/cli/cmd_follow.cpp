@@ -6,6 +6,7 @@
 #include "analysis/follow.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
+#include "model/spatial_value_checks.hpp"
 #include "report/csv_table.hpp"
 
 namespace mechgen::cli {
@@ -38,7 +39,7 @@ int run_follow_command(const Args& args) {
   const SpatialModel twin = read_spatial_model(args.get("--twin"));
   analysis::FollowOptions o;
   o.parameters = driven.common.default_parameters();
-  apply_overrides(driven.common, args.all("--set"), o.parameters);
+  apply_overrides(driven, args.all("--set"), o.parameters);
   o.samples = static_cast<int>(args.integer("--samples", 201));
   if (o.samples < 1) throw UsageError("--samples must be at least 1");
   const analysis::FollowResult r = analysis::follow(driven, twin, o);

@@ -11,6 +11,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "model/spatial_value_checks.hpp"
 #include "model/support_model.hpp"
 #include "ondemand/kernel_resolver.hpp"
 #include "report/csv_table.hpp"
@@ -174,7 +175,7 @@ int run_humanoid_gait(const Args& args) {
   g_current_file = path;
   const SpatialModel model = read_spatial_model(path);
   std::vector<double> parameters = model.common.default_parameters();
-  apply_overrides(model.common, args.all("--set"), parameters);
+  apply_overrides(model, args.all("--set"), parameters);
   const spatial::SpatialSolver solver(model, parameters);
   const spatial::HumanoidGait gait(solver, spatial::gait_settings(solver),
                                    args.get("--waist", "vFB"), args.get("--right-foot", "vRL"),

@@ -10,6 +10,7 @@
 
 #include "cli/model_info.hpp"
 #include "model/spatial_graph.hpp"
+#include "model/spatial_value_checks.hpp"
 #include "ondemand/kernel_resolver.hpp"
 #include "report/csv_table.hpp"
 #include "spatial/spatial_drawing.hpp"
@@ -258,7 +259,7 @@ int run_spatial_sweep(const Args& args) {
   // The current compiled-in kernel, else one built on demand (never one of another description).
   const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;
   std::vector<double> parameters = model.common.default_parameters();
-  apply_overrides(model.common, args.all("--set"), parameters);
+  apply_overrides(model, args.all("--set"), parameters);
   spatial::SpatialSweepOptions options = spatial::default_spatial_sweep(model, parameters);
   options.samples = args.integer("--samples", options.samples);
   if (options.samples < 1) throw UsageError("--samples must be at least 1");
@@ -288,7 +289,7 @@ int run_spatial_draw(const Args& args) {
   if (args.has("--steps")) throw UsageError("--steps: walking is for planar bipeds");
   const SpatialModel model = load_spatial(path);
   std::vector<double> parameters = model.common.default_parameters();
-  apply_overrides(model.common, args.all("--set"), parameters);
+  apply_overrides(model, args.all("--set"), parameters);
   const spatial::SpatialSolver solver(model, parameters);
   const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model, parameters);
   std::vector<double> times;

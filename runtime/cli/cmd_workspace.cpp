@@ -8,6 +8,7 @@
 #include "analysis/workspace.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
+#include "model/spatial_value_checks.hpp"
 #include "ondemand/kernel_resolver.hpp"
 
 namespace mechgen::cli {
@@ -46,7 +47,7 @@ int run_workspace_command(const Args& args) {
   const SpatialModel model = read_spatial_model(path);
   analysis::WorkspaceOptions o;
   o.parameters = model.common.default_parameters();
-  apply_overrides(model.common, args.all("--set"), o.parameters);
+  apply_overrides(model, args.all("--set"), o.parameters);
   o.samples = args.integer("--samples", 100000);
   if (o.samples < 1) throw UsageError("--samples must be at least 1");
   const long seed = args.integer("--seed", 1);

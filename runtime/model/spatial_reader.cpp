@@ -11,6 +11,7 @@
 #include "model/description_syntax.hpp"
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
+#include "model/spatial_value_checks.hpp"
 
 namespace mechgen {
 
@@ -630,7 +631,9 @@ const std::set<std::string>& spatial_description_keys() {
 
 SpatialModel read_spatial_elements(const YAML::Node& root, const DescriptionSyntax& syntax,
                                    Model common) {
-  return SpatialReader(syntax, std::move(common)).read(root);
+  SpatialModel model = SpatialReader(syntax, std::move(common)).read(root);
+  check_spatial_values(model, model.common.default_parameters());
+  return model;
 }
 
 }  // namespace mechgen

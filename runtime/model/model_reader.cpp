@@ -167,6 +167,8 @@ constexpr int kMaxExpressionDepth = 64;
 Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
+  if (const std::string why = yaml_special_number(text); !why.empty())
+    fail(node, what + " '" + text + "' " + why);
   if (text.size() > kMaxExpressionLength)
     fail(node, what + " is " + std::to_string(text.size()) + " characters long (at most " +
                    std::to_string(kMaxExpressionLength) + ")");

@@ -15,8 +15,8 @@
 
 #include <sys/stat.h>
 #include <sys/wait.h>
-#include <utime.h>
 #include <unistd.h>
+#include <utime.h>
 
 #include "report/atomic_output.hpp"
 
@@ -99,7 +99,7 @@ std::vector<std::string> temporaries(const fs::path& folder) {
 }
 
 void make_old(const fs::path& path) {
-  const struct utimbuf old {1000000000, 1000000000};  // 2001
+  const struct utimbuf old { 1000000000, 1000000000 };  // 2001
   ASSERT_EQ(utime(path.c_str(), &old), 0);
 }
 

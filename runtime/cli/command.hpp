@@ -40,8 +40,9 @@ class Args {
  public:
   // Parses the words after the command name. "--name VALUE" and "--name=VALUE" both work; "--"
   // makes the next word positional even when it starts with '-' (`mechgen sweep -- -odd.yaml
-  // --out x.csv`: options may follow the model name, as everywhere); "-h" and "--help" ask for help. Throws UsageError for an unknown option, a
-  // missing value, or an option given twice that may be given once.
+  // --out x.csv`: options may follow the model name, as everywhere); "-h" and "--help" ask for
+  // help. Throws UsageError for an unknown option, a missing value, or an option given twice that
+  // may be given once.
   Args(const std::vector<std::string>& words, std::vector<OptionSpec> specs)
       : specs_(std::move(specs)) {
     bool next_is_positional = false;

@@ -478,7 +478,9 @@ std::string main_help() {
   text +=
       "Any other model (or one edited since the build) gets its kernel generated, compiled and\n"
       "cached on first use; --cache DIR (any command) or MECHGEN_CACHE moves the cache from\n"
-      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen).\n";
+      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen). The compiler is MECHGEN_CXX, else CXX, else\n"
+      "c++ (a program and its arguments, separated by spaces). See README.md, \"The kernel "
+      "cache\".\n";
   return text;
 }
 

@@ -159,8 +159,9 @@ std::string Reader::identifier(const YAML::Node& node, const std::string& what) 
 // nesting level (10 000 parentheses overflow the stack), and so does every later walk of the
 // expression tree. Models' expressions are under 120 characters and 5 levels deep.
 constexpr size_t kMaxExpressionLength = 2000;
-// A model's name is part of its cached kernel's file names (the longest, <name>-<fingerprint>-<build
-// key>.so.sha256, adds 44 characters), which a file system limits to 255 bytes.
+// A model's name is part of its cached kernel's file names (the longest,
+// <name>-<fingerprint>-<build key>.so.sha256, adds 44 characters), which a file system limits to
+// 255 bytes.
 constexpr size_t kMaxModelNameLength = 128;
 constexpr int kMaxExpressionDepth = 64;
 

@@ -26,7 +26,8 @@ std::string yaml_special_number(std::string text) {
   if (!text.empty() && (text[0] == '+' || text[0] == '-')) text.erase(0, 1);
   for (const char* special : {".inf", ".Inf", ".INF", ".nan", ".NaN", ".NAN"})
     if (text == special)
-      return std::string("is YAML's ") + (text[1] == 'i' || text[1] == 'I' ? "infinity" : "not-a-number") +
+      return std::string("is YAML's ") +
+             (text[1] == 'i' || text[1] == 'I' ? "infinity" : "not-a-number") +
              ": mechgen takes finite numbers only";
   return "";
 }

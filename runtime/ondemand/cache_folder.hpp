@@ -5,7 +5,8 @@
 // - Symbolic links in its path are resolved; every folder on the path as given and on the resolved
 //   path must be owned by this user or root and not writable by group or others (a parent such as
 //   /tmp may be, when its sticky bit keeps others from replacing what is in it; the cache folder
-//   itself never). Otherwise: an error naming the folder and the fix (no silent fallback elsewhere).
+//   itself never). Otherwise: an error naming the folder and the fix (no silent fallback
+//   elsewhere).
 // - A file in it is trusted when it is a regular file (not a link), owned by this user or root and
 //   not writable by group or others.
 #pragma once

@@ -50,16 +50,17 @@ std::vector<std::string> compiler_words(const char* variable, const std::string&
 }
 
 // What -march=native compiles for, read without a compiler: the first processor's identity and
-// feature flags (the fields that differ between two CPUs of one machine, such as its MHz, left out).
+// feature flags (the fields that differ between two CPUs of one machine, such as its MHz, left
+// out).
 std::string cpu_identity() {
   struct utsname system {};
   std::string id = ::uname(&system) == 0 ? system.machine : "";
   std::ifstream cpuinfo("/proc/cpuinfo");
   for (std::string line; std::getline(cpuinfo, line) && !line.empty();) {
     const std::string key = line.substr(0, line.find_first_of("\t:"));
-    for (const char* wanted : {"vendor_id", "cpu family", "model", "model name", "stepping", "flags",
-                               "Features", "CPU implementer", "CPU architecture", "CPU variant",
-                               "CPU part", "isa", "uarch"})
+    for (const char* wanted :
+         {"vendor_id", "cpu family", "model", "model name", "stepping", "flags", "Features",
+          "CPU implementer", "CPU architecture", "CPU variant", "CPU part", "isa", "uarch"})
       if (key == wanted) id += "\n" + line;
   }
   return id;
@@ -217,9 +218,9 @@ std::vector<std::string> compile_command() {
       if (!command.empty()) break;
     }
   if (command.empty()) command = {"c++"};
-  for (const char* word : {"-std=c++17", "-O2", "-march=native", "-shared", "-fPIC",
-                           "-fvisibility=hidden", "-ffp-contract=off", "-fno-math-errno",
-                           "-fno-trapping-math", "-DMECHGEN_KERNEL_SHARED"})
+  for (const char* word :
+       {"-std=c++17", "-O2", "-march=native", "-shared", "-fPIC", "-fvisibility=hidden",
+        "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math", "-DMECHGEN_KERNEL_SHARED"})
     command.push_back(word);
   return command;
 }

@@ -16,7 +16,9 @@ namespace mechgen::ondemand {
 namespace {
 
 // The supervisor's SIGTERM (its parent died, or someone asked): the group, itself included, dies.
-void kill_own_group(int) { ::kill(-::getpgrp(), SIGKILL); }
+void kill_own_group(int) {
+  ::kill(-::getpgrp(), SIGKILL);
+}
 
 // Waits for `pid`, retrying when a signal interrupts; its status, or -1.
 int wait_for(pid_t pid) {

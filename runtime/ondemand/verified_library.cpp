@@ -17,15 +17,17 @@ namespace mechgen::ondemand {
 
 namespace {
 
-std::string record_of(const std::string& library) { return library + ".sha256"; }
+std::string record_of(const std::string& library) {
+  return library + ".sha256";
+}
 
 // The hash recorded for `library`, or "" with the reason in `problem`.
 std::string recorded_hash(const std::string& library, std::string& problem) {
   const int fd = ::open(record_of(library).c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
   if (fd < 0) {
-    problem = errno == ENOENT ? "no content hash recorded beside it: not built by mechgen"
-                              : "its hash record " + record_of(library) + ": " +
-                                    std::strerror(errno);
+    problem = errno == ENOENT
+                  ? "no content hash recorded beside it: not built by mechgen"
+                  : "its hash record " + record_of(library) + ": " + std::strerror(errno);
     return "";
   }
   std::string text(512, '\0');
@@ -38,8 +40,8 @@ std::string recorded_hash(const std::string& library, std::string& problem) {
   }
   text.resize(n > 0 ? static_cast<size_t>(n) : 0);
   const std::string name = std::filesystem::path(library).filename().string();
-  if (text.size() != 64 + 2 + name.size() + 1 || text.compare(64, std::string::npos,
-                                                              "  " + name + "\n") != 0) {
+  if (text.size() != 64 + 2 + name.size() + 1 ||
+      text.compare(64, std::string::npos, "  " + name + "\n") != 0) {
     problem = "its hash record " + record_of(library) + " is not of this file";
     return "";
   }

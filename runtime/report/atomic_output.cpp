@@ -75,8 +75,7 @@ std::string output_target(const std::string& path) {
 bool is_special(const std::string& path) {
   std::error_code error;
   const auto status = fs::status(path, error);
-  return !error && fs::exists(status) && !fs::is_regular_file(status) &&
-         !fs::is_directory(status);
+  return !error && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
 }
 
 void check_output_path(const std::string& path) {
@@ -85,8 +84,7 @@ void check_output_path(const std::string& path) {
   if (fs::is_directory(path, error)) cannot_write(path, "is a folder");
   if (is_special(path)) return;
   const std::string target = output_target(path);
-  if (fs::is_symlink(target, error))
-    cannot_write(path, "too many levels of symbolic links");
+  if (fs::is_symlink(target, error)) cannot_write(path, "too many levels of symbolic links");
   const std::string link_note = target == path ? "" : " (the target of the symbolic link)";
   struct stat info {};
   if (::stat(target.c_str(), &info) == 0 && S_ISREG(info.st_mode) &&
@@ -108,7 +106,8 @@ void check_free_space(const std::string& path, std::uint64_t bytes) {
   const std::string folder = folder_of(output_target(path));
   struct statvfs space {};
   if (::statvfs(folder.c_str(), &space) != 0) return;  // unknown: the write itself reports
-  const double available = static_cast<double>(space.f_bavail) * static_cast<double>(space.f_frsize);
+  const double available =
+      static_cast<double>(space.f_bavail) * static_cast<double>(space.f_frsize);
   if (static_cast<double>(bytes) > available)
     cannot_write(path, "it needs about " + size_text(static_cast<double>(bytes)) + " and only " +
                            size_text(available) + " are free in '" + folder + "'");

@@ -45,8 +45,7 @@ void remove_flat_folder(const char* path) {
         };
         const auto* entry = reinterpret_cast<const Entry*>(buffer + at);
         const char* name = entry->name;
-        if (std::strcmp(name, ".") != 0 && std::strcmp(name, "..") != 0)
-          ::unlinkat(dir, name, 0);
+        if (std::strcmp(name, ".") != 0 && std::strcmp(name, "..") != 0) ::unlinkat(dir, name, 0);
         at += entry->reclen;
       }
     }
@@ -105,13 +104,17 @@ int register_temporary(const std::string& path, bool folder) {
   return take_slot(folder ? kFolder : kFile, path, 0);
 }
 
-int register_process_group(int group) { return take_slot(kGroup, "", group); }
+int register_process_group(int group) {
+  return take_slot(kGroup, "", group);
+}
 
 void unregister_temporary(int slot) {
   if (slot >= 0 && slot < kSlots) g_slots[slot].state.store(kFree);
 }
 
-bool lock_exclusively(int fd) { return ::flock(fd, LOCK_EX | LOCK_NB) == 0; }
+bool lock_exclusively(int fd) {
+  return ::flock(fd, LOCK_EX | LOCK_NB) == 0;
+}
 
 bool is_abandoned(const std::string& lock_file, std::chrono::seconds min_age,
                   const std::string& when_missing) {

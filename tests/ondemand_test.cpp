@@ -180,8 +180,8 @@ TEST(OnDemand, SecondRunLoadsFromTheCache) {
 }
 
 TEST(OnDemand, ConcurrentFirstUsesLeaveOneGoodKernel) {
-  // Two processes find the cache empty and both build the kernel: each renames a complete library
-  // into place, both runs succeed with the same rows, and no build folder is left behind.
+  // Two processes find the cache empty: one builds the kernel under the lock, the other waits and
+  // loads it; both runs succeed with the same rows, and no build folder is left behind.
   const fs::path dir = write_model("crank_race");
   const std::string model = (dir / "crank_race.yaml").string(), cache = (dir / "cache").string();
   const std::string sweep = std::string(MECHGEN_BINARY) + " sweep " + model + " --cache " + cache;
@@ -192,10 +192,14 @@ TEST(OnDemand, ConcurrentFirstUsesLeaveOneGoodKernel) {
   ASSERT_EQ(std::system(both.c_str()), 0) << file_text(dir / "a.err") << file_text(dir / "b.err");
   EXPECT_EQ(file_text(dir / "a.csv"), file_text(dir / "b.csv"));
   EXPECT_GT(file_text(dir / "a.csv").size(), 1000u);
+  // The library, its hash record and its lock file (ondemand/kernel_cache.hpp); no build folder.
   std::vector<std::string> left;
   for (const auto& entry : fs::directory_iterator(cache)) left.push_back(entry.path().filename());
-  ASSERT_EQ(left.size(), 1u) << left.front() << " ...";
-  EXPECT_TRUE(left.front().ends_with(".so")) << left.front();
+  std::sort(left.begin(), left.end());
+  ASSERT_EQ(left.size(), 3u) << left.front() << " ...";
+  EXPECT_TRUE(left[0].ends_with(".lock")) << left[0];
+  EXPECT_TRUE(left[1].ends_with(".so")) << left[1];
+  EXPECT_EQ(left[2], left[1] + ".sha256");
   std::string err;
   ASSERT_EQ(mechgen("sweep " + model + " --cache " + cache + " --out " + (dir / "c.csv").string(),
                     dir, err),
@@ -228,9 +232,10 @@ TEST(OnDemand, CompilerFailureNamesItsLogAndNeverFallsBack) {
     const std::string log = message.substr(at + 28);
     EXPECT_NE(file_text(log).find("no space left for this kernel"), std::string::npos) << log;
   }
-  // Nothing half-built stays behind: only the log.
+  // Nothing half-built stays behind: only the log (and the build's lock file).
   for (const auto& entry : fs::directory_iterator(dir / "cache"))
-    EXPECT_EQ(entry.path().extension(), ".log") << entry.path();
+    EXPECT_TRUE(entry.path().extension() == ".log" || entry.path().extension() == ".lock")
+        << entry.path();
   fs::remove_all(dir);
 }
 

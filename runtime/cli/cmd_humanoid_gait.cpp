@@ -14,6 +14,7 @@
 #include "model/spatial_value_checks.hpp"
 #include "model/support_model.hpp"
 #include "ondemand/kernel_resolver.hpp"
+#include "report/atomic_output.hpp"
 #include "report/csv_table.hpp"
 #include "report/svg_plot.hpp"
 #include "spatial/floating_base.hpp"
@@ -166,6 +167,8 @@ int run_humanoid_gait(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   if (!args.has("--out")) throw UsageError("missing --out DIR");
   const std::string dir = args.get("--out");
+  // The folder exists and can be written, checked before the minutes of computing.
+  report::check_output_path(dir + "/gait.csv");
   const int per_step = args.integer("--samples-per-step", 50);
   if (per_step < 2) throw UsageError("--samples-per-step must be at least 2");
   const double stall = args.number("--stall-torque", 1.5);

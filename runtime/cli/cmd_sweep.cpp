@@ -8,8 +8,10 @@
 #include "cli/cmd_spatial.hpp"
 #include "cli/command.hpp"
 #include "cli/model_info.hpp"
+#include "model/columns.hpp"
 #include "model/model.hpp"
 #include "model/spatial_model.hpp"
+#include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "sweep/sweep.hpp"
 
@@ -54,6 +56,11 @@ int run_sweep_command(const Args& args) {
   if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
     throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 
+  if (args.has("--out")) {  // before computing a table that could not be written
+    const auto [first, end] = shard_range(options.shard, static_cast<size_t>(options.samples));
+    report::check_free_space(args.get("--out"),
+                             expected_csv_bytes(end - first, column_names(model).size()));
+  }
   // The kernel first (a model not compiled in is built on its first use): not part of the timing.
   if (options.solver == "generated") generated_kernel(model);
   const auto start = std::chrono::steady_clock::now();

@@ -39,19 +39,22 @@ struct OptionSpec {
 class Args {
  public:
   // Parses the words after the command name. "--name VALUE" and "--name=VALUE" both work; "--"
-  // ends the options; "-h" and "--help" ask for help. Throws UsageError for an unknown option, a
-  // missing value, or an option given twice that may be given once.
+  // makes the next word positional even when it starts with '-' (`mechgen sweep -- -odd.yaml
+  // --out x.csv`: options may follow the model name, as everywhere); "-h" and "--help" ask for
+  // help. Throws UsageError for an unknown option, a missing value, or an option given twice that
+  // may be given once.
   Args(const std::vector<std::string>& words, std::vector<OptionSpec> specs)
       : specs_(std::move(specs)) {
-    bool options_done = false;
+    bool next_is_positional = false;
     for (size_t i = 0; i < words.size(); ++i) {
       const std::string& word = words[i];
-      if (options_done || word.size() < 2 || word[0] != '-') {
+      if (next_is_positional || word.size() < 2 || word[0] != '-') {
         positional_.push_back(word);
+        next_is_positional = false;
         continue;
       }
       if (word == "--") {
-        options_done = true;
+        next_is_positional = true;
         continue;
       }
       if (word == "--help" || word == "-h") {

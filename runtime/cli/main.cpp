@@ -61,6 +61,8 @@ the kernel, for groups such as an Assur triad that have no closed form).
 Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 )";
 
+constexpr double kMaxMassProperty = 1e100;
+
 int run_check(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   if (is_spatial_description(path)) return run_spatial_check(args);
@@ -93,6 +95,13 @@ int run_check(const Args& args) {
       continue;
     }
     const auto [mass, inertia] = mass_properties(model, body, subs);
+    // Forces and moments multiply masses by lengths and accelerations, and Newton-Euler squares
+    // them: a magnitude past 1e100 overflows double precision (NaN) somewhere in the dynamics.
+    if (!(std::abs(mass) <= kMaxMassProperty && std::abs(inertia) <= kMaxMassProperty))
+      throw ModelError(body.loc, "body '" + body.name + "': mass " + number_text(mass) +
+                                     " kg, inertia " + number_text(inertia) +
+                                     " kg m^2: too large for the dynamics in double precision "
+                                     "(at most 1e100)");
     rows.push_back({body.name, fixed(mass), fixed(inertia),
                     body.assembly_angle ? body.assembly_angle->text : "(none: 0)"});
   }
@@ -469,7 +478,9 @@ std::string main_help() {
   text +=
       "Any other model (or one edited since the build) gets its kernel generated, compiled and\n"
       "cached on first use; --cache DIR (any command) or MECHGEN_CACHE moves the cache from\n"
-      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen).\n";
+      "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen). The compiler is MECHGEN_CXX, else CXX, else\n"
+      "c++ (a program and its arguments, separated by spaces). See README.md, \"The kernel "
+      "cache\".\n";
   return text;
 }
 

@@ -159,11 +159,17 @@ std::string Reader::identifier(const YAML::Node& node, const std::string& what) 
 // nesting level (10 000 parentheses overflow the stack), and so does every later walk of the
 // expression tree. Models' expressions are under 120 characters and 5 levels deep.
 constexpr size_t kMaxExpressionLength = 2000;
+// A model's name is part of its cached kernel's file names (the longest,
+// <name>-<fingerprint>-<build key>.so.sha256, adds 44 characters), which a file system limits to
+// 255 bytes.
+constexpr size_t kMaxModelNameLength = 128;
 constexpr int kMaxExpressionDepth = 64;
 
 Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
+  if (const std::string why = yaml_special_number(text); !why.empty())
+    fail(node, what + " '" + text + "' " + why);
   if (text.size() > kMaxExpressionLength)
     fail(node, what + " is " + std::to_string(text.size()) + " characters long (at most " +
                    std::to_string(kMaxExpressionLength) + ")");
@@ -568,6 +574,10 @@ void Reader::read_header(const YAML::Node& root, std::set<std::string> keys) {
   model_.file = file_;
   model_.description_hash = description_fingerprint(root);
   model_.name = identifier(required(root, "name", "the model"), "model name");
+  if (model_.name.size() > kMaxModelNameLength)
+    fail(root["name"], "model name is " + std::to_string(model_.name.size()) +
+                           " characters long (at most " + std::to_string(kMaxModelNameLength) +
+                           ": it names the kernel's namespace and its files in the kernel cache)");
   if (root["description"]) model_.description = scalar(root["description"], "description");
   symbols_["t"] = model_.t;
   symbols_["pi"] = GiNaC::Pi;

@@ -20,10 +20,26 @@ std::string first_line(const std::string& message) {
   return at == std::string::npos ? line : line.substr(at + position.size());
 }
 
+}  // namespace
+
+std::string yaml_special_number(std::string text) {
+  if (!text.empty() && (text[0] == '+' || text[0] == '-')) text.erase(0, 1);
+  for (const char* special : {".inf", ".Inf", ".INF", ".nan", ".NaN", ".NAN"})
+    if (text == special)
+      return std::string("is YAML's ") +
+             (text[1] == 'i' || text[1] == 'I' ? "infinity" : "not-a-number") +
+             ": mechgen takes finite numbers only";
+  return "";
+}
+
+namespace {
+
 // The names an expression uses, found by parsing it without a table of known names.
 std::set<std::string> names_used(const ParameterEntry& e, const GiNaC::ex& t) {
   GiNaC::symtab open{{"pi", GiNaC::Pi}, {"t", t}};
   GiNaC::ex parsed;
+  if (const std::string why = yaml_special_number(e.text); !why.empty())
+    throw ModelError(e.value_loc, "parameter '" + e.name + "' value '" + e.text + "' " + why);
   try {
     GiNaC::parser parse(open, false);
     parsed = parse(e.text);

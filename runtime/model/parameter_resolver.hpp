@@ -28,6 +28,10 @@ struct ParameterEntry {
 // as pi/2, converted to SI; file order) and model.derived (dependency order). `table` receives
 // each base parameter's symbol and each derived parameter's expression in those symbols, so that
 // every later expression naming a derived parameter uses its definition. Throws ModelError.
+// "is YAML's infinity: ..." for YAML 1.2's .inf, -.inf, +.inf, .nan (in their three spellings),
+// which GiNaC would misread; "" for any other text.
+std::string yaml_special_number(std::string text);
+
 void resolve_parameters(const std::vector<ParameterEntry>& entries, Model& model,
                         GiNaC::symtab& table);
 

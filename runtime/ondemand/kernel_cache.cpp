@@ -1,11 +1,15 @@
 #include "ondemand/kernel_cache.hpp"
 
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <sys/utsname.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -14,8 +18,12 @@
 
 #include "generate.hpp"
 #include "model/fingerprint.hpp"
+#include "ondemand/cache_folder.hpp"
+#include "ondemand/cache_lock.hpp"
 #include "ondemand/data_paths.hpp"
 #include "ondemand/process.hpp"
+#include "ondemand/verified_library.hpp"
+#include "report/temporary_files.hpp"
 #include "spatial_emitter.hpp"
 
 namespace mechgen::ondemand {
@@ -29,57 +37,54 @@ std::string environment(const char* name) {
   return value ? value : "";
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+// The words of a compiler variable: split at spaces; quotes are refused, not guessed at.
+std::vector<std::string> compiler_words(const char* variable, const std::string& value) {
+  if (value.find_first_of("\"'\\") != std::string::npos)
+    throw std::runtime_error(std::string(variable) + "='" + value +
+                             "' holds quotes or backslashes: give the compiler and its arguments "
+                             "separated by spaces (a path with spaces: a symbolic link to it)");
+  std::vector<std::string> words;
+  std::istringstream in(value);
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
 }
 
-// A fresh private folder in the cache for one build.
-fs::path make_build_dir(const fs::path& cache, const std::string& name) {
-  std::string pattern = (cache / (".build-" + name + "-XXXXXX")).string();
-  if (!::mkdtemp(pattern.data()))
-    throw std::runtime_error("cannot create a build folder in the kernel cache " + cache.string());
-  return pattern;
+// What -march=native compiles for, read without a compiler: the first processor's identity and
+// feature flags (the fields that differ between two CPUs of one machine, such as its MHz, left
+// out).
+std::string cpu_identity() {
+  struct utsname system {};
+  std::string id = ::uname(&system) == 0 ? system.machine : "";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line) && !line.empty();) {
+    const std::string key = line.substr(0, line.find_first_of("\t:"));
+    for (const char* wanted :
+         {"vendor_id", "cpu family", "model", "model name", "stepping", "flags", "Features",
+          "CPU implementer", "CPU architecture", "CPU variant", "CPU part", "isa", "uarch"})
+      if (key == wanted) id += "\n" + line;
+  }
+  return id;
 }
 
 // The build key (kernel_cache.hpp): what besides the fingerprint decides the library's bytes.
-std::string build_key(const fs::path& cache, const std::vector<std::string>& command) {
+std::string build_key(const std::vector<std::string>& command) {
   Fnv1a64 hash;
   hash.add_field(executable_id());
   hash.add_field(std::to_string(kCompiledKernelAbi));
   for (const std::string& word : command) hash.add_field(word);
-  // The compiler's version, target and expansion of -march=native, without compiling anything.
-  const fs::path dir = make_build_dir(cache, "probe");
-  std::vector<std::string> probe = command;
-  for (const char* word : {"-###", "-E", "-x", "c++", "/dev/null", "-o", "/dev/null"})
-    probe.push_back(word);
-  const int status = run_to_file(probe, (dir / "probe.log").string());
-  const std::string expansion = read_text(dir / "probe.log");
-  std::error_code ignored;
-  fs::remove_all(dir, ignored);
-  if (status != 0)
-    throw std::runtime_error("the compiler '" + command.front() + "' does not run (exit " +
-                             std::to_string(status) +
-                             "): " + expansion.substr(0, expansion.find('\n')) +
-                             " (set MECHGEN_CXX to a C++17 compiler, or use --solver numeric)");
-  hash.add_field(expansion);
+  hash.add_field(cpu_identity());
   return hex64(hash.value());
 }
 
 using Entry = const CompiledKernel* (*)(int);
 
-// The kernel in a cached library, or nullptr (with the reason in `problem`) when it does not load
-// or is not the expected one.
+// The kernel in a cached library, or nullptr (with the reason in `problem`) when it fails a check
+// (verified_library.hpp) or is not the expected one.
 const CompiledKernel* load(const fs::path& library, const Model& model, std::uint64_t fingerprint,
                            std::string& problem) {
   // Never closed: the kernel's functions are used until the process ends.
-  void* handle = ::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!handle) {
-    problem = ::dlerror();
-    return nullptr;
-  }
+  void* handle = open_verified_library(library.string(), problem);
+  if (!handle) return nullptr;
   const auto entry = reinterpret_cast<Entry>(::dlsym(handle, "mechgen_kernel_entry"));
   const CompiledKernel* kernel = entry ? entry(kCompiledKernelAbi) : nullptr;
   if (!kernel || model.name != kernel->model || kernel->fingerprint != fingerprint) {
@@ -89,12 +94,61 @@ const CompiledKernel* load(const fs::path& library, const Model& model, std::uin
   return kernel;
 }
 
-// Generates and compiles the kernel into `library` (kernel_cache.hpp).
+// A private build folder in the cache, locked by its owner (report/temporary_files.hpp) and
+// removed with what is in it when it goes out of scope, or by the signal handler.
+class BuildFolder {
+ public:
+  BuildFolder(const fs::path& cache, const std::string& name) {
+    std::string pattern = (cache / (".build-" + name + "-XXXXXX")).string();
+    if (!::mkdtemp(pattern.data()))
+      throw std::runtime_error("cannot create a build folder in the kernel cache " +
+                               cache.string() + ": " + std::strerror(errno));
+    path_ = pattern;
+    slot_ = report::register_temporary(path_.string(), true);
+    lock_ = ::open((path_ / "owner.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    if (lock_ >= 0) report::lock_exclusively(lock_);
+  }
+  ~BuildFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+    report::unregister_temporary(slot_);
+    if (lock_ >= 0) ::close(lock_);
+  }
+  BuildFolder(const BuildFolder&) = delete;
+  BuildFolder& operator=(const BuildFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+  int slot_ = -1, lock_ = -1;
+};
+
+// Removes the build folders of killed runs (kernel_cache.hpp).
+void remove_abandoned_builds(const fs::path& cache) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(cache, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(".build-", 0) == 0 && entry.is_directory(error) && !entry.is_symlink(error) &&
+        report::is_abandoned((entry.path() / "owner.lock").string(), report::kStaleAge,
+                             entry.path().string()))
+      fs::remove_all(entry.path(), error);
+  }
+}
+
+// The reason a compiler's exit status gives, for the error message.
+std::string compile_failure(const std::vector<std::string>& command, int status) {
+  if (status == 127)
+    return "cannot start the compiler '" + command.front() +
+           "' (not on PATH?): set MECHGEN_CXX or CXX to a C++17 compiler, or use --solver numeric";
+  return command.front() + " exit " + std::to_string(status);
+}
+
+// Generates and compiles the kernel into `library` with its hash record (kernel_cache.hpp).
 void build(const Model& model, gen::KernelKind kind, const std::string& support,
            const fs::path& cache, const std::vector<std::string>& command,
            const fs::path& library) {
-  const fs::path dir = make_build_dir(cache, model.name);
-  std::error_code ignored;
+  const BuildFolder folder(cache, model.name);
+  const fs::path& dir = folder.path();
   try {
     const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false, support};
     if (kind == gen::KernelKind::spatial)
@@ -102,10 +156,8 @@ void build(const Model& model, gen::KernelKind kind, const std::string& support,
     else
       gen::generate(model, options);
   } catch (const ModelError&) {
-    fs::remove_all(dir, ignored);
     throw;
   } catch (const std::exception& error) {
-    fs::remove_all(dir, ignored);
     // The generator's own "FILE: error: " prefix is dropped (the command prints its own), and the
     // advice is given once.
     std::string why = error.what();
@@ -122,18 +174,24 @@ void build(const Model& model, gen::KernelKind kind, const std::string& support,
     argv.push_back(word);
   const fs::path log = dir / "compile.log";
   const int status = run_to_file(argv, log.string());
+  std::error_code error;
   if (status != 0) {
     fs::path kept = library;
     kept.replace_extension(".log");
-    fs::rename(log, kept, ignored);
-    fs::remove_all(dir, ignored);
+    fs::rename(log, kept, error);
     throw std::runtime_error("compiling the kernel of '" + model.name + "' failed (" +
-                             command.front() + " exit " + std::to_string(status) +
-                             "); the compiler's output is in " + kept.string());
+                             compile_failure(command, status) + "); the compiler's output is in " +
+                             kept.string());
   }
-  std::error_code error;
-  fs::rename(built, library, error);  // atomic: a concurrent build renames an equal file
-  fs::remove_all(dir, ignored);
+  // Readable by all (a shared read-only cache), writable by none but its owner whatever the umask.
+  fs::permissions(built, fs::perms(0644), error);
+  const fs::path record = dir / "library.sha256";
+  record_library_hash(built.string(), library.filename().string(), record.string());
+  fs::permissions(record, fs::perms(0644), error);
+  // The record first: a library is never in place without its hash (a reader that sees the new
+  // record beside an older library finds them unequal and waits for this build's lock).
+  fs::rename(record, library.string() + ".sha256", error);
+  if (!error) fs::rename(built, library, error);
   if (error)
     throw std::runtime_error("cannot move the compiled kernel into the cache as " +
                              library.string() + ": " + error.message());
@@ -153,44 +211,54 @@ std::string cache_dir() {
 }
 
 std::vector<std::string> compile_command() {
-  const std::string compiler = environment("MECHGEN_CXX");
-  return {compiler.empty() ? "c++" : compiler,
-          "-std=c++17",
-          "-O2",
-          "-march=native",
-          "-shared",
-          "-fPIC",
-          "-fvisibility=hidden",
-          "-ffp-contract=off",
-          "-fno-math-errno",
-          "-fno-trapping-math",
-          "-DMECHGEN_KERNEL_SHARED"};
+  std::vector<std::string> command;
+  for (const char* variable : {"MECHGEN_CXX", "CXX"})
+    if (const std::string value = environment(variable); !value.empty()) {
+      command = compiler_words(variable, value);
+      if (!command.empty()) break;
+    }
+  if (command.empty()) command = {"c++"};
+  for (const char* word :
+       {"-std=c++17", "-O2", "-march=native", "-shared", "-fPIC", "-fvisibility=hidden",
+        "-ffp-contract=off", "-fno-math-errno", "-fno-trapping-math", "-DMECHGEN_KERNEL_SHARED"})
+    command.push_back(word);
+  return command;
 }
 
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,
                                     const std::string& reason, gen::KernelKind kind,
                                     const std::string& support) {
-  const fs::path cache = cache_dir();
-  std::error_code error;
-  fs::create_directories(cache, error);
-  if (error)
-    throw std::runtime_error("cannot create the kernel cache " + cache.string() + ": " +
-                             error.message());
+  const CacheFolder cache = open_cache_folder(cache_dir());
   const std::vector<std::string> command = compile_command();
-  const fs::path library =
-      cache / (model.name + "-" + hex64(fingerprint) + "-" + build_key(cache, command) + ".so");
+  const std::string stem = model.name + "-" + hex64(fingerprint) + "-" + build_key(command);
+  const fs::path library = fs::path(cache.path) / (stem + ".so");
+  std::error_code error;
   std::string problem;
-  if (fs::exists(library, error)) {
+  const bool present = fs::exists(fs::symlink_status(library, error));
+  if (present) {
     if (const CompiledKernel* kernel = load(library, model, fingerprint, problem)) return *kernel;
     std::cerr << "mechgen: warning: ignoring the cached kernel " << library.string() << " ("
               << problem << ")\n";
-    fs::remove(library, error);
   }
+  if (!cache.writable)
+    throw std::runtime_error(
+        (present ? "the cached kernel " + library.string() + " cannot be used (" + problem + ")"
+                 : "no kernel of '" + model.name + "' for this machine and mechgen in the cache (" +
+                       library.filename().string() + ")") +
+        " and the kernel cache " + cache.path +
+        " is read-only: build it once into a writable cache (--cache DIR), or use --solver "
+        "numeric");
+  const CacheLock lock((fs::path(cache.path) / (stem + ".lock")).string(),
+                       "the kernel of " + model.name, cache_lock_timeout());
+  remove_abandoned_builds(cache.path);
+  // Another process may have built it while this one waited.
+  if (fs::exists(fs::symlink_status(library, error)))
+    if (const CompiledKernel* kernel = load(library, model, fingerprint, problem)) return *kernel;
   std::cerr << "mechgen: compiling kernel for " << model.name << reason
             << ", first use: " << std::flush;
   const auto start = std::chrono::steady_clock::now();
   try {
-    build(model, kind, support, cache, command, library);
+    build(model, kind, support, cache.path, command, library);
   } catch (...) {
     std::cerr << "failed\n";
     throw;
@@ -198,7 +266,7 @@ const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprin
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%.1f s",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  std::cerr << seconds << " (cached in " << cache.string() << ")\n";
+  std::cerr << seconds << " (cached in " << cache.path << ")\n";
   if (const CompiledKernel* kernel = load(library, model, fingerprint, problem)) return *kernel;
   throw std::runtime_error("cannot load the kernel just compiled, " + library.string() + ": " +
                            problem);

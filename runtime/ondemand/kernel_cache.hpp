@@ -3,15 +3,32 @@
 // once.
 //
 // The cache folder is $MECHGEN_CACHE (what `mechgen --cache DIR` sets), else
-// $XDG_CACHE_HOME/mechgen, else ~/.cache/mechgen. A kernel's file is
+// $XDG_CACHE_HOME/mechgen, else ~/.cache/mechgen, created mode 0700 and checked before use
+// (cache_folder.hpp: no folder on its path writable by another user). A kernel's file is
 // <model>-<fingerprint>-<build key>.so: the fingerprint is the description's and templates'
-// (generator/kernel_fingerprint.hpp), the build key hashes the compiler's command and its
-// expansion of -march=native (the compiler version, the CPU), the CompiledKernel ABI and this
-// mechgen binary's build id (so a changed generator never loads an older one's kernels). A kernel
-// is built in a private temporary folder and renamed into place: processes that build the same
-// kernel at once each rename a complete file, never a partial one.
+// (generator/kernel_fingerprint.hpp); the build key hashes this mechgen binary's build id (a
+// changed generator never loads an older one's kernels), the CompiledKernel ABI, the compiler
+// command and the CPU (/proc/cpuinfo's identity and feature flags, what -march=native compiles
+// for). The key is computed without running the compiler or writing anything, so a cached kernel
+// loads from a read-only cache on a machine without a compiler.
 //
-// The compiler is $MECHGEN_CXX, else `c++`, run as
+// Loading: the library and its recorded content hash (<file>.sha256, `sha256sum -c` format) must
+// be trusted files (cache_folder.hpp), and the library's SHA-256 must be the recorded one; it is
+// then loaded through the very descriptor that was hashed (/proc/self/fd/N, kept open: a library
+// rebuilt in the same run is a new file and gets a new mapping). A library that fails a check
+// (planted, truncated, corrupt, replaced, writable by others, of another description) is never
+// loaded: it is rebuilt, or, in a read-only cache, an error.
+//
+// Building: under an exclusive lock on <file>.lock (flock), so that of many processes needing the
+// same kernel one compiles and the others wait ($MECHGEN_CACHE_LOCK_TIMEOUT seconds at most,
+// default 900) and load its library. The build runs in a private folder .build-<model>-XXXXXX,
+// removed on every error and on SIGINT/SIGTERM; one left by a killed run (SIGKILL) is removed by
+// the next build in the cache once its owner's lock is free and it is a minute old
+// (report/temporary_files.hpp). The compiler dies with mechgen (process.hpp). The hash, then the
+// library, are renamed into place (atomic): a reader never sees a partial file.
+//
+// The compiler is $MECHGEN_CXX, else $CXX, else `c++`; either variable may hold a program and its
+// arguments separated by spaces ("ccache g++", "g++-12 -Wno-psabi"; no quotes). It runs as
 //   c++ -std=c++17 -O2 -march=native -shared -fPIC -fvisibility=hidden -ffp-contract=off
 //       -fno-math-errno -fno-trapping-math -DMECHGEN_KERNEL_SHARED ...
 // (the build's own floating-point flags, never fast-math).
@@ -27,10 +44,11 @@
 
 namespace mechgen::ondemand {
 
-// The cache folder (above); std::runtime_error when no variable names one.
+// The cache folder (above) as configured, unchecked; std::runtime_error when no variable names one.
 std::string cache_dir();
 
-// The compiler command without its input and output files.
+// The compiler command without its input and output files; std::runtime_error when MECHGEN_CXX or
+// CXX holds quotes or backslashes (not split like a shell would).
 std::vector<std::string> compile_command();
 
 // The kernel of `model` whose fingerprint is `fingerprint`: loaded from the cache, else generated,

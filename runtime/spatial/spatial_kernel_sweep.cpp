@@ -46,8 +46,9 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
                           : "non-finite result");
       if (group >= 0 && group < kernel.group_count) m << " in group " << kernel.group_names[group];
       m << (status == 1   ? " (the mechanism cannot assemble there with these parameters)"
-            : status == 3 ? " (the parameters or the motion are too large for double precision: "
-                            "an output overflows)"
+            : status == 3 ? " (a singular geometry divides by zero, e.g. a length or offset set "
+                            "to 0 or two axes made parallel; or the parameters or the motion are "
+                            "too large for double precision)"
                           : " (the configuration is singular there)");
       // A Newton closure starts from the previous sample: samples far apart fail there too.
       if (status != 2 && i > 0 && newton_closure)

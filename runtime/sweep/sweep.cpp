@@ -373,7 +373,8 @@ SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
 }
 
 void write_csv(const std::string& path, const SweepResult& result, const std::string& first_line) {
-  report::AtomicOutput output(path);  // a killed write leaves the previous file intact
+  // A killed write leaves the previous file intact; a table larger than the free space is refused.
+  report::AtomicOutput output(path, expected_csv_bytes(result.rows.size(), result.columns.size()));
   std::ostream& out = output.stream();
   out << first_line;
   for (size_t i = 0; i < result.columns.size(); ++i) out << (i ? "," : "") << result.columns[i];
@@ -387,6 +388,10 @@ void write_csv(const std::string& path, const SweepResult& result, const std::st
     out << '\n';
   }
   output.commit();
+}
+
+std::uint64_t expected_csv_bytes(std::uint64_t rows, std::uint64_t columns) {
+  return (rows + 1) * columns * 22;
 }
 
 const CompiledKernel& generated_kernel(const Model& model) {

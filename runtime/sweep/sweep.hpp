@@ -2,6 +2,7 @@
 // at uniformly spaced samples, from the compiled kernel (default) or the numeric reference solver.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -76,5 +77,10 @@ std::vector<double> sample_times(double t0, double t1, int samples);
 // header. Throws std::runtime_error when it cannot write.
 void write_csv(const std::string& path, const SweepResult& result,
                const std::string& first_line = "");
+
+// About how many bytes write_csv writes for `rows` rows of `columns` numbers (22 per number: most
+// "%.17g" numbers take 18 to 24 characters and a separator), to compare with the free space
+// (report::check_free_space) before a run computes them.
+std::uint64_t expected_csv_bytes(std::uint64_t rows, std::uint64_t columns);
 
 }  // namespace mechgen

@@ -451,6 +451,7 @@ const std::vector<Command>& commands() {
       workspace_command(),
       follow_command(),
       humanoid_gait_command(),
+      view_command(),
   };
   return list;
 }

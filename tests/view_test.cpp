@@ -103,15 +103,21 @@ json test_output(const std::string& dom) {
   const size_t b = dom.find("</pre>", a);
   std::string text = dom.substr(a + open.size(), b - a - open.size()), plain;
   for (size_t i = 0; i < text.size(); ++i) {
-    if (text.compare(i, 5, "&amp;") == 0) plain += '&', i += 4;
-    else if (text.compare(i, 4, "&lt;") == 0) plain += '<', i += 3;
-    else if (text.compare(i, 4, "&gt;") == 0) plain += '>', i += 3;
-    else plain += text[i];
+    if (text.compare(i, 5, "&amp;") == 0)
+      plain += '&', i += 4;
+    else if (text.compare(i, 4, "&lt;") == 0)
+      plain += '<', i += 3;
+    else if (text.compare(i, 4, "&gt;") == 0)
+      plain += '>', i += 3;
+    else
+      plain += text[i];
   }
   return plain.empty() ? json() : json::parse(plain, nullptr, false);
 }
 
-std::string model(const std::string& name) { return kSource + "/models/" + name + ".yaml"; }
+std::string model(const std::string& name) {
+  return kSource + "/models/" + name + ".yaml";
+}
 
 // Seeks the page to rows of the CSV and compares every moving body's pose the scene holds with
 // the row's (planar: x, y, th; spatial: x, y, z, qw..qz) to 1e-9.
@@ -148,8 +154,10 @@ void expect_scene_matches_csv(const TempDir& dir, const fs::path& page, const fs
         want_p = {at(".x"), at(".y"), 0.0};
         want_q = {r[0], r[1], r[2], r[3]};
       }
-      for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(p[i], want_p[i], 1e-9) << name << " row " << rows[k];
-      for (size_t i = 0; i < 4; ++i) EXPECT_NEAR(q[i], want_q[i], 1e-9) << name << " row " << rows[k];
+      for (size_t i = 0; i < 3; ++i)
+        EXPECT_NEAR(p[i], want_p[i], 1e-9) << name << " row " << rows[k];
+      for (size_t i = 0; i < 4; ++i)
+        EXPECT_NEAR(q[i], want_q[i], 1e-9) << name << " row " << rows[k];
       ++compared;
     }
   }
@@ -160,9 +168,11 @@ TEST(ViewInBrowser, PlanarPosesInTheSceneAreTheSweepCsvs) {
   TempDir dir;
   if (const std::string why = chromium_problem(dir); !why.empty()) GTEST_SKIP() << why;
   const fs::path csv = dir / "sweep.csv", page = dir / "view.html";
-  ASSERT_EQ(run(kMechgen + " sweep " + model("chebyshev") + " --samples 41 --out " + csv.string()).status, 0);
-  ASSERT_EQ(run(kMechgen + " view " + model("chebyshev") + " --csv " + csv.string() + " --trace P --out " +
-                page.string())
+  ASSERT_EQ(
+      run(kMechgen + " sweep " + model("chebyshev") + " --samples 41 --out " + csv.string()).status,
+      0);
+  ASSERT_EQ(run(kMechgen + " view " + model("chebyshev") + " --csv " + csv.string() +
+                " --trace P --out " + page.string())
                 .status,
             0);
   expect_scene_matches_csv(dir, page, csv, false, {0, 7, 23, 40});
@@ -172,10 +182,12 @@ TEST(ViewInBrowser, SpatialPosesInTheSceneAreTheSweepCsvs) {
   TempDir dir;
   if (const std::string why = chromium_problem(dir); !why.empty()) GTEST_SKIP() << why;
   const fs::path csv = dir / "sweep.csv", page = dir / "view.html";
-  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 31 --out " + csv.string())
+  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 31 --out " +
+                csv.string())
                 .status,
             0);
-  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --out " + page.string())
+  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --out " +
+                page.string())
                 .status,
             0);
   expect_scene_matches_csv(dir, page, csv, true, {0, 11, 30});
@@ -197,10 +209,13 @@ TEST(ViewInBrowser, ScreenshotShowsTheMechanism) {
   TempDir dir;
   if (const std::string why = chromium_problem(dir); !why.empty()) GTEST_SKIP() << why;
   const fs::path page = dir / "view.html", shot = dir / "shot.png";
-  ASSERT_EQ(run(kMechgen + " view " + model("slider_crank") + " --samples 21 --out " + page.string()).status, 0);
+  ASSERT_EQ(
+      run(kMechgen + " view " + model("slider_crank") + " --samples 21 --out " + page.string())
+          .status,
+      0);
   run(std::string("timeout 120 ") + kChromium + (dir / "profile").string() +
-      " --window-size=900,500 --virtual-time-budget=3000 --screenshot=" + shot.string() + " 'file://" +
-      page.string() + "#t=0.01'");
+      " --window-size=900,500 --virtual-time-budget=3000 --screenshot=" + shot.string() +
+      " 'file://" + page.string() + "#t=0.01'");
   std::vector<unsigned char> rgb;
   int w = 0, h = 0;
   ASSERT_TRUE(read_png(shot, rgb, w, h)) << "no screenshot";
@@ -223,7 +238,8 @@ TEST(ViewInBrowser, ScreenshotShowsTheMechanism) {
 
 std::uint32_t u32(const std::string& s, size_t at) {
   std::uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<unsigned char>(s[at + static_cast<size_t>(i)]);
+  for (int i = 3; i >= 0; --i)
+    v = v << 8 | static_cast<unsigned char>(s[at + static_cast<size_t>(i)]);
   return v;
 }
 
@@ -281,7 +297,8 @@ Glb validate_glb(const std::string& file) {
       const float* data = reinterpret_cast<const float*>(g.bin.data() + bv.value("byteOffset", 0));
       for (size_t c = 0; c < components; ++c) {
         float lo = INFINITY, hi = -INFINITY;
-        for (size_t i = 0; i < count; ++i) lo = std::min(lo, data[i * components + c]), hi = std::max(hi, data[i * components + c]);
+        for (size_t i = 0; i < count; ++i)
+          lo = std::min(lo, data[i * components + c]), hi = std::max(hi, data[i * components + c]);
         EXPECT_FLOAT_EQ(a["min"][c].get<float>(), lo);
         EXPECT_FLOAT_EQ(a["max"][c].get<float>(), hi);
       }
@@ -294,13 +311,17 @@ Glb validate_glb(const std::string& file) {
       const size_t count = d["accessors"][position]["count"];
       const int mode = p["mode"];
       EXPECT_EQ(count % (mode == 4 ? 3 : 2), 0u);
-      if (p["attributes"].contains("NORMAL"))
+      if (p["attributes"].contains("NORMAL")) {
         EXPECT_EQ(d["accessors"][static_cast<size_t>(p["attributes"]["NORMAL"])]["count"], count);
+      }
       EXPECT_LT(static_cast<size_t>(p["material"]), d["materials"].size());
     }
   for (const json& n : d["nodes"]) {
-    if (n.contains("mesh")) EXPECT_LT(static_cast<size_t>(n["mesh"]), d["meshes"].size());
-    for (const json& c : n.value("children", json::array())) EXPECT_LT(static_cast<size_t>(c), d["nodes"].size());
+    if (n.contains("mesh")) {
+      EXPECT_LT(static_cast<size_t>(n["mesh"]), d["meshes"].size());
+    }
+    for (const json& c : n.value("children", json::array()))
+      EXPECT_LT(static_cast<size_t>(c), d["nodes"].size());
   }
   for (const json& a : d.value("animations", json::array())) {
     for (const json& s : a["samplers"]) {
@@ -308,9 +329,11 @@ Glb validate_glb(const std::string& file) {
       const json& out = d["accessors"][static_cast<size_t>(s["output"])];
       EXPECT_EQ(in["count"], out["count"]);
       EXPECT_GE(in["min"][0].get<double>(), 0.0);
-      const float* t = reinterpret_cast<const float*>(g.bin.data() +
-                                                      d["bufferViews"][static_cast<size_t>(in["bufferView"])].value("byteOffset", 0));
-      for (size_t i = 1; i < in["count"]; ++i) EXPECT_GT(t[i], t[i - 1]) << "times strictly increase";
+      const float* t = reinterpret_cast<const float*>(
+          g.bin.data() +
+          d["bufferViews"][static_cast<size_t>(in["bufferView"])].value("byteOffset", 0));
+      for (size_t i = 1; i < in["count"]; ++i)
+        EXPECT_GT(t[i], t[i - 1]) << "times strictly increase";
     }
     for (const json& c : a["channels"]) {
       EXPECT_LT(static_cast<size_t>(c["sampler"]), a["samplers"].size());
@@ -329,7 +352,8 @@ std::vector<float> key(const Glb& g, int node, const std::string& path, size_t k
       const json& a = d["accessors"][static_cast<size_t>(s["output"])];
       const size_t n = a["type"] == "VEC3" ? 3 : 4;
       const float* v = reinterpret_cast<const float*>(
-          g.bin.data() + d["bufferViews"][static_cast<size_t>(a["bufferView"])].value("byteOffset", 0));
+          g.bin.data() +
+          d["bufferViews"][static_cast<size_t>(a["bufferView"])].value("byteOffset", 0));
       return std::vector<float>(v + n * k, v + n * (k + 1));
     }
   return {};
@@ -338,10 +362,12 @@ std::vector<float> key(const Glb& g, int node, const std::string& path, size_t k
 TEST(ViewGltf, SpatialSweepIsAValidAnimatedGlb) {
   TempDir dir;
   const fs::path csv = dir / "sweep.csv", glb = dir / "rsur.glb";
-  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 21 --out " + csv.string())
+  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 21 --out " +
+                csv.string())
                 .status,
             0);
-  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --gltf " + glb.string())
+  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --gltf " +
+                glb.string())
                 .status,
             0);
   const Glb g = validate_glb(read_file(glb));
@@ -358,7 +384,9 @@ TEST(ViewGltf, SpatialSweepIsAValidAnimatedGlb) {
       const std::vector<float> q = key(g, static_cast<int>(n), "rotation", k);
       ASSERT_EQ(p.size(), 3u);
       ASSERT_EQ(q.size(), 4u);
-      auto at = [&](const char* s) { return table.rows[k][static_cast<size_t>(table.require_column(name + s))]; };
+      auto at = [&](const char* s) {
+        return table.rows[k][static_cast<size_t>(table.require_column(name + s))];
+      };
       EXPECT_NEAR(p[0], at(".x"), 1e-6);
       EXPECT_NEAR(p[1], at(".y"), 1e-6);
       EXPECT_NEAR(p[2], at(".z"), 1e-6);
@@ -373,7 +401,8 @@ TEST(ViewGltf, SpatialSweepIsAValidAnimatedGlb) {
 TEST(ViewGltf, PlanarWalkRepeatedTimesKeepStrictlyIncreasingKeys) {
   TempDir dir;
   const fs::path glb = dir / "walk.glb";
-  ASSERT_EQ(run(kMechgen + " view " + model("pasibot") + " --steps 2 --gltf " + glb.string()).status, 0);
+  ASSERT_EQ(
+      run(kMechgen + " view " + model("pasibot") + " --steps 2 --gltf " + glb.string()).status, 0);
   const Glb g = validate_glb(read_file(glb));
   ASSERT_TRUE(g.doc.contains("animations"));
   EXPECT_FALSE(g.doc["animations"][0]["channels"].empty());
@@ -384,28 +413,31 @@ TEST(ViewGltf, ThreeJsGltfLoaderOpensIt) {
   TempDir dir;
   if (const std::string why = chromium_problem(dir); !why.empty()) GTEST_SKIP() << why;
   const fs::path csv = dir / "sweep.csv", glb = dir / "rsur.glb", page = dir / "load.html";
-  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 21 --out " + csv.string())
+  ASSERT_EQ(run(kMechgen + " sweep " + model("rsur") + " --solver numeric --samples 21 --out " +
+                csv.string())
                 .status,
             0);
-  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --gltf " + glb.string())
+  ASSERT_EQ(run(kMechgen + " view " + model("rsur") + " --csv " + csv.string() + " --gltf " +
+                glb.string())
                 .status,
             0);
   const std::string bytes = read_file(glb);
   std::string list;  // the file as a JS byte array (no fetch from a file:// page)
   for (const char c : bytes) list += std::to_string(static_cast<unsigned char>(c)) + ",";
   const std::string three = "/usr/share/javascript/three";
-  std::ofstream(page) << "<html><body><pre id=\"mechgen-test\" hidden></pre><script>"
-                      << read_file(three + "/three.min.js") << "</script><script>"
-                      << read_file(three + "/examples/js/loaders/GLTFLoader.js") << "</script><script>"
-                      << "var bytes = new Uint8Array([" << list << "]);"
-                      << "new THREE.GLTFLoader().parse(bytes.buffer, '', function (gltf) {"
-                      << "  var names = []; gltf.scene.traverse(function (o) { if (o.name) names.push(o.name); });"
-                      << "  document.getElementById('mechgen-test').textContent = JSON.stringify({"
-                      << "    names: names, animations: gltf.animations.length,"
-                      << "    tracks: gltf.animations.length ? gltf.animations[0].tracks.length : 0,"
-                      << "    duration: gltf.animations.length ? gltf.animations[0].duration : 0});"
-                      << "}, function (e) { document.getElementById('mechgen-test').textContent ="
-                      << "  JSON.stringify({error: String(e)}); });</script></body></html>";
+  std::ofstream(page)
+      << "<html><body><pre id=\"mechgen-test\" hidden></pre><script>"
+      << read_file(three + "/three.min.js") << "</script><script>"
+      << read_file(three + "/examples/js/loaders/GLTFLoader.js") << "</script><script>"
+      << "var bytes = new Uint8Array([" << list << "]);"
+      << "new THREE.GLTFLoader().parse(bytes.buffer, '', function (gltf) {"
+      << "  var names = []; gltf.scene.traverse(function (o) { if (o.name) names.push(o.name); });"
+      << "  document.getElementById('mechgen-test').textContent = JSON.stringify({"
+      << "    names: names, animations: gltf.animations.length,"
+      << "    tracks: gltf.animations.length ? gltf.animations[0].tracks.length : 0,"
+      << "    duration: gltf.animations.length ? gltf.animations[0].duration : 0});"
+      << "}, function (e) { document.getElementById('mechgen-test').textContent ="
+      << "  JSON.stringify({error: String(e)}); });</script></body></html>";
   const json out = test_output(dump_dom(dir, page, ""));
   ASSERT_TRUE(out.is_object()) << "GLTFLoader wrote nothing";
   ASSERT_FALSE(out.contains("error")) << out["error"];
@@ -413,7 +445,8 @@ TEST(ViewGltf, ThreeJsGltfLoaderOpensIt) {
   EXPECT_EQ(out["tracks"], 6);  // translation and rotation of 3 moving links
   const mechgen::report::CsvTable table = mechgen::report::read_csv(csv.string());
   EXPECT_NEAR(out["duration"].get<double>(), table.rows.back()[0], 1e-6);
-  for (const char* body : {"mechanism"}) EXPECT_NE(out["names"].dump().find(body), std::string::npos);
+  for (const char* body : {"mechanism"})
+    EXPECT_NE(out["names"].dump().find(body), std::string::npos);
 }
 
 }  // namespace

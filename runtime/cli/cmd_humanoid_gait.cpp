@@ -207,7 +207,8 @@ int run_humanoid_gait(const Args& args) {
   // `mechgen view MODEL.yaml --csv gait.csv` animates the gait from this file.
   std::vector<int> posed;
   for (size_t b = 0; b < model.bodies.size(); ++b)
-    if (!model.bodies[b].ground && !model.bodies[b].is_virtual) posed.push_back(static_cast<int>(b));
+    if (!model.bodies[b].ground && !model.bodies[b].is_virtual)
+      posed.push_back(static_cast<int>(b));
   for (const int b : posed)
     for (const char* k : {".x", ".y", ".z", ".qw", ".qx", ".qy", ".qz"})
       table.header.push_back(model.bodies[static_cast<size_t>(b)].name + k);

@@ -102,11 +102,13 @@ report::CsvTable spatial_table(const SpatialModel& model, const std::vector<doub
 
 int run_view(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
-  if (!args.has("--out") && !args.has("--gltf")) throw UsageError("missing --out FILE.html (or --gltf FILE.glb)");
+  if (!args.has("--out") && !args.has("--gltf"))
+    throw UsageError("missing --out FILE.html (or --gltf FILE.glb)");
   if (args.has("--gltf")) report::check_output_path(args.get("--gltf"));
   if (args.has("--csv"))
     for (const char* option : {"--solver", "--samples", "--t0", "--t1", "--steps", "--ramp"})
-      if (args.has(option)) throw UsageError(std::string(option) + " makes a sweep: not with --csv");
+      if (args.has(option))
+        throw UsageError(std::string(option) + " makes a sweep: not with --csv");
   if (args.has("--ramp") && !args.has("--steps")) throw UsageError("--ramp needs --steps");
   const std::vector<std::string> trace = comma_list(args, "--trace");
   const std::vector<std::string> plot = comma_list(args, "--plot");
@@ -151,9 +153,10 @@ int run_view(const Args& args) {
     throw UsageError(e.what());
   }
   const double t0 = scene.times.front(), t1 = scene.times.back();
-  scene.title = args.get("--title", common.name + (common.description.empty() ? "" : ": " + common.description) +
-                                        " (t = " + fixed(t0, 4) + " .. " + fixed(t1, 4) + " s, " +
-                                        std::to_string(scene.times.size()) + " frames)");
+  scene.title = args.get(
+      "--title", common.name + (common.description.empty() ? "" : ": " + common.description) +
+                     " (t = " + fixed(t0, 4) + " .. " + fixed(t1, 4) + " s, " +
+                     std::to_string(scene.times.size()) + " frames)");
   std::string written;
   for (const char* option : {"--out", "--gltf"}) {
     if (!args.has(option)) continue;

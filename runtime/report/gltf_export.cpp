@@ -13,13 +13,21 @@ namespace {
 
 using Tri = std::vector<Vec3>;  // three vertices per triangle
 
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 mul(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+Vec3 add(const Vec3& a, const Vec3& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Vec3 sub(const Vec3& a, const Vec3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Vec3 mul(double s, const Vec3& a) {
+  return {s * a[0], s * a[1], s * a[2]};
+}
 Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
-double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+double norm(const Vec3& a) {
+  return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
 Vec3 rotate(const Quat& q, const Vec3& v) {  // q v q*
   const Vec3 u{q[1], q[2], q[3]};
   const Vec3 t = mul(2, cross(u, v));
@@ -33,8 +41,9 @@ void quad(Tri& t, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 Tri box_triangles(const ViewShape& s) {
   Tri t;
   auto corner = [&](int i, int j, int k) {
-    return add(s.center, rotate(s.rotation, {(i ? 0.5 : -0.5) * s.size[0], (j ? 0.5 : -0.5) * s.size[1],
-                                             (k ? 0.5 : -0.5) * s.size[2]}));
+    return add(s.center,
+               rotate(s.rotation, {(i ? 0.5 : -0.5) * s.size[0], (j ? 0.5 : -0.5) * s.size[1],
+                                   (k ? 0.5 : -0.5) * s.size[2]}));
   };
   quad(t, corner(0, 0, 0), corner(0, 1, 0), corner(1, 1, 0), corner(1, 0, 0));  // -z
   quad(t, corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1));  // +z
@@ -55,7 +64,8 @@ Tri cylinder_triangles(const ViewShape& s, int segments = 16) {
   u = mul(1 / norm(u), u);
   const Vec3 v = cross(w, u);
   for (int i = 0; i < segments; ++i) {
-    const double a0 = 2 * std::numbers::pi * i / segments, a1 = 2 * std::numbers::pi * (i + 1) / segments;
+    const double a0 = 2 * std::numbers::pi * i / segments,
+                 a1 = 2 * std::numbers::pi * (i + 1) / segments;
     const Vec3 r0 = add(mul(s.radius * std::cos(a0), u), mul(s.radius * std::sin(a0), v));
     const Vec3 r1 = add(mul(s.radius * std::cos(a1), u), mul(s.radius * std::sin(a1), v));
     quad(t, add(s.a, r0), add(s.a, r1), add(s.b, r1), add(s.b, r0));
@@ -72,7 +82,8 @@ Tri sphere_triangles(const ViewShape& s, int rings = 8, int segments = 12) {
                                         std::cos(th)}));
   };
   for (int i = 0; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) quad(t, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int j = 0; j < segments; ++j)
+      quad(t, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   return t;
 }
 
@@ -94,8 +105,8 @@ Tri plate_triangles(const ViewShape& s) {
   auto turn = [](const Vec3& a, const Vec3& b, const Vec3& c) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
   };
-  for (size_t i = 0; i < p.size(); ++i) quad(t, down(p[i]), down(p[(i + 1) % p.size()]),
-                                              up(p[(i + 1) % p.size()]), up(p[i]));
+  for (size_t i = 0; i < p.size(); ++i)
+    quad(t, down(p[i]), down(p[(i + 1) % p.size()]), up(p[(i + 1) % p.size()]), up(p[i]));
   std::vector<Vec3> left = p;
   while (left.size() > 3) {
     bool clipped = false;
@@ -117,11 +128,13 @@ Tri plate_triangles(const ViewShape& s) {
     if (!clipped) break;  // degenerate (collinear) remainder
   }
   if (left.size() == 3)
-    t.insert(t.end(), {up(left[0]), up(left[1]), up(left[2]), down(left[0]), down(left[2]), down(left[1])});
+    t.insert(t.end(),
+             {up(left[0]), up(left[1]), up(left[2]), down(left[0]), down(left[2]), down(left[1])});
   return t;
 }
 
-// ---- the binary buffer and the JSON text ---------------------------------------------------------
+// ---- the binary buffer and the JSON text
+// ---------------------------------------------------------
 
 struct Writer {
   std::string bin;
@@ -132,14 +145,16 @@ struct Writer {
   int floats(const std::vector<float>& data, int components, bool bounds, int target) {
     const size_t offset = bin.size();
     bin.append(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(float));
-    views += std::string(view_count ? "," : "") + "{\"buffer\":0,\"byteOffset\":" +
-             std::to_string(offset) + ",\"byteLength\":" + std::to_string(data.size() * 4) +
+    views += std::string(view_count ? "," : "") +
+             "{\"buffer\":0,\"byteOffset\":" + std::to_string(offset) +
+             ",\"byteLength\":" + std::to_string(data.size() * 4) +
              (target ? ",\"target\":" + std::to_string(target) : "") + "}";
     const char* type = components == 1 ? "SCALAR" : components == 3 ? "VEC3" : "VEC4";
-    std::string a = std::string(accessor_count ? "," : "") + "{\"bufferView\":" +
-                    std::to_string(view_count) + ",\"componentType\":5126,\"count\":" +
-                    std::to_string(data.size() / static_cast<size_t>(components)) +
-                    ",\"type\":\"" + type + "\"";
+    std::string a = std::string(accessor_count ? "," : "") +
+                    "{\"bufferView\":" + std::to_string(view_count) +
+                    ",\"componentType\":5126,\"count\":" +
+                    std::to_string(data.size() / static_cast<size_t>(components)) + ",\"type\":\"" +
+                    type + "\"";
     if (bounds) {
       std::vector<float> lo(static_cast<size_t>(components), INFINITY), hi(lo.size(), -INFINITY);
       for (size_t i = 0; i < data.size(); ++i) {
@@ -200,7 +215,8 @@ std::string gltf_binary(const ViewScene& scene) {
   std::vector<size_t> keys;
   for (size_t i = 0; i < scene.times.size(); ++i) {
     // A time not after the previous key's in float32 replaces that key.
-    if (!keys.empty() && !(static_cast<float>(scene.times[i]) > static_cast<float>(scene.times[keys.back()])))
+    if (!keys.empty() &&
+        !(static_cast<float>(scene.times[i]) > static_cast<float>(scene.times[keys.back()])))
       keys.pop_back();
     keys.push_back(i);
   }
@@ -220,9 +236,10 @@ std::string gltf_binary(const ViewScene& scene) {
     material_list.push_back("{\"name\":" + json_string(body.name) +
                             ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[" + rgb +
                             ",1],\"metallicFactor\":0.05,\"roughnessFactor\":0.6}}");
-    material_list.push_back("{\"name\":" + json_string(body.name + " (mass)") +
-                            ",\"alphaMode\":\"BLEND\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[" +
-                            rgb + ",0.45],\"metallicFactor\":0,\"roughnessFactor\":0.6}}");
+    material_list.push_back(
+        "{\"name\":" + json_string(body.name + " (mass)") +
+        ",\"alphaMode\":\"BLEND\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[" + rgb +
+        ",0.45],\"metallicFactor\":0,\"roughnessFactor\":0.6}}");
     std::string primitives;
     std::vector<float> lines;
     for (const ViewShape& s : body.shapes) {
@@ -244,20 +261,23 @@ std::string gltf_binary(const ViewScene& scene) {
         n = mul(1 / l, n);
         for (int k = 0; k < 3; ++k)
           for (int c = 0; c < 3; ++c) {
-            position.push_back(static_cast<float>(tri[i + static_cast<size_t>(k)][static_cast<size_t>(c)]));
+            position.push_back(
+                static_cast<float>(tri[i + static_cast<size_t>(k)][static_cast<size_t>(c)]));
             normal.push_back(static_cast<float>(n[static_cast<size_t>(c)]));
           }
       }
       if (position.empty()) continue;
       const int pa = w.floats(position, 3, true, 34962), na = w.floats(normal, 3, false, 34962);
       const int material = s.role == ViewShape::Role::joint ? 0 : s.inertia_box ? solid + 1 : solid;
-      primitives += std::string(primitives.empty() ? "" : ",") + "{\"attributes\":{\"POSITION\":" +
-                    std::to_string(pa) + ",\"NORMAL\":" + std::to_string(na) +
+      primitives += std::string(primitives.empty() ? "" : ",") +
+                    "{\"attributes\":{\"POSITION\":" + std::to_string(pa) +
+                    ",\"NORMAL\":" + std::to_string(na) +
                     "},\"material\":" + std::to_string(material) + ",\"mode\":4}";
     }
     if (!lines.empty())
       primitives += std::string(primitives.empty() ? "" : ",") + "{\"attributes\":{\"POSITION\":" +
-                    std::to_string(w.floats(lines, 3, true, 34962)) + "},\"material\":1,\"mode\":1}";
+                    std::to_string(w.floats(lines, 3, true, 34962)) +
+                    "},\"material\":1,\"mode\":1}";
     const int node = node_count++;
     children += std::string(children.empty() ? "" : ",") + std::to_string(node);
     std::string n = "{\"name\":" + json_string(body.name);
@@ -270,8 +290,9 @@ std::string gltf_binary(const ViewScene& scene) {
     char b3[160];
     const Vec3& p = body.position.front();
     const Quat& q = body.orientation.front();
-    std::snprintf(b3, sizeof b3, ",\"translation\":[%.9g,%.9g,%.9g],\"rotation\":[%.9g,%.9g,%.9g,%.9g]}",
-                  p[0], p[1], p[2], q[1], q[2], q[3], q[0]);
+    std::snprintf(b3, sizeof b3,
+                  ",\"translation\":[%.9g,%.9g,%.9g],\"rotation\":[%.9g,%.9g,%.9g,%.9g]}", p[0],
+                  p[1], p[2], q[1], q[2], q[3], q[0]);
     nodes += "," + n + b3;
     if (times_accessor >= 0 && body.position.size() == scene.times.size()) {
       std::vector<float> tr, ro;
@@ -283,15 +304,19 @@ std::string gltf_binary(const ViewScene& scene) {
         if (r[0] * last[0] + r[1] * last[1] + r[2] * last[2] + r[3] * last[3] < 0)
           for (double& c : r) c = -c;
         last = r;
-        for (const int c : {1, 2, 3, 0}) ro.push_back(static_cast<float>(r[static_cast<size_t>(c)]));
+        for (const int c : {1, 2, 3, 0})
+          ro.push_back(static_cast<float>(r[static_cast<size_t>(c)]));
       }
       const int sampler = sampler_count;
       sampler_count += 2;
-      samplers += std::string(sampler ? "," : "") + "{\"input\":" + std::to_string(times_accessor) +
-                  ",\"interpolation\":\"LINEAR\",\"output\":" + std::to_string(w.floats(tr, 3, false, 0)) +
-                  "},{\"input\":" + std::to_string(times_accessor) +
-                  ",\"interpolation\":\"LINEAR\",\"output\":" + std::to_string(w.floats(ro, 4, false, 0)) + "}";
-      channels += std::string(channels.empty() ? "" : ",") + "{\"sampler\":" + std::to_string(sampler) +
+      samplers +=
+          std::string(sampler ? "," : "") + "{\"input\":" + std::to_string(times_accessor) +
+          ",\"interpolation\":\"LINEAR\",\"output\":" + std::to_string(w.floats(tr, 3, false, 0)) +
+          "},{\"input\":" + std::to_string(times_accessor) +
+          ",\"interpolation\":\"LINEAR\",\"output\":" + std::to_string(w.floats(ro, 4, false, 0)) +
+          "}";
+      channels += std::string(channels.empty() ? "" : ",") +
+                  "{\"sampler\":" + std::to_string(sampler) +
                   ",\"target\":{\"node\":" + std::to_string(node) +
                   ",\"path\":\"translation\"}},{\"sampler\":" + std::to_string(sampler + 1) +
                   ",\"target\":{\"node\":" + std::to_string(node) + ",\"path\":\"rotation\"}}";
@@ -306,19 +331,25 @@ std::string gltf_binary(const ViewScene& scene) {
   if (norm(axis) > 1e-12) {
     axis = mul(1 / norm(axis), axis);
     const double half = std::acos(std::clamp(c, -1.0, 1.0)) / 2;
-    root = {std::cos(half), std::sin(half) * axis[0], std::sin(half) * axis[1], std::sin(half) * axis[2]};
+    root = {std::cos(half), std::sin(half) * axis[0], std::sin(half) * axis[1],
+            std::sin(half) * axis[2]};
   } else if (c < 0) {
     root = {0, 1, 0, 0};
   }
   char rb[128];
-  std::snprintf(rb, sizeof rb, "\"rotation\":[%.17g,%.17g,%.17g,%.17g]", root[1], root[2], root[3], root[0]);
+  std::snprintf(rb, sizeof rb, "\"rotation\":[%.17g,%.17g,%.17g,%.17g]", root[1], root[2], root[3],
+                root[0]);
   while (w.bin.size() % 4) w.bin += '\0';
-  std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"mechgen view\"},\"scene\":0,"
-                     "\"scenes\":[{\"name\":" + json_string(scene.title) + ",\"nodes\":[0]}],"
-                     "\"nodes\":[{\"name\":\"mechanism\"," + rb + ",\"children\":[" + children + "]}" +
-                     nodes + "],\"meshes\":[" + meshes + "],\"materials\":[" + materials +
-                     "],\"buffers\":[{\"byteLength\":" + std::to_string(w.bin.size()) +
-                     "}],\"bufferViews\":[" + w.views + "],\"accessors\":[" + w.accessors + "]";
+  std::string json =
+      "{\"asset\":{\"version\":\"2.0\",\"generator\":\"mechgen view\"},\"scene\":0,"
+      "\"scenes\":[{\"name\":" +
+      json_string(scene.title) +
+      ",\"nodes\":[0]}],"
+      "\"nodes\":[{\"name\":\"mechanism\"," +
+      rb + ",\"children\":[" + children + "]}" + nodes + "],\"meshes\":[" + meshes +
+      "],\"materials\":[" + materials +
+      "],\"buffers\":[{\"byteLength\":" + std::to_string(w.bin.size()) + "}],\"bufferViews\":[" +
+      w.views + "],\"accessors\":[" + w.accessors + "]";
   if (!channels.empty())
     json += ",\"animations\":[{\"name\":\"sweep\",\"channels\":[" + channels + "],\"samplers\":[" +
             samplers + "]}]";

@@ -25,13 +25,17 @@ void string_value(std::string& out, const std::string& s) {
   out += '"';
   for (size_t i = 0; i < s.size(); ++i) {
     const char c = s[i];
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '<') out += "\\u003c";  // never "</script>" inside the page's JSON
+    if (c == '"' || c == '\\')
+      out += '\\', out += c;
+    else if (c == '<')
+      out += "\\u003c";  // never "</script>" inside the page's JSON
     else if (static_cast<unsigned char>(c) < 0x20) {
       char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      std::snprintf(buffer, sizeof buffer, "\\u%04x",
+                    static_cast<unsigned>(static_cast<unsigned char>(c)));
       out += buffer;
-    } else out += c;
+    } else
+      out += c;
   }
   out += '"';
 }
@@ -58,11 +62,16 @@ void list(std::string& out, const std::vector<T>& items, F each) {
 
 const char* kind_name(ViewShape::Kind k) {
   switch (k) {
-    case ViewShape::Kind::cylinder: return "cylinder";
-    case ViewShape::Kind::box: return "box";
-    case ViewShape::Kind::plate: return "plate";
-    case ViewShape::Kind::sphere: return "sphere";
-    case ViewShape::Kind::line: return "line";
+    case ViewShape::Kind::cylinder:
+      return "cylinder";
+    case ViewShape::Kind::box:
+      return "box";
+    case ViewShape::Kind::plate:
+      return "plate";
+    case ViewShape::Kind::sphere:
+      return "sphere";
+    case ViewShape::Kind::line:
+      return "line";
   }
   return "line";
 }

@@ -16,7 +16,9 @@ struct XY {
 };
 
 // Layer k of the alternating sequence 0, +1, -1, +2, -2, ...
-double layer(int k) { return k == 0 ? 0.0 : (k % 2 ? 1.0 : -1.0) * ((k + 1) / 2); }
+double layer(int k) {
+  return k == 0 ? 0.0 : (k % 2 ? 1.0 : -1.0) * ((k + 1) / 2);
+}
 
 ViewShape box_between(XY a, XY b, double z, double width, double thickness) {
   ViewShape s;
@@ -48,19 +50,21 @@ ViewScene planar_view_scene(const Model& model, const std::vector<double>& param
   for (const auto& [name, body] : model.named_points()) {
     const int x = table.column(name + ".x"), y = table.column(name + ".y");
     if (x < 0 || y < 0 || table.rows.empty()) continue;
-    const double px = table.rows[0][static_cast<size_t>(x)], py = table.rows[0][static_cast<size_t>(y)];
+    const double px = table.rows[0][static_cast<size_t>(x)],
+                 py = table.rows[0][static_cast<size_t>(y)];
     lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
     lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
   }
   const double size = lo[0] <= hi[0] ? std::max(std::hypot(hi[0] - lo[0], hi[1] - lo[1]), 1e-3) : 1;
   double thickness = 0;  // the thickest bar or plate
   for (const Body& b : model.bodies)
-    if (b.mass.source == MassProperties::Source::bar || b.mass.source == MassProperties::Source::bars ||
+    if (b.mass.source == MassProperties::Source::bar ||
+        b.mass.source == MassProperties::Source::bars ||
         b.mass.source == MassProperties::Source::plate)
       thickness = std::max(thickness, value(b.mass.thickness));
   if (!(thickness > 0)) thickness = 0.01 * size;
   scene.size = size;
-  const double dz = 1.6 * thickness;  // layer spacing
+  const double dz = 1.6 * thickness;                           // layer spacing
   const double pin = std::max(0.012 * size, 0.6 * thickness);  // joint radius
 
   // Per body: its tracked centre (body frame) and layer height.
@@ -96,12 +100,13 @@ ViewScene planar_view_scene(const Model& model, const std::vector<double>& param
     const MassProperties& m = body.mass;
     const ViewShape::Role role = body.ground ? ViewShape::Role::ground : ViewShape::Role::link;
     if (m.source == MassProperties::Source::bar || m.source == MassProperties::Source::bars) {
-      const std::vector<std::string> ends =
-          m.source == MassProperties::Source::bar ? std::vector<std::string>{m.bar_from, m.bar_to}
-                                                  : m.outline;
+      const std::vector<std::string> ends = m.source == MassProperties::Source::bar
+                                                ? std::vector<std::string>{m.bar_from, m.bar_to}
+                                                : m.outline;
       for (size_t k = 0; k + 1 < ends.size(); k += 2) {
-        ViewShape s = box_between(at(b, point_of(body, ends[k])), at(b, point_of(body, ends[k + 1])),
-                                  z[b], value(m.width), value(m.thickness));
+        ViewShape s =
+            box_between(at(b, point_of(body, ends[k])), at(b, point_of(body, ends[k + 1])), z[b],
+                        value(m.width), value(m.thickness));
         s.role = role;
         vb.shapes.push_back(s);
       }
@@ -198,18 +203,20 @@ ViewScene planar_view_scene(const Model& model, const std::vector<double>& param
     }
     if (!(s_lo <= s_hi)) s_lo = -0.1 * size, s_hi = 0.1 * size;
     const double margin = 3 * pin;
-    ViewShape rail = box_between(at(f, {through.x + d.x * (s_lo - margin), through.y + d.y * (s_lo - margin)}),
-                                 at(f, {through.x + d.x * (s_hi + margin), through.y + d.y * (s_hi + margin)}),
-                                 z0 - thickness / 2, pin, thickness / 2);
+    ViewShape rail =
+        box_between(at(f, {through.x + d.x * (s_lo - margin), through.y + d.y * (s_lo - margin)}),
+                    at(f, {through.x + d.x * (s_hi + margin), through.y + d.y * (s_hi + margin)}),
+                    z0 - thickness / 2, pin, thickness / 2);
     rail.role = ViewShape::Role::joint;
     scene.bodies[f].shapes.push_back(rail);
     if (j.type == JointType::prismatic) {  // the block, along the line in the second body
       const double angle = value(j.angle);
-      ViewShape block = box_between({p.x - 2 * pin * (d.x * std::cos(angle) + d.y * std::sin(angle)),
-                                     p.y - 2 * pin * (d.y * std::cos(angle) - d.x * std::sin(angle))},
-                                    {p.x + 2 * pin * (d.x * std::cos(angle) + d.y * std::sin(angle)),
-                                     p.y + 2 * pin * (d.y * std::cos(angle) - d.x * std::sin(angle))},
-                                    z[s], 2.5 * pin, z1 - z0);
+      ViewShape block =
+          box_between({p.x - 2 * pin * (d.x * std::cos(angle) + d.y * std::sin(angle)),
+                       p.y - 2 * pin * (d.y * std::cos(angle) - d.x * std::sin(angle))},
+                      {p.x + 2 * pin * (d.x * std::cos(angle) + d.y * std::sin(angle)),
+                       p.y + 2 * pin * (d.y * std::cos(angle) - d.x * std::sin(angle))},
+                      z[s], 2.5 * pin, z1 - z0);
       block.role = ViewShape::Role::joint;
       scene.bodies[s].shapes.push_back(block);
     }

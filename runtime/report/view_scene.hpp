@@ -19,10 +19,10 @@ struct ViewShape {
   enum class Role { link, joint, ground };
   Kind kind = Kind::line;
   Role role = Role::link;
-  Vec3 a{}, b{};          // cylinder: axis ends; line: polyline in `outline`
-  double radius = 0;      // cylinder, sphere
-  Vec3 center{};          // box, sphere
-  Vec3 size{};            // box edge lengths along its own axes
+  Vec3 a{}, b{};              // cylinder: axis ends; line: polyline in `outline`
+  double radius = 0;          // cylinder, sphere
+  Vec3 center{};              // box, sphere
+  Vec3 size{};                // box edge lengths along its own axes
   Quat rotation{1, 0, 0, 0};  // box: its axes in the body frame
   std::vector<Vec3> outline;  // plate: polygon in a plane z = const; line: the polyline
   double thickness = 0;       // plate: along z, centred on the outline's plane

@@ -13,7 +13,9 @@ namespace {
 
 using report::ViewShape;
 
-report::Vec3 arr(const V3& v) { return {v[0], v[1], v[2]}; }
+report::Vec3 arr(const V3& v) {
+  return {v[0], v[1], v[2]};
+}
 
 ViewShape cylinder(const V3& centre, const V3& axis, double half_length, double radius) {
   ViewShape s;
@@ -62,10 +64,12 @@ report::ViewScene spatial_view_scene(const SpatialSolver& solver, const report::
   for (size_t b = 0; b < model.bodies.size(); ++b)
     if (!model.bodies[b].is_virtual)
       for (const V3& p : in.points[b]) grow(geometry::apply(in.body_frame[b], p));
-  const double size = lo[0] <= hi[0] ? std::max(std::sqrt(geometry::dot(hi - lo, hi - lo)), 1e-3) : 1;
+  const double size =
+      lo[0] <= hi[0] ? std::max(std::sqrt(geometry::dot(hi - lo, hi - lo)), 1e-3) : 1;
   double bar = 0;  // the thickest bar
   for (const SpatialBody& b : model.bodies)
-    if (b.mass.source == SpatialMass::Source::bar) bar = std::max(bar, model.evaluate(b.mass.radius, subs));
+    if (b.mass.source == SpatialMass::Source::bar)
+      bar = std::max(bar, model.evaluate(b.mass.radius, subs));
   const double rj = std::max(0.012 * size, 1.5 * bar);
   scene.size = size;
 
@@ -89,7 +93,8 @@ report::ViewScene spatial_view_scene(const SpatialSolver& solver, const report::
     const ViewShape::Role role = body.ground ? ViewShape::Role::ground : ViewShape::Role::link;
     auto point_local = [&](const std::string& name) {
       for (size_t k = 0; k < body.points.size(); ++k)
-        if (body.points[k].name == name) return body.ground ? in.points[b][k] : in.points[b][k] - in.com[b];
+        if (body.points[k].name == name)
+          return body.ground ? in.points[b][k] : in.points[b][k] - in.com[b];
       throw std::invalid_argument("body '" + body.name + "' has no point '" + name + "'");
     };
     const SpatialMass& m = body.mass;
@@ -148,8 +153,10 @@ report::ViewScene spatial_view_scene(const SpatialSolver& solver, const report::
     }
     for (size_t k = 0; k < body.points.size(); ++k) {
       const V3 p = body.ground ? in.points[b][k] : in.points[b][k] - in.com[b];
-      if (!have_from) from = p, have_from = true;
-      else ends.push_back(p);
+      if (!have_from)
+        from = p, have_from = true;
+      else
+        ends.push_back(p);
     }
     for (const V3& e : ends) {
       if (std::sqrt(geometry::dot(e - from, e - from)) < 1e-9) continue;

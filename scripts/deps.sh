@@ -12,6 +12,8 @@ mechgen_deps() {
     libgtest-dev libbenchmark-dev clang-format                 # tests, benchmarks, format check
     clang-14 libclang-rt-14-dev                                # libFuzzer (scripts/fuzz.sh)
     liborocos-kdl-dev                                          # spatial checks against KDL (tests, bench)
+    libjs-three                                                # mechgen view: three.js, inlined into each page
+    chromium libpng-dev nlohmann-json3-dev                     # view_test: headless browser, PNG, JSON
     "$@"
   )
   if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -41,7 +41,9 @@ single-support kernels (`mechgen generate MODEL.yaml --support FOOT`, one per fo
 or built on first use), or with --solver numeric from the numeric tree dynamics. The model
 supplies the parameters step_length, step_time, swing_height and steps. Writes into DIR:
   gait.csv                 t, step, support (0 right, 1 left), per real joint J: J.q, J.qd,
-                           J.torque (single support, support foot as ground); com.x/y/z,
+                           J.torque (single support, support foot as ground); per real body B:
+                           B.x/y/z (centre of mass), B.qw/qx/qy/qz (orientation), the
+                           poses `mechgen view` animates; com.x/y/z,
                            floor.fx/fy/fz/mx/my/mz (on the support foot, about the origin),
                            zmp_planned.x/y, zmp_lip.x/y, zmp_exact.x/y, zmp_difference,
                            margin_lip, margin_exact (to the support polygon's edge, + inside)
@@ -205,6 +207,15 @@ int run_humanoid_gait(const Args& args) {
   for (const int j : real)
     for (const char* k : {".q", ".qd", ".torque"})
       table.header.push_back(model.joints[static_cast<size_t>(j)].name + k);
+  // Every real body's pose (centre of mass and frame orientation, as a spatial sweep's), so that
+  // `mechgen view MODEL.yaml --csv gait.csv` animates the gait from this file.
+  std::vector<int> posed;
+  for (size_t b = 0; b < model.bodies.size(); ++b)
+    if (!model.bodies[b].ground && !model.bodies[b].is_virtual)
+      posed.push_back(static_cast<int>(b));
+  for (const int b : posed)
+    for (const char* k : {".x", ".y", ".z", ".qw", ".qx", ".qy", ".qz"})
+      table.header.push_back(model.bodies[static_cast<size_t>(b)].name + k);
   for (const char* k :
        {"com.x", "com.y", "com.z", "floor.fx", "floor.fy", "floor.fz", "floor.mx", "floor.my",
         "floor.mz", "zmp_planned.x", "zmp_planned.y", "zmp_lip.x", "zmp_lip.y", "zmp_exact.x",
@@ -253,6 +264,12 @@ int run_humanoid_gait(const Args& args) {
       row.insert(row.end(), {s.q[col], s.qd[col], tau});
       if (std::abs(tau) > peak[static_cast<size_t>(j)])
         peak[static_cast<size_t>(j)] = std::abs(tau), peak_t[static_cast<size_t>(j)] = t;
+    }
+    for (const int b : posed) {
+      const geometry::Pose<double> frame = solver.body_pose(s, b);
+      const V3 at = geometry::apply(frame, solver.instance().com[static_cast<size_t>(b)]);
+      const std::array<double, 4> q = spatial::quaternion(frame.R);
+      row.insert(row.end(), {at[0], at[1], at[2], q[0], q[1], q[2], q[3]});
     }
     row.insert(row.end(),
                {c.p[0], c.p[1], c.p[2], loads.floor.f[0], loads.floor.f[1], loads.floor.f[2],

@@ -182,5 +182,6 @@ Command merge_command();          // cmd_merge.cpp
 Command workspace_command();      // cmd_workspace.cpp
 Command follow_command();         // cmd_follow.cpp
 Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
+Command view_command();           // cmd_view.cpp
 
 }  // namespace mechgen::cli

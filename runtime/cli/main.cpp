@@ -460,6 +460,7 @@ const std::vector<Command>& commands() {
       workspace_command(),
       follow_command(),
       humanoid_gait_command(),
+      view_command(),
   };
   return list;
 }

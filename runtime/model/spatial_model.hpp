@@ -29,6 +29,11 @@ struct SpatialMass {
   Expr mass;                         // kg
   Vec3Expr com;                      // body frame
   std::array<GiNaC::ex, 9> inertia;  // about the centre of mass, body frame, row-major (kg m^2)
+  // The shape the mass came from, for drawings (mechgen view): a bar's end points and radius, a
+  // box's edge lengths (its centre is com).
+  std::string bar_from, bar_to;
+  Expr radius;
+  Vec3Expr box_size;
   SourceLoc loc;
 };
 

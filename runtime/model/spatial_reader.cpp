@@ -174,6 +174,9 @@ void SpatialReader::read_mass(const YAML::Node& node, SpatialBody& body) {
     if (number({length2, "", m.loc}) <= 0) fail(bar, what + ": the bar's ends coincide");
     const ex mass = rho.ex * GiNaC::Pi * sq(r.ex) * GiNaC::sqrt(length2);
     m.source = SpatialMass::Source::bar;
+    m.bar_from = a->name;
+    m.bar_to = b->name;
+    m.radius = r;
     m.mass = {mass, "density*pi*radius^2*length", m.loc};
     m.com = expr_vec(ex(1) / 2 * (vec(a->local) + vec(b->local)), "bar middle", m.loc);
     // I = It (E - u u^T) + Ia u u^T with u = d / |d|: It = m (3 r^2 + L^2) / 12, Ia = m r^2 / 2.
@@ -190,6 +193,7 @@ void SpatialReader::read_mass(const YAML::Node& node, SpatialBody& body) {
     const Expr rho = y_.expression(y_.required(node, "density", what), what + " density", false);
     const ex mass = rho.ex * size.x.ex * size.y.ex * size.z.ex;
     m.source = SpatialMass::Source::box;
+    m.box_size = size;
     m.mass = {mass, "density*a*b*c", m.loc};
     m.com = vector3(y_.required(node, "com", what), what + " com", false);
     const Vec3<ex> s = vec(size);

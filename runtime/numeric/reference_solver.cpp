@@ -76,14 +76,39 @@ const char* to_string(Status status) {
 // ---------------------------------------------------------------------------------------------
 // TimeFunction
 
+namespace {
+
+// The parameters as the exact rationals their doubles stand for. GiNaC folds the numbers of a
+// substituted sum or product in its operand order, which follows type_info addresses and so moves
+// with address-space randomisation; floats folded in a different order round differently in each
+// process, exact rationals do not (issue 27 item 3: the same input gives the same bytes).
+GiNaC::ex exact_rational(double x) {
+  if (!std::isfinite(x) || x == 0) return GiNaC::numeric(x);
+  int exponent = 0;
+  const double fraction = std::frexp(x, &exponent);  // x = fraction 2^exponent, |fraction| < 1
+  const long mantissa = static_cast<long>(std::ldexp(fraction, 53));
+  return GiNaC::numeric(mantissa) * GiNaC::pow(GiNaC::numeric(2), exponent - 53);
+}
+
+GiNaC::exmap exact_values(const GiNaC::exmap& subs) {
+  GiNaC::exmap exact;
+  for (const auto& [key, value] : subs)
+    exact[key] = GiNaC::is_a<GiNaC::numeric>(value) && GiNaC::ex_to<GiNaC::numeric>(value).is_real()
+                     ? exact_rational(GiNaC::ex_to<GiNaC::numeric>(value).to_double())
+                     : value;
+  return exact;
+}
+
+}  // namespace
+
 ReferenceSolver::TimeFunction::TimeFunction(const GiNaC::ex& e, const GiNaC::exmap& subs,
                                             const GiNaC::symbol& t, SourceLoc loc, std::string what)
     : loc_(std::move(loc)), what_(std::move(what)) {
   GiNaC::ex substituted;
   try {
     // A map of symbols: exact lookups, linear in the parameter count (see Model::evaluate).
-    substituted =
-        e.subs(subs, GiNaC::subs_options::no_pattern | GiNaC::subs_options::pattern_is_not_product);
+    substituted = e.subs(exact_values(subs), GiNaC::subs_options::no_pattern |
+                                                 GiNaC::subs_options::pattern_is_not_product);
   } catch (const std::exception& error) {
     throw ModelError(loc_, what_ + " cannot be evaluated: " + error.what());
   }

@@ -1,11 +1,29 @@
 #include "numeric/time_expression.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <string>
 
 namespace mechgen::numeric {
+
+namespace {
+
+// GiNaC orders the operands of a sum or product by hashes seeded with type_info addresses, which
+// move with address-space randomisation: the same model gives a different operand order in each
+// process, and floating-point sums depend on order. Accumulating in the order of the values
+// themselves makes the result the same in every run (issue 27 item 3). NaN sorts last so that
+// the order stays a strict weak one.
+void order_operands(double* first, int n) {
+  std::sort(first, first + n, [](double a, double b) {
+    if (std::isnan(a)) return false;
+    if (std::isnan(b)) return true;
+    return a < b || (a == b && std::signbit(a) && !std::signbit(b));
+  });
+}
+
+}  // namespace
 
 TimeExpression::TimeExpression(const GiNaC::ex& e, const GiNaC::symbol& t)
     : ex_(e), t_(t), depends_on_time_(e.has(t)) {
@@ -114,6 +132,7 @@ double TimeExpression::operator()(double t) const {
         stack[top++] = t;
         break;
       case Op::add: {
+        order_operands(stack + top - in.n, in.n);
         double s = 0;
         for (int i = top - in.n; i < top; ++i) s += stack[i];
         top -= in.n;
@@ -121,6 +140,7 @@ double TimeExpression::operator()(double t) const {
         break;
       }
       case Op::mul: {
+        order_operands(stack + top - in.n, in.n);
         double p = 1;
         for (int i = top - in.n; i < top; ++i) p *= stack[i];
         top -= in.n;

@@ -25,16 +25,4 @@ MassBias mass_matrix_bias(const SpatialSolver& solver, const SpatialState& state
   return mb;
 }
 
-bool forward_accelerations(const MassBias& mb, const Eigen::VectorXd& effort,
-                           Eigen::VectorXd& qdd) {
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(mb.M);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
-  // Positive pivots alone do not exclude a numerically singular M: require each pivot to be a
-  // fair fraction of the largest diagonal entry.
-  const double scale = mb.M.diagonal().cwiseAbs().maxCoeff();
-  if (!(ldlt.vectorD().minCoeff() > 1e-12 * scale)) return false;
-  qdd = ldlt.solve(effort - mb.h);
-  return qdd.allFinite();
-}
-
 }  // namespace mechgen::spatial

@@ -7,23 +7,19 @@
 
 #include <Eigen/Dense>
 
+#include "numeric/mass_bias.hpp"
 #include "spatial/spatial_solver.hpp"
 
 namespace mechgen::spatial {
 
-struct MassBias {
-  Eigen::MatrixXd M;  // primary x primary (graph().primary order), symmetric
-  Eigen::VectorXd h;  // per primary: gravity, velocity terms, applied loads, springs, dampers
-};
+// M is primary x primary (graph().primary order).
+using numeric::forward_accelerations;
+using numeric::MassBias;
 
 // M and h at a placed state (positions closed, e.g. by solve or solve_at) with primary rates
 // qpd at time state.t; state's accelerations are not used. Throws ModelError as
 // inverse_dynamics does.
 MassBias mass_matrix_bias(const SpatialSolver& solver, const SpatialState& state,
                           const Eigen::VectorXd& qpd);
-
-// qdd = M^-1 (effort - h) by LDL^T; false (qdd untouched) when M is not positive definite
-// (a singular configuration of the loop).
-bool forward_accelerations(const MassBias& mb, const Eigen::VectorXd& effort, Eigen::VectorXd& qdd);
 
 }  // namespace mechgen::spatial

@@ -4,6 +4,7 @@
 // two-branch tree.
 #include <gtest/gtest.h>
 
+#include <kdl/chaindynparam.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
@@ -13,6 +14,7 @@
 
 #include "kdl_model.hpp"
 #include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_mass_matrix.hpp"
 #include "spatial/spatial_solver.hpp"
 
 namespace mechgen::spatial {
@@ -85,6 +87,33 @@ TEST(SpatialKdl, Leg6ForwardKinematicsJacobianAndInverseDynamics) {
   EXPECT_LT(worst_id, 1e-12);
   std::cout << "leg6 against KDL over 50 random samples: FK " << worst_fk << ", Jacobian "
             << worst_jac << ", inverse dynamics " << worst_id << " N m\n";
+}
+
+// The mass matrix and bias by unit accelerations against KDL's ChainDynParam (composite rigid
+// bodies): M = JntToMass, h = JntToCoriolis + JntToGravity.
+TEST(SpatialKdl, Leg6MassMatrixAndBias) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  const SpatialSolver solver(model, {});
+  const KDL::Chain chain = kdl_model::chain(solver, "foot");
+  KDL::ChainDynParam dyn(chain, kdl_model::vec(solver.instance().gravity));
+  std::mt19937 rng(11);
+  double worst_m = 0, worst_h = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Sample x = random_sample(rng, 6);
+    const SpatialState s = state_at(solver, x);
+    const MassBias mb = mass_matrix_bias(solver, s, x.qd);
+    KDL::JntSpaceInertiaMatrix M(6);
+    KDL::JntArray coriolis(6), gravity(6);
+    ASSERT_GE(dyn.JntToMass(jnt(x.q), M), 0);
+    ASSERT_GE(dyn.JntToCoriolis(jnt(x.q), jnt(x.qd), coriolis), 0);
+    ASSERT_GE(dyn.JntToGravity(jnt(x.q), gravity), 0);
+    worst_m = std::max(worst_m, (M.data - mb.M).cwiseAbs().maxCoeff());
+    worst_h = std::max(worst_h, (coriolis.data + gravity.data - mb.h).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst_m, 1e-12);
+  EXPECT_LT(worst_h, 1e-12);
+  std::cout << "leg6 against KDL ChainDynParam over 50 random samples: M " << worst_m << ", h "
+            << worst_h << "\n";
 }
 
 // Two 3-DOF branches on one waist, with a prismatic joint, off-diagonal inertia and rotated body

@@ -1020,6 +1020,47 @@ Status ReferenceSolver::solve(double t, std::vector<double>& row) {
   return status;
 }
 
+bool ReferenceSolver::mass_matrix_bias(double t, MatrixXd& M, VectorXd& h, double* asymmetry) {
+  if (!assembled_ || !ne_x_.allFinite() || ne_x_.size() == 0) return false;
+  const int n = static_cast<int>(drivers_.size());
+  const VectorXd qdd_kept = qdd_, b_kept = ne_b_, x_kept = ne_x_;
+  const MatrixXd a_kept = ne_a_;
+  const int rank_kept = ne_rank_;
+  VectorXd g0;
+  gamma(q_, qd_, t, g0);
+  for (const DriverData& dr : drivers_) g0[dr.row] -= dr.fdd(t) * row_scale_[dr.row];
+  // Driver efforts for driver accelerations a (gamma's driver rows carry them).
+  auto efforts = [&](int unit, VectorXd& e) {
+    VectorXd g = g0;
+    if (unit >= 0)
+      g[drivers_[static_cast<size_t>(unit)].row] +=
+          row_scale_[drivers_[static_cast<size_t>(unit)].row];
+    qdd_ = solve_kinematic(factor_, g);
+    if (!dynamics(t)) return false;
+    e.resize(n);
+    for (int i = 0; i < n; ++i) e[i] = ne_x_[drivers_[static_cast<size_t>(i)].unknown];
+    return true;
+  };
+  bool ok = efforts(-1, h);
+  M.resize(n, n);
+  VectorXd e;
+  for (int i = 0; ok && i < n; ++i) {
+    ok = efforts(i, e);
+    if (ok) M.col(i) = e - h;
+  }
+  qdd_ = qdd_kept;
+  ne_a_ = a_kept;
+  ne_b_ = b_kept;
+  ne_x_ = x_kept;
+  ne_rank_ = rank_kept;
+  if (!ok) return false;
+  if (asymmetry)
+    *asymmetry =
+        (M - M.transpose()).cwiseAbs().maxCoeff() / std::max(M.cwiseAbs().maxCoeff(), 1e-300);
+  M = (0.5 * (M + M.transpose())).eval();
+  return true;
+}
+
 void ReferenceSolver::fill_row(double t, Status status, std::vector<double>& row) const {
   row.assign(static_cast<size_t>(layout_.count), nan);
   row[static_cast<size_t>(layout_.time)] = t;

@@ -100,6 +100,16 @@ class ReferenceSolver {
   const std::vector<std::string>& ne_unknowns() const { return ne_names_; }
   const Eigen::VectorXd& ne_solution() const { return ne_x_; }
 
+  // Forward-dynamics quantities in the drivers' coordinates (issue 22) at the configuration and
+  // velocities of the last ok solve at time t: effort = M qdd + h, h the Newton-Euler driver
+  // efforts with the drivers' accelerations set to 0, column i of M those with driver i's
+  // acceleration 1 minus h. M is returned symmetrised (its triangles agree to round-off;
+  // asymmetry() says by how much, relative to its largest entry). The solve's own accelerations and
+  // Newton-Euler solution are kept. False when the last solve was not ok or a Newton-Euler solve is
+  // singular.
+  bool mass_matrix_bias(double t, Eigen::MatrixXd& M, Eigen::VectorXd& h,
+                        double* asymmetry = nullptr);
+
   // Rank of the constraint Jacobian at the last solve/assemble, and its size.
   int constraint_rank() const { return rank_; }
   int constraint_count() const { return static_cast<int>(rows_.size()); }

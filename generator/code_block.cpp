@@ -29,9 +29,9 @@ constexpr int kMaxExpandedPower = 8;
 const char* const kPiLiteral = "T(3.14159265358979323846)";
 
 const std::set<std::string>& known_functions() {
-  static const std::set<std::string> names = {"sin",  "cos",   "tan",  "asin", "acos",
-                                              "atan", "atan2", "sinh", "cosh", "tanh",
-                                              "exp",  "log",   "abs"};
+  static const std::set<std::string> names = {"sin",  "cos",   "tan",  "asin",       "acos",
+                                              "atan", "atan2", "sinh", "cosh",       "tanh",
+                                              "exp",  "log",   "abs",  "branch_sign"};
   return names;
 }
 

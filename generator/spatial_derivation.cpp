@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "branch_sign.hpp"
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
@@ -496,15 +497,24 @@ class Builder {
     context.named = [this](const std::string& name, const ex& e) { return named(name, e); };
     GiNaC::exmap num = numeric_parameters(m_.common.default_parameters());
     for (size_t c = 0; c < cols_.size(); ++c) num[cols_[c].q] = context.assembly_q[c];
+    num[follow_symbol()] = 1;  // the closed forms' roots at the assembly: the warm start's side
     size_t evaluated = start;
+    // The warm start of a closed form's coordinate is the last accepted call's value carried to
+    // this call's time along its rate and acceleration (zero at the first call): second order as
+    // the numeric solver's prediction before Newton-Raphson, so that where two roots meet (a
+    // parallelogram folding flat) the root nearer the prediction is the one the motion goes on.
     context.warm_start = [this, &num](int column) {
       const size_t k = out_.angle_start.size();
-      const symbol w("s.closure.w[" + std::to_string(k) + "]");
+      const std::string index = "[" + std::to_string(k) + "]";
+      const symbol w("s.closure.w" + index), wd("s.closure.wd" + index),
+          wdd("s.closure.wdd" + index);
       out_.angle_start.push_back(assembly_.q[static_cast<Eigen::Index>(column)]);
+      out_.angle_columns.push_back(column);
       num[w] = out_.angle_start.back();
-      output(out_.kinematics, "s.closure.wnext[" + std::to_string(k) + "]",
-             cols_[static_cast<size_t>(column)].q);
-      return ex(w);
+      num[wd] = num[wdd] = 0;
+      output(out_.kinematics, "s.closure.wnext" + index, cols_[static_cast<size_t>(column)].q);
+      const ex dt = symbol("in.t") - symbol("s.closure.wt");
+      return w + (wd + wdd / 2 * dt) * dt;
     };
     context.at_assembly = [this, &num, evaluated](const ex& e) mutable {
       for (; evaluated < out_.definitions.size(); ++evaluated)
@@ -606,6 +616,7 @@ class Builder {
       q[newton_columns[k]] = symbol("s.closure.q[" + std::to_string(k) + "]");
       out_.closure_start.push_back(
           assembly_.q[static_cast<Eigen::Index>(g_.secondary[newton_columns[k]])]);
+      out_.closure_columns.push_back(g_.secondary[newton_columns[k]]);
     }
     for (int step = 0; step < kNewtonSteps && nn > 0; ++step) {
       const std::string suffix = "_n" + std::to_string(step);
@@ -660,6 +671,10 @@ class Builder {
         Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
         col.qd = named("qd_" + col.name, qd[i]);
       }
+      // The closed forms' warm starts move along these rates to the next call's time.
+      for (size_t k = 0; k < out_.angle_columns.size(); ++k)
+        output(out_.kinematics, "s.closure.wdnext[" + std::to_string(k) + "]",
+               cols_[static_cast<size_t>(out_.angle_columns[k])].qd);
       sensitivity_.assign(g_.columns.size(), std::vector<ex>(g_.primary.size(), 0));
       for (size_t k = 0; k < g_.primary.size(); ++k) {
         sensitivity_[static_cast<size_t>(g_.primary[k])][k] = 1;
@@ -689,6 +704,9 @@ class Builder {
       Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
       col.qdd = named("qdd_" + col.name, qdd[i]);
     }
+    for (size_t k = 0; k < out_.angle_columns.size(); ++k)
+      output(out_.kinematics, "s.closure.wddnext[" + std::to_string(k) + "]",
+             cols_[static_cast<size_t>(out_.angle_columns[k])].qdd);
   }
 
   // Body twists, each screw's rate (the Lie bracket of the twist of the frame carrying it with

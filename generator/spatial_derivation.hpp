@@ -55,8 +55,12 @@ struct SpatialDerivation {
     int group = -1;
   };
   std::vector<Guard> guards;
-  // Closed-form angles' warm starts (`s.closure.w[k]`, unwinding): their values at the assembly.
+  // Closed-form angles' warm starts (`s.closure.w[k]`, unwinding, and the branch nearer them):
+  // their values at the assembly.
   std::vector<double> angle_start;
+  // The graph columns (SpatialGraph::columns) of closure_start's and angle_start's entries, so
+  // that a run can start both from the numeric solver's assembly at its own parameters.
+  std::vector<int> closure_columns, angle_columns;
   std::vector<int> closed_form_groups;  // indices into groups (and plan) of the closed forms
   // The Newton-Euler system A x = b of the numeric solver (runtime/spatial/spatial_dynamics.cpp):
   // rows 6 per moving body (force, moment about the ground origin), then one per coordinate (the

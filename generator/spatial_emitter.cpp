@@ -64,7 +64,7 @@ std::string using_std(const CodeBlock& code) {
   std::string text;
   for (const std::string& f : code.math_functions())
     text += std::string(text.empty() ? "" : "\n") + "  using " +
-            (f == "sin" || f == "cos" ? "detail::" : "std::") + f + ";";
+            (f == "sin" || f == "cos" || f == "branch_sign" ? "detail::" : "std::") + f + ";";
   return text;
 }
 
@@ -365,7 +365,8 @@ class SpatialEmitter {
     std::vector<SpatialOutput> placed;
     for (const SpatialOutput& o : d_.kinematics)
       if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
-          (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0))
+          (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0 &&
+           o.target.rfind("s.closure.wd", 0) != 0))
         placed.push_back(o);
     hoisted_positions(placed, v);
     v["positions_body"] += spatial_output_checks(placed, definition_, stage_check);
@@ -373,7 +374,8 @@ class SpatialEmitter {
     // velocities); no accelerations, Jacobians or forces.
     std::vector<SpatialOutput> velocity;
     for (const SpatialOutput& o : d_.kinematics)
-      if (!is_acceleration_target(o.target)) velocity.push_back(o);
+      if (!is_acceleration_target(o.target) && o.target.rfind("s.closure.wddnext", 0) != 0)
+        velocity.push_back(o);
     const CodeBlock vel = block(velocity);
     v["velocities_using"] = using_std(vel);
     v["velocities_ops"] = std::to_string(vel.op_count());
@@ -387,6 +389,7 @@ class SpatialEmitter {
     v["evaluate_ops"] = std::to_string(full.op_count());
     v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, definition_, stage_check);
     closure(v);
+    start(v);
     columns(v);
     return v;
   }
@@ -398,6 +401,7 @@ class SpatialEmitter {
   void closure(std::map<std::string, std::string>& v) const {
     v["closure_fields"] = "";
     v["closure_check"] = "";
+    v["velocities_closure_check"] = "";
     v["positions_check"] = "";
     v["keep_warm_start"] = "";
     v["entry_state"] = "State<T> s;";
@@ -430,10 +434,29 @@ class SpatialEmitter {
                            : "") +
         ".\n  struct {\n" +
         (newton ? "    Real q[" + n + "] = {" + start + "};\n    Real next[" + n + "];\n" : "") +
-        (angles ? "    Real w[" + na + "] = {" + angle_start + "};\n    Real wnext[" + na + "];\n"
-                : "") +
+        (angles
+             ? "    Real w[" + na + "] = {" + angle_start + "};\n    Real wnext[" + na +
+                   "];\n    Real wd[" + na + "] = {}, wdd[" + na +
+                   "] = {};  // rates and accelerations at time wt\n    Real wdnext[" + na +
+                   "], wddnext[" + na +
+                   "];\n    Real wt = Real(0);\n"
+                   "    // 1 once a call was accepted or the start seeded: the closed forms' roots "
+                   "follow\n    // the warm start; 0 (fresh): the assembly's roots.\n"
+                   "    Real follow = Real(0);\n"
+             : "") +
         "    Real residual, det;\n  } closure;\n";
-    v["closure_check"] =
+    // After a call that closed the circuits: the Newton coordinates and the angles' warm starts
+    // carried to the next call, with the rates and accelerations the entry computed (zero where
+    // it does not: the velocities' entry has no accelerations, the positions' no rates).
+    const auto carried = [&](bool rates, bool accelerations) {
+      if (!angles) return std::string();
+      return "  for (int i = 0; i < " + na +
+             "; ++i) {\n    s.closure.w[i] = s.closure.wnext[i];\n" +
+             "    s.closure.wd[i] = " + (rates ? "s.closure.wdnext[i]" : "T(0)") + ";\n" +
+             "    s.closure.wdd[i] = " + (accelerations ? "s.closure.wddnext[i]" : "T(0)") +
+             ";\n  }\n  s.closure.wt = in.t;\n" + (rates ? "  s.closure.follow = T(1);\n" : "");
+    };
+    const std::string checks =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
         "  using std::abs;\n"
@@ -446,18 +469,65 @@ class SpatialEmitter {
         number_literal(1e-9 * std::abs(d_.closure_det)) +
         "))\n    return s.failed_group = " + closure_group + ", Status::singular;\n" +
         (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
-                : "") +
-        (angles ? "  for (int i = 0; i < " + na + "; ++i) s.closure.w[i] = s.closure.wnext[i];\n"
                 : "");
+    v["closure_check"] = checks + carried(true, true);
+    v["velocities_closure_check"] = checks + carried(true, false);
     // The positions-only entry: the closed forms' reach checked inline; the Newton closure's.
-    if (newton) v["positions_check"] = v["closure_check"];
+    if (newton) v["positions_check"] = checks + carried(false, false);
     if (newton || angles)
       v["entry_state"] =
           "// A closed chain's warm start carries over from one call to the next (per thread and "
-          "scalar),\n// back to the assembly when time does not advance (a new sweep).\n"
-          "static thread_local State<T> s;\n"
-          "static thread_local T last_t = std::numeric_limits<T>::infinity();\n"
-          "if (!(in.t > last_t)) s = State<T>{};\nlast_t = in.t;";
+          "scalar):\n// from where a sweep starts when time does not advance (a new sweep) or "
+          "seed_start()\n// began one, whichever way its time runs then.\n"
+          "Carried<T>& c = carried<T>();\n"
+          "if (c.restart || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;\n"
+          "c.restart = false;\nc.last_t = in.t;\nState<T>& s = c.s;";
+  }
+
+  // The entry's warm start for a new sweep: the State's defaults, or values the runtime seeds
+  // (the numeric solver's assembly at the run's parameters), per thread and scalar.
+  void start(std::map<std::string, std::string>& v) const {
+    v["start_block"] = "";
+    v["start_count"] = "0";
+    v["start_columns"] = "nullptr";
+    v["seed_start"] = "nullptr";
+    const size_t nq = d_.closure_start.size(), nw = d_.angle_start.size();
+    if (nq + nw == 0) return;
+    std::string columns;
+    for (const std::vector<int>* list : {&d_.closure_columns, &d_.angle_columns})
+      for (const int c : *list) columns += (columns.empty() ? "" : ", ") + std::to_string(c);
+    std::string copy;
+    if (nq > 0)
+      copy += "  for (int i = 0; i < " + std::to_string(nq) +
+              "; ++i) c.start.closure.q[i] = static_cast<T>(values[i]);\n";
+    if (nw > 0)
+      copy += "  for (int i = 0; i < " + std::to_string(nw) +
+              "; ++i) c.start.closure.w[i] = static_cast<T>(values[" +
+              (nq > 0 ? std::to_string(nq) + " + " : "") + "i]);\n";
+    v["start_block"] =
+        "// The State carried from call to call (per thread and scalar) and where a sweep starts: "
+        "the\n// State's defaults (the assembly at the default parameters, t0), or the values "
+        "seed_start()\n// was given for the warm start's entries, which are these columns of the "
+        "spatial graph (the\n// Newton coordinates, then the closed-form angles).\n"
+        "template <class T>\nstruct Carried {\n  State<T> start, s;\n"
+        "  T last_t = std::numeric_limits<T>::infinity();\n"
+        "  bool restart = false;  // the next call starts from `start`\n"
+        "  bool seeded = false;   // a seeded sweep: carried whichever way its time runs\n};\n"
+        "template <class T>\nstatic Carried<T>& carried() {\n"
+        "  static thread_local Carried<T> c;\n  return c;\n}\n"
+        "static const int start_columns[] = {" +
+        columns +
+        "};\n\n"
+        "template <class T>\nstatic void seed(const double* values) {\n"
+        "  Carried<T>& c = carried<T>();\n  c.start = State<T>{};\n  c.restart = true;\n"
+        "  c.seeded = values != nullptr;\n  if (values == nullptr) return;\n" +
+        copy + (nw > 0 ? "  c.start.closure.follow = T(1);\n" : "") +
+        "}\n\n// Null: the defaults again.\n"
+        "static void seed_start(const double* values) {\n  seed<double>(values);\n"
+        "  seed<float>(values);\n}\n";
+    v["start_count"] = std::to_string(nq + nw);
+    v["start_columns"] = "start_columns";
+    v["seed_start"] = "&seed_start";
   }
 
   // to_columns in DESIGN.md's spatial column order, checked against the sweep's own names.
@@ -516,7 +586,9 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       SpatialEmitter(model, derivation).values(options);
   std::vector<EmittedFile> files;
   std::map<std::string, std::string> header = values;
-  header.erase("entry_state");  // the entry's
+  for (const char* key :
+       {"entry_state", "start_block", "start_count", "start_columns", "seed_start"})
+    header.erase(key);  // the entry's
   files.push_back({model.common.name + ".hpp",
                    render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
                                    header, "spatial_kernel.hpp.in")});
@@ -552,6 +624,10 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       {"driver_count", std::to_string(inputs.size())},
       {"driven_inputs", driven},
       {"entry_state", values.at("entry_state")},
+      {"start_block", values.at("start_block")},
+      {"start_count", values.at("start_count")},
+      {"start_columns", values.at("start_columns")},
+      {"seed_start", values.at("seed_start")},
       {"batch_inputs", batch_inputs},
       {"batch_points", batch_points},
       {"point_count", std::to_string(point_count)},

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "branch_sign.hpp"
+
 namespace mechgen::gen {
 
 using GiNaC::ex;
@@ -15,8 +17,6 @@ namespace {
 
 using V = geometry::Vec3<ex>;
 using Pose = geometry::Pose<ex>;
-
-constexpr double kTwoPi = 2 * 3.14159265358979323846;
 
 }  // namespace
 
@@ -106,12 +106,6 @@ std::string limb_group_name(const CircuitSolverContext& c, const LimbCircuit& lc
              : "ik_circuit" + std::to_string(circuit);
 }
 
-double turns(double target, double value) {
-  return std::round((target - value) / kTwoPi);
-}
-ex plus_turns(const ex& e, double k) {
-  return k == 0 ? e : e + static_cast<long>(k) * 2 * GiNaC::Pi;
-}
 V named_vector(const CircuitSolverContext& c, const std::string& name, const V& v) {
   return {c.named(name + "_x", v[0]), c.named(name + "_y", v[1]), c.named(name + "_z", v[2])};
 }
@@ -121,27 +115,22 @@ ex rotation_taking(const V& w, const V& x, const V& y) {
                       geometry::dot(x, y) - geometry::dot(w, x) * geometry::dot(w, y));
 }
 
-int LimbIk::branch(const std::function<std::vector<ex>(int)>& angles,
-                   const std::vector<double>& target) {
-  double best = 1e300;
-  int chosen = 1;
-  for (const int sign : {1, -1}) {
-    const std::vector<ex> a = angles(sign);
-    double off = 0;
-    for (size_t i = 0; i < a.size(); ++i) {
-      const double v = c.at_assembly(a[i]);
-      off += std::abs(target[i] - v - kTwoPi * turns(target[i], v));
-    }
-    if (off < best) best = off, chosen = sign;
-  }
-  branches.push_back(chosen);
-  return chosen;
+LimbIk::Target LimbIk::target(size_t column, const ex& direction) const {
+  return {direction * c.warm_start(static_cast<int>(column)),
+          c.at_assembly(direction) * c.assembly_q[column]};
 }
-ex LimbIk::angle(const std::string& name, const ex& value, double target) {
-  return c.named(prefix + name, plus_turns(value, turns(target, c.at_assembly(value))));
+ex LimbIk::branch(const ex& indicator) {
+  const ex sign = c.named(prefix + "branch" + std::to_string(branches.size() + 1),
+                          followed_branch(indicator, c.at_assembly(indicator)));
+  branches.push_back(c.at_assembly(sign) > 0 ? 1 : -1);
+  return sign;
+}
+ex LimbIk::angle(const std::string& name, const ex& value, const Target& target) const {
+  const ex& w = target.warm;
+  return c.named(prefix + name, w + GiNaC::atan2(GiNaC::sin(value - w), GiNaC::cos(value - w)));
 }
 std::vector<ex> LimbIk::two_axes(const std::string& name, const V& w1, const V& w2, const V& u,
-                                 const V& v, const std::vector<double>& target) {
+                                 const V& v, const std::vector<Target>& targets) {
   const ex k = geometry::dot(w1, w2);
   const ex den = c.named(prefix + name + "_den", k * k - 1);
   const ex alpha =
@@ -154,12 +143,11 @@ std::vector<ex> LimbIk::two_axes(const std::string& name, const V& w1, const V& 
                                                           geometry::dot(n, n));
   out.reach.push_back(gamma2);
   const ex root = c.named(prefix + name + "_root", GiNaC::sqrt(gamma2));
-  const auto angles = [&](int sign) {
-    const V z = alpha * w1 + beta * w2 + (sign * root) * n;
-    return std::vector<ex>{rotation_taking(w1, z, v), rotation_taking(w2, u, z)};
-  };
-  const std::vector<ex> a = angles(branch(angles, target));
-  return {angle(name + "_a1", a[0], target[0]), angle(name + "_a2", a[1], target[1])};
+  // The roots differ in z's n component (+-root): the warm start's z = R2(a2) u is on one side.
+  const ex sign = branch(geometry::dot(n, geometry::rodrigues(w2, targets[1].warm) * u));
+  const V z = alpha * w1 + beta * w2 + (sign * root) * n;
+  return {angle(name + "_a1", rotation_taking(w1, z, v), targets[0]),
+          angle(name + "_a2", rotation_taking(w2, u, z), targets[1])};
 }
 
 std::string LimbIk::branch_signs() const {

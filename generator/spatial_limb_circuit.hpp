@@ -34,10 +34,6 @@ geometry::Pose<GiNaC::ex> rest_motion(const CircuitSolverContext& c, const LimbC
 // The kernel group of a limb: ik_<pose driver>.
 std::string limb_group_name(const CircuitSolverContext& c, const LimbCircuit& lc, int circuit);
 
-// The multiple of 2 pi that brings `value` nearest to `target`, and `e` plus k turns.
-double turns(double target, double value);
-GiNaC::ex plus_turns(const GiNaC::ex& e, double k);
-
 geometry::Vec3<GiNaC::ex> named_vector(const CircuitSolverContext& c, const std::string& name,
                                        const geometry::Vec3<GiNaC::ex>& v);
 
@@ -47,26 +43,34 @@ GiNaC::ex rotation_taking(const geometry::Vec3<GiNaC::ex>& w, const geometry::Ve
                           const geometry::Vec3<GiNaC::ex>& y);
 
 // Builds one limb's closed form: named definitions under `prefix`, the discriminants in
-// out.reach, and each square root's branch chosen from the assembly.
+// out.reach, and each square root's root chosen at run time, the one nearer the warm start.
 struct LimbIk {
   const CircuitSolverContext& c;
   std::string prefix;
   CircuitClosedForm out;
-  std::vector<int> branches;
+  std::vector<int> branches;  // each choice at the assembly, for the plan
 
-  // Chooses between the two branches of a square root by the assembly: the one whose angles
-  // `angles(sign)` are nearest (modulo 2 pi) to the assembly's `target`.
-  int branch(const std::function<std::vector<GiNaC::ex>(int)>& angles,
-             const std::vector<double>& target);
-  // `value` named, plus the turns that bring it to the assembly's `target`.
-  GiNaC::ex angle(const std::string& name, const GiNaC::ex& value, double target);
+  // A limb angle theta = direction q of a column: its warm start (the previous call's, carried to
+  // this call's time) and its value at the assembly.
+  struct Target {
+    GiNaC::ex warm;
+    double assembly = 0;
+  };
+  Target target(size_t column, const GiNaC::ex& direction) const;
+  // Chooses between the two roots of a square root at run time: the sign (+1 or -1, a named
+  // branch_sign) of `indicator`, an expression of the warm starts that is positive where the warm
+  // configuration is on the + root's side (an elbow's side, a link's spin): the root of the warm
+  // start's family, which is also the nearer one.
+  GiNaC::ex branch(const GiNaC::ex& indicator);
+  // `value` named, unwound to the target's warm start (continuous along a sweep).
+  GiNaC::ex angle(const std::string& name, const GiNaC::ex& value, const Target& target) const;
   // Subproblem 2: angles (a1, a2) about w1 then w2 (meeting) with R1(a1) R2(a2) u = v.
   std::vector<GiNaC::ex> two_axes(const std::string& name, const geometry::Vec3<GiNaC::ex>& w1,
                                   const geometry::Vec3<GiNaC::ex>& w2,
                                   const geometry::Vec3<GiNaC::ex>& u,
                                   const geometry::Vec3<GiNaC::ex>& v,
-                                  const std::vector<double>& target);
-  // The branch signs chosen so far, as "+-+".
+                                  const std::vector<Target>& targets);
+  // The branch signs chosen at the assembly, as "+-+".
   std::string branch_signs() const;
 };
 

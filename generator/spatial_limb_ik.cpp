@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "branch_sign.hpp"
 #include "spatial_limb_circuit.hpp"
 
 namespace mechgen::gen {
@@ -119,29 +120,24 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
       c.named(prefix + "cos",
               (geometry::dot(a, a) - geometry::dot(l1, l1) - geometry::dot(l2, l2)) / (2 * rho));
   const ex reach = c.named(prefix + "reach", 1 - cos_middle * cos_middle);
-  // Branch and turns from the numeric assembly.
-  const double k_ = c.at_assembly(K), s_ = c.at_assembly(S), c_ = c.at_assembly(cos_middle);
-  const double theta2_asm = c.at_assembly(sign[1]) * c.assembly_q[column(lc.limb[1])];
-  const double r_ = std::sqrt(std::max(0.0, 1 - c_ * c_));
-  const double plus = std::atan2(r_, c_) - std::atan2(s_, k_);
-  const double minus = std::atan2(-r_, c_) - std::atan2(s_, k_);
-  const double off_plus = std::abs(theta2_asm - plus - kTwoPi * turns(theta2_asm, plus));
-  const double off_minus = std::abs(theta2_asm - minus - kTwoPi * turns(theta2_asm, minus));
-  const int branch = off_plus <= off_minus ? 1 : -1;
+  // The root nearer the warm start of theta2 at run time: theta2 = +-gamma - psi with
+  // psi = atan2(S, K); the + root is the nearer to w exactly where sin(w + psi) > 0, that is
+  // K sin w + S cos w > 0. Both angles unwound to their warm starts.
+  LimbIk ik{c, prefix, {}, {}};
+  const LimbIk::Target t1 = ik.target(column(lc.limb[0]), sign[0]);
+  const LimbIk::Target t2 = ik.target(column(lc.limb[1]), sign[1]);
+  const ex nearer = K * GiNaC::sin(t2.warm) + S * GiNaC::cos(t2.warm);
+  const ex branch = c.named(prefix + "branch", followed_branch(nearer, c.at_assembly(nearer)));
   const ex sin_gamma = c.named(prefix + "sin", branch * GiNaC::sqrt(reach));
-  const ex theta2_0 = GiNaC::atan2(sin_gamma, cos_middle) - GiNaC::atan2(S, K);
-  const ex theta2 = c.named(prefix + "theta2",
-                            plus_turns(theta2_0, turns(theta2_asm, branch > 0 ? plus : minus)));
+  const ex theta2 =
+      ik.angle("theta2", GiNaC::atan2(sin_gamma, cos_middle) - GiNaC::atan2(S, K), t2);
   const ex c2 = c.named(prefix + "c2", (cos_middle * K + sin_gamma * S) / rho);
   const ex s2 = c.named(prefix + "s2", (sin_gamma * K - cos_middle * S) / rho);
   const V w = named_vector(c, prefix + "w", l1 + c2 * l2 + s2 * geometry::cross(n, l2));
-  const ex theta1_0 = GiNaC::atan2(geometry::dot(geometry::cross(w, a), n), geometry::dot(w, a));
-  const double theta1_asm = c.at_assembly(sign[0]) * c.assembly_q[column(lc.limb[0])];
-  const ex theta1 =
-      c.named(prefix + "theta1", plus_turns(theta1_0, turns(theta1_asm, c.at_assembly(theta1_0))));
-  const ex theta3_0 = phi - theta1 - theta2;
-  const double theta3_asm = c.at_assembly(sign[2]) * c.assembly_q[column(lc.limb[2])];
-  const ex theta3 = plus_turns(theta3_0, turns(theta3_asm, c.at_assembly(theta3_0)));
+  const ex theta1 = ik.angle(
+      "theta1", GiNaC::atan2(geometry::dot(geometry::cross(w, a), n), geometry::dot(w, a)), t1);
+  const ex theta3 =
+      ik.angle("theta3", phi - theta1 - theta2, ik.target(column(lc.limb[2]), sign[2]));
   CircuitClosedForm out;
   out.name = name;
   const std::vector<ex> theta{theta1, theta2, theta3};
@@ -153,9 +149,15 @@ std::optional<CircuitClosedForm> planar_limb_ik(const CircuitSolverContext& c, i
   }
   for (const int col : lc.free) out.coordinates.emplace_back(col, 0);
   out.reach.push_back(reach);
+  // At the assembly the run-time choice must give the assembly itself (else Newton closes it).
+  for (size_t i = 0; i < 3; ++i)
+    if (!(std::abs(std::remainder(
+              c.at_assembly(sign[i] * theta[i]) - c.assembly_q[column(lc.limb[i])], kTwoPi)) <
+          1e-8))
+      return std::nullopt;
   out.plan = "pose-driven planar limb " + joints +
-             " (parallel axes) in closed form: law of cosines (branch " + (branch > 0 ? "+" : "-") +
-             " from the assembly), free virtual coordinates zero";
+             " (parallel axes) in closed form: law of cosines (the root nearer the warm start), "
+             "free virtual coordinates zero";
   return out;
 }
 
@@ -198,8 +200,8 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
   const std::vector<LimbAxis>& a = *axes;
   LimbIk ik{c, limb_group_name(c, lc, circuit) + "_", {}, {}};
   ik.out.name = limb_group_name(c, lc, circuit);
-  std::vector<double> target;  // the assembly's angles theta_i = direction_i q_i
-  for (const LimbAxis& x : a) target.push_back(c.at_assembly(x.direction) * c.assembly_q[x.column]);
+  std::vector<LimbIk::Target> target;  // the angles theta_i = direction_i q_i
+  for (const LimbAxis& x : a) target.push_back(ik.target(x.column, x.direction));
   const V W = named_vector(c, ik.prefix + "wrist_ref", crossing(a[3], a[4]));
   const V O = named_vector(c, ik.prefix + "base_ref", crossing(a[0], a[1]));
   const V Wt = named_vector(c, ik.prefix + "wrist", geometry::apply(T, W));
@@ -213,13 +215,14 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
   const ex cos_phi = c.named(ik.prefix + "cos", (uu + vv - delta2) / (2 * GiNaC::sqrt(uu * vv)));
   const ex reach = c.named(ik.prefix + "reach", 1 - cos_phi * cos_phi);
   ik.out.reach.push_back(reach);
-  const ex theta0 =
-      GiNaC::atan2(geometry::dot(a[2].w, geometry::cross(u, v)), geometry::dot(u, v) - wu * wv);
+  const ex y0 = geometry::dot(a[2].w, geometry::cross(u, v)), x0 = geometry::dot(u, v) - wu * wv;
   const ex sin_phi = c.named(ik.prefix + "sin", GiNaC::sqrt(reach));
-  const auto third = [&](int sign) {
-    return std::vector<ex>{theta0 - GiNaC::atan2(sign * sin_phi, cos_phi)};
-  };
-  const ex t3 = ik.angle("theta3", third(ik.branch(third, {target[2]}))[0], target[2]);
+  // theta3 = theta0 -+ phi (theta0 = atan2(y0, x0), phi in [0, pi]): the warm start is on the +
+  // root's side where sin(theta0 - theta3) > 0, y0 cos theta3 - x0 sin theta3 > 0.
+  const ex& w3 = target[2].warm;
+  const ex sign = ik.branch(y0 * GiNaC::cos(w3) - x0 * GiNaC::sin(w3));
+  const ex t3 =
+      ik.angle("theta3", GiNaC::atan2(y0, x0) - GiNaC::atan2(sign * sin_phi, cos_phi), target[2]);
   const geometry::Mat3<ex> R3 = geometry::rodrigues(a[2].w, t3);
   const V p3 = named_vector(c, ik.prefix + "wrist_3", R3 * u + a[2].r - O);
   const std::vector<ex> t12 = ik.two_axes("theta12", a[0].w, a[1].w, p3, d, {target[0], target[1]});
@@ -245,8 +248,8 @@ std::optional<CircuitClosedForm> six_revolute_limb_ik(const CircuitSolverContext
   }
   ik.out.plan = "pose-driven 6R limb " + joints +
                 " in closed form (Pieper: the first two axes and the last three meet; Paden-Kahan "
-                "subproblems 3, 2, 2, 1; branches " +
-                ik.branch_signs() + " from the assembly)";
+                "subproblems 3, 2, 2, 1; each root the one nearer the warm start: " +
+                ik.branch_signs() + " at the assembly)";
   return ik.out;
 }
 

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "branch_sign.hpp"
+
 namespace mechgen::gen {
 
 using GiNaC::ex;
@@ -180,7 +182,7 @@ class LinkSolver {
                   "': its coordinate from the distance of the end centres"
             : " from '" + body(l_.X) +
                   "': " + (slider ? "a quadratic in the slider's q" : "A cos q + B sin q = C") +
-                  " (branch " + (tau_ > 0 ? "+1" : "-1") + " from the assembly)";
+                  " (the root nearer the warm start)";
     g_.plan = "closed form, link '" + body(l_.L1) +
               (l_.prismatic >= 0
                    ? "' + '" + body(l_.L2) + "' (length " + (measured ? "of '" : "driven by '") +
@@ -221,13 +223,20 @@ class LinkSolver {
         out(i, j) = def(name + "_" + std::to_string(i) + std::to_string(j), R(i, j));
     return out;
   }
+  // Column c's warm start: the previous call's value of its coordinate (the assembly at first).
+  ex warm(size_t c) {
+    const auto it = g_.warm.find(static_cast<int>(c));
+    if (it != g_.warm.end()) return it->second;
+    const symbol w("warm_" + std::to_string(c));
+    ctx_.assembly[w] = ctx_.assembly_q[c];
+    g_.warm[static_cast<int>(c)] = w;
+    return w;
+  }
   // Column c's coordinate from the sine-like y and cosine-like x of its angle, unwound to the
   // warm start w (the previous call's value): w + atan2(sin(angle - w), cos(angle - w))
   // (continuous along a sweep, as the numeric solver's Newton-Raphson from the previous sample).
   void define_angle(size_t c, const ex& y, const ex& x) {
-    const symbol w("warm_" + std::to_string(c));
-    ctx_.assembly[w] = ctx_.assembly_q[c];
-    g_.warm[static_cast<int>(c)] = w;
+    const ex w = warm(c);
     const ex cw = GiNaC::cos(w), sw = GiNaC::sin(w);
     const symbol q = GiNaC::ex_to<symbol>(ctx_.q[c]);
     const ex value = w + GiNaC::atan2((y * cw - x * sw).expand(), (x * cw + y * sw).expand());
@@ -306,17 +315,19 @@ class LinkSolver {
     const ex disc = def("disc", r2 - C * C);
     g_.reach.push_back(disc);
     const ex rt = def("root", root(disc));
-    // The branch whose angle is the assembly's.
-    const double qa = ctx_.assembly_q[c];
-    int match = 0;
-    for (const int t : {1, -1}) {
-      const double cq = ctx_.value((A * C - t * B * rt) / r2);
-      const double sq = ctx_.value((B * C + t * A * rt) / r2);
-      if (std::abs(std::remainder(std::atan2(sq, cq) - qa, 2 * M_PI)) < 1e-8) tau_ = t, ++match;
-    }
-    if (match != 1 || !(ctx_.value(disc) > 0)) return false;  // no branch, or at a dead point
-    const ex cq = def("cos", (A * C - tau_ * B * rt) / r2);
-    const ex sq = def("sin", (B * C + tau_ * A * rt) / r2);
+    // The roots are q = phi +- alpha (phi = atan2(B, A), cos alpha = C / r): the + root is the
+    // nearer to the warm start w exactly where sin(w - phi) > 0, that is A sin w - B cos w > 0.
+    const ex w = warm(c);
+    const ex nearer = A * GiNaC::sin(w) - B * GiNaC::cos(w);
+    const ex tau = def("branch", followed_branch(nearer, ctx_.value(nearer)));
+    // At the assembly the chosen root must be the assembly's angle, away from a dead point.
+    const double cq_a = ctx_.value((A * C - tau * B * rt) / r2);
+    const double sq_a = ctx_.value((B * C + tau * A * rt) / r2);
+    if (!(std::abs(std::remainder(std::atan2(sq_a, cq_a) - ctx_.assembly_q[c], 2 * M_PI)) < 1e-8) ||
+        !(ctx_.value(disc) > 0))
+      return false;
+    const ex cq = def("cos", (A * C - tau * B * rt) / r2);
+    const ex sq = def("sin", (B * C + tau * A * rt) / r2);
     define_angle(c, sq, cq);
     g_.cos_sin[static_cast<int>(c)] = {cq, sq};
     // Y's displacement: K's, then the rotation about the axis (against it when K is second).
@@ -350,15 +361,16 @@ class LinkSolver {
     const ex disc = def("disc", se * se - ss * (geometry::dot(e, e) - length2));
     g_.reach.push_back(disc);
     const ex rt = def("root", root(disc));
+    // The roots u = (-se +- root) / ss: the + root is the nearer to the warm start's displacement
+    // sigma w exactly where se + sigma ss w > 0.
+    const ex nearer = se + sigma * ss * warm(c);
+    const ex tau = def("branch", followed_branch(nearer, ctx_.value(nearer)));
     const double qa = ctx_.assembly_q[c];
-    int match = 0;
-    for (const int t : {1, -1}) {
-      const double u = ctx_.value(sigma * (-se + t * rt) / ss);
-      if (std::abs(u - qa) < 1e-8 * (1 + std::abs(qa))) tau_ = t, ++match;
-    }
-    if (match != 1 || !(ctx_.value(disc) > 0)) return false;  // no branch, or at a dead point
+    if (!(std::abs(ctx_.value(sigma * (-se + tau * rt) / ss) - qa) < 1e-8 * (1 + std::abs(qa))) ||
+        !(ctx_.value(disc) > 0))
+      return false;  // not the assembly, or at a dead point
     const symbol q = GiNaC::ex_to<symbol>(ctx_.q[c]);
-    const ex value = (sigma * (-se + tau_ * rt) / ss).expand();
+    const ex value = (sigma * (-se + tau * rt) / ss).expand();
     g_.definitions.emplace_back(q, value);
     ctx_.assembly[q] = ctx_.value(value);
     g_.columns.push_back(static_cast<int>(c));
@@ -395,13 +407,14 @@ class LinkSolver {
     g_.reach.push_back(disc);
     const ex rt = def("u_root", root(disc));
     const V k3 = geometry::cross(k1, k2);
-    int match = 0, gamma_sign = 0;
-    for (const int t : {1, -1}) {
-      const V z = al * k1 + be * k2 + (t * rt) * k3;
-      if (angles_match(cu, anchor_first, k1, k2, p, w, z)) gamma_sign = t, ++match;
-    }
-    if (match != 1) return false;
-    const V z = def("z", al * k1 + be * k2 + (gamma_sign * rt) * k3);
+    // The two roots differ in z's k3 component (+-root): the nearer to the warm start's
+    // z = Rot(k2, a2) p has the sign of that z's k3 component (a2 the angle about k2: column
+    // cu + 1's when the anchor is first, minus column cu's otherwise).
+    const ex a2_warm = anchor_first ? warm(cu + 1) : -warm(cu);
+    const ex side = geometry::dot(k3, geometry::rodrigues(k2, a2_warm) * p);
+    const ex gamma = def("branch_u", followed_branch(side, ctx_.value(side)));
+    const V z = def("z", al * k1 + be * k2 + (gamma * rt) * k3);
+    if (!angles_match(cu, anchor_first, k1, k2, p, w, z)) return false;
     const ex y2 = geometry::dot(k2, geometry::cross(p, z)), x2 = geometry::dot(p, z) - be * be;
     const ex y1 = geometry::dot(k1, geometry::cross(z, w)), x1 = geometry::dot(z, w) - al * al;
     if (anchor_first) {
@@ -426,10 +439,11 @@ class LinkSolver {
                  R1(0, i) * R2(0, j) + R1(1, i) * R2(1, j) + R1(2, i) * R2(2, j));
     };
     const ex m00 = rel(0, 0), m01 = rel(0, 1), m02 = rel(0, 2), m12 = rel(1, 2), m22 = rel(2, 2);
-    // The sign of the middle angle's cosine is the assembly's (a spherical joint is singular
-    // where it is zero, docs/spatial.md).
+    // Of the two equivalent angle sets, the one whose middle angle's cosine has the sign of the
+    // warm start's (a spherical joint is singular where it is zero, docs/spatial.md).
     const size_t cs = column(sj);
-    const double kappa = std::cos(ctx_.assembly_q[cs + 1]) >= 0 ? 1 : -1;
+    const ex middle = GiNaC::cos(warm(cs + 1));
+    const ex kappa = def("branch_s", followed_branch(middle, ctx_.value(middle)));
     define_angle(cs, -kappa * m12, kappa * m22);
     define_angle(cs + 1, m02, kappa * GiNaC::sqrt(m12 * m12 + m22 * m22));
     define_angle(cs + 2, -kappa * m01, kappa * m00);
@@ -457,7 +471,6 @@ class LinkSolver {
   std::string prefix_;
   V d0_, cX_, cY_;
   ex length_, scale_;
-  int tau_ = 0;
   Pose DY_;
 };
 

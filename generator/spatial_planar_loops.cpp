@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "branch_sign.hpp"
 #include "spatial_circuit_loop.hpp"
 
 namespace mechgen::gen {
@@ -127,8 +128,9 @@ class DyadSolver {
       : c_(c), d_(d), prefix_(std::move(prefix)) {}
 
   // Side lengths from the known segments; with `naming`, each intermediate a definition.
-  // tau: which of the circles' two intersections.
-  DyadSolution solve(int tau, bool naming) {
+  // tau: which of the circles' two intersections (+1 or -1), or with `theta1_warm` (the warm
+  // start of theta1) the one nearer it, chosen at run time.
+  DyadSolution solve(int tau, bool naming, const ex* theta1_warm = nullptr) {
     naming_ = naming;
     const V& n = d_.n;
     const auto in_plane = [&n](const V& x) { return x - geometry::dot(x, n) * n; };
@@ -151,7 +153,14 @@ class DyadSolver {
     // zero, never NaN.
     const ex root = name("root", GiNaC::sqrt((s.disc + GiNaC::abs(s.disc)) / 2));
     const V nd = geometry::cross(n, d);
-    const V z = name("z", (1 / dd) * (e * d + (tau * root) * nd));  // y - p1, in the plane
+    // The two intersections differ in z's n x d component (+-root): the nearer to the warm
+    // start's z = Rot(n, -theta1) r has the sign of that z's n x d component.
+    ex branch = tau;
+    if (theta1_warm) {
+      const ex nearer = nearer_plus(n, d, r, *theta1_warm);
+      branch = name("branch", followed_branch(nearer, c_.at_assembly(nearer)));
+    }
+    const V z = name("z", (1 / dd) * (e * d + (branch * root) * nd));  // y - p1, in the plane
     // theta1 takes z to r; theta2 takes u to B1^-1 (y - B1 p2) = R_B1^T (z - d).
     s.cos[0] = name("cos1", geometry::dot(z, r) / rr);
     s.sin[0] = name("sin1", geometry::dot(n, geometry::cross(z, r)) / rr);
@@ -165,6 +174,23 @@ class DyadSolver {
     s.cos[2] = name("cos3", geometry::dot(w, g) / uu);
     s.sin[2] = name("sin3", geometry::dot(n, geometry::cross(w, g)) / uu);
     return s;
+  }
+
+  // (n x d) . Rot(n, -theta) r for d and r in the plane normal to n: positive where the + root is
+  // the nearer to theta1 = theta.
+  static ex nearer_plus(const V& n, const V& d, const V& r, const ex& theta) {
+    return GiNaC::cos(theta) * geometry::dot(n, geometry::cross(d, r)) -
+           GiNaC::sin(theta) * geometry::dot(d, r);
+  }
+  // Which root the rule takes at the assembly (theta1 there).
+  int assembly_branch(double theta1) {
+    naming_ = false;
+    const V& n = d_.n;
+    const auto in_plane = [&n](const V& x) { return x - geometry::dot(x, n) * n; };
+    const V r = in_plane(
+        geometry::apply(geometry::inverse(segment_motion(c_, d_.segment[2])), pivot(2)) - pivot(0));
+    const V d = in_plane(geometry::apply(segment_motion(c_, d_.segment[0]), pivot(1)) - pivot(0));
+    return c_.at_assembly(nearer_plus(n, d, r, theta1)) >= 0 ? 1 : -1;
   }
 
  private:
@@ -204,15 +230,15 @@ std::optional<CircuitClosedForm> planar_loop_closed_form(const CircuitSolverCont
   const std::string chord =
       c.model.joints[static_cast<size_t>(c.graph.chords[static_cast<size_t>(circuit)])].name;
   DyadSolver solver(c, d, "pl_" + chord + "_");
-  // The branch: the one intersection whose angles are the assembly's (none, or both at a dead
-  // point where the circles touch: left to Newton).
-  int tau = 0, matches = 0;
-  for (const int t : {1, -1}) {
-    const DyadSolution s = solver.solve(t, false);
-    if (c.at_assembly(s.disc) > 0 && matches_assembly(c, d, s)) tau = t, ++matches;
-  }
-  if (matches != 1) return std::nullopt;
-  const DyadSolution s = solver.solve(tau, true);
+  // The branch: the intersection nearer the warm start, at run time; at the assembly it must be
+  // the assembly's, away from a dead point where the circles touch (else left to Newton).
+  const double theta1 = d.sigma[0] * c.assembly_q[static_cast<size_t>(d.column[0])];
+  const DyadSolution at_assembly = solver.solve(solver.assembly_branch(theta1), false);
+  if (!(c.at_assembly(at_assembly.disc) > 0) || !matches_assembly(c, d, at_assembly))
+    return std::nullopt;
+  const ex warm0 = c.warm_start(d.column[0]);
+  const ex theta1_warm = d.sigma[0] * warm0;
+  const DyadSolution s = solver.solve(0, true, &theta1_warm);
   CircuitClosedForm out;
   out.name = "planar_loop_" + chord;
   out.reach.push_back(s.disc);
@@ -221,7 +247,7 @@ std::optional<CircuitClosedForm> planar_loop_closed_form(const CircuitSolverCont
     // q = sigma theta, unwound to the warm start w: w + atan2(sin(q - w), cos(q - w)).
     const auto col = d.column[k];
     const ex cq = s.cos[k], sq = d.sigma[k] * s.sin[k];
-    const ex w = c.warm_start(col);
+    const ex w = k == 0 ? warm0 : c.warm_start(col);
     const ex cw = GiNaC::cos(w), sw = GiNaC::sin(w);
     out.coordinates.emplace_back(
         col, w + GiNaC::atan2((sq * cw - cq * sw).expand(), (cq * cw + sq * sw).expand()));
@@ -229,8 +255,8 @@ std::optional<CircuitClosedForm> planar_loop_closed_form(const CircuitSolverCont
     joints += (k ? ", " : "") + c.model.joints[static_cast<size_t>(d.joint[k])].name;
   }
   out.plan = "planar loop " + joints +
-             " (parallel revolute axes) in closed form in its plane: circle intersection (branch " +
-             (tau > 0 ? "+" : "-") + " from the assembly), angles unwound to the warm start";
+             " (parallel revolute axes) in closed form in its plane: circle intersection (the one "
+             "nearer the warm start), angles unwound to the warm start";
   return out;
 }
 

@@ -94,12 +94,12 @@ std::optional<CircuitClosedForm> position_limb_ik(const CircuitSolverContext& c,
   // The last two parallel, the first across them.
   if (!small(c, geometry::cross(a[1].w, a[2].w)) || small(c, geometry::cross(a[0].w, a[1].w)))
     return std::nullopt;
-  std::vector<double> target;  // the assembly's angles theta_i = direction_i q_i
-  for (const Axis& x : a) target.push_back(x.direction * c.assembly_q[x.column]);
-  std::vector<double> free_target;
-  for (const Axis& x : *free) free_target.push_back(x.direction * c.assembly_q[x.column]);
-
   LimbIk ik{c, limb_group_name(c, lc, circuit) + "_", {}, {}};
+  std::vector<LimbIk::Target> target;  // the angles theta_i = direction_i q_i
+  for (const Axis& x : a) target.push_back(ik.target(x.column, x.direction));
+  std::vector<LimbIk::Target> free_target;
+  for (const Axis& x : *free) free_target.push_back(ik.target(x.column, x.direction));
+
   ik.out.name = limb_group_name(c, lc, circuit);
   const std::string& p = ik.prefix;
   // The limb's motion is the inverse of the rest's; the free rotations fix the target point P
@@ -124,10 +124,9 @@ std::optional<CircuitClosedForm> position_limb_ik(const CircuitSolverContext& c,
   ik.out.reach.push_back(reach1);
   const ex root1 = c.named(p + "swing_root", GiNaC::sqrt(reach1));
   const V e = n - k * w1, m = geometry::cross(w1, n);
-  const auto u_of = [&](int sign) { return (offset / kk) * e + (sign * root1 / kk) * m; };
-  const int tau1 = ik.branch(
-      [&](int sign) { return std::vector<ex>{rotation_taking(w1, u_of(sign), v)}; }, {target[0]});
-  const V u = named_vector(c, p + "swing_from", u_of(tau1));
+  // The roots differ in u's m component: the warm start's u = Rot(w1, -theta1) v is on one side.
+  const ex tau1 = ik.branch(geometry::dot(m, geometry::rodrigues(w1, -target[0].warm) * v));
+  const V u = named_vector(c, p + "swing_from", (offset / kk) * e + (tau1 * root1 / kk) * m);
   const ex theta1 = ik.angle("theta1", rotation_taking(w1, u, v), target[0]);
 
   // The planar 2R about n: |L + Rot(phi) P3| = |d| in the plane normal to n, A cos phi +
@@ -146,17 +145,12 @@ std::optional<CircuitClosedForm> position_limb_ik(const CircuitSolverContext& c,
   const ex reach2 = c.named(p + "reach", r2 - C * C);
   ik.out.reach.push_back(reach2);
   const ex root2 = c.named(p + "root", GiNaC::sqrt(reach2));
-  const auto cos_sin = [&](int sign) {
-    return std::pair<ex, ex>{(A * C - sign * B * root2) / r2, (B * C + sign * A * root2) / r2};
-  };
-  const auto planar = [&](int sign) {
-    const auto [cp, sp] = cos_sin(sign);
-    const V z = L + cp * P3 + sp * nP3;
-    return std::vector<ex>{rotation_taking(n, z, d), sigma3 * GiNaC::atan2(sp, cp)};
-  };
-  const int tau2 = ik.branch(planar, {target[1], target[2]});
-  const ex cos_phi = c.named(p + "cos", cos_sin(tau2).first);
-  const ex sin_phi = c.named(p + "sin", cos_sin(tau2).second);
+  // phi = psi +- alpha (psi = atan2(B, A)): the warm start's phi = sigma3 theta3 is on the + root's
+  // side where sin(phi - psi) > 0, A sin phi - B cos phi > 0.
+  const ex phi_warm = sigma3 * target[2].warm;
+  const ex tau2 = ik.branch(A * GiNaC::sin(phi_warm) - B * GiNaC::cos(phi_warm));
+  const ex cos_phi = c.named(p + "cos", (A * C - tau2 * B * root2) / r2);
+  const ex sin_phi = c.named(p + "sin", (B * C + tau2 * A * root2) / r2);
   const V z = named_vector(c, p + "elbow", L + cos_phi * P3 + sin_phi * nP3);
   const ex theta2 = ik.angle("theta2", rotation_taking(n, z, d), target[1]);
   const ex theta3 = ik.angle("theta3", sigma3 * GiNaC::atan2(sin_phi, cos_phi), target[2]);
@@ -181,8 +175,8 @@ std::optional<CircuitClosedForm> position_limb_ik(const CircuitSolverContext& c,
 
   // Both square roots' branches must give the assembly itself, else leave the circuit to Newton.
   for (size_t i = 0; i < 3; ++i)
-    if (std::abs(c.at_assembly(theta[i]) - target[i]) > 1e-6 ||
-        std::abs(c.at_assembly(phi[i]) - free_target[i]) > 1e-6)
+    if (std::abs(c.at_assembly(theta[i]) - target[i].assembly) > 1e-6 ||
+        std::abs(c.at_assembly(phi[i]) - free_target[i].assembly) > 1e-6)
       return std::nullopt;
   std::string joints;
   for (size_t i = 0; i < 3; ++i) {
@@ -193,8 +187,8 @@ std::optional<CircuitClosedForm> position_limb_ik(const CircuitSolverContext& c,
   ik.out.plan = "pose-driven position target, limb " + joints +
                 " in closed form (first axis across the parallel pair: the target's component "
                 "along it and distance from it, then the planar 2R by the law of cosines; the "
-                "free rotations by Paden-Kahan 2 and 1; branches " +
-                ik.branch_signs() + " from the assembly)";
+                "free rotations by Paden-Kahan 2 and 1; each root the one nearer the warm start: " +
+                ik.branch_signs() + " at the assembly)";
   return ik.out;
 }
 

@@ -46,16 +46,21 @@ inline Values input_values(const SpatialModel& model, const SpatialGraph& graph,
 }
 
 // Every definition of `d` evaluated at a state the numeric solver solved: the inputs, the Newton
-// coordinates' warm start at the solved coordinates, the closed-form angles' unwound to the
-// assembly's (the outputs read their cosines and sines).
+// coordinates' and the closed-form angles' warm starts at the solved coordinates (no rates: the
+// prediction is the warm start itself), so every root taken is the solver's.
 inline Values derivation_values(const SpatialModel& model, const SpatialGraph& graph,
                                 const SpatialDerivation& d, const std::vector<double>& parameters,
                                 const spatial::SpatialState& st) {
   Values values = input_values(model, graph, parameters, st.q, st.qd, st.qdd, st.t);
   for (size_t k = 0; k < graph.secondary.size(); ++k)
     values["s.closure.q[" + std::to_string(k) + "]"] = st.q[graph.secondary[k]];
-  for (size_t k = 0; k < d.angle_start.size(); ++k)
-    values["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
+  values["s.closure.wt"] = st.t;
+  values["s.closure.follow"] = 1;
+  for (size_t k = 0; k < d.angle_columns.size(); ++k) {
+    const std::string index = "[" + std::to_string(k) + "]";
+    values["s.closure.w" + index] = st.q[d.angle_columns[k]];
+    values["s.closure.wd" + index] = values["s.closure.wdd" + index] = 0;
+  }
   for (const auto& [symbol, value] : d.definitions)
     values[symbol.get_name()] = evaluate(value, values);
   return values;

@@ -211,8 +211,8 @@ TEST(SpatialModel, MassesAndInertiasAreCheckedInTheFileAndThroughSet) {
             "the triangle inequality (I1 + I2 >= I3)");
   EXPECT_EQ(error_of(body("{mass: m, com: [0.25, 0, 0], inertia: [[0.01, 0.02, 0], [0.02, 0.01, "
                           "0], [0, 0, 0.015]]}")),
-            "bad.yaml:8:11: error: body 'a': the inertia tensor is not positive definite "
-            "(smallest principal moment -0.01 kg m^2)");
+            "bad.yaml:8:11: error: body 'a': the inertia tensor has a negative principal "
+            "moment (-0.01 kg m^2)");
   EXPECT_EQ(error_of(body("{mass: 0, com: [0.25, 0, 0], inertia: [0.01, 0.01, 0.01]}")),
             "bad.yaml:8:11: error: body 'a' has no mass but an inertia tensor");
   EXPECT_EQ(error_of(body("{mass: 0, com: [0.25, 0, 0], inertia: [0, 0, 0]}"), true),
@@ -234,9 +234,12 @@ TEST(SpatialModel, MassesAndInertiasAreCheckedInTheFileAndThroughSet) {
   EXPECT_EQ(set_error({"Izz=0.5"}),
             "link.yaml:8:11: error: body 'a': principal moments 0.01, 0.01, 0.5 kg m^2 violate "
             "the triangle inequality (I1 + I2 >= I3) (with Izz = 0.5)");
-  EXPECT_EQ(set_error({"Izz=0"}),
-            "link.yaml:8:11: error: body 'a': the inertia tensor is not positive definite "
-            "(smallest principal moment 0 kg m^2) (with Izz = 0)");
+  // A thin rod along z (Izz = 0) and a point mass are rigid bodies; a negative moment is not.
+  EXPECT_EQ(set_error({"Izz=0"}), "<accepted>");
+  EXPECT_EQ(error_of(body("{mass: m, com: [0.25, 0, 0], inertia: [0, 0, 0]}"), true), "<accepted>");
+  EXPECT_EQ(set_error({"Izz=-0.001"}),
+            "link.yaml:8:11: error: body 'a': the inertia tensor has a negative principal moment "
+            "(-0.001 kg m^2) (with Izz = -0.001)");
 
   // The cases: a negative mass and a negative density in shipped models.
   const SpatialModel bioloid =

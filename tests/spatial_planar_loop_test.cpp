@@ -160,9 +160,14 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
   const std::vector<double> parameters = model.common.default_parameters();
   const spatial::SpatialSolver solver(model, parameters);
   spatial::SpatialState st;
-  std::map<std::string, double> previous;  // the warm starts: the assembly's at first
-  for (size_t k = 0; k < d.angle_start.size(); ++k)
-    previous["s.closure.w[" + std::to_string(k) + "]"] = d.angle_start[k];
+  // The warm starts: the assembly's at first, then the previous sample's coordinates (carried
+  // without rates: the samples are near enough for the nearer root to be the motion's).
+  std::map<std::string, double> previous{{"s.closure.wt", 0}, {"s.closure.follow", 1}};
+  for (size_t k = 0; k < d.angle_start.size(); ++k) {
+    const std::string index = "[" + std::to_string(k) + "]";
+    previous["s.closure.w" + index] = d.angle_start[k];
+    previous["s.closure.wd" + index] = previous["s.closure.wdd" + index] = 0;
+  }
   double worst = 0;
   const int samples = 25;
   for (int i = 0; i < samples; ++i) {
@@ -170,6 +175,7 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
     solver.solve(t, st);
     std::map<std::string, double> values = previous;
     values["p.w"] = parameters[0];
+    values["in.t"] = t;
     values["in.crank_angle"] = st.q[graph.joint_column[0]];
     values["in.crank_angle_d"] = st.qd[graph.joint_column[0]];
     values["in.crank_angle_dd"] = st.qdd[graph.joint_column[0]];

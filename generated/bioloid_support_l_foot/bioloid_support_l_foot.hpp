@@ -188,6 +188,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+namespace detail {
+// +1 or -1 (+1 at 0): of a closed form's two roots, the one nearer the warm start (x is a smooth
+// expression of it whose sign says which).
+template <class T>
+inline T branch_sign(T x) noexcept {
+  return x < T(0) ? T(-1) : T(1);
+}
+}  // namespace detail
+
 // Driver coordinates with their first and second time derivatives, and the time t.
 template <class Real>
 struct Inputs {
@@ -20953,7 +20962,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x54dcc6053a813571ULL;
+inline constexpr unsigned long long fingerprint = 0x159ba310b33aea56ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 36;

@@ -20,7 +20,7 @@
 //   crank: revolute 'A_ground_crank' from 'ground' (product of exponentials)
 //   rocker: revolute 'B_ground_rocker' from 'ground' (product of exponentials)
 //   coupler: revolute 'P_crank_coupler' from 'crank' (product of exponentials)
-//   planar_loop_M_rocker_coupler: planar loop B_ground_rocker, M_rocker_coupler, P_crank_coupler (parallel revolute axes) in closed form in its plane: circle intersection (branch - from the assembly), angles unwound to the warm start
+//   planar_loop_M_rocker_coupler: planar loop B_ground_rocker, M_rocker_coupler, P_crank_coupler (parallel revolute axes) in closed form in its plane: circle intersection (the one nearer the warm start), angles unwound to the warm start
 //   closure: 3 secondary coordinates, 6 closure rows; every circuit in closed form, no Newton; Davies' pivot order from 72 samples (smallest pivot 0.61 of its column); redundant rows dropped: wx of circuit 0, wy of circuit 0, vz of circuit 0
 #pragma once
 
@@ -137,6 +137,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+namespace detail {
+// +1 or -1 (+1 at 0): of a closed form's two roots, the one nearer the warm start (x is a smooth
+// expression of it whose sign says which).
+template <class T>
+inline T branch_sign(T x) noexcept {
+  return x < T(0) ? T(-1) : T(1);
+}
+}  // namespace detail
+
 // Driver coordinates with their first and second time derivatives, and the time t.
 template <class Real>
 struct Inputs {
@@ -235,6 +244,12 @@ struct State {
   struct {
     Real w[3] = {Real(0.0), Real(0.0), Real(0.0)};
     Real wnext[3];
+    Real wd[3] = {}, wdd[3] = {};  // rates and accelerations at time wt
+    Real wdnext[3], wddnext[3];
+    Real wt = Real(0);
+    // 1 once a call was accepted or the start seeded: the closed forms' roots follow
+    // the warm start; 0 (fresh): the assembly's roots.
+    Real follow = Real(0);
     Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
@@ -280,11 +295,12 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::abs;
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 449
+  // Total ops: 490
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -299,30 +315,38 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pl_M_rocker_coupler_reach = pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp1 = T(1)/pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*_tmp1*pl_M_rocker_coupler_root - T(2)*p.l*_tmp1*pl_M_rocker_coupler_e;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*_tmp1*pl_M_rocker_coupler_root - T(1.5)*p.l*_tmp1*pl_M_rocker_coupler_e;
-  const T _tmp2 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp2 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp2;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp2 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp2;
+  const T _tmp1 = in.t - s.closure.wt;
+  const T _tmp2 = T(0.5)*(_tmp1*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp1;
+  const T _tmp3 = _tmp2 + s.closure.w[0];
+  const T _tmp4 = cos(_tmp3);
+  const T _tmp5 = sin(_tmp3);
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*_tmp4 + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*_tmp5)*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp6 = T(1)/pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*_tmp6*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root - T(2)*p.l*_tmp6*pl_M_rocker_coupler_e;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*_tmp6*pl_M_rocker_coupler_e - T(2)*p.l*_tmp6*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root;
+  const T _tmp7 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp7 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp7;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp7 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp7;
   const T pl_M_rocker_coupler_v_x = _tmp0 + pl_M_rocker_coupler_z_x;
   const T pl_M_rocker_coupler_v_y = T(1.5)*p.l + pl_M_rocker_coupler_z_y;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_v_y;
-  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_v_x;
+  const T _tmp8 = T(1)/pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_v_y;
+  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_v_x;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_w_y;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_w_x;
-  const T _tmp4 = cos(s.closure.w[2]);
-  const T _tmp5 = sin(s.closure.w[2]);
-  const T q_P_crank_coupler = atan2(-_tmp4*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp5, _tmp4*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp5) + s.closure.w[2];
-  const T _tmp6 = cos(s.closure.w[1]);
-  const T _tmp7 = sin(s.closure.w[1]);
-  const T q_M_rocker_coupler = atan2(_tmp6*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp7, _tmp6*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp7) + s.closure.w[1];
-  const T _tmp8 = cos(s.closure.w[0]);
-  const T _tmp9 = sin(s.closure.w[0]);
-  const T q_B_ground_rocker = atan2(_tmp8*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp9, _tmp8*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp9) + s.closure.w[0];
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_w_y;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_w_x;
+  const T _tmp9 = T(0.5)*(_tmp1*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp1;
+  const T _tmp10 = _tmp9 + s.closure.w[2];
+  const T _tmp11 = cos(_tmp10);
+  const T _tmp12 = sin(_tmp10);
+  const T q_P_crank_coupler = _tmp9 + atan2(-_tmp11*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp12, _tmp11*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp12) + s.closure.w[2];
+  const T _tmp13 = T(0.5)*(_tmp1*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp1;
+  const T _tmp14 = _tmp13 + s.closure.w[1];
+  const T _tmp15 = cos(_tmp14);
+  const T _tmp16 = sin(_tmp14);
+  const T q_M_rocker_coupler = _tmp13 + atan2(_tmp15*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp16, _tmp15*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp16) + s.closure.w[1];
+  const T q_B_ground_rocker = _tmp2 + atan2(_tmp4*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp5, _tmp4*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp5) + s.closure.w[0];
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T cos_M_rocker_coupler = pl_M_rocker_coupler_cos2;
@@ -332,21 +356,21 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T p_rocker_x = _tmp0 - T(2)*p.l*cos_B_ground_rocker;
   const T p_rocker_y = -T(2)*p.l*sin_B_ground_rocker;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp10 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp10;
-  const T R_coupler_10 = _tmp10;
+  const T _tmp17 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp17;
+  const T R_coupler_10 = _tmp17;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp11 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp11;
-  const T _tmp12 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp12 - p_rocker_x;
+  const T _tmp18 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp18;
+  const T _tmp19 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp19 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp12 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp11 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp19 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp18 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -356,8 +380,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
   const T lu_ipiv1 = T(1)/lu_a0_1_1;
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
-  const T _tmp13 = lu_f1_0*lu_f2_1;
-  const T lu_a1_2_2 = lu_a0_2_2 + _tmp13;
+  const T _tmp20 = lu_f1_0*lu_f2_1;
+  const T lu_a1_2_2 = lu_a0_2_2 + _tmp20;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
   const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
@@ -366,7 +390,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T vel_x2 = lu_ipiv2*vel_b1_2;
   const T vel_x1 = lu_f1_0*lu_ipiv1*vel_x2 + lu_ipiv1*vel_b0_1;
   const T vel_x0 = lu_ipiv0*in.crank_angle_d - lu_ipiv0*vel_x1 - lu_ipiv0*vel_x2;
-  const T sen0_b1_2 = _tmp13 - lu_f2_0;
+  const T sen0_b1_2 = _tmp20 - lu_f2_0;
   const T sen0_x2 = lu_ipiv2*sen0_b1_2;
   const T sen0_x1 = lu_f1_0*lu_ipiv1*sen0_x2 - lu_f1_0*lu_ipiv1;
   const T sen0_x0 = lu_ipiv0 - lu_ipiv0*sen0_x1 - lu_ipiv0*sen0_x2;
@@ -378,10 +402,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T dsv_P_crank_coupler_y = in.crank_angle_d*sv_P_crank_coupler_x;
   const T dsv_M_rocker_coupler_x = v_rocker_y - sv_M_rocker_coupler_y*vel_x2;
   const T dsv_M_rocker_coupler_y = sv_M_rocker_coupler_x*vel_x2;
-  const T _tmp14 = dsv_P_crank_coupler_x*vel_x0;
-  const T acc_rhs3 = _tmp14 - dsv_M_rocker_coupler_x*vel_x1;
-  const T _tmp15 = dsv_P_crank_coupler_y*vel_x0;
-  const T acc_rhs4 = _tmp15 - dsv_M_rocker_coupler_y*vel_x1;
+  const T _tmp21 = dsv_P_crank_coupler_x*vel_x0;
+  const T acc_rhs3 = _tmp21 - dsv_M_rocker_coupler_x*vel_x1;
+  const T _tmp22 = dsv_P_crank_coupler_y*vel_x0;
+  const T acc_rhs4 = _tmp22 - dsv_M_rocker_coupler_y*vel_x1;
   const T acc_b0_1 = acc_rhs3 - in.crank_angle_dd*lu_f1_0;
   const T acc_b0_2 = acc_rhs4 - in.crank_angle_dd*lu_f2_0;
   const T acc_b1_2 = acc_b0_2 - acc_b0_1*lu_f2_1;
@@ -390,18 +414,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T acc_x0 = lu_ipiv0*in.crank_angle_dd - lu_ipiv0*acc_x1 - lu_ipiv0*acc_x2;
   const T dv_rocker_y = -T(2)*p.l*acc_x2;
   const T dw_coupler_z = acc_x0 + in.crank_angle_dd;
-  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp14;
-  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp15;
+  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp21;
+  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp22;
   const T com_crank_x = -T(0.5)*p.l*sin_A_ground_crank;
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
   const T ac_crank_x = -com_crank_y*in.crank_angle_dd - in.crank_angle_d*vc_crank_y;
   const T ac_crank_y = com_crank_x*in.crank_angle_dd + in.crank_angle_d*vc_crank_x;
-  const T _tmp16 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp16;
-  const T _tmp17 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp17;
+  const T _tmp23 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp23;
+  const T _tmp24 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp24;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T ac_coupler_x = dv_coupler_x - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
@@ -420,8 +444,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
   const T vp_C_x = v_coupler_x - pt_C_y*w_coupler_z;
   const T vp_C_y = pt_C_x*w_coupler_z + v_coupler_y;
-  const T pt_M_x = -_tmp16;
-  const T pt_M_y = -_tmp17;
+  const T pt_M_x = -_tmp23;
+  const T pt_M_y = -_tmp24;
   const T vp_M_x = v_coupler_x - pt_M_y*w_coupler_z;
   const T vp_M_y = pt_M_x*w_coupler_z + v_coupler_y;
   const T jw_coupler_0_z = sen0_x0 + T(1);
@@ -433,6 +457,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x2;
+  s.closure.wdnext[1] = vel_x1;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x2;
+  s.closure.wddnext[1] = acc_x1;
+  s.closure.wddnext[2] = acc_x0;
   s.bodies.crank.x = com_crank_x;
   s.bodies.crank.y = com_crank_y;
   s.bodies.crank.z = T(0);
@@ -595,7 +625,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 4, Status::unreachable;
   if (!(abs(s.closure.det) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
-  for (int i = 0; i < 3; ++i) s.closure.w[i] = s.closure.wnext[i];
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -607,11 +643,12 @@ template <class T>
 Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::abs;
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 349
+  // Total ops: 390
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -626,30 +663,38 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pl_M_rocker_coupler_reach = pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp1 = T(1)/pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*_tmp1*pl_M_rocker_coupler_root - T(2)*p.l*_tmp1*pl_M_rocker_coupler_e;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*_tmp1*pl_M_rocker_coupler_root - T(1.5)*p.l*_tmp1*pl_M_rocker_coupler_e;
-  const T _tmp2 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp2 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp2;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp2 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp2;
+  const T _tmp1 = in.t - s.closure.wt;
+  const T _tmp2 = T(0.5)*(_tmp1*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp1;
+  const T _tmp3 = _tmp2 + s.closure.w[0];
+  const T _tmp4 = cos(_tmp3);
+  const T _tmp5 = sin(_tmp3);
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*_tmp4 + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*_tmp5)*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp6 = T(1)/pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*_tmp6*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root - T(2)*p.l*_tmp6*pl_M_rocker_coupler_e;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*_tmp6*pl_M_rocker_coupler_e - T(2)*p.l*_tmp6*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root;
+  const T _tmp7 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp7 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp7;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp7 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp7;
   const T pl_M_rocker_coupler_v_x = _tmp0 + pl_M_rocker_coupler_z_x;
   const T pl_M_rocker_coupler_v_y = T(1.5)*p.l + pl_M_rocker_coupler_z_y;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_v_y;
-  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_v_x;
+  const T _tmp8 = T(1)/pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_v_y;
+  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_v_x;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_w_y;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp3*pl_M_rocker_coupler_w_x;
-  const T _tmp4 = cos(s.closure.w[2]);
-  const T _tmp5 = sin(s.closure.w[2]);
-  const T q_P_crank_coupler = atan2(-_tmp4*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp5, _tmp4*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp5) + s.closure.w[2];
-  const T _tmp6 = cos(s.closure.w[1]);
-  const T _tmp7 = sin(s.closure.w[1]);
-  const T q_M_rocker_coupler = atan2(_tmp6*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp7, _tmp6*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp7) + s.closure.w[1];
-  const T _tmp8 = cos(s.closure.w[0]);
-  const T _tmp9 = sin(s.closure.w[0]);
-  const T q_B_ground_rocker = atan2(_tmp8*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp9, _tmp8*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp9) + s.closure.w[0];
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_w_y;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp8*pl_M_rocker_coupler_w_x;
+  const T _tmp9 = T(0.5)*(_tmp1*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp1;
+  const T _tmp10 = _tmp9 + s.closure.w[2];
+  const T _tmp11 = cos(_tmp10);
+  const T _tmp12 = sin(_tmp10);
+  const T q_P_crank_coupler = _tmp9 + atan2(-_tmp11*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp12, _tmp11*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp12) + s.closure.w[2];
+  const T _tmp13 = T(0.5)*(_tmp1*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp1;
+  const T _tmp14 = _tmp13 + s.closure.w[1];
+  const T _tmp15 = cos(_tmp14);
+  const T _tmp16 = sin(_tmp14);
+  const T q_M_rocker_coupler = _tmp13 + atan2(_tmp15*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp16, _tmp15*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp16) + s.closure.w[1];
+  const T q_B_ground_rocker = _tmp2 + atan2(_tmp4*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp5, _tmp4*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp5) + s.closure.w[0];
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T cos_M_rocker_coupler = pl_M_rocker_coupler_cos2;
@@ -659,21 +704,21 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T p_rocker_x = _tmp0 - T(2)*p.l*cos_B_ground_rocker;
   const T p_rocker_y = -T(2)*p.l*sin_B_ground_rocker;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp10 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp10;
-  const T R_coupler_10 = _tmp10;
+  const T _tmp17 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp17;
+  const T R_coupler_10 = _tmp17;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp11 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp11;
-  const T _tmp12 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp12 - p_rocker_x;
+  const T _tmp18 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp18;
+  const T _tmp19 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp19 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp12 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp11 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp19 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp18 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -700,10 +745,10 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
-  const T _tmp13 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp13;
-  const T _tmp14 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp14;
+  const T _tmp20 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp20;
+  const T _tmp21 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp21;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T com_rocker_x = T(0.75)*p.l*sin_B_ground_rocker + p.l*cos_B_ground_rocker + p_rocker_x;
@@ -718,8 +763,8 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
   const T vp_C_x = v_coupler_x - pt_C_y*w_coupler_z;
   const T vp_C_y = pt_C_x*w_coupler_z + v_coupler_y;
-  const T pt_M_x = -_tmp13;
-  const T pt_M_y = -_tmp14;
+  const T pt_M_x = -_tmp20;
+  const T pt_M_y = -_tmp21;
   const T vp_M_x = v_coupler_x - pt_M_y*w_coupler_z;
   const T vp_M_y = pt_M_x*w_coupler_z + v_coupler_y;
   s.closure.wnext[0] = q_B_ground_rocker;
@@ -727,6 +772,9 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x2;
+  s.closure.wdnext[1] = vel_x1;
+  s.closure.wdnext[2] = vel_x0;
   s.bodies.crank.x = com_crank_x;
   s.bodies.crank.y = com_crank_y;
   s.bodies.crank.z = T(0);
@@ -839,7 +887,13 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 4, Status::unreachable;
   if (!(abs(s.closure.det) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
-  for (int i = 0; i < 3; ++i) s.closure.w[i] = s.closure.wnext[i];
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = T(0);
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -849,11 +903,12 @@ template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::abs;
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 584
+  // Total ops: 625
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -869,56 +924,64 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T pl_M_rocker_coupler_reach = pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp2 = T(1)/pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_root - T(2)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*_tmp2*pl_M_rocker_coupler_root - T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp3 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp3;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp3 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp3;
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2;
+  const T _tmp4 = _tmp3 + s.closure.w[0];
+  const T _tmp5 = cos(_tmp4);
+  const T _tmp6 = sin(_tmp4);
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*_tmp5 + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*_tmp6)*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp7 = T(1)/pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root - T(2)*p.l*_tmp7*pl_M_rocker_coupler_e;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_e - T(2)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root;
+  const T _tmp8 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp8 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp8;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp8 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp8;
   const T pl_M_rocker_coupler_v_x = _tmp0 + pl_M_rocker_coupler_z_x;
   const T pl_M_rocker_coupler_v_y = T(1.5)*p.l + pl_M_rocker_coupler_z_y;
-  const T _tmp4 = T(1)/pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_y;
-  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_x;
+  const T _tmp9 = T(1)/pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_y;
+  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_x;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_y;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_x;
-  const T _tmp5 = cos(s.closure.w[2]);
-  const T _tmp6 = sin(s.closure.w[2]);
-  const T q_P_crank_coupler = atan2(-_tmp5*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp6, _tmp5*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp6) + s.closure.w[2];
-  const T _tmp7 = cos(s.closure.w[1]);
-  const T _tmp8 = sin(s.closure.w[1]);
-  const T q_M_rocker_coupler = atan2(_tmp7*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp8, _tmp7*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp8) + s.closure.w[1];
-  const T _tmp9 = cos(s.closure.w[0]);
-  const T _tmp10 = sin(s.closure.w[0]);
-  const T q_B_ground_rocker = atan2(_tmp9*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp10, _tmp9*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp10) + s.closure.w[0];
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_y;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_x;
+  const T _tmp10 = T(0.5)*(_tmp2*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp2;
+  const T _tmp11 = _tmp10 + s.closure.w[2];
+  const T _tmp12 = cos(_tmp11);
+  const T _tmp13 = sin(_tmp11);
+  const T q_P_crank_coupler = _tmp10 + atan2(-_tmp12*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp13, _tmp12*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp13) + s.closure.w[2];
+  const T _tmp14 = T(0.5)*(_tmp2*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp2;
+  const T _tmp15 = _tmp14 + s.closure.w[1];
+  const T _tmp16 = cos(_tmp15);
+  const T _tmp17 = sin(_tmp15);
+  const T q_M_rocker_coupler = _tmp14 + atan2(_tmp16*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp17, _tmp16*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp17) + s.closure.w[1];
+  const T q_B_ground_rocker = _tmp3 + atan2(_tmp5*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp6, _tmp5*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp6) + s.closure.w[0];
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T cos_M_rocker_coupler = pl_M_rocker_coupler_cos2;
   const T sin_M_rocker_coupler = pl_M_rocker_coupler_sin2;
   const T cos_B_ground_rocker = pl_M_rocker_coupler_cos1;
   const T sin_B_ground_rocker = pl_M_rocker_coupler_sin1;
-  const T _tmp11 = T(2)*p.l*cos_B_ground_rocker;
-  const T p_rocker_x = _tmp0 - _tmp11;
-  const T _tmp12 = T(2)*p.l*sin_B_ground_rocker;
-  const T p_rocker_y = -_tmp12;
+  const T _tmp18 = T(2)*p.l*cos_B_ground_rocker;
+  const T p_rocker_x = _tmp0 - _tmp18;
+  const T _tmp19 = T(2)*p.l*sin_B_ground_rocker;
+  const T p_rocker_y = -_tmp19;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp13 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp13;
-  const T R_coupler_10 = _tmp13;
+  const T _tmp20 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp20;
+  const T R_coupler_10 = _tmp20;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp14 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp14;
-  const T _tmp15 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp15 - p_rocker_x;
+  const T _tmp21 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp21;
+  const T _tmp22 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp22 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp15 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp14 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp22 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp21 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -928,8 +991,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
   const T lu_ipiv1 = T(1)/lu_a0_1_1;
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
-  const T _tmp16 = lu_f1_0*lu_f2_1;
-  const T lu_a1_2_2 = lu_a0_2_2 + _tmp16;
+  const T _tmp23 = lu_f1_0*lu_f2_1;
+  const T lu_a1_2_2 = lu_a0_2_2 + _tmp23;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
   const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
@@ -938,7 +1001,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T vel_x2 = lu_ipiv2*vel_b1_2;
   const T vel_x1 = lu_f1_0*lu_ipiv1*vel_x2 + lu_ipiv1*vel_b0_1;
   const T vel_x0 = lu_ipiv0*in.crank_angle_d - lu_ipiv0*vel_x1 - lu_ipiv0*vel_x2;
-  const T sen0_b1_2 = _tmp16 - lu_f2_0;
+  const T sen0_b1_2 = _tmp23 - lu_f2_0;
   const T sen0_x2 = lu_ipiv2*sen0_b1_2;
   const T sen0_x1 = lu_f1_0*lu_ipiv1*sen0_x2 - lu_f1_0*lu_ipiv1;
   const T sen0_x0 = lu_ipiv0 - lu_ipiv0*sen0_x1 - lu_ipiv0*sen0_x2;
@@ -950,10 +1013,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T dsv_P_crank_coupler_y = in.crank_angle_d*sv_P_crank_coupler_x;
   const T dsv_M_rocker_coupler_x = v_rocker_y - sv_M_rocker_coupler_y*vel_x2;
   const T dsv_M_rocker_coupler_y = sv_M_rocker_coupler_x*vel_x2;
-  const T _tmp17 = dsv_P_crank_coupler_x*vel_x0;
-  const T acc_rhs3 = _tmp17 - dsv_M_rocker_coupler_x*vel_x1;
-  const T _tmp18 = dsv_P_crank_coupler_y*vel_x0;
-  const T acc_rhs4 = _tmp18 - dsv_M_rocker_coupler_y*vel_x1;
+  const T _tmp24 = dsv_P_crank_coupler_x*vel_x0;
+  const T acc_rhs3 = _tmp24 - dsv_M_rocker_coupler_x*vel_x1;
+  const T _tmp25 = dsv_P_crank_coupler_y*vel_x0;
+  const T acc_rhs4 = _tmp25 - dsv_M_rocker_coupler_y*vel_x1;
   const T acc_b0_1 = acc_rhs3 - in.crank_angle_dd*lu_f1_0;
   const T acc_b0_2 = acc_rhs4 - in.crank_angle_dd*lu_f2_0;
   const T acc_b1_2 = acc_b0_2 - acc_b0_1*lu_f2_1;
@@ -962,18 +1025,18 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T acc_x0 = lu_ipiv0*in.crank_angle_dd - lu_ipiv0*acc_x1 - lu_ipiv0*acc_x2;
   const T dv_rocker_y = -T(2)*p.l*acc_x2;
   const T dw_coupler_z = acc_x0 + in.crank_angle_dd;
-  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp17;
-  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp18;
+  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp24;
+  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp25;
   const T com_crank_x = -T(0.5)*p.l*sin_A_ground_crank;
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
   const T ac_crank_x = -com_crank_y*in.crank_angle_dd - in.crank_angle_d*vc_crank_y;
   const T ac_crank_y = com_crank_x*in.crank_angle_dd + in.crank_angle_d*vc_crank_x;
-  const T _tmp19 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp19;
-  const T _tmp20 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp20;
+  const T _tmp26 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp26;
+  const T _tmp27 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp27;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T ac_coupler_x = dv_coupler_x - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
@@ -992,8 +1055,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
   const T vp_C_x = v_coupler_x - pt_C_y*w_coupler_z;
   const T vp_C_y = pt_C_x*w_coupler_z + v_coupler_y;
-  const T pt_M_x = -_tmp19;
-  const T pt_M_y = -_tmp20;
+  const T pt_M_x = -_tmp26;
+  const T pt_M_y = -_tmp27;
   const T vp_M_x = v_coupler_x - pt_M_y*w_coupler_z;
   const T vp_M_y = pt_M_x*w_coupler_z + v_coupler_y;
   const T jw_coupler_0_z = sen0_x0 + T(1);
@@ -1001,22 +1064,22 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T jv_coupler_0_y = sen0_x0*sv_P_crank_coupler_y;
   const T jv_rocker_0_y = -T(2)*p.l*sen0_x2;
   const T m_crank = p.bar_t*p.bar_w*p.l*p.rho;
-  const T _tmp21 = (p.bar_w*p.bar_w)*p.bar_w;
-  const T _tmp22 = T(1)/T(12);
-  const T _tmp23 = _tmp1*p.l;
-  const T I_crank_22 = _tmp21*p.bar_t*p.l*p.rho*_tmp22 + _tmp23*p.bar_t*p.bar_w*p.rho*_tmp22;
+  const T _tmp28 = (p.bar_w*p.bar_w)*p.bar_w;
+  const T _tmp29 = T(1)/T(12);
+  const T _tmp30 = _tmp1*p.l;
+  const T I_crank_22 = _tmp28*p.bar_t*p.l*p.rho*_tmp29 + _tmp30*p.bar_t*p.bar_w*p.rho*_tmp29;
   const T Ialb_crank_z = I_crank_22*in.crank_angle_dd;
   const T F_crank_x = m_crank*ac_crank_x;
   const T F_crank_y = T(9.81)*m_crank + m_crank*ac_crank_y;
   const T M_crank_z = F_crank_y*com_crank_x + Ialb_crank_z - F_crank_x*com_crank_y;
   const T m_coupler = T(5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_coupler_22 = T(125)*_tmp23*p.bar_t*p.bar_w*p.rho*_tmp22 + T(5)*_tmp21*p.bar_t*p.l*p.rho*_tmp22;
+  const T I_coupler_22 = T(125)*_tmp30*p.bar_t*p.bar_w*p.rho*_tmp29 + T(5)*_tmp28*p.bar_t*p.l*p.rho*_tmp29;
   const T Ialb_coupler_z = I_coupler_22*dw_coupler_z;
   const T F_coupler_x = m_coupler*ac_coupler_x;
   const T F_coupler_y = T(9.81)*m_coupler + m_coupler*ac_coupler_y;
   const T M_coupler_z = F_coupler_y*com_coupler_x + Ialb_coupler_z - F_coupler_x*com_coupler_y;
   const T m_rocker = T(2.5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_rocker_22 = T(0.20833333333333334)*_tmp21*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp23*p.bar_t*p.bar_w*p.rho;
+  const T I_rocker_22 = T(0.20833333333333334)*_tmp28*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp30*p.bar_t*p.bar_w*p.rho;
   const T Ialb_rocker_z = I_rocker_22*acc_x2;
   const T F_rocker_x = m_rocker*ac_rocker_x;
   const T F_rocker_y = T(9.81)*m_rocker + m_rocker*ac_rocker_y;
@@ -1027,10 +1090,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T tm_crank_z = M_coupler_z + M_crank_z;
   const T P_P_crank_coupler_x = p.l*R_coupler_01 + p_coupler_x;
   const T P_P_crank_coupler_y = p.l*R_coupler_11 + p_coupler_y;
-  const T P_M_rocker_coupler_x = -_tmp19;
-  const T P_M_rocker_coupler_y = -_tmp20;
-  const T P_B_ground_rocker_x = _tmp11 + p_rocker_x;
-  const T P_B_ground_rocker_y = _tmp12 + p_rocker_y;
+  const T P_M_rocker_coupler_x = -_tmp26;
+  const T P_M_rocker_coupler_y = -_tmp27;
+  const T P_B_ground_rocker_x = _tmp18 + p_rocker_x;
+  const T P_B_ground_rocker_y = _tmp19 + p_rocker_y;
   const T rct_z0 = -lu_ipiv0*F_coupler_x*sv_P_crank_coupler_x - lu_ipiv0*F_coupler_y*sv_P_crank_coupler_y - lu_ipiv0*M_coupler_z;
   const T rct_z1 = -lu_ipiv1*rct_z0;
   const T rct_z2 = T(2)*p.l*F_rocker_y*lu_ipiv2 + lu_f1_0*lu_ipiv2*rct_z1 - M_rocker_z*lu_ipiv2 - lu_ipiv2*rct_z0;
@@ -1051,6 +1114,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x2;
+  s.closure.wdnext[1] = vel_x1;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x2;
+  s.closure.wddnext[1] = acc_x1;
+  s.closure.wddnext[2] = acc_x0;
   s.bodies.crank.x = com_crank_x;
   s.bodies.crank.y = com_crank_y;
   s.bodies.crank.z = T(0);
@@ -1240,7 +1309,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
     return s.failed_group = 4, Status::unreachable;
   if (!(abs(s.closure.det) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
-  for (int i = 0; i < 3; ++i) s.closure.w[i] = s.closure.wnext[i];
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1250,11 +1325,12 @@ template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::abs;
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 497
+  // Total ops: 538
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -1270,30 +1346,38 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T pl_M_rocker_coupler_reach = pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp2 = T(1)/pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_root - T(2)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*_tmp2*pl_M_rocker_coupler_root - T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp3 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp3;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp3 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp3;
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2;
+  const T _tmp4 = _tmp3 + s.closure.w[0];
+  const T _tmp5 = cos(_tmp4);
+  const T _tmp6 = sin(_tmp4);
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*_tmp5 + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*_tmp6)*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp7 = T(1)/pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root - T(2)*p.l*_tmp7*pl_M_rocker_coupler_e;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_e - T(2)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root;
+  const T _tmp8 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp8 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp8;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp8 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp8;
   const T pl_M_rocker_coupler_v_x = _tmp0 + pl_M_rocker_coupler_z_x;
   const T pl_M_rocker_coupler_v_y = T(1.5)*p.l + pl_M_rocker_coupler_z_y;
-  const T _tmp4 = T(1)/pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_y;
-  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_x;
+  const T _tmp9 = T(1)/pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_y;
+  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_x;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_y;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_x;
-  const T _tmp5 = cos(s.closure.w[2]);
-  const T _tmp6 = sin(s.closure.w[2]);
-  const T q_P_crank_coupler = atan2(-_tmp5*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp6, _tmp5*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp6) + s.closure.w[2];
-  const T _tmp7 = cos(s.closure.w[1]);
-  const T _tmp8 = sin(s.closure.w[1]);
-  const T q_M_rocker_coupler = atan2(_tmp7*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp8, _tmp7*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp8) + s.closure.w[1];
-  const T _tmp9 = cos(s.closure.w[0]);
-  const T _tmp10 = sin(s.closure.w[0]);
-  const T q_B_ground_rocker = atan2(_tmp9*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp10, _tmp9*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp10) + s.closure.w[0];
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_y;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_x;
+  const T _tmp10 = T(0.5)*(_tmp2*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp2;
+  const T _tmp11 = _tmp10 + s.closure.w[2];
+  const T _tmp12 = cos(_tmp11);
+  const T _tmp13 = sin(_tmp11);
+  const T q_P_crank_coupler = _tmp10 + atan2(-_tmp12*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp13, _tmp12*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp13) + s.closure.w[2];
+  const T _tmp14 = T(0.5)*(_tmp2*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp2;
+  const T _tmp15 = _tmp14 + s.closure.w[1];
+  const T _tmp16 = cos(_tmp15);
+  const T _tmp17 = sin(_tmp15);
+  const T q_M_rocker_coupler = _tmp14 + atan2(_tmp16*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp17, _tmp16*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp17) + s.closure.w[1];
+  const T q_B_ground_rocker = _tmp3 + atan2(_tmp5*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp6, _tmp5*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp6) + s.closure.w[0];
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T cos_M_rocker_coupler = pl_M_rocker_coupler_cos2;
@@ -1303,21 +1387,21 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T p_rocker_x = _tmp0 - T(2)*p.l*cos_B_ground_rocker;
   const T p_rocker_y = -T(2)*p.l*sin_B_ground_rocker;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp11 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp11;
-  const T R_coupler_10 = _tmp11;
+  const T _tmp18 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp18;
+  const T R_coupler_10 = _tmp18;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp12 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp12;
-  const T _tmp13 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp13 - p_rocker_x;
+  const T _tmp19 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp19;
+  const T _tmp20 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp20 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp13 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp12 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp20 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp19 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -1327,8 +1411,8 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_a0_2_2 = -_tmp0 - lu_f2_0;
   const T lu_ipiv1 = T(1)/lu_a0_1_1;
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
-  const T _tmp14 = lu_f1_0*lu_f2_1;
-  const T lu_a1_2_2 = lu_a0_2_2 + _tmp14;
+  const T _tmp21 = lu_f1_0*lu_f2_1;
+  const T lu_a1_2_2 = lu_a0_2_2 + _tmp21;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
   const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
@@ -1337,7 +1421,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vel_x2 = lu_ipiv2*vel_b1_2;
   const T vel_x1 = lu_f1_0*lu_ipiv1*vel_x2 + lu_ipiv1*vel_b0_1;
   const T vel_x0 = lu_ipiv0*in.crank_angle_d - lu_ipiv0*vel_x1 - lu_ipiv0*vel_x2;
-  const T sen0_b1_2 = _tmp14 - lu_f2_0;
+  const T sen0_b1_2 = _tmp21 - lu_f2_0;
   const T sen0_x2 = lu_ipiv2*sen0_b1_2;
   const T sen0_x1 = lu_f1_0*lu_ipiv1*sen0_x2 - lu_f1_0*lu_ipiv1;
   const T sen0_x0 = lu_ipiv0 - lu_ipiv0*sen0_x1 - lu_ipiv0*sen0_x2;
@@ -1349,10 +1433,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T dsv_P_crank_coupler_y = in.crank_angle_d*sv_P_crank_coupler_x;
   const T dsv_M_rocker_coupler_x = v_rocker_y - sv_M_rocker_coupler_y*vel_x2;
   const T dsv_M_rocker_coupler_y = sv_M_rocker_coupler_x*vel_x2;
-  const T _tmp15 = dsv_P_crank_coupler_x*vel_x0;
-  const T acc_rhs3 = _tmp15 - dsv_M_rocker_coupler_x*vel_x1;
-  const T _tmp16 = dsv_P_crank_coupler_y*vel_x0;
-  const T acc_rhs4 = _tmp16 - dsv_M_rocker_coupler_y*vel_x1;
+  const T _tmp22 = dsv_P_crank_coupler_x*vel_x0;
+  const T acc_rhs3 = _tmp22 - dsv_M_rocker_coupler_x*vel_x1;
+  const T _tmp23 = dsv_P_crank_coupler_y*vel_x0;
+  const T acc_rhs4 = _tmp23 - dsv_M_rocker_coupler_y*vel_x1;
   const T acc_b0_1 = acc_rhs3 - in.crank_angle_dd*lu_f1_0;
   const T acc_b0_2 = acc_rhs4 - in.crank_angle_dd*lu_f2_0;
   const T acc_b1_2 = acc_b0_2 - acc_b0_1*lu_f2_1;
@@ -1361,18 +1445,18 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T acc_x0 = lu_ipiv0*in.crank_angle_dd - lu_ipiv0*acc_x1 - lu_ipiv0*acc_x2;
   const T dv_rocker_y = -T(2)*p.l*acc_x2;
   const T dw_coupler_z = acc_x0 + in.crank_angle_dd;
-  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp15;
-  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp16;
+  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp22;
+  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp23;
   const T com_crank_x = -T(0.5)*p.l*sin_A_ground_crank;
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
   const T ac_crank_x = -com_crank_y*in.crank_angle_dd - in.crank_angle_d*vc_crank_y;
   const T ac_crank_y = com_crank_x*in.crank_angle_dd + in.crank_angle_d*vc_crank_x;
-  const T _tmp17 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp17;
-  const T _tmp18 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp18;
+  const T _tmp24 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp24;
+  const T _tmp25 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp25;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T ac_coupler_x = dv_coupler_x - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
@@ -1387,29 +1471,29 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T pt_P_y = sv_P_crank_coupler_x;
   const T pt_C_x = p_coupler_x - T(4)*p.l*R_coupler_01;
   const T pt_C_y = p_coupler_y - T(4)*p.l*R_coupler_11;
-  const T pt_M_x = -_tmp17;
-  const T pt_M_y = -_tmp18;
+  const T pt_M_x = -_tmp24;
+  const T pt_M_y = -_tmp25;
   const T jw_coupler_0_z = sen0_x0 + T(1);
   const T jv_coupler_0_x = sen0_x0*sv_P_crank_coupler_x;
   const T jv_coupler_0_y = sen0_x0*sv_P_crank_coupler_y;
   const T jv_rocker_0_y = -T(2)*p.l*sen0_x2;
   const T m_crank = p.bar_t*p.bar_w*p.l*p.rho;
-  const T _tmp19 = (p.bar_w*p.bar_w)*p.bar_w;
-  const T _tmp20 = T(1)/T(12);
-  const T _tmp21 = _tmp1*p.l;
-  const T I_crank_22 = _tmp19*p.bar_t*p.l*p.rho*_tmp20 + _tmp21*p.bar_t*p.bar_w*p.rho*_tmp20;
+  const T _tmp26 = (p.bar_w*p.bar_w)*p.bar_w;
+  const T _tmp27 = T(1)/T(12);
+  const T _tmp28 = _tmp1*p.l;
+  const T I_crank_22 = _tmp26*p.bar_t*p.l*p.rho*_tmp27 + _tmp28*p.bar_t*p.bar_w*p.rho*_tmp27;
   const T Ialb_crank_z = I_crank_22*in.crank_angle_dd;
   const T F_crank_x = m_crank*ac_crank_x;
   const T F_crank_y = T(9.81)*m_crank + m_crank*ac_crank_y;
   const T M_crank_z = F_crank_y*com_crank_x + Ialb_crank_z - F_crank_x*com_crank_y;
   const T m_coupler = T(5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_coupler_22 = T(125)*_tmp21*p.bar_t*p.bar_w*p.rho*_tmp20 + T(5)*_tmp19*p.bar_t*p.l*p.rho*_tmp20;
+  const T I_coupler_22 = T(125)*_tmp28*p.bar_t*p.bar_w*p.rho*_tmp27 + T(5)*_tmp26*p.bar_t*p.l*p.rho*_tmp27;
   const T Ialb_coupler_z = I_coupler_22*dw_coupler_z;
   const T F_coupler_x = m_coupler*ac_coupler_x;
   const T F_coupler_y = T(9.81)*m_coupler + m_coupler*ac_coupler_y;
   const T M_coupler_z = F_coupler_y*com_coupler_x + Ialb_coupler_z - F_coupler_x*com_coupler_y;
   const T m_rocker = T(2.5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_rocker_22 = T(0.20833333333333334)*_tmp19*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp21*p.bar_t*p.bar_w*p.rho;
+  const T I_rocker_22 = T(0.20833333333333334)*_tmp26*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp28*p.bar_t*p.bar_w*p.rho;
   const T Ialb_rocker_z = I_rocker_22*acc_x2;
   const T F_rocker_x = m_rocker*ac_rocker_x;
   const T F_rocker_y = T(9.81)*m_rocker + m_rocker*ac_rocker_y;
@@ -1420,6 +1504,12 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x2;
+  s.closure.wdnext[1] = vel_x1;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x2;
+  s.closure.wddnext[1] = acc_x1;
+  s.closure.wddnext[2] = acc_x0;
   s.points.A.x = T(0);
   s.points.A.y = T(0);
   s.points.A.z = T(0);
@@ -1450,7 +1540,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.crank_angle.effort = tau_crank_angle;
   const T _sum_positions = ((s.points.B.x + s.points.P.x) + (s.points.P.y + s.body_jacobians.rocker[4][0])) + ((s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]) + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates = (s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + (s.closure.residual + s.closure.det));
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
   const T _sum_forces = s.drivers.crank_angle.effort;
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
@@ -1463,7 +1553,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 4, Status::unreachable;
   if (!(abs(s.closure.det) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
-  for (int i = 0; i < 3; ++i) s.closure.w[i] = s.closure.wnext[i];
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1492,11 +1588,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
                        [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using std::abs;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 122
+  // Total ops: 150
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T _tmp0 = T(2)*p.l;
@@ -1508,17 +1605,20 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T pl_M_rocker_coupler_reach = k.pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp2 = T(1)/k.pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*pl_M_rocker_coupler_root*_tmp2 - T(2)*p.l*pl_M_rocker_coupler_e*_tmp2;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*pl_M_rocker_coupler_root*_tmp2 - T(1.5)*p.l*pl_M_rocker_coupler_e*_tmp2;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp3 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp3;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp3 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp3;
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2 + s.closure.w[0];
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*cos(_tmp3) + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*sin(_tmp3))*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp4 = T(1)/k.pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root*_tmp4 - T(2)*p.l*pl_M_rocker_coupler_e*_tmp4;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*pl_M_rocker_coupler_e*_tmp4 - T(2)*p.l*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root*_tmp4;
+  const T _tmp5 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp5 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp5;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp5 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp5;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T _tmp4 = T(1)/k.pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*pl_M_rocker_coupler_w_y*_tmp4;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*pl_M_rocker_coupler_w_x*_tmp4;
+  const T _tmp6 = T(1)/k.pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*pl_M_rocker_coupler_w_y*_tmp6;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*pl_M_rocker_coupler_w_x*_tmp6;
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T R_coupler_01 = -cos_A_ground_crank*sin_P_crank_coupler - cos_P_crank_coupler*sin_A_ground_crank;
@@ -1578,11 +1678,12 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
                T* b) noexcept {
   using std::abs;
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 469
+  // Total ops: 510
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -1598,56 +1699,64 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T pl_M_rocker_coupler_reach = pl_M_rocker_coupler_dd*pl_M_rocker_coupler_rr - pl_M_rocker_coupler_e*pl_M_rocker_coupler_e;
   if (!(pl_M_rocker_coupler_reach >= T(0))) return detail::failed(s, 3, Status::unreachable);
   const T pl_M_rocker_coupler_root = sqrt(T(0.5)*abs(pl_M_rocker_coupler_reach) + T(0.5)*pl_M_rocker_coupler_reach);
-  const T _tmp2 = T(1)/pl_M_rocker_coupler_dd;
-  const T pl_M_rocker_coupler_z_x = -T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_root - T(2)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T pl_M_rocker_coupler_z_y = T(2)*p.l*_tmp2*pl_M_rocker_coupler_root - T(1.5)*p.l*_tmp2*pl_M_rocker_coupler_e;
-  const T _tmp3 = T(1)/pl_M_rocker_coupler_rr;
-  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp3 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp3;
-  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp3 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp3;
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2;
+  const T _tmp4 = _tmp3 + s.closure.w[0];
+  const T _tmp5 = cos(_tmp4);
+  const T _tmp6 = sin(_tmp4);
+  const T pl_M_rocker_coupler_branch = branch_sign((T(1.5)*p.l*pl_M_rocker_coupler_r_x - T(2)*p.l*pl_M_rocker_coupler_r_y)*_tmp5 + (T(1.5)*p.l*pl_M_rocker_coupler_r_y + T(2)*p.l*pl_M_rocker_coupler_r_x)*_tmp6)*s.closure.follow + s.closure.follow - T(1);
+  const T _tmp7 = T(1)/pl_M_rocker_coupler_dd;
+  const T pl_M_rocker_coupler_z_x = T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root - T(2)*p.l*_tmp7*pl_M_rocker_coupler_e;
+  const T pl_M_rocker_coupler_z_y = -T(1.5)*p.l*_tmp7*pl_M_rocker_coupler_e - T(2)*p.l*_tmp7*pl_M_rocker_coupler_branch*pl_M_rocker_coupler_root;
+  const T _tmp8 = T(1)/pl_M_rocker_coupler_rr;
+  const T pl_M_rocker_coupler_cos1 = pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_x*_tmp8 + pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_y*_tmp8;
+  const T pl_M_rocker_coupler_sin1 = pl_M_rocker_coupler_r_y*pl_M_rocker_coupler_z_x*_tmp8 - pl_M_rocker_coupler_r_x*pl_M_rocker_coupler_z_y*_tmp8;
   const T pl_M_rocker_coupler_v_x = _tmp0 + pl_M_rocker_coupler_z_x;
   const T pl_M_rocker_coupler_v_y = T(1.5)*p.l + pl_M_rocker_coupler_z_y;
-  const T _tmp4 = T(1)/pl_M_rocker_coupler_uu;
-  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_y;
-  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_v_x;
+  const T _tmp9 = T(1)/pl_M_rocker_coupler_uu;
+  const T pl_M_rocker_coupler_cos2 = T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_y;
+  const T pl_M_rocker_coupler_sin2 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_v_x;
   const T pl_M_rocker_coupler_w_x = T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 + T(2)*p.l*cos_A_ground_crank - T(1.5)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(2)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank;
   const T pl_M_rocker_coupler_w_y = T(2)*p.l*pl_M_rocker_coupler_cos1*sin_A_ground_crank - T(1.5)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_cos1 - T(1.5)*p.l*pl_M_rocker_coupler_sin1*sin_A_ground_crank - T(2)*p.l*cos_A_ground_crank*pl_M_rocker_coupler_sin1 - T(2)*p.l*sin_A_ground_crank - p.l;
-  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_y;
-  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp4*pl_M_rocker_coupler_w_x;
-  const T _tmp5 = cos(s.closure.w[2]);
-  const T _tmp6 = sin(s.closure.w[2]);
-  const T q_P_crank_coupler = atan2(-_tmp5*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp6, _tmp5*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp6) + s.closure.w[2];
-  const T _tmp7 = cos(s.closure.w[1]);
-  const T _tmp8 = sin(s.closure.w[1]);
-  const T q_M_rocker_coupler = atan2(_tmp7*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp8, _tmp7*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp8) + s.closure.w[1];
-  const T _tmp9 = cos(s.closure.w[0]);
-  const T _tmp10 = sin(s.closure.w[0]);
-  const T q_B_ground_rocker = atan2(_tmp9*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp10, _tmp9*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp10) + s.closure.w[0];
+  const T pl_M_rocker_coupler_cos3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_y;
+  const T pl_M_rocker_coupler_sin3 = -T(2.5)*p.l*_tmp9*pl_M_rocker_coupler_w_x;
+  const T _tmp10 = T(0.5)*(_tmp2*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp2;
+  const T _tmp11 = _tmp10 + s.closure.w[2];
+  const T _tmp12 = cos(_tmp11);
+  const T _tmp13 = sin(_tmp11);
+  const T q_P_crank_coupler = _tmp10 + atan2(-_tmp12*pl_M_rocker_coupler_sin3 - pl_M_rocker_coupler_cos3*_tmp13, _tmp12*pl_M_rocker_coupler_cos3 - pl_M_rocker_coupler_sin3*_tmp13) + s.closure.w[2];
+  const T _tmp14 = T(0.5)*(_tmp2*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp2;
+  const T _tmp15 = _tmp14 + s.closure.w[1];
+  const T _tmp16 = cos(_tmp15);
+  const T _tmp17 = sin(_tmp15);
+  const T q_M_rocker_coupler = _tmp14 + atan2(_tmp16*pl_M_rocker_coupler_sin2 - pl_M_rocker_coupler_cos2*_tmp17, _tmp16*pl_M_rocker_coupler_cos2 + pl_M_rocker_coupler_sin2*_tmp17) + s.closure.w[1];
+  const T q_B_ground_rocker = _tmp3 + atan2(_tmp5*pl_M_rocker_coupler_sin1 - pl_M_rocker_coupler_cos1*_tmp6, _tmp5*pl_M_rocker_coupler_cos1 + pl_M_rocker_coupler_sin1*_tmp6) + s.closure.w[0];
   const T cos_P_crank_coupler = pl_M_rocker_coupler_cos3;
   const T sin_P_crank_coupler = -pl_M_rocker_coupler_sin3;
   const T cos_M_rocker_coupler = pl_M_rocker_coupler_cos2;
   const T sin_M_rocker_coupler = pl_M_rocker_coupler_sin2;
   const T cos_B_ground_rocker = pl_M_rocker_coupler_cos1;
   const T sin_B_ground_rocker = pl_M_rocker_coupler_sin1;
-  const T _tmp11 = T(2)*p.l*cos_B_ground_rocker;
-  const T p_rocker_x = _tmp0 - _tmp11;
-  const T _tmp12 = T(2)*p.l*sin_B_ground_rocker;
-  const T p_rocker_y = -_tmp12;
+  const T _tmp18 = T(2)*p.l*cos_B_ground_rocker;
+  const T p_rocker_x = _tmp0 - _tmp18;
+  const T _tmp19 = T(2)*p.l*sin_B_ground_rocker;
+  const T p_rocker_y = -_tmp19;
   const T R_coupler_00 = cos_A_ground_crank*cos_P_crank_coupler - sin_A_ground_crank*sin_P_crank_coupler;
-  const T _tmp13 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
-  const T R_coupler_01 = -_tmp13;
-  const T R_coupler_10 = _tmp13;
+  const T _tmp20 = cos_A_ground_crank*sin_P_crank_coupler + cos_P_crank_coupler*sin_A_ground_crank;
+  const T R_coupler_01 = -_tmp20;
+  const T R_coupler_10 = _tmp20;
   const T R_coupler_11 = R_coupler_00;
   const T p_coupler_x = p.l*cos_A_ground_crank*sin_P_crank_coupler + p.l*cos_P_crank_coupler*sin_A_ground_crank - sv_P_crank_coupler_y;
   const T p_coupler_y = sv_P_crank_coupler_x + p.l*sin_A_ground_crank*sin_P_crank_coupler - p.l*cos_A_ground_crank*cos_P_crank_coupler;
-  const T _tmp14 = T(1.5)*p.l*cos_B_ground_rocker;
-  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp14;
-  const T _tmp15 = T(1.5)*p.l*sin_B_ground_rocker;
-  const T sv_M_rocker_coupler_y = -_tmp15 - p_rocker_x;
+  const T _tmp21 = T(1.5)*p.l*cos_B_ground_rocker;
+  const T sv_M_rocker_coupler_x = p_rocker_y - _tmp21;
+  const T _tmp22 = T(1.5)*p.l*sin_B_ground_rocker;
+  const T sv_M_rocker_coupler_y = -_tmp22 - p_rocker_x;
   const T X0_R_01 = R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_10*sin_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_B_ground_rocker*sin_M_rocker_coupler - R_coupler_11*cos_M_rocker_coupler*sin_B_ground_rocker;
   const T X0_R_10 = R_coupler_00*cos_B_ground_rocker*sin_M_rocker_coupler + R_coupler_00*cos_M_rocker_coupler*sin_B_ground_rocker + R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler - R_coupler_01*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp15 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
-  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp14 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
+  const T X0_vx = R_coupler_00*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_01*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler + R_coupler_01*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker + R_coupler_10*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler + R_coupler_11*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker + _tmp22 + p_rocker_x - R_coupler_00*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - T(1.5)*p.l*cos_B_ground_rocker*sin_M_rocker_coupler - T(1.5)*p.l*cos_M_rocker_coupler*sin_B_ground_rocker;
+  const T X0_vy = R_coupler_01*p_coupler_x*sin_B_ground_rocker*sin_M_rocker_coupler + R_coupler_11*p_coupler_y*sin_B_ground_rocker*sin_M_rocker_coupler + T(1.5)*p.l*cos_B_ground_rocker*cos_M_rocker_coupler + p_rocker_y - R_coupler_00*cos_B_ground_rocker*p_coupler_x*sin_M_rocker_coupler - R_coupler_00*cos_M_rocker_coupler*p_coupler_x*sin_B_ground_rocker - R_coupler_01*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_x - R_coupler_10*cos_B_ground_rocker*p_coupler_y*sin_M_rocker_coupler - R_coupler_10*cos_M_rocker_coupler*p_coupler_y*sin_B_ground_rocker - R_coupler_11*cos_B_ground_rocker*cos_M_rocker_coupler*p_coupler_y - _tmp21 - T(1.5)*p.l*sin_B_ground_rocker*sin_M_rocker_coupler;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_wz*X0_wz;
   const T lu_ipiv0 = -T(1);
   const T lu_f1_0 = -lu_ipiv0*sv_P_crank_coupler_x;
@@ -1674,10 +1783,10 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T dsv_P_crank_coupler_y = in.crank_angle_d*sv_P_crank_coupler_x;
   const T dsv_M_rocker_coupler_x = v_rocker_y - sv_M_rocker_coupler_y*vel_x2;
   const T dsv_M_rocker_coupler_y = sv_M_rocker_coupler_x*vel_x2;
-  const T _tmp16 = dsv_P_crank_coupler_x*vel_x0;
-  const T acc_rhs3 = _tmp16 - dsv_M_rocker_coupler_x*vel_x1;
-  const T _tmp17 = dsv_P_crank_coupler_y*vel_x0;
-  const T acc_rhs4 = _tmp17 - dsv_M_rocker_coupler_y*vel_x1;
+  const T _tmp23 = dsv_P_crank_coupler_x*vel_x0;
+  const T acc_rhs3 = _tmp23 - dsv_M_rocker_coupler_x*vel_x1;
+  const T _tmp24 = dsv_P_crank_coupler_y*vel_x0;
+  const T acc_rhs4 = _tmp24 - dsv_M_rocker_coupler_y*vel_x1;
   const T acc_b0_1 = acc_rhs3 - in.crank_angle_dd*lu_f1_0;
   const T acc_b0_2 = acc_rhs4 - in.crank_angle_dd*lu_f2_0;
   const T acc_b1_2 = acc_b0_2 - acc_b0_1*lu_f2_1;
@@ -1686,18 +1795,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T acc_x0 = lu_ipiv0*in.crank_angle_dd - lu_ipiv0*acc_x1 - lu_ipiv0*acc_x2;
   const T dv_rocker_y = -T(2)*p.l*acc_x2;
   const T dw_coupler_z = acc_x0 + in.crank_angle_dd;
-  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp16;
-  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp17;
+  const T dv_coupler_x = acc_x0*sv_P_crank_coupler_x + _tmp23;
+  const T dv_coupler_y = acc_x0*sv_P_crank_coupler_y + _tmp24;
   const T com_crank_x = -T(0.5)*p.l*sin_A_ground_crank;
   const T com_crank_y = T(0.5)*p.l*cos_A_ground_crank;
   const T vc_crank_x = -com_crank_y*in.crank_angle_d;
   const T vc_crank_y = com_crank_x*in.crank_angle_d;
   const T ac_crank_x = -com_crank_y*in.crank_angle_dd - in.crank_angle_d*vc_crank_y;
   const T ac_crank_y = com_crank_x*in.crank_angle_dd + in.crank_angle_d*vc_crank_x;
-  const T _tmp18 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
-  const T com_coupler_x = -_tmp18;
-  const T _tmp19 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
-  const T com_coupler_y = -_tmp19;
+  const T _tmp25 = T(1.5)*p.l*R_coupler_01 - p_coupler_x;
+  const T com_coupler_x = -_tmp25;
+  const T _tmp26 = T(1.5)*p.l*R_coupler_11 - p_coupler_y;
+  const T com_coupler_y = -_tmp26;
   const T vc_coupler_x = v_coupler_x - com_coupler_y*w_coupler_z;
   const T vc_coupler_y = com_coupler_x*w_coupler_z + v_coupler_y;
   const T ac_coupler_x = dv_coupler_x - com_coupler_y*dw_coupler_z - vc_coupler_y*w_coupler_z;
@@ -1709,32 +1818,32 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T ac_rocker_x = -acc_x2*com_rocker_y - vc_rocker_y*vel_x2;
   const T ac_rocker_y = acc_x2*com_rocker_x + dv_rocker_y + vc_rocker_x*vel_x2;
   const T m_crank = p.bar_t*p.bar_w*p.l*p.rho;
-  const T _tmp20 = (p.bar_w*p.bar_w)*p.bar_w;
-  const T _tmp21 = T(1)/T(12);
-  const T _tmp22 = _tmp1*p.l;
-  const T I_crank_22 = _tmp20*p.bar_t*p.l*p.rho*_tmp21 + _tmp22*p.bar_t*p.bar_w*p.rho*_tmp21;
+  const T _tmp27 = (p.bar_w*p.bar_w)*p.bar_w;
+  const T _tmp28 = T(1)/T(12);
+  const T _tmp29 = _tmp1*p.l;
+  const T I_crank_22 = _tmp27*p.bar_t*p.l*p.rho*_tmp28 + _tmp29*p.bar_t*p.bar_w*p.rho*_tmp28;
   const T Ialb_crank_z = I_crank_22*in.crank_angle_dd;
   const T F_crank_x = m_crank*ac_crank_x;
   const T F_crank_y = T(9.81)*m_crank + m_crank*ac_crank_y;
   const T M_crank_z = F_crank_y*com_crank_x + Ialb_crank_z - F_crank_x*com_crank_y;
   const T m_coupler = T(5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_coupler_22 = T(125)*_tmp22*p.bar_t*p.bar_w*p.rho*_tmp21 + T(5)*_tmp20*p.bar_t*p.l*p.rho*_tmp21;
+  const T I_coupler_22 = T(125)*_tmp29*p.bar_t*p.bar_w*p.rho*_tmp28 + T(5)*_tmp27*p.bar_t*p.l*p.rho*_tmp28;
   const T Ialb_coupler_z = I_coupler_22*dw_coupler_z;
   const T F_coupler_x = m_coupler*ac_coupler_x;
   const T F_coupler_y = T(9.81)*m_coupler + m_coupler*ac_coupler_y;
   const T M_coupler_z = F_coupler_y*com_coupler_x + Ialb_coupler_z - F_coupler_x*com_coupler_y;
   const T m_rocker = T(2.5)*p.bar_t*p.bar_w*p.l*p.rho;
-  const T I_rocker_22 = T(0.20833333333333334)*_tmp20*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp22*p.bar_t*p.bar_w*p.rho;
+  const T I_rocker_22 = T(0.20833333333333334)*_tmp27*p.bar_t*p.l*p.rho + T(1.3020833333333333)*_tmp29*p.bar_t*p.bar_w*p.rho;
   const T Ialb_rocker_z = I_rocker_22*acc_x2;
   const T F_rocker_x = m_rocker*ac_rocker_x;
   const T F_rocker_y = T(9.81)*m_rocker + m_rocker*ac_rocker_y;
   const T M_rocker_z = F_rocker_y*com_rocker_x + Ialb_rocker_z - F_rocker_x*com_rocker_y;
   const T P_P_crank_coupler_x = p.l*R_coupler_01 + p_coupler_x;
   const T P_P_crank_coupler_y = p.l*R_coupler_11 + p_coupler_y;
-  const T P_M_rocker_coupler_x = -_tmp18;
-  const T P_M_rocker_coupler_y = -_tmp19;
-  const T P_B_ground_rocker_x = _tmp11 + p_rocker_x;
-  const T P_B_ground_rocker_y = _tmp12 + p_rocker_y;
+  const T P_M_rocker_coupler_x = -_tmp25;
+  const T P_M_rocker_coupler_y = -_tmp26;
+  const T P_B_ground_rocker_x = _tmp18 + p_rocker_x;
+  const T P_B_ground_rocker_y = _tmp19 + p_rocker_y;
   A[0] = T(1);
   A[6] = -T(1);
   A[26] = T(1);
@@ -1816,6 +1925,12 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x2;
+  s.closure.wdnext[1] = vel_x1;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x2;
+  s.closure.wddnext[1] = acc_x1;
+  s.closure.wddnext[2] = acc_x0;
   const T _sum_forces_0 = ((A[395] + A[481]) + (A[482] + A[512])) + ((A[513] + A[544]) + (b[5] + b[11]));
   const T _sum_forces_1 = (b[17] + (s.closure.wnext[0] + s.closure.wnext[1])) + (s.closure.wnext[2] + (s.closure.residual + s.closure.det));
   const T _sum_forces = _sum_forces_0 + _sum_forces_1;
@@ -1829,7 +1944,13 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 4, Status::unreachable;
   if (!(abs(s.closure.det) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
-  for (int i = 0; i < 3; ++i) s.closure.w[i] = s.closure.wnext[i];
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 }  // namespace detail
@@ -1871,7 +1992,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x6671a7312eb772edULL;
+inline constexpr unsigned long long fingerprint = 0x889b3e86394a6052ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -135,6 +135,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+namespace detail {
+// +1 or -1 (+1 at 0): of a closed form's two roots, the one nearer the warm start (x is a smooth
+// expression of it whose sign says which).
+template <class T>
+inline T branch_sign(T x) noexcept {
+  return x < T(0) ? T(-1) : T(1);
+}
+}  // namespace detail
+
 // Driver coordinates with their first and second time derivatives, and the time t.
 template <class Real>
 struct Inputs {
@@ -1454,7 +1463,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xbb8bbd8c7563f2c5ULL;
+inline constexpr unsigned long long fingerprint = 0xa8a0045b92d1754aULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -8,6 +8,7 @@
 
 namespace mechgen::gen::lecture_leg {
 
+
 template <class T>
 static int evaluate_inputs(const Params<T>& p, const Inputs<T>& in, double* row,
                            int* failed_group) {
@@ -106,7 +107,9 @@ const CompiledKernel& compiled_kernel() {
                                      &evaluate_row<float>, 3,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
                                      fingerprint,     4,
-                                     point_names,     &point_positions_batch};
+                                     point_names,     &point_positions_batch,
+                                     0, nullptr,
+                                     nullptr};
   return kernel;
 }
 

@@ -25,7 +25,7 @@
 //   leg_pose_b3: prismatic 'leg_pose_z' from 'leg_pose_b2' (product of exponentials)
 //   leg_pose_b5: revolute 'leg_pose_ry' from 'foot' (product of exponentials)
 //   leg_pose_b4: revolute 'leg_pose_rz' from 'leg_pose_b3' (product of exponentials)
-//   ik_leg_pose: pose-driven planar limb j3, j2, j1 (parallel axes) in closed form: law of cosines (branch - from the assembly), free virtual coordinates zero
+//   ik_leg_pose: pose-driven planar limb j3, j2, j1 (parallel axes) in closed form: law of cosines (the root nearer the warm start), free virtual coordinates zero
 //   closure: 6 secondary coordinates, 6 closure rows; every circuit in closed form, no Newton; Davies' pivot order from 72 samples (smallest pivot 1 of its column)
 #pragma once
 
@@ -145,6 +145,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+namespace detail {
+// +1 or -1 (+1 at 0): of a closed form's two roots, the one nearer the warm start (x is a smooth
+// expression of it whose sign says which).
+template <class T>
+inline T branch_sign(T x) noexcept {
+  return x < T(0) ? T(-1) : T(1);
+}
+}  // namespace detail
+
 // Driver coordinates with their first and second time derivatives, and the time t.
 template <class Real>
 struct Inputs {
@@ -237,8 +246,17 @@ struct State {
     Real ankle[3][primary_count] = {};
     Real toe[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s.
+  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
+    Real w[3] = {Real(-0.6548110329800715), Real(1.1096220659601428), Real(-0.4548110329800713)};
+    Real wnext[3];
+    Real wd[3] = {}, wdd[3] = {};  // rates and accelerations at time wt
+    Real wdnext[3], wddnext[3];
+    Real wt = Real(0);
+    // 1 once a call was accepted or the start seeded: the closed forms' roots follow
+    // the warm start; 0 (fresh): the assembly's roots.
+    Real follow = Real(0);
     Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
@@ -263,6 +281,7 @@ __attribute__((cold, noinline))
 #endif
 Status failed(State<T>& s, int group, Status status) noexcept {
   State<T> cleared{};
+  cleared.closure = s.closure;  // the warm start survives a failure
   s = cleared;
   s.failed_group = group;
   return status;
@@ -282,11 +301,12 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 501
+  // Total ops: 584
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -307,14 +327,23 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T ik_leg_pose_cos = T(0.5)*_tmp4*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y) - ik_leg_pose_link_dot*_tmp4;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), ik_leg_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_leg_pose_branch = branch_sign(ik_leg_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_cos;
   const T ik_leg_pose_s2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_sin;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T q_leg_pose_z = T(0);
@@ -331,28 +360,28 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T cos_leg_pose_ry = cos(q_leg_pose_ry);
   const T sin_leg_pose_ry = sin(q_leg_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_leg_pose_b5_00 = cos_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_02 = -sin_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_10 = cos_leg_pose_ry*R_foot_10;
   const T R_leg_pose_b5_12 = -sin_leg_pose_ry*R_foot_10;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_leg_pose_b5_10*cos_leg_pose_rz + sin_leg_pose_rx*R_leg_pose_b5_12*sin_leg_pose_rz - cos_leg_pose_rx*R_foot_11*sin_leg_pose_rz;
@@ -402,22 +431,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp10 = dsv_j2_x*vel_x5;
-  const T _tmp11 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp10 + _tmp11 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
-  const T _tmp12 = dsv_j2_y*vel_x5;
-  const T _tmp13 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp12 + _tmp13 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
+  const T _tmp17 = dsv_j2_x*vel_x5;
+  const T _tmp18 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp17 + _tmp18 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
+  const T _tmp19 = dsv_j2_y*vel_x5;
+  const T _tmp20 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp19 + _tmp20 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x2 = lu_ipiv2*acc_x4 + lu_ipiv2*acc_x5 - lu_ipiv2*in.leg_pose_rz_dd;
   const T dw_shank_z = acc_x2 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp10;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp12;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp17;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp19;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp11 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp13 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp18 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp20 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x2;
@@ -430,34 +459,34 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp14 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T _tmp15 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T _tmp21 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T _tmp22 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp22;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x2;
   const T vp_knee_y = pt_knee_x*vel_x2;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp22;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x2 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x2 - lu_ipiv5;
-  const T _tmp16 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp16;
-  const T _tmp17 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp17;
+  const T _tmp23 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp23;
+  const T _tmp24 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp24;
   const T jw_shank_2_z = sen2_x2 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -465,13 +494,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x2 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp16;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp17;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp23;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp24;
   const T jw_foot_2_z = sen2_x2 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x2;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x2;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -637,8 +675,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[1][1] = jv_foot_1_y + jw_foot_1_z*pt_toe_x;
   s.point_jacobians.toe[0][2] = jv_foot_2_x - jw_foot_2_z*pt_toe_y;
   s.point_jacobians.toe[1][2] = jv_foot_2_y + jw_foot_2_z*pt_toe_x;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_1 = ((s.joints.j3.q + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = ((s.bodies.foot.y + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
   const T _sum_positions_2 = ((s.point_jacobians.ankle[1][0] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.ankle[0][2])) + ((s.point_jacobians.ankle[1][2] + s.point_jacobians.toe[0][0]) + (s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]));
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
@@ -656,6 +694,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -666,11 +711,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 template <class T>
 Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 331
+  // Total ops: 414
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -691,14 +737,23 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T ik_leg_pose_cos = T(0.5)*_tmp4*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y) - ik_leg_pose_link_dot*_tmp4;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), ik_leg_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_leg_pose_branch = branch_sign(ik_leg_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_cos;
   const T ik_leg_pose_s2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_sin;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T q_leg_pose_z = T(0);
@@ -715,28 +770,28 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T cos_leg_pose_ry = cos(q_leg_pose_ry);
   const T sin_leg_pose_ry = sin(q_leg_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_leg_pose_b5_00 = cos_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_02 = -sin_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_10 = cos_leg_pose_ry*R_foot_10;
   const T R_leg_pose_b5_12 = -sin_leg_pose_ry*R_foot_10;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_leg_pose_b5_10*cos_leg_pose_rz + sin_leg_pose_rx*R_leg_pose_b5_12*sin_leg_pose_rz - cos_leg_pose_rx*R_foot_11*sin_leg_pose_rz;
@@ -781,26 +836,32 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_shank_y = p_shank_y - T(1.5)*p.l*R_shank_11;
   const T vc_shank_x = v_shank_x - com_shank_y*w_shank_z;
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
-  const T _tmp10 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp10;
-  const T _tmp11 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp11;
+  const T _tmp17 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp17;
+  const T _tmp18 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp18;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x2;
   const T vp_knee_y = pt_knee_x*vel_x2;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp10;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp11;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp17;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp18;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x2;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -891,8 +952,8 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.drivers.leg_pose_y.qd = in.leg_pose_y_d;
   s.drivers.leg_pose_rz.q = in.leg_pose_rz;
   s.drivers.leg_pose_rz.qd = in.leg_pose_rz_d;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.points.knee.x + s.points.knee.y));
-  const T _sum_positions_1 = (s.points.ankle.x + (s.points.ankle.y + s.points.toe.x)) + ((s.points.toe.y + s.joints.j1.q) + (s.joints.j2.q + s.joints.j3.q));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = (s.bodies.foot.y + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.foot.vx + s.bodies.foot.vy));
@@ -908,6 +969,13 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = T(0);
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -916,11 +984,12 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 668
+  // Total ops: 751
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -941,14 +1010,23 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ik_leg_pose_cos = T(0.5)*_tmp4*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y) - ik_leg_pose_link_dot*_tmp4;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), ik_leg_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_leg_pose_branch = branch_sign(ik_leg_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_cos;
   const T ik_leg_pose_s2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_sin;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T q_leg_pose_z = T(0);
@@ -965,28 +1043,28 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T cos_leg_pose_ry = cos(q_leg_pose_ry);
   const T sin_leg_pose_ry = sin(q_leg_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_leg_pose_b5_00 = cos_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_02 = -sin_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_10 = cos_leg_pose_ry*R_foot_10;
   const T R_leg_pose_b5_12 = -sin_leg_pose_ry*R_foot_10;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T sv_leg_pose_rx_x = -q_leg_pose_z*sin_leg_pose_rz;
@@ -1045,22 +1123,22 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp10 = dsv_j2_x*vel_x5;
-  const T _tmp11 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp10 + _tmp11 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
-  const T _tmp12 = dsv_j2_y*vel_x5;
-  const T _tmp13 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp12 + _tmp13 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
+  const T _tmp17 = dsv_j2_x*vel_x5;
+  const T _tmp18 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp17 + _tmp18 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
+  const T _tmp19 = dsv_j2_y*vel_x5;
+  const T _tmp20 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp19 + _tmp20 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x2 = lu_ipiv2*acc_x4 + lu_ipiv2*acc_x5 - lu_ipiv2*in.leg_pose_rz_dd;
   const T dw_shank_z = acc_x2 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp10;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp12;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp17;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp19;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp11 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp13 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp18 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp20 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x2;
@@ -1073,34 +1151,34 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp14 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T _tmp15 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T _tmp21 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T _tmp22 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp22;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x2;
   const T vp_knee_y = pt_knee_x*vel_x2;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp22;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x2 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x2 - lu_ipiv5;
-  const T _tmp16 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp16;
-  const T _tmp17 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp17;
+  const T _tmp23 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp23;
+  const T _tmp24 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp24;
   const T jw_shank_2_z = sen2_x2 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1108,17 +1186,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x2 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp16;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp17;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp23;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp24;
   const T jw_foot_2_z = sen2_x2 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp18 = p.r*p.r;
-  const T _tmp19 = sqrt(ik_leg_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp18*p.rho*_tmp19;
-  const T _tmp20 = _tmp18*_tmp18;
-  const T _tmp21 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp20*p.rho*_tmp19 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp18*p.rho*_tmp19*_tmp21;
+  const T _tmp25 = p.r*p.r;
+  const T _tmp26 = sqrt(ik_leg_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp25*p.rho*_tmp26;
+  const T _tmp27 = _tmp25*_tmp25;
+  const T _tmp28 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp27*p.rho*_tmp26 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp25*p.rho*_tmp26*_tmp28;
   const T Ialb_thigh_z = I_thigh_22*acc_x2;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1129,10 +1207,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp22 = p.f*p.f;
-  const T _tmp23 = sqrt(_tmp22);
-  const T m_foot = T(3.14159265358979323846)*_tmp18*p.rho*_tmp23;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp20*p.rho*_tmp23 + T(3.14159265358979323846)*_tmp22*_tmp18*p.rho*_tmp23*_tmp21;
+  const T _tmp29 = p.f*p.f;
+  const T _tmp30 = sqrt(_tmp29);
+  const T m_foot = T(3.14159265358979323846)*_tmp25*p.rho*_tmp30;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp27*p.rho*_tmp30 + T(3.14159265358979323846)*_tmp29*_tmp25*p.rho*_tmp30*_tmp28;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1148,8 +1226,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T tm_thigh_z = M_thigh_z + tm_shank_z;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T P_j3_x = p_foot_x - _tmp14;
-  const T P_j3_y = p_foot_y - _tmp15;
+  const T P_j3_x = p_foot_x - _tmp21;
+  const T P_j3_y = p_foot_y - _tmp22;
   const T rct_z2 = -lu_ipiv2*tm_thigh_z;
   const T rct_z4 = lu_ipiv4*rct_z2 - F_foot_x*lu_ipiv4*sv_j3_x - F_foot_y*lu_ipiv4*sv_j3_y - M_foot_z*lu_ipiv4;
   const T rct_z5 = lu_ipiv5*rct_z2 + lu_ipiv5*rct_z4*sv_j2_x - lu_ipiv5*sv_j2_x*tf_shank_x - lu_ipiv5*sv_j2_y*tf_shank_y - lu_ipiv5*tm_shank_z;
@@ -1165,8 +1243,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T rx_j3_f_x = F_foot_x - rct_y4;
   const T rx_j3_f_y = F_foot_y - rct_z5;
   const T rx_j3_m_z = M_foot_z + P_j3_y*rx_j3_f_x - P_j3_x*rx_j3_f_y - rct_z2;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x2;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x2;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -1353,8 +1440,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.j3.mx = -rct_y0;
   s.joints.j3.my = -rct_y1;
   s.joints.j3.mz = rx_j3_m_z;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_1 = ((s.joints.j3.q + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = ((s.bodies.foot.y + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
   const T _sum_positions_2 = ((s.point_jacobians.ankle[1][0] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.ankle[0][2])) + ((s.point_jacobians.ankle[1][2] + s.point_jacobians.toe[0][0]) + (s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]));
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
@@ -1376,6 +1463,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1384,11 +1478,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
 template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 566
+  // Total ops: 649
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -1409,14 +1504,23 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T ik_leg_pose_cos = T(0.5)*_tmp4*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y) - ik_leg_pose_link_dot*_tmp4;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), ik_leg_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_leg_pose_branch = branch_sign(ik_leg_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_cos;
   const T ik_leg_pose_s2 = ik_leg_pose_link_dot*_tmp4*ik_leg_pose_sin;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T q_leg_pose_z = T(0);
@@ -1433,28 +1537,28 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T cos_leg_pose_ry = cos(q_leg_pose_ry);
   const T sin_leg_pose_ry = sin(q_leg_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_leg_pose_b5_00 = cos_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_02 = -sin_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_10 = cos_leg_pose_ry*R_foot_10;
   const T R_leg_pose_b5_12 = -sin_leg_pose_ry*R_foot_10;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_leg_pose_b5_10*cos_leg_pose_rz + sin_leg_pose_rx*R_leg_pose_b5_12*sin_leg_pose_rz - cos_leg_pose_rx*R_foot_11*sin_leg_pose_rz;
@@ -1504,22 +1608,22 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp10 = dsv_j2_x*vel_x5;
-  const T _tmp11 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp10 + _tmp11 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
-  const T _tmp12 = dsv_j2_y*vel_x5;
-  const T _tmp13 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp12 + _tmp13 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
+  const T _tmp17 = dsv_j2_x*vel_x5;
+  const T _tmp18 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp17 + _tmp18 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
+  const T _tmp19 = dsv_j2_y*vel_x5;
+  const T _tmp20 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp19 + _tmp20 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x2 = lu_ipiv2*acc_x4 + lu_ipiv2*acc_x5 - lu_ipiv2*in.leg_pose_rz_dd;
   const T dw_shank_z = acc_x2 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp10;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp12;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp17;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp19;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp11 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp13 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp18 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp20 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x2;
@@ -1532,28 +1636,28 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp14 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T _tmp15 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T _tmp21 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T _tmp22 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp22;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp14;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp15;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp21;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp22;
   const T jw_shank_0_z = sen0_x2 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x2 - lu_ipiv5;
-  const T _tmp16 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp16;
-  const T _tmp17 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp17;
+  const T _tmp23 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp23;
+  const T _tmp24 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp24;
   const T jw_shank_2_z = sen2_x2 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1561,17 +1665,17 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x2 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp16;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp17;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp23;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp24;
   const T jw_foot_2_z = sen2_x2 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp18 = p.r*p.r;
-  const T _tmp19 = sqrt(ik_leg_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp18*p.rho*_tmp19;
-  const T _tmp20 = _tmp18*_tmp18;
-  const T _tmp21 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp20*p.rho*_tmp19 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp18*p.rho*_tmp19*_tmp21;
+  const T _tmp25 = p.r*p.r;
+  const T _tmp26 = sqrt(ik_leg_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp25*p.rho*_tmp26;
+  const T _tmp27 = _tmp25*_tmp25;
+  const T _tmp28 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp27*p.rho*_tmp26 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp25*p.rho*_tmp26*_tmp28;
   const T Ialb_thigh_z = I_thigh_22*acc_x2;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1582,10 +1686,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp22 = p.f*p.f;
-  const T _tmp23 = sqrt(_tmp22);
-  const T m_foot = T(3.14159265358979323846)*_tmp18*p.rho*_tmp23;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp20*p.rho*_tmp23 + T(3.14159265358979323846)*_tmp22*_tmp18*p.rho*_tmp23*_tmp21;
+  const T _tmp29 = p.f*p.f;
+  const T _tmp30 = sqrt(_tmp29);
+  const T m_foot = T(3.14159265358979323846)*_tmp25*p.rho*_tmp30;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp27*p.rho*_tmp30 + T(3.14159265358979323846)*_tmp29*_tmp25*p.rho*_tmp30*_tmp28;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1593,8 +1697,17 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T tau_leg_pose_x = F_foot_x*jv_foot_0_x + F_foot_y*jv_foot_0_y + F_shank_x*jv_shank_0_x + F_shank_y*jv_shank_0_y + M_foot_z*jw_foot_0_z + M_shank_z*jw_shank_0_z + M_thigh_z*sen0_x2;
   const T tau_leg_pose_y = F_foot_x*jv_foot_1_x + F_foot_y*jv_foot_1_y + F_shank_x*jv_shank_1_x + F_shank_y*jv_shank_1_y + M_foot_z*jw_foot_1_z + M_shank_z*jw_shank_1_z + M_thigh_z*sen1_x2;
   const T tau_leg_pose_rz = F_foot_x*jv_foot_2_x + F_foot_y*jv_foot_2_y + F_shank_x*jv_shank_2_x + F_shank_y*jv_shank_2_y + M_foot_z*jw_foot_2_z + M_shank_z*jw_shank_2_z + M_thigh_z*sen2_x2;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x2;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x2;
   s.points.hip.x = T(0);
   s.points.hip.y = T(0);
   s.points.hip.z = T(0);
@@ -1654,7 +1767,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_positions_2 = s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2];
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates = s.closure.residual + s.closure.det;
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces = s.drivers.leg_pose_x.effort + (s.drivers.leg_pose_y.effort + s.drivers.leg_pose_rz.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
@@ -1667,6 +1780,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1695,11 +1815,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
                        [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 123
+  // Total ops: 206
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -1712,14 +1833,23 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T ik_leg_pose_cos = T(0.5)*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x)*_tmp1 + T(0.5)*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y)*_tmp1 - (p.l*p.l)*_tmp1;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), k.ik_leg_pose_link_dot);
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp2;
+  const T ik_leg_pose_branch = branch_sign(k.ik_leg_pose_link_dot*sin(-_tmp3 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp4 = in.t*in.t;
+  const T _tmp5 = s.closure.wt*s.closure.wt;
+  const T _tmp6 = _tmp3 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), k.ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp6), cos(_tmp6)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp5 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_cos*k.ik_leg_pose_link_dot*_tmp1;
   const T ik_leg_pose_s2 = ik_leg_pose_sin*k.ik_leg_pose_link_dot*_tmp1;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp7 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp7), cos(_tmp7)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp5 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp8 = T(0.5)*(_tmp2*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp2 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp8), cos(_tmp8)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp5 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T cos_j1 = cos(q_j1);
@@ -1729,26 +1859,26 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T cos_j3 = cos(q_j3);
   const T sin_j3 = sin(q_j3);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp2 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp2;
-  const T R_shank_10 = _tmp2;
+  const T _tmp9 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp9;
+  const T R_shank_10 = _tmp9;
   const T R_shank_11 = R_shank_00;
-  const T _tmp3 = p.l*sin_j1;
-  const T p_shank_x = _tmp3 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp4 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp4 - p.l*sin_j1*sin_j2;
+  const T _tmp10 = p.l*sin_j1;
+  const T p_shank_x = _tmp10 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp11 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp11 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp5 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp5;
-  const T _tmp6 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp6;
-  const T pt_knee_x = _tmp3;
-  const T pt_knee_y = -_tmp4;
-  const T pt_ankle_x = p_shank_x - _tmp5;
-  const T pt_ankle_y = p_shank_y - _tmp6;
+  const T _tmp12 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp12;
+  const T _tmp13 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp13;
+  const T pt_knee_x = _tmp10;
+  const T pt_knee_y = -_tmp11;
+  const T pt_ankle_x = p_shank_x - _tmp12;
+  const T pt_ankle_y = p_shank_y - _tmp13;
   const T pt_toe_x = p.f*R_foot_00 + p_foot_x - T(2)*p.l*R_foot_01;
   const T pt_toe_y = p.f*R_foot_10 + p_foot_y - T(2)*p.l*R_foot_11;
   s.points.hip.x = T(0);
@@ -1794,11 +1924,12 @@ template <class T>
 Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
                T* b) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 470
+  // Total ops: 553
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -1821,14 +1952,23 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T ik_leg_pose_cos = T(0.5)*_tmp5*(ik_leg_pose_reach_vector_x*ik_leg_pose_reach_vector_x) + T(0.5)*_tmp5*(ik_leg_pose_reach_vector_y*ik_leg_pose_reach_vector_y) - ik_leg_pose_link_dot*_tmp5;
   const T ik_leg_pose_reach = T(1) - ik_leg_pose_cos*ik_leg_pose_cos;
   if (!(ik_leg_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_leg_pose_sin = -sqrt(ik_leg_pose_reach);
-  const T ik_leg_pose_theta2 = atan2(ik_leg_pose_sin, ik_leg_pose_cos) - atan2(T(0), ik_leg_pose_link_dot);
+  const T _tmp6 = in.t - s.closure.wt;
+  const T _tmp7 = T(0.5)*(_tmp6*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp6;
+  const T ik_leg_pose_branch = branch_sign(ik_leg_pose_link_dot*sin(-_tmp7 - s.closure.w[1]))*s.closure.follow + s.closure.follow - T(1);
+  const T ik_leg_pose_sin = ik_leg_pose_branch*sqrt(ik_leg_pose_reach);
+  const T _tmp8 = in.t*in.t;
+  const T _tmp9 = s.closure.wt*s.closure.wt;
+  const T _tmp10 = _tmp7 + atan2(ik_leg_pose_sin, ik_leg_pose_cos) + s.closure.w[1] - atan2(T(0), ik_leg_pose_link_dot);
+  const T ik_leg_pose_theta2 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp8*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp9 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_leg_pose_c2 = ik_leg_pose_link_dot*_tmp5*ik_leg_pose_cos;
   const T ik_leg_pose_s2 = ik_leg_pose_link_dot*_tmp5*ik_leg_pose_sin;
   const T ik_leg_pose_w_x = -p.l*ik_leg_pose_s2;
   const T ik_leg_pose_w_y = p.l*ik_leg_pose_c2 + p.l;
-  const T ik_leg_pose_theta1 = atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y);
-  const T q_j1 = ik_leg_pose_theta1 + ik_leg_pose_theta2 + in.leg_pose_rz;
+  const T _tmp11 = T(0.5)*(_tmp6*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp6 + atan2(ik_leg_pose_reach_vector_y*ik_leg_pose_w_x - ik_leg_pose_reach_vector_x*ik_leg_pose_w_y, ik_leg_pose_reach_vector_x*ik_leg_pose_w_x + ik_leg_pose_reach_vector_y*ik_leg_pose_w_y) + s.closure.w[0];
+  const T ik_leg_pose_theta1 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp8*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp9 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp12 = T(0.5)*(_tmp6*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp6 + s.closure.w[2] - ik_leg_pose_theta1 - ik_leg_pose_theta2 - in.leg_pose_rz;
+  const T ik_leg_pose_theta3 = atan2(sin(_tmp12), cos(_tmp12)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp8*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp9 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_leg_pose_theta3;
   const T q_j2 = -ik_leg_pose_theta2;
   const T q_j3 = -ik_leg_pose_theta1;
   const T q_leg_pose_z = T(0);
@@ -1845,14 +1985,14 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T cos_leg_pose_ry = cos(q_leg_pose_ry);
   const T sin_leg_pose_ry = sin(q_leg_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp6 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp6;
-  const T R_shank_10 = _tmp6;
+  const T _tmp13 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp13;
+  const T R_shank_10 = _tmp13;
   const T R_shank_11 = R_shank_00;
-  const T _tmp7 = p.l*sin_j1;
-  const T p_shank_x = _tmp7 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp8 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp8 - p.l*sin_j1*sin_j2;
+  const T _tmp14 = p.l*sin_j1;
+  const T p_shank_x = _tmp14 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp15 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp15 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
@@ -1863,8 +2003,8 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T R_leg_pose_b5_02 = -sin_leg_pose_ry*R_foot_00;
   const T R_leg_pose_b5_10 = cos_leg_pose_ry*R_foot_10;
   const T R_leg_pose_b5_12 = -sin_leg_pose_ry*R_foot_10;
-  const T sv_j2_x = -_tmp8;
-  const T sv_j2_y = -_tmp7;
+  const T sv_j2_x = -_tmp15;
+  const T sv_j2_y = -_tmp14;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T sv_leg_pose_rx_x = -q_leg_pose_z*sin_leg_pose_rz;
@@ -1908,22 +2048,22 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp9 = dsv_j2_x*vel_x5;
-  const T _tmp10 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp9 + _tmp10 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
-  const T _tmp11 = dsv_j2_y*vel_x5;
-  const T _tmp12 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp11 + _tmp12 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
+  const T _tmp16 = dsv_j2_x*vel_x5;
+  const T _tmp17 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp16 + _tmp17 - in.leg_pose_rz_d*in.leg_pose_y_d - in.leg_pose_rz_dd*sv_leg_pose_rz_x - in.leg_pose_x_dd;
+  const T _tmp18 = dsv_j2_y*vel_x5;
+  const T _tmp19 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp18 + _tmp19 + in.leg_pose_rz_d*in.leg_pose_x_d + in.leg_pose_rz_dd*in.leg_pose_x - in.leg_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x2 = lu_ipiv2*acc_x4 + lu_ipiv2*acc_x5 - lu_ipiv2*in.leg_pose_rz_dd;
   const T dw_shank_z = acc_x2 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp9;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp11;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp16;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp18;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp10 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp12 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp17 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp19 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x2;
@@ -1936,20 +2076,20 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp13 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp13;
-  const T _tmp14 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp14;
+  const T _tmp20 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp20;
+  const T _tmp21 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp21;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T _tmp15 = p.r*p.r;
-  const T _tmp16 = sqrt(ik_leg_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp15*p.rho*_tmp16;
-  const T _tmp17 = _tmp15*_tmp15;
-  const T _tmp18 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp17*p.rho*_tmp16 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp15*p.rho*_tmp16*_tmp18;
+  const T _tmp22 = p.r*p.r;
+  const T _tmp23 = sqrt(ik_leg_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp22*p.rho*_tmp23;
+  const T _tmp24 = _tmp22*_tmp22;
+  const T _tmp25 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp24*p.rho*_tmp23 + T(3.14159265358979323846)*ik_leg_pose_link_dot*_tmp22*p.rho*_tmp23*_tmp25;
   const T Ialb_thigh_z = I_thigh_22*acc_x2;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1960,28 +2100,28 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp19 = p.f*p.f;
-  const T _tmp20 = sqrt(_tmp19);
-  const T m_foot = T(3.14159265358979323846)*_tmp15*p.rho*_tmp20;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp17*p.rho*_tmp20 + T(3.14159265358979323846)*_tmp19*_tmp15*p.rho*_tmp20*_tmp18;
+  const T _tmp26 = p.f*p.f;
+  const T _tmp27 = sqrt(_tmp26);
+  const T m_foot = T(3.14159265358979323846)*_tmp22*p.rho*_tmp27;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp24*p.rho*_tmp27 + T(3.14159265358979323846)*_tmp26*_tmp22*p.rho*_tmp27*_tmp25;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
   const T M_foot_z = F_foot_y*com_foot_x + Ialb_foot_z - F_foot_x*com_foot_y;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T _tmp21 = _tmp13 - p_foot_x;
-  const T P_j3_x = -_tmp21;
-  const T _tmp22 = _tmp14 - p_foot_y;
-  const T P_j3_y = -_tmp22;
+  const T _tmp28 = _tmp20 - p_foot_x;
+  const T P_j3_x = -_tmp28;
+  const T _tmp29 = _tmp21 - p_foot_y;
+  const T P_j3_y = -_tmp29;
   const T P_leg_pose_y_y = -_tmp4;
   const T P_leg_pose_z_y = -_tmp4;
   const T P_leg_pose_rz_x = _tmp1 + p_leg_pose_b4_x;
   const T P_leg_pose_rz_y = p_leg_pose_b4_y - _tmp3;
-  const T P_leg_pose_rx_x = -_tmp21;
-  const T P_leg_pose_rx_y = -_tmp22;
-  const T P_leg_pose_ry_x = -_tmp21;
-  const T P_leg_pose_ry_y = -_tmp22;
+  const T P_leg_pose_rx_x = -_tmp28;
+  const T P_leg_pose_rx_y = -_tmp29;
+  const T P_leg_pose_ry_x = -_tmp28;
+  const T P_leg_pose_ry_y = -_tmp29;
   A[0] = T(1);
   A[6] = -T(1);
   A[58] = T(1);
@@ -2184,11 +2324,20 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   b[12] = F_foot_x;
   b[13] = F_foot_y;
   b[17] = M_foot_z;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x2;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x2;
   const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1571] + A[2799])) + ((A[2800] + A[2862]) + (A[2863] + A[3114]));
   const T _sum_forces_1 = ((A[3115] + A[3177]) + (A[3178] + A[3179])) + ((A[3242] + b[5]) + (b[11] + b[17]));
-  const T _sum_forces_2 = s.closure.residual + s.closure.det;
+  const T _sum_forces_2 = (s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + (s.closure.residual + s.closure.det));
   const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
@@ -2200,6 +2349,13 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 }  // namespace detail
@@ -2257,7 +2413,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x2b445326169b26a2ULL;
+inline constexpr unsigned long long fingerprint = 0xa9e25440fac4c3cdULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;

@@ -25,7 +25,7 @@
 //   foot_pose_b3: prismatic 'foot_pose_z' from 'foot_pose_b2' (product of exponentials)
 //   foot_pose_b5: revolute 'foot_pose_ry' from 'foot' (product of exponentials)
 //   foot_pose_b4: revolute 'foot_pose_rz' from 'foot_pose_b3' (product of exponentials)
-//   ik_foot_pose: pose-driven planar limb j3, j2, j1 (parallel axes) in closed form: law of cosines (branch + from the assembly), free virtual coordinates zero
+//   ik_foot_pose: pose-driven planar limb j3, j2, j1 (parallel axes) in closed form: law of cosines (the root nearer the warm start), free virtual coordinates zero
 //   closure: 6 secondary coordinates, 6 closure rows; every circuit in closed form, no Newton; Davies' pivot order from 72 samples (smallest pivot 1 of its column)
 #pragma once
 
@@ -145,6 +145,15 @@ MECHGEN_INLINE T cos(T x) noexcept {
 #undef MECHGEN_INLINE
 }  // namespace detail
 
+namespace detail {
+// +1 or -1 (+1 at 0): of a closed form's two roots, the one nearer the warm start (x is a smooth
+// expression of it whose sign says which).
+template <class T>
+inline T branch_sign(T x) noexcept {
+  return x < T(0) ? T(-1) : T(1);
+}
+}  // namespace detail
+
 // Driver coordinates with their first and second time derivatives, and the time t.
 template <class Real>
 struct Inputs {
@@ -237,8 +246,17 @@ struct State {
     Real ankle[3][primary_count] = {};
     Real toe[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s.
+  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
+    Real w[3] = {Real(0.4932596711582197), Real(-1.1040309877479058), Real(0.610771316589686)};
+    Real wnext[3];
+    Real wd[3] = {}, wdd[3] = {};  // rates and accelerations at time wt
+    Real wdnext[3], wddnext[3];
+    Real wt = Real(0);
+    // 1 once a call was accepted or the start seeded: the closed forms' roots follow
+    // the warm start; 0 (fresh): the assembly's roots.
+    Real follow = Real(0);
     Real residual, det;
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
@@ -263,6 +281,7 @@ __attribute__((cold, noinline))
 #endif
 Status failed(State<T>& s, int group, Status status) noexcept {
   State<T> cleared{};
+  cleared.closure = s.closure;  // the warm start survives a failure
   s = cleared;
   s.failed_group = group;
   return status;
@@ -282,11 +301,12 @@ bool inputs_finite(const Inputs<T>& in) noexcept {
 template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 546
+  // Total ops: 629
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -309,14 +329,23 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T ik_foot_pose_cos = T(0.5)*_tmp4*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp4;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_foot_pose_branch = branch_sign(ik_foot_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_cos;
   const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_sin;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T q_foot_pose_z = T(0);
@@ -333,33 +362,33 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T cos_foot_pose_ry = cos(q_foot_pose_ry);
   const T sin_foot_pose_ry = sin(q_foot_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_foot_pose_b5_00 = cos_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
   const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
-  const T _tmp10 = cos_foot_pose_ry*cos_foot_pose_ry;
-  const T _tmp11 = sin_foot_pose_ry*sin_foot_pose_ry;
-  const T p_foot_pose_b5_x = _tmp10*p.f*R_foot_00 + p.f*_tmp11*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
-  const T p_foot_pose_b5_y = _tmp10*p.f*R_foot_10 + p.f*_tmp11*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp17 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp18 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp17*p.f*R_foot_00 + p.f*_tmp18*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp17*p.f*R_foot_10 + p.f*_tmp18*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
   const T p_foot_pose_b5_z = -p.f*sin_foot_pose_ry;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_foot_pose_b5_10*cos_foot_pose_rz + sin_foot_pose_rx*R_foot_pose_b5_12*sin_foot_pose_rz - cos_foot_pose_rx*R_foot_11*sin_foot_pose_rz;
@@ -409,22 +438,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp12 = dsv_j2_x*vel_x5;
-  const T _tmp13 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp12 + _tmp13 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp14 = dsv_j2_y*vel_x5;
-  const T _tmp15 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp14 + _tmp15 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp19 = dsv_j2_x*vel_x5;
+  const T _tmp20 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp21 = dsv_j2_y*vel_x5;
+  const T _tmp22 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp12;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp14;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp13 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp15 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -437,34 +466,34 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp16 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T _tmp17 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T _tmp23 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T _tmp24 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x0;
   const T vp_knee_y = pt_knee_x*vel_x0;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp18 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp18;
-  const T _tmp19 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp19;
+  const T _tmp25 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp25;
+  const T _tmp26 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp26;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -472,13 +501,22 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp18;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp19;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x0;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -644,8 +682,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.point_jacobians.toe[1][1] = jv_foot_1_y + jw_foot_1_z*pt_toe_x;
   s.point_jacobians.toe[0][2] = jv_foot_2_x - jw_foot_2_z*pt_toe_y;
   s.point_jacobians.toe[1][2] = jv_foot_2_y + jw_foot_2_z*pt_toe_x;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_1 = ((s.joints.j3.q + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = ((s.bodies.foot.y + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
   const T _sum_positions_2 = ((s.point_jacobians.ankle[1][0] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.ankle[0][2])) + ((s.point_jacobians.ankle[1][2] + s.point_jacobians.toe[0][0]) + (s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]));
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
@@ -663,6 +701,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -673,11 +718,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 template <class T>
 Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 376
+  // Total ops: 459
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -700,14 +746,23 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T ik_foot_pose_cos = T(0.5)*_tmp4*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp4;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_foot_pose_branch = branch_sign(ik_foot_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_cos;
   const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_sin;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T q_foot_pose_z = T(0);
@@ -724,33 +779,33 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T cos_foot_pose_ry = cos(q_foot_pose_ry);
   const T sin_foot_pose_ry = sin(q_foot_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_foot_pose_b5_00 = cos_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
   const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
-  const T _tmp10 = cos_foot_pose_ry*cos_foot_pose_ry;
-  const T _tmp11 = sin_foot_pose_ry*sin_foot_pose_ry;
-  const T p_foot_pose_b5_x = _tmp10*p.f*R_foot_00 + p.f*_tmp11*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
-  const T p_foot_pose_b5_y = _tmp10*p.f*R_foot_10 + p.f*_tmp11*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp17 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp18 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp17*p.f*R_foot_00 + p.f*_tmp18*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp17*p.f*R_foot_10 + p.f*_tmp18*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
   const T p_foot_pose_b5_z = -p.f*sin_foot_pose_ry;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_foot_pose_b5_10*cos_foot_pose_rz + sin_foot_pose_rx*R_foot_pose_b5_12*sin_foot_pose_rz - cos_foot_pose_rx*R_foot_11*sin_foot_pose_rz;
@@ -795,26 +850,32 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_shank_y = p_shank_y - T(1.5)*p.l*R_shank_11;
   const T vc_shank_x = v_shank_x - com_shank_y*w_shank_z;
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
-  const T _tmp12 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp12;
-  const T _tmp13 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp13;
+  const T _tmp19 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp19;
+  const T _tmp20 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp20;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x0;
   const T vp_knee_y = pt_knee_x*vel_x0;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp12;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp13;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp19;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp20;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x0;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -905,8 +966,8 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.drivers.foot_pose_y.qd = in.foot_pose_y_d;
   s.drivers.foot_pose_rz.q = in.foot_pose_rz;
   s.drivers.foot_pose_rz.qd = in.foot_pose_rz_d;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.points.knee.x + s.points.knee.y));
-  const T _sum_positions_1 = (s.points.ankle.x + (s.points.ankle.y + s.points.toe.x)) + ((s.points.toe.y + s.joints.j1.q) + (s.joints.j2.q + s.joints.j3.q));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = (s.bodies.foot.y + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
   const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.foot.vx + s.bodies.foot.vy));
@@ -922,6 +983,13 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = T(0);
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -930,11 +998,12 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
 template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 721
+  // Total ops: 804
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -957,14 +1026,23 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T ik_foot_pose_cos = T(0.5)*_tmp4*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp4;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_foot_pose_branch = branch_sign(ik_foot_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_cos;
   const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_sin;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T q_foot_pose_z = T(0);
@@ -981,33 +1059,33 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T cos_foot_pose_ry = cos(q_foot_pose_ry);
   const T sin_foot_pose_ry = sin(q_foot_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_foot_pose_b5_00 = cos_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
   const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
-  const T _tmp10 = cos_foot_pose_ry*cos_foot_pose_ry;
-  const T _tmp11 = sin_foot_pose_ry*sin_foot_pose_ry;
-  const T p_foot_pose_b5_x = _tmp10*p.f*R_foot_00 + p.f*_tmp11*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
-  const T p_foot_pose_b5_y = _tmp10*p.f*R_foot_10 + p.f*_tmp11*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp17 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp18 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp17*p.f*R_foot_00 + p.f*_tmp18*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp17*p.f*R_foot_10 + p.f*_tmp18*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
   const T p_foot_pose_b5_z = -p.f*sin_foot_pose_ry;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T sv_foot_pose_rx_x = -q_foot_pose_z*sin_foot_pose_rz;
@@ -1068,22 +1146,22 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp12 = dsv_j2_x*vel_x5;
-  const T _tmp13 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp12 + _tmp13 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp14 = dsv_j2_y*vel_x5;
-  const T _tmp15 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp14 + _tmp15 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp19 = dsv_j2_x*vel_x5;
+  const T _tmp20 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp21 = dsv_j2_y*vel_x5;
+  const T _tmp22 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp12;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp14;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp13 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp15 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -1096,34 +1174,34 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp16 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T _tmp17 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T _tmp23 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T _tmp24 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
   const T vp_knee_x = -pt_knee_y*vel_x0;
   const T vp_knee_y = pt_knee_x*vel_x0;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp18 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp18;
-  const T _tmp19 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp19;
+  const T _tmp25 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp25;
+  const T _tmp26 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp26;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1131,17 +1209,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp18;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp19;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp20 = p.r*p.r;
-  const T _tmp21 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp20*p.rho*_tmp21;
-  const T _tmp22 = _tmp20*_tmp20;
-  const T _tmp23 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp22*p.rho*_tmp21 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp20*p.rho*_tmp21*_tmp23;
+  const T _tmp27 = p.r*p.r;
+  const T _tmp28 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp27*p.rho*_tmp28;
+  const T _tmp29 = _tmp27*_tmp27;
+  const T _tmp30 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp28 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp27*p.rho*_tmp28*_tmp30;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1152,10 +1230,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp24 = p.f*p.f;
-  const T _tmp25 = sqrt(_tmp24);
-  const T m_foot = T(3.14159265358979323846)*_tmp20*p.rho*_tmp25;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp22*p.rho*_tmp25 + T(3.14159265358979323846)*_tmp24*_tmp20*p.rho*_tmp25*_tmp23;
+  const T _tmp31 = p.f*p.f;
+  const T _tmp32 = sqrt(_tmp31);
+  const T m_foot = T(3.14159265358979323846)*_tmp27*p.rho*_tmp32;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp32 + T(3.14159265358979323846)*_tmp31*_tmp27*p.rho*_tmp32*_tmp30;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1171,8 +1249,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T tm_thigh_z = M_thigh_z + tm_shank_z;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T P_j3_x = p_foot_x - _tmp16;
-  const T P_j3_y = p_foot_y - _tmp17;
+  const T P_j3_x = p_foot_x - _tmp23;
+  const T P_j3_y = p_foot_y - _tmp24;
   const T rct_z0 = -lu_ipiv0*tm_thigh_z;
   const T rct_z4 = lu_ipiv4*rct_z0 - F_foot_x*lu_ipiv4*sv_j3_x - F_foot_y*lu_ipiv4*sv_j3_y - M_foot_z*lu_ipiv4;
   const T rct_z5 = lu_ipiv5*rct_z0 + lu_ipiv5*rct_z4*sv_j2_x - lu_ipiv5*sv_j2_x*tf_shank_x - lu_ipiv5*sv_j2_y*tf_shank_y - lu_ipiv5*tm_shank_z;
@@ -1188,8 +1266,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T rx_j3_f_x = F_foot_x - rct_y4;
   const T rx_j3_f_y = F_foot_y - rct_z5;
   const T rx_j3_m_z = M_foot_z + P_j3_y*rx_j3_f_x - P_j3_x*rx_j3_f_y - rct_z0;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x0;
   s.bodies.thigh.x = com_thigh_x;
   s.bodies.thigh.y = com_thigh_y;
   s.bodies.thigh.z = T(0);
@@ -1376,8 +1463,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.j3.mx = -rct_y2;
   s.joints.j3.my = -rct_y3;
   s.joints.j3.mz = rx_j3_m_z;
-  const T _sum_positions_0 = ((s.bodies.thigh.x + s.bodies.thigh.y) + (s.bodies.shank.x + s.bodies.shank.y)) + ((s.bodies.foot.x + s.bodies.foot.y) + (s.joints.j1.q + s.joints.j2.q));
-  const T _sum_positions_1 = ((s.joints.j3.q + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
+  const T _sum_positions_0 = ((s.joints.j3.q + s.joints.j2.q) + (s.joints.j1.q + s.bodies.thigh.x)) + ((s.bodies.thigh.y + s.bodies.shank.x) + (s.bodies.shank.y + s.bodies.foot.x));
+  const T _sum_positions_1 = ((s.bodies.foot.y + s.point_jacobians.knee[0][0]) + (s.point_jacobians.knee[1][0] + s.point_jacobians.knee[0][1])) + ((s.point_jacobians.knee[1][1] + s.point_jacobians.knee[0][2]) + (s.point_jacobians.knee[1][2] + s.point_jacobians.ankle[0][0]));
   const T _sum_positions_2 = ((s.point_jacobians.ankle[1][0] + s.point_jacobians.ankle[0][1]) + (s.point_jacobians.ankle[1][1] + s.point_jacobians.ankle[0][2])) + ((s.point_jacobians.ankle[1][2] + s.point_jacobians.toe[0][0]) + (s.point_jacobians.toe[1][0] + s.point_jacobians.toe[0][1]));
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
@@ -1399,6 +1486,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1407,11 +1501,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
 template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 611
+  // Total ops: 694
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1434,14 +1529,23 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T ik_foot_pose_cos = T(0.5)*_tmp4*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp4*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp4;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T _tmp5 = in.t - s.closure.wt;
+  const T _tmp6 = T(0.5)*(_tmp5*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp5;
+  const T ik_foot_pose_branch = branch_sign(ik_foot_pose_link_dot*sin(-_tmp6 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp7 = in.t*in.t;
+  const T _tmp8 = s.closure.wt*s.closure.wt;
+  const T _tmp9 = _tmp6 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp9), cos(_tmp9)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp8 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_cos;
   const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp4*ik_foot_pose_sin;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp10 = T(0.5)*(_tmp5*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp5 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp10), cos(_tmp10)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp8 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp11 = T(0.5)*(_tmp5*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp5 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp11), cos(_tmp11)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp7*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp8 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T q_foot_pose_z = T(0);
@@ -1458,33 +1562,33 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T cos_foot_pose_ry = cos(q_foot_pose_ry);
   const T sin_foot_pose_ry = sin(q_foot_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp5 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp5;
-  const T R_shank_10 = _tmp5;
+  const T _tmp12 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp12;
+  const T R_shank_10 = _tmp12;
   const T R_shank_11 = R_shank_00;
-  const T _tmp6 = p.l*sin_j1;
-  const T p_shank_x = _tmp6 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp7 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp7 - p.l*sin_j1*sin_j2;
+  const T _tmp13 = p.l*sin_j1;
+  const T p_shank_x = _tmp13 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp14 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp14 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp8 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp8;
-  const T _tmp9 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp9;
+  const T _tmp15 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp15;
+  const T _tmp16 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp16;
   const T R_foot_pose_b5_00 = cos_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
   const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
-  const T _tmp10 = cos_foot_pose_ry*cos_foot_pose_ry;
-  const T _tmp11 = sin_foot_pose_ry*sin_foot_pose_ry;
-  const T p_foot_pose_b5_x = _tmp10*p.f*R_foot_00 + p.f*_tmp11*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
-  const T p_foot_pose_b5_y = _tmp10*p.f*R_foot_10 + p.f*_tmp11*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp17 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp18 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp17*p.f*R_foot_00 + p.f*_tmp18*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp17*p.f*R_foot_10 + p.f*_tmp18*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
   const T p_foot_pose_b5_z = -p.f*sin_foot_pose_ry;
-  const T sv_j2_x = -_tmp7;
-  const T sv_j2_y = -_tmp6;
+  const T sv_j2_x = -_tmp14;
+  const T sv_j2_y = -_tmp13;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T X0_R_01 = R_foot_pose_b5_10*cos_foot_pose_rz + sin_foot_pose_rx*R_foot_pose_b5_12*sin_foot_pose_rz - cos_foot_pose_rx*R_foot_11*sin_foot_pose_rz;
@@ -1534,22 +1638,22 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp12 = dsv_j2_x*vel_x5;
-  const T _tmp13 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp12 + _tmp13 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp14 = dsv_j2_y*vel_x5;
-  const T _tmp15 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp14 + _tmp15 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp19 = dsv_j2_x*vel_x5;
+  const T _tmp20 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp21 = dsv_j2_y*vel_x5;
+  const T _tmp22 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp12;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp14;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp13 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp15 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -1562,28 +1666,28 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp16 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T _tmp17 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T _tmp23 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T _tmp24 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T pt_knee_x = _tmp6;
-  const T pt_knee_y = -_tmp7;
-  const T pt_ankle_x = p_shank_x - _tmp8;
-  const T pt_ankle_y = p_shank_y - _tmp9;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp16;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp17;
+  const T pt_knee_x = _tmp13;
+  const T pt_knee_y = -_tmp14;
+  const T pt_ankle_x = p_shank_x - _tmp15;
+  const T pt_ankle_y = p_shank_y - _tmp16;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp18 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp18;
-  const T _tmp19 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp19;
+  const T _tmp25 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp25;
+  const T _tmp26 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp26;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1591,17 +1695,17 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp18;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp19;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp20 = p.r*p.r;
-  const T _tmp21 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp20*p.rho*_tmp21;
-  const T _tmp22 = _tmp20*_tmp20;
-  const T _tmp23 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp22*p.rho*_tmp21 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp20*p.rho*_tmp21*_tmp23;
+  const T _tmp27 = p.r*p.r;
+  const T _tmp28 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp27*p.rho*_tmp28;
+  const T _tmp29 = _tmp27*_tmp27;
+  const T _tmp30 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp28 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp27*p.rho*_tmp28*_tmp30;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1612,10 +1716,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp24 = p.f*p.f;
-  const T _tmp25 = sqrt(_tmp24);
-  const T m_foot = T(3.14159265358979323846)*_tmp20*p.rho*_tmp25;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp22*p.rho*_tmp25 + T(3.14159265358979323846)*_tmp24*_tmp20*p.rho*_tmp25*_tmp23;
+  const T _tmp31 = p.f*p.f;
+  const T _tmp32 = sqrt(_tmp31);
+  const T m_foot = T(3.14159265358979323846)*_tmp27*p.rho*_tmp32;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp32 + T(3.14159265358979323846)*_tmp31*_tmp27*p.rho*_tmp32*_tmp30;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1623,8 +1727,17 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T tau_foot_pose_x = F_foot_x*jv_foot_0_x + F_foot_y*jv_foot_0_y + F_shank_x*jv_shank_0_x + F_shank_y*jv_shank_0_y + M_foot_z*jw_foot_0_z + M_shank_z*jw_shank_0_z + M_thigh_z*sen0_x0;
   const T tau_foot_pose_y = F_foot_x*jv_foot_1_x + F_foot_y*jv_foot_1_y + F_shank_x*jv_shank_1_x + F_shank_y*jv_shank_1_y + M_foot_z*jw_foot_1_z + M_shank_z*jw_shank_1_z + M_thigh_z*sen1_x0;
   const T tau_foot_pose_rz = F_foot_x*jv_foot_2_x + F_foot_y*jv_foot_2_y + F_shank_x*jv_shank_2_x + F_shank_y*jv_shank_2_y + M_foot_z*jw_foot_2_z + M_shank_z*jw_shank_2_z + M_thigh_z*sen2_x0;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x0;
   s.points.hip.x = T(0);
   s.points.hip.y = T(0);
   s.points.hip.z = T(0);
@@ -1684,7 +1797,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_positions_2 = s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2];
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates = s.closure.residual + s.closure.det;
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces = s.drivers.foot_pose_x.effort + (s.drivers.foot_pose_y.effort + s.drivers.foot_pose_rz.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
@@ -1697,6 +1810,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 
@@ -1725,11 +1845,12 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
                        [[maybe_unused]] const PositionConstants<T>& k, const Inputs<T>& in,
                        State<T>& s) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 129
+  // Total ops: 212
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1743,14 +1864,23 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T ik_foot_pose_cos = T(0.5)*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x)*_tmp1 + T(0.5)*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y)*_tmp1 - (p.l*p.l)*_tmp1;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), k.ik_foot_pose_link_dot);
+  const T _tmp2 = in.t - s.closure.wt;
+  const T _tmp3 = T(0.5)*(_tmp2*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp2;
+  const T ik_foot_pose_branch = branch_sign(k.ik_foot_pose_link_dot*sin(-_tmp3 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp4 = in.t*in.t;
+  const T _tmp5 = s.closure.wt*s.closure.wt;
+  const T _tmp6 = _tmp3 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), k.ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp6), cos(_tmp6)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp5 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_cos*k.ik_foot_pose_link_dot*_tmp1;
   const T ik_foot_pose_s2 = ik_foot_pose_sin*k.ik_foot_pose_link_dot*_tmp1;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp7 = T(0.5)*(_tmp2*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp2 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp7), cos(_tmp7)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp5 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp8 = T(0.5)*(_tmp2*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp2 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp8), cos(_tmp8)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp4*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp5 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T cos_j1 = cos(q_j1);
@@ -1760,26 +1890,26 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T cos_j3 = cos(q_j3);
   const T sin_j3 = sin(q_j3);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp2 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp2;
-  const T R_shank_10 = _tmp2;
+  const T _tmp9 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp9;
+  const T R_shank_10 = _tmp9;
   const T R_shank_11 = R_shank_00;
-  const T _tmp3 = p.l*sin_j1;
-  const T p_shank_x = _tmp3 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp4 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp4 - p.l*sin_j1*sin_j2;
+  const T _tmp10 = p.l*sin_j1;
+  const T p_shank_x = _tmp10 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp11 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp11 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
   const T R_foot_11 = R_shank_11*cos_j3 - R_shank_10*sin_j3;
-  const T _tmp5 = T(2)*p.l*R_shank_01;
-  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp5;
-  const T _tmp6 = T(2)*p.l*R_shank_11;
-  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp6;
-  const T pt_knee_x = _tmp3;
-  const T pt_knee_y = -_tmp4;
-  const T pt_ankle_x = p_shank_x - _tmp5;
-  const T pt_ankle_y = p_shank_y - _tmp6;
+  const T _tmp12 = T(2)*p.l*R_shank_01;
+  const T p_foot_x = T(2)*p.l*R_shank_01*cos_j3 + p_shank_x - T(2)*p.l*R_shank_00*sin_j3 - _tmp12;
+  const T _tmp13 = T(2)*p.l*R_shank_11;
+  const T p_foot_y = T(2)*p.l*R_shank_11*cos_j3 + p_shank_y - T(2)*p.l*R_shank_10*sin_j3 - _tmp13;
+  const T pt_knee_x = _tmp10;
+  const T pt_knee_y = -_tmp11;
+  const T pt_ankle_x = p_shank_x - _tmp12;
+  const T pt_ankle_y = p_shank_y - _tmp13;
   const T pt_toe_x = p.f*R_foot_00 + p_foot_x - T(2)*p.l*R_foot_01;
   const T pt_toe_y = p.f*R_foot_10 + p_foot_y - T(2)*p.l*R_foot_11;
   s.points.hip.x = T(0);
@@ -1825,11 +1955,12 @@ template <class T>
 Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s, T* A,
                T* b) noexcept {
   using std::atan2;
+  using detail::branch_sign;
   using detail::cos;
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 542
+  // Total ops: 625
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1857,14 +1988,23 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T ik_foot_pose_cos = T(0.5)*_tmp8*(ik_foot_pose_reach_vector_x*ik_foot_pose_reach_vector_x) + T(0.5)*_tmp8*(ik_foot_pose_reach_vector_y*ik_foot_pose_reach_vector_y) - ik_foot_pose_link_dot*_tmp8;
   const T ik_foot_pose_reach = T(1) - ik_foot_pose_cos*ik_foot_pose_cos;
   if (!(ik_foot_pose_reach >= T(0))) return detail::failed(s, 8, Status::unreachable);
-  const T ik_foot_pose_sin = sqrt(ik_foot_pose_reach);
-  const T ik_foot_pose_theta2 = atan2(ik_foot_pose_sin, ik_foot_pose_cos) - atan2(T(0), ik_foot_pose_link_dot);
+  const T _tmp9 = in.t - s.closure.wt;
+  const T _tmp10 = T(0.5)*(_tmp9*s.closure.wdd[1] + T(2)*s.closure.wd[1])*_tmp9;
+  const T ik_foot_pose_branch = branch_sign(ik_foot_pose_link_dot*sin(-_tmp10 - s.closure.w[1]))*s.closure.follow - s.closure.follow + T(1);
+  const T ik_foot_pose_sin = ik_foot_pose_branch*sqrt(ik_foot_pose_reach);
+  const T _tmp11 = in.t*in.t;
+  const T _tmp12 = s.closure.wt*s.closure.wt;
+  const T _tmp13 = _tmp10 + atan2(ik_foot_pose_sin, ik_foot_pose_cos) + s.closure.w[1] - atan2(T(0), ik_foot_pose_link_dot);
+  const T ik_foot_pose_theta2 = atan2(sin(_tmp13), cos(_tmp13)) + in.t*s.closure.wdd[1]*s.closure.wt + s.closure.wd[1]*s.closure.wt - T(0.5)*_tmp11*s.closure.wdd[1] - T(0.5)*s.closure.wdd[1]*_tmp12 - in.t*s.closure.wd[1] - s.closure.w[1];
   const T ik_foot_pose_c2 = ik_foot_pose_link_dot*_tmp8*ik_foot_pose_cos;
   const T ik_foot_pose_s2 = ik_foot_pose_link_dot*_tmp8*ik_foot_pose_sin;
   const T ik_foot_pose_w_x = -p.l*ik_foot_pose_s2;
   const T ik_foot_pose_w_y = p.l*ik_foot_pose_c2 + p.l;
-  const T ik_foot_pose_theta1 = atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y);
-  const T q_j1 = ik_foot_pose_theta1 + ik_foot_pose_theta2 + in.foot_pose_rz;
+  const T _tmp14 = T(0.5)*(_tmp9*s.closure.wdd[0] + T(2)*s.closure.wd[0])*_tmp9 + atan2(ik_foot_pose_reach_vector_y*ik_foot_pose_w_x - ik_foot_pose_reach_vector_x*ik_foot_pose_w_y, ik_foot_pose_reach_vector_x*ik_foot_pose_w_x + ik_foot_pose_reach_vector_y*ik_foot_pose_w_y) + s.closure.w[0];
+  const T ik_foot_pose_theta1 = atan2(sin(_tmp14), cos(_tmp14)) + in.t*s.closure.wdd[0]*s.closure.wt + s.closure.wd[0]*s.closure.wt - T(0.5)*_tmp11*s.closure.wdd[0] - T(0.5)*s.closure.wdd[0]*_tmp12 - in.t*s.closure.wd[0] - s.closure.w[0];
+  const T _tmp15 = T(0.5)*(_tmp9*s.closure.wdd[2] + T(2)*s.closure.wd[2])*_tmp9 + s.closure.w[2] - ik_foot_pose_theta1 - ik_foot_pose_theta2 - in.foot_pose_rz;
+  const T ik_foot_pose_theta3 = atan2(sin(_tmp15), cos(_tmp15)) + in.t*s.closure.wdd[2]*s.closure.wt + s.closure.wd[2]*s.closure.wt - T(0.5)*_tmp11*s.closure.wdd[2] - T(0.5)*s.closure.wdd[2]*_tmp12 - in.t*s.closure.wd[2] - s.closure.w[2];
+  const T q_j1 = -ik_foot_pose_theta3;
   const T q_j2 = -ik_foot_pose_theta2;
   const T q_j3 = -ik_foot_pose_theta1;
   const T q_foot_pose_z = T(0);
@@ -1881,14 +2021,14 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T cos_foot_pose_ry = cos(q_foot_pose_ry);
   const T sin_foot_pose_ry = sin(q_foot_pose_ry);
   const T R_shank_00 = cos_j1*cos_j2 - sin_j1*sin_j2;
-  const T _tmp9 = cos_j1*sin_j2 + cos_j2*sin_j1;
-  const T R_shank_01 = -_tmp9;
-  const T R_shank_10 = _tmp9;
+  const T _tmp16 = cos_j1*sin_j2 + cos_j2*sin_j1;
+  const T R_shank_01 = -_tmp16;
+  const T R_shank_10 = _tmp16;
   const T R_shank_11 = R_shank_00;
-  const T _tmp10 = p.l*sin_j1;
-  const T p_shank_x = _tmp10 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
-  const T _tmp11 = p.l*cos_j1;
-  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp11 - p.l*sin_j1*sin_j2;
+  const T _tmp17 = p.l*sin_j1;
+  const T p_shank_x = _tmp17 - p.l*cos_j1*sin_j2 - p.l*cos_j2*sin_j1;
+  const T _tmp18 = p.l*cos_j1;
+  const T p_shank_y = p.l*cos_j1*cos_j2 - _tmp18 - p.l*sin_j1*sin_j2;
   const T R_foot_00 = R_shank_00*cos_j3 + R_shank_01*sin_j3;
   const T R_foot_01 = R_shank_01*cos_j3 - R_shank_00*sin_j3;
   const T R_foot_10 = R_shank_10*cos_j3 + R_shank_11*sin_j3;
@@ -1899,14 +2039,14 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T R_foot_pose_b5_02 = -sin_foot_pose_ry*R_foot_00;
   const T R_foot_pose_b5_10 = cos_foot_pose_ry*R_foot_10;
   const T R_foot_pose_b5_12 = -sin_foot_pose_ry*R_foot_10;
-  const T _tmp12 = cos_foot_pose_ry*cos_foot_pose_ry;
-  const T _tmp13 = sin_foot_pose_ry*sin_foot_pose_ry;
-  const T p_foot_pose_b5_x = _tmp12*p.f*R_foot_00 + p.f*_tmp13*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
-  const T p_foot_pose_b5_y = _tmp12*p.f*R_foot_10 + p.f*_tmp13*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
-  const T _tmp14 = p.f*sin_foot_pose_ry;
-  const T p_foot_pose_b5_z = -_tmp14;
-  const T sv_j2_x = -_tmp11;
-  const T sv_j2_y = -_tmp10;
+  const T _tmp19 = cos_foot_pose_ry*cos_foot_pose_ry;
+  const T _tmp20 = sin_foot_pose_ry*sin_foot_pose_ry;
+  const T p_foot_pose_b5_x = _tmp19*p.f*R_foot_00 + p.f*_tmp20*R_foot_00 + p_foot_x - cos_foot_pose_ry*p.f*R_foot_00;
+  const T p_foot_pose_b5_y = _tmp19*p.f*R_foot_10 + p.f*_tmp20*R_foot_10 + p_foot_y - cos_foot_pose_ry*p.f*R_foot_10;
+  const T _tmp21 = p.f*sin_foot_pose_ry;
+  const T p_foot_pose_b5_z = -_tmp21;
+  const T sv_j2_x = -_tmp18;
+  const T sv_j2_y = -_tmp17;
   const T sv_j3_x = p_shank_y - T(2)*p.l*R_shank_00;
   const T sv_j3_y = -T(2)*p.l*R_shank_10 - p_shank_x;
   const T sv_foot_pose_rx_x = -q_foot_pose_z*sin_foot_pose_rz;
@@ -1952,22 +2092,22 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp15 = dsv_j2_x*vel_x5;
-  const T _tmp16 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp15 + _tmp16 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp17 = dsv_j2_y*vel_x5;
-  const T _tmp18 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp17 + _tmp18 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp22 = dsv_j2_x*vel_x5;
+  const T _tmp23 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp22 + _tmp23 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp24 = dsv_j2_y*vel_x5;
+  const T _tmp25 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp24 + _tmp25 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp15;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp17;
+  const T dv_shank_x = acc_x5*sv_j2_x + _tmp22;
+  const T dv_shank_y = acc_x5*sv_j2_y + _tmp24;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp16 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp18 + dv_shank_y;
+  const T dv_foot_x = acc_x4*sv_j3_x + _tmp23 + dv_shank_x;
+  const T dv_foot_y = acc_x4*sv_j3_y + _tmp25 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -1980,20 +2120,20 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp19 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp19;
-  const T _tmp20 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp20;
+  const T _tmp26 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp26;
+  const T _tmp27 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp27;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T _tmp21 = p.r*p.r;
-  const T _tmp22 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp21*p.rho*_tmp22;
-  const T _tmp23 = _tmp21*_tmp21;
-  const T _tmp24 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp23*p.rho*_tmp22 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp21*p.rho*_tmp22*_tmp24;
+  const T _tmp28 = p.r*p.r;
+  const T _tmp29 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp28*p.rho*_tmp29;
+  const T _tmp30 = _tmp28*_tmp28;
+  const T _tmp31 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp30*p.rho*_tmp29 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp28*p.rho*_tmp29*_tmp31;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -2004,18 +2144,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp25 = p.f*p.f;
-  const T _tmp26 = sqrt(_tmp25);
-  const T m_foot = T(3.14159265358979323846)*_tmp21*p.rho*_tmp26;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp23*p.rho*_tmp26 + T(3.14159265358979323846)*_tmp25*_tmp21*p.rho*_tmp26*_tmp24;
+  const T _tmp32 = p.f*p.f;
+  const T _tmp33 = sqrt(_tmp32);
+  const T m_foot = T(3.14159265358979323846)*_tmp28*p.rho*_tmp33;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp30*p.rho*_tmp33 + T(3.14159265358979323846)*_tmp32*_tmp28*p.rho*_tmp33*_tmp31;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
   const T M_foot_z = F_foot_y*com_foot_x + Ialb_foot_z - F_foot_x*com_foot_y;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T P_j3_x = p_foot_x - _tmp19;
-  const T P_j3_y = p_foot_y - _tmp20;
+  const T P_j3_x = p_foot_x - _tmp26;
+  const T P_j3_y = p_foot_y - _tmp27;
   const T P_foot_pose_x_x = _tmp7;
   const T P_foot_pose_y_x = _tmp7;
   const T P_foot_pose_y_y = -_tmp6;
@@ -2023,11 +2163,11 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T P_foot_pose_z_y = -_tmp6;
   const T P_foot_pose_rz_x = _tmp1 + _tmp2 + p_foot_pose_b4_x;
   const T P_foot_pose_rz_y = _tmp5 + p_foot_pose_b4_y - _tmp4;
-  const T P_foot_pose_rx_x = p.f*R_foot_pose_b5_00 + p_foot_pose_b5_x - _tmp19;
-  const T P_foot_pose_rx_y = p.f*R_foot_pose_b5_10 + p_foot_pose_b5_y - _tmp20;
-  const T P_foot_pose_rx_z = _tmp14 + p_foot_pose_b5_z;
-  const T P_foot_pose_ry_x = p.f*R_foot_00 + p_foot_x - _tmp19;
-  const T P_foot_pose_ry_y = p.f*R_foot_10 + p_foot_y - _tmp20;
+  const T P_foot_pose_rx_x = p.f*R_foot_pose_b5_00 + p_foot_pose_b5_x - _tmp26;
+  const T P_foot_pose_rx_y = p.f*R_foot_pose_b5_10 + p_foot_pose_b5_y - _tmp27;
+  const T P_foot_pose_rx_z = _tmp21 + p_foot_pose_b5_z;
+  const T P_foot_pose_ry_x = p.f*R_foot_00 + p_foot_x - _tmp26;
+  const T P_foot_pose_ry_y = p.f*R_foot_10 + p_foot_y - _tmp27;
   A[0] = T(1);
   A[6] = -T(1);
   A[58] = T(1);
@@ -2236,12 +2376,22 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   b[12] = F_foot_x;
   b[13] = F_foot_y;
   b[17] = M_foot_z;
+  s.closure.wnext[0] = q_j3;
+  s.closure.wnext[1] = q_j2;
+  s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
   s.closure.det = closure_det;
+  s.closure.wdnext[0] = vel_x4;
+  s.closure.wdnext[1] = vel_x5;
+  s.closure.wdnext[2] = vel_x0;
+  s.closure.wddnext[0] = acc_x4;
+  s.closure.wddnext[1] = acc_x5;
+  s.closure.wddnext[2] = acc_x0;
   const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1274] + A[1280])) + ((A[1571] + A[1628]) + (A[2799] + A[2800]));
   const T _sum_forces_1 = ((A[2862] + A[2863]) + (A[3114] + A[3115])) + ((A[3177] + A[3178]) + (A[3179] + A[3240]));
-  const T _sum_forces_2 = (A[3241] + (A[3242] + b[5])) + ((b[11] + b[17]) + (s.closure.residual + s.closure.det));
-  const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
+  const T _sum_forces_2 = ((A[3241] + A[3242]) + (b[5] + b[11])) + ((b[17] + s.closure.wnext[0]) + (s.closure.wnext[1] + s.closure.wnext[2]));
+  const T _sum_forces_3 = s.closure.residual + s.closure.det;
+  const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -2252,6 +2402,13 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
+  for (int i = 0; i < 3; ++i) {
+    s.closure.w[i] = s.closure.wnext[i];
+    s.closure.wd[i] = s.closure.wdnext[i];
+    s.closure.wdd[i] = s.closure.wddnext[i];
+  }
+  s.closure.wt = in.t;
+  s.closure.follow = T(1);
   return Status::ok;
 }
 }  // namespace detail
@@ -2304,7 +2461,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xe9edd8f0c73b73afULL;
+inline constexpr unsigned long long fingerprint = 0x169a9823ae8f9cf0ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;

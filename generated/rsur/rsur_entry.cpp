@@ -8,15 +8,52 @@
 
 namespace mechgen::gen::rsur {
 
+// The State carried from call to call (per thread and scalar) and where a sweep starts: the
+// State's defaults (the assembly at the default parameters, t0), or the values seed_start()
+// was given for the warm start's entries, which are these columns of the spatial graph (the
+// Newton coordinates, then the closed-form angles).
+template <class T>
+struct Carried {
+  State<T> start, s;
+  T last_t = std::numeric_limits<T>::infinity();
+  bool restart = false;  // the next call starts from `start`
+  bool seeded = false;   // a seeded sweep: carried whichever way its time runs
+};
+template <class T>
+static Carried<T>& carried() {
+  static thread_local Carried<T> c;
+  return c;
+}
+static const int start_columns[] = {1, 2, 3, 4, 5, 6};
+
+template <class T>
+static void seed(const double* values) {
+  Carried<T>& c = carried<T>();
+  c.start = State<T>{};
+  c.restart = true;
+  c.seeded = values != nullptr;
+  if (values == nullptr) return;
+  for (int i = 0; i < 6; ++i) c.start.closure.w[i] = static_cast<T>(values[i]);
+  c.start.closure.follow = T(1);
+}
+
+// Null: the defaults again.
+static void seed_start(const double* values) {
+  seed<double>(values);
+  seed<float>(values);
+}
+
 template <class T>
 static int evaluate_inputs(const Params<T>& p, const Inputs<T>& in, double* row,
                            int* failed_group) {
-  // A closed chain's warm start carries over from one call to the next (per thread and scalar),
-  // back to the assembly when time does not advance (a new sweep).
-  static thread_local State<T> s;
-  static thread_local T last_t = std::numeric_limits<T>::infinity();
-  if (!(in.t > last_t)) s = State<T>{};
-  last_t = in.t;
+  // A closed chain's warm start carries over from one call to the next (per thread and scalar):
+  // from where a sweep starts when time does not advance (a new sweep) or seed_start()
+  // began one, whichever way its time runs then.
+  Carried<T>& c = carried<T>();
+  if (c.restart || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;
+  c.restart = false;
+  c.last_t = in.t;
+  State<T>& s = c.s;
   const Status status = evaluate(p, in, s);
   *failed_group = s.failed_group;
   if (status != Status::ok) return static_cast<int>(status);
@@ -103,7 +140,9 @@ const CompiledKernel& compiled_kernel() {
                                      &evaluate_row<float>, 1,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
                                      fingerprint,     4,
-                                     point_names,     &point_positions_batch};
+                                     point_names,     &point_positions_batch,
+                                     6, start_columns,
+                                     &seed_start};
   return kernel;
 }
 

@@ -270,6 +270,8 @@ int run_spatial_sweep(const Args& args) {
       kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)
              : spatial::run_spatial_sweep(model, options);
   const double elapsed = seconds_since(start);
+  for (const std::string& warning : result.warnings)
+    std::cerr << path << ": warning: " << warning << "\n";
   const std::string out = args.get("--out");
   g_current_file = out;
   report::CsvTable table{out, result.columns, result.rows};

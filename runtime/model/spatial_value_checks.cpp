@@ -37,10 +37,11 @@ void check_body(const SpatialModel& model, const SpatialBody& b, const GiNaC::ex
   // Principal moments in increasing order.
   const Eigen::Vector3d moments =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia, Eigen::EigenvaluesOnly).eigenvalues();
-  if (!(moments[0] > 0))
+  // Positive semi-definite: a point mass (all moments 0) and a thin rod (one moment 0) are
+  // rigid bodies too, and models of statics use them.
+  if (!(moments[0] >= -1e-12 * scale))
     throw ModelError(m.loc, "body '" + b.name +
-                                "': the inertia tensor is not positive definite (smallest "
-                                "principal moment " +
+                                "': the inertia tensor has a negative principal moment (" +
                                 number_text(moments[0]) + " kg m^2)");
   if (!(moments[0] + moments[1] >= moments[2] * (1 - 1e-9)))
     throw ModelError(m.loc, "body '" + b.name + "': principal moments " + number_text(moments[0]) +

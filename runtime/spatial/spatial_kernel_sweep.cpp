@@ -1,9 +1,13 @@
 // The spatial sweep through a generated kernel (spatial_kernel_sweep.hpp).
 #include "spatial/spatial_kernel_sweep.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include "spatial/spatial_solver.hpp"
 
 namespace mechgen::spatial {
 
@@ -12,6 +16,75 @@ double spatial_sample_time(const SpatialSweepOptions& o, int i) {
   if (i == o.samples - 1) return o.t1;
   return o.t0 + (o.t1 - o.t0) * i / (o.samples - 1);
 }
+
+namespace {
+
+// Seeds the kernel's warm start on this thread for one sweep, and restores its defaults after.
+class StartSeed {
+ public:
+  StartSeed(const SpatialModel& model, const SpatialSweepOptions& options,
+            const CompiledKernel& kernel)
+      : kernel_(kernel) {
+    if (kernel.seed_start == nullptr || kernel.start_count == 0) return;
+    SpatialState state;
+    try {
+      const SpatialSolver solver(model, options.parameters);
+      solver.solve(spatial_sample_time(options, 0), state);
+    } catch (const std::exception&) {
+      kernel.seed_start(nullptr);  // no assembly at t0: the kernel's own start and report
+      return;
+    }
+    std::vector<double> values;
+    for (int k = 0; k < kernel.start_count; ++k) values.push_back(state.q[kernel.start_columns[k]]);
+    name_branch_changes(options, values);
+    kernel.seed_start(values.data());
+  }
+  const std::string& warning() const { return warning_; }
+  ~StartSeed() {
+    if (kernel_.seed_start != nullptr) kernel_.seed_start(nullptr);
+  }
+  StartSeed(const StartSeed&) = delete;
+  StartSeed& operator=(const StartSeed&) = delete;
+
+ private:
+  // The joints whose coordinates at t0 differ (mod 2 pi) between the kernel's own start (the
+  // assembly at the default parameters) and the run's assembly: a --set moved those to another
+  // branch, which the user should know of.
+  void name_branch_changes(const SpatialSweepOptions& options, const std::vector<double>& values) {
+    const auto n = static_cast<size_t>(kernel_.column_count);
+    std::vector<double> own(n), run(n);
+    int group = -1;
+    const double t0 = spatial_sample_time(options, 0);
+    kernel_.seed_start(nullptr);
+    const int own_status =
+        kernel_.evaluate_double(options.parameters.data(), t0, own.data(), &group);
+    kernel_.seed_start(values.data());
+    const int run_status =
+        kernel_.evaluate_double(options.parameters.data(), t0, run.data(), &group);
+    if (own_status != 0 || run_status != 0) return;
+    std::string joints;
+    for (size_t c = 0; c < n; ++c) {
+      const std::string name = kernel_.column_names[c];
+      const size_t dot = name.rfind('.');
+      const std::string field = name.substr(dot + 1);
+      const bool coordinate = field == "q" || (field.size() == 2 && field[0] == 'q' &&
+                                               field[1] >= '1' && field[1] <= '9');
+      if (!coordinate || !(std::abs(std::remainder(own[c] - run[c], 2 * M_PI)) > 1e-6)) continue;
+      const std::string joint = "'" + name.substr(0, dot) + "'";
+      if (joints.find(joint) == std::string::npos) joints += (joints.empty() ? "" : ", ") + joint;
+    }
+    if (!joints.empty())
+      warning_ =
+          "with these parameters the assembly at t0 is on another branch than the "
+          "generated kernel's own start (the assembly at the default parameters) for " +
+          joints + ": both solvers start from the numeric assembly and follow it";
+  }
+
+  const CompiledKernel& kernel_;
+  std::string warning_;
+};
+
+}  // namespace
 
 SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
                                             const SpatialSweepOptions& options,
@@ -26,6 +99,12 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
   if (!same)
     throw ModelError(file, "the generated kernel of '" + model.common.name +
                                "' does not match the description (rebuild to regenerate it)");
+  // The kernel's closed forms take the root nearest its warm start: started from the numeric
+  // solver's assembly at this run's parameters and t0, both solvers take the same branch there
+  // and then follow the motion (issue 28). Without an assembly the kernel starts from its
+  // defaults (the assembly at the default parameters) and reports what it finds.
+  StartSeed seed(model, options, kernel);
+  if (!seed.warning().empty()) result.warnings.push_back(seed.warning());
   bool newton_closure = false;
   for (int g = 0; g < kernel.group_count; ++g)
     newton_closure = newton_closure || std::string(kernel.group_names[g]) == "closure";

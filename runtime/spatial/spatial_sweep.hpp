@@ -19,6 +19,7 @@ struct SpatialSweepOptions {
 struct SpatialSweepResult {
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
+  std::vector<std::string> warnings;  // for the user, one line each (no "warning: " prefix)
 };
 
 std::vector<std::string> spatial_column_names(const SpatialModel& model);

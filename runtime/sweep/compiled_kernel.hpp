@@ -10,7 +10,7 @@ namespace mechgen {
 // The layout below; a kernel built on demand (a shared library) is used only when its entry
 // `extern "C" const CompiledKernel* mechgen_kernel_entry(int abi)` accepts this value. Bump it with
 // any change of CompiledKernel.
-inline constexpr int kCompiledKernelAbi = 2;
+inline constexpr int kCompiledKernelAbi = 3;
 
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
@@ -50,6 +50,16 @@ struct CompiledKernel {
   int point_count = 0;
   const char* const* point_names = nullptr;
   PointsBatchFunction point_positions_batch_double = nullptr;
+  // Spatial closed chains: the warm start's entries (Newton coordinates, then closed-form angles)
+  // as columns of the spatial graph (the numeric solver's SpatialState::q), and the function that
+  // makes the next sweep on the calling thread start from values[k] for them, or from the
+  // kernel's defaults again for null. The branch of every closed form is the one nearest the warm
+  // start, so a sweep started from the numeric solver's assembly at its own parameters takes the
+  // numeric solver's branch (issue 28). 0 and null elsewhere.
+  using SeedFunction = void (*)(const double* values);
+  int start_count = 0;
+  const int* start_columns = nullptr;
+  SeedFunction seed_start = nullptr;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr, whatever its fingerprint (the

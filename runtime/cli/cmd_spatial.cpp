@@ -256,9 +256,7 @@ int run_spatial_sweep(const Args& args) {
   const bool generated = solver_option(args) != "numeric";
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
   if (args.has("--mass-matrix") && generated)
-    throw UsageError(
-        "--mass-matrix: the mass matrix comes from the numeric solver only (the generated "
-        "kernels have no mass_matrix entry yet, issue 22): use --solver numeric");
+    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   const SpatialModel model = load_spatial(path);
   // The current compiled-in kernel, else one built on demand (never one of another description).
   const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;

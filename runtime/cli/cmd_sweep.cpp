@@ -59,9 +59,7 @@ int run_sweep_command(const Args& args) {
   options.shard = shard_option(args);
   options.mass_matrix = args.has("--mass-matrix");
   if (options.mass_matrix && options.solver != "numeric")
-    throw UsageError(
-        "--mass-matrix: the mass matrix comes from the numeric solver only (the generated "
-        "kernels have no mass_matrix entry yet, issue 22): use --solver numeric");
+    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
     throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 

@@ -20,6 +20,10 @@
 
 namespace mechgen {
 
+const char* const kMassMatrixNumericOnly =
+    "the mass matrix comes from the numeric solver only (the generated kernels have no "
+    "mass_matrix entry yet, issue 22): use --solver numeric";
+
 namespace {
 
 SourceLoc model_loc(const Model& model) {
@@ -274,9 +278,7 @@ SweepOptions checked(const Model& model, const SweepOptions& options_in) {
     throw ModelError(
         where, "sweep: unknown solver '" + options.solver + "' (expected generated or numeric)");
   if (options.mass_matrix && options.solver != "numeric")
-    throw ModelError(where,
-                     "sweep: the mass matrix comes from the numeric solver only (the generated "
-                     "kernels have no mass_matrix entry yet, issue 22): use --solver numeric");
+    throw ModelError(where, std::string("sweep: ") + kMassMatrixNumericOnly);
   return options;
 }
 

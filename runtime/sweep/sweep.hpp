@@ -32,6 +32,8 @@ struct SweepOptions {
   // the generated kernels have no mass_matrix entry yet, so "generated" is a ModelError.
   bool mass_matrix = false;
 };
+// Why a mass matrix is refused with the generated solver (for the commands' messages).
+extern const char* const kMassMatrixNumericOnly;
 
 struct SweepResult {
   std::vector<std::string> columns;       // column_names(model) (+ mass_bias_columns)

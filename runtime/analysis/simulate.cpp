@@ -379,57 +379,98 @@ SimulationResult simulate(Plant& plant, const EffortFunction& effort,
   if (!record(options.t0, y)) return fail(options.t0);
   const auto steps = static_cast<long>(std::ceil((options.t1 - options.t0) / options.dt - 1e-9));
   const double dt = (options.t1 - options.t0) / static_cast<double>(steps);
+  // One step of length h from (t, y) into `next`; false with `failed_at` set when a stage fails.
+  double failed_at = options.t0;
   VectorXd k1, k2, k3, k4;
-  for (long i = 0; i < steps; ++i) {
-    const double t = options.t0 + dt * static_cast<double>(i);
-    const double t_next = i + 1 == steps ? options.t1 : t + dt;
+  auto advance = [&](double t, const VectorXd& y0, double h, VectorXd& next) {
     if (options.integrator == Integrator::rk4) {
-      if (!derivative(t, y, k1)) return fail(t);
-      if (!derivative(t + dt / 2, y + dt / 2 * k1, k2)) return fail(t + dt / 2);
-      if (!derivative(t + dt / 2, y + dt / 2 * k2, k3)) return fail(t + dt / 2);
-      if (!derivative(t_next, y + dt * k3, k4)) return fail(t_next);
-      y += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-    } else {
-      // Implicit midpoint: y1 = y0 + dt f(t + dt/2, (y0 + y1)/2), solved for the midpoint
-      // m = (y0 + y1)/2 by Newton: m - y0 - dt/2 f(m) = 0, Jacobian by forward differences.
-      const double tm = t + dt / 2;
-      if (!derivative(t, y, k1)) return fail(t);
-      VectorXd m = y + dt / 2 * k1, f;  // explicit Euler half step as the start
-      bool converged = false;
-      for (int iteration = 0; iteration < 20 && !converged; ++iteration) {
-        if (!derivative(tm, m, f)) return fail(tm);
-        const VectorXd r = m - y - dt / 2 * f;
-        Eigen::MatrixXd J = Eigen::MatrixXd::Identity(size, size);
-        for (Eigen::Index c = 0; c < 2 * n; ++c) {  // the works do not enter f
-          const double h = 1e-7 * std::max(1.0, std::abs(m[c]));
-          VectorXd mc = m, fc;
-          mc[c] += h;
-          if (!derivative(tm, mc, fc)) return fail(tm);
-          J.col(c) -= dt / 2 * (fc - f) / h;
-        }
-        const VectorXd step = J.partialPivLu().solve(r);
-        m -= step;
-        converged = step.head(2 * n).cwiseAbs().maxCoeff() <=
-                    1e-12 * std::max(1.0, m.head(2 * n).cwiseAbs().maxCoeff());
-      }
-      if (!converged) {
-        why = "implicit midpoint: Newton did not converge (reduce --dt)";
-        return fail(t_next);
-      }
-      if (!derivative(tm, m, f)) return fail(tm);
-      y += dt * f;
+      failed_at = t;
+      if (!derivative(t, y0, k1)) return false;
+      failed_at = t + h / 2;
+      if (!derivative(t + h / 2, y0 + h / 2 * k1, k2)) return false;
+      if (!derivative(t + h / 2, y0 + h / 2 * k2, k3)) return false;
+      failed_at = t + h;
+      if (!derivative(t + h, y0 + h * k3, k4)) return false;
+      next = y0 + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      return true;
     }
-    ++result.steps;
+    // Implicit midpoint: y1 = y0 + h f(t + h/2, (y0 + y1)/2), solved for the midpoint
+    // m = (y0 + y1)/2 by Newton: m - y0 - h/2 f(m) = 0, Jacobian by forward differences.
+    const double tm = t + h / 2;
+    failed_at = t;
+    if (!derivative(t, y0, k1)) return false;
+    failed_at = tm;
+    VectorXd m = y0 + h / 2 * k1, f;  // explicit Euler half step as the start
+    bool converged = false;
+    for (int iteration = 0; iteration < 20 && !converged; ++iteration) {
+      if (!derivative(tm, m, f)) return false;
+      const VectorXd r = m - y0 - h / 2 * f;
+      Eigen::MatrixXd J = Eigen::MatrixXd::Identity(size, size);
+      for (Eigen::Index c = 0; c < 2 * n; ++c) {  // the works do not enter f
+        const double e = 1e-7 * std::max(1.0, std::abs(m[c]));
+        VectorXd mc = m, fc;
+        mc[c] += e;
+        if (!derivative(tm, mc, fc)) return false;
+        J.col(c) -= h / 2 * (fc - f) / e;
+      }
+      const VectorXd step = J.partialPivLu().solve(r);
+      m -= step;
+      converged = step.head(2 * n).cwiseAbs().maxCoeff() <=
+                  1e-12 * std::max(1.0, m.head(2 * n).cwiseAbs().maxCoeff());
+    }
+    if (!converged) {
+      why = "implicit midpoint: Newton did not converge (reduce --dt)";
+      return false;
+    }
+    if (!derivative(tm, m, f)) return false;
+    next = y0 + h * f;
+    return true;
+  };
+
+  // Uniform steps from `base` (t0, or the last periodic event); the last one ends at t1.
+  double base = options.t0, t = options.t0;
+  long k = 0;
+  VectorXd next;
+  while (options.t1 - t > 1e-9 * dt) {
+    double h = std::min(dt, options.t1 - t);
+    if (options.t1 - t - h < 1e-9 * dt) h = options.t1 - t;
+    if (!advance(t, y, h, next)) return fail(failed_at);
+    bool event = false;
     if (options.periodic_driver >= 0) {
       const Eigen::Index d = options.periodic_driver;
-      if (std::abs(y[d] - start[d]) >= options.period) {
-        y[d] -= std::copysign(options.period, y[d] - start[d]);
-        plant.restart();
-        ++result.periods;
+      if (std::abs(next[d] - start[d]) >= options.period) {
+        // Land on the boundary (secant on the step length): the support exchange, where the
+        // configuration moved back by the period is the same one.
+        const double boundary = start[d] + std::copysign(options.period, next[d] - start[d]);
+        double ha = 0, fa = y[d] - boundary, hb = h, fb = next[d] - boundary;
+        for (int i = 0;
+             i < 30 && std::abs(fb) > 1e-13 * std::max(1.0, std::abs(boundary)) && fb != fa; ++i) {
+          const double hc = hb - fb * (hb - ha) / (fb - fa);
+          if (!advance(t, y, hc, next)) return fail(failed_at);
+          ha = hb;
+          fa = fb;
+          hb = hc;
+          fb = next[d] - boundary;
+        }
+        h = hb;
+        event = true;
       }
     }
-    if ((i + 1) % options.every == 0 || i + 1 == steps)
-      if (!record(t_next, y)) return fail(t_next);
+    y = next;
+    ++result.steps;
+    ++k;
+    const bool last = options.t1 - (t + h) <= 1e-9 * dt;
+    t = last ? options.t1 : event ? t + h : base + dt * static_cast<double>(k);
+    if (event) {
+      y[options.periodic_driver] -= std::copysign(
+          options.period, y[options.periodic_driver] - start[options.periodic_driver]);
+      plant.restart();
+      ++result.periods;
+      base = t;
+      k = 0;
+    }
+    if (event || last || result.steps % options.every == 0)
+      if (!record(t, y)) return fail(t);
   }
   return result;
 }

@@ -340,6 +340,46 @@ step: {t0: 0, t1: 1, samples: 11}
   EXPECT_NO_THROW(model_effort_laws(pasibot, pasibot.default_parameters(), {"theta8"}));
 }
 
+// A stiff spring on a pendulum (omega = sqrt(k / I) = 950 rad/s) stepped at dt = 10 ms
+// (omega dt = 9.5, beyond RK4's stability limit of 2.8): RK4 blows up, the implicit midpoint
+// rule (A-stable, symplectic) keeps the energy.
+TEST(Simulate, StiffSpringNeedsTheImplicitMidpointRule) {
+  const Model model = read_model_text(R"(
+name: stiff
+parameters: {k: 1e6}
+bodies:
+  - {name: ground, ground: true, points: {O: [0, 0]}}
+  - name: arm
+    points: {O: [0, 0], P: [1, 0]}
+    mass: {mass: 1, com: [1, 0], inertia: 0.108}
+joints:
+  - {name: pivot, type: revolute, first: ground, second: arm, point: O}
+drivers:
+  - {name: theta, joint: pivot, kind: angle, value: 0.001*cos(t), effort: -k*q}
+step: {t0: 0, t1: 1, samples: 11}
+)",
+                                      "stiff.yaml");
+  const EffortFunction laws = model_effort_laws(model, model.default_parameters());
+  SimulationOptions options;
+  options.t0 = 0;
+  options.t1 = 0.5;
+  options.dt = 1e-2;
+  const std::unique_ptr<Plant> explicit_plant = planar_plant(model, model.default_parameters());
+  const SimulationResult rk4 = simulate(*explicit_plant, laws, options);
+  options.integrator = Integrator::implicit_midpoint;
+  const std::unique_ptr<Plant> implicit_plant = planar_plant(model, model.default_parameters());
+  const SimulationResult midpoint = simulate(*implicit_plant, laws, options);
+  ASSERT_TRUE(midpoint.error.empty()) << midpoint.error;
+  // The spring's energy is the work of its law: E.balance is kinetic + gravity - that work.
+  const double midpoint_drift = energy_drift(midpoint);
+  const double rk4_drift = rk4.error.empty() ? energy_drift(rk4) : INFINITY;
+  std::cout << "stiff spring, omega dt = 9.5: RK4 " << (rk4.error.empty() ? "" : rk4.error + ", ")
+            << "relative energy drift " << rk4_drift << "; implicit midpoint " << midpoint_drift
+            << "\n";
+  EXPECT_GT(rk4_drift, 1.0);
+  EXPECT_LT(midpoint_drift, 1e-2);
+}
+
 TEST(Simulate, MotorTorqueSpeedLine) {
   Motor motor;
   motor.peak_torque = 0.25;

@@ -47,16 +47,18 @@ class PlanarPlant : public Plant {
   const std::vector<std::string>& drivers() const override { return drivers_; }
   const std::vector<std::string>& columns() const override { return columns_; }
 
-  void motion(double t, VectorXd& q, VectorXd& qd) const override {
+  void motion(double t, VectorXd& q, VectorXd& qd, VectorXd* qdd) const override {
     GiNaC::exmap at = subs_;
     at[model_.t] = t;
     const auto n = static_cast<Eigen::Index>(model_.drivers.size());
     q.resize(n);
     qd.resize(n);
+    if (qdd) qdd->resize(n);
     for (Eigen::Index d = 0; d < n; ++d) {
       const Driver& dr = model_.drivers[static_cast<size_t>(d)];
       q[d] = to_double(dr.value.ex.subs(at));
       qd[d] = to_double(dr.value_d.subs(at));
+      if (qdd) (*qdd)[d] = to_double(dr.value_dd.subs(at));
     }
   }
 
@@ -91,7 +93,7 @@ class PlanarPlant : public Plant {
     if (!assembled_) {  // at the model's own configuration, then the drivers walked to q
       assembled_ = true;
       VectorXd q0, qd0;
-      motion(t0_, q0, qd0);
+      motion(t0_, q0, qd0, nullptr);
       const VectorXd zero = VectorXd::Zero(q.size());
       solver_.set_driver_motion(q0, zero, zero);
       solver_.assemble(t0_);
@@ -129,14 +131,17 @@ class SpatialPlant : public Plant {
   const std::vector<std::string>& drivers() const override { return drivers_; }
   const std::vector<std::string>& columns() const override { return columns_; }
 
-  void motion(double t, VectorXd& q, VectorXd& qd) const override {
+  void motion(double t, VectorXd& q, VectorXd& qd, VectorXd* qdd) const override {
     VectorXd qp, qpd, qpdd;
     solver_.primary_motion(t, qp, qpd, qpdd);
     q.resize(qp.size());
     qd.resize(qp.size());
+    if (qdd) qdd->resize(qp.size());
     for (size_t g = 0; g < groups_.size(); ++g) {
-      q[static_cast<Eigen::Index>(g)] = qp[groups_[g].primary] + groups_[g].offset;
-      qd[static_cast<Eigen::Index>(g)] = qpd[groups_[g].primary];
+      const auto i = static_cast<Eigen::Index>(g);
+      q[i] = qp[groups_[g].primary] + groups_[g].offset;
+      qd[i] = qpd[groups_[g].primary];
+      if (qdd) (*qdd)[i] = qpdd[groups_[g].primary];
     }
   }
 
@@ -193,7 +198,7 @@ class SpatialPlant : public Plant {
              std::string& why) {
     if (!state_.assembled) {  // at the model's own configuration, then the drivers walked to q
       VectorXd q0, qd0;
-      motion(t0_, q0, qd0);
+      motion(t0_, q0, qd0, nullptr);
       const VectorXd zero = VectorXd::Zero(q.size());
       const int pieces = walk_pieces(q0, q);
       for (int k = 0; k < pieces; ++k)
@@ -300,6 +305,27 @@ double MotorDrive::output_torque(double qd) const {
 
 double MotorDrive::reflected_inertia() const {
   return motor.rotor_inertia * motor.gear_ratio * motor.gear_ratio;
+}
+
+EffortFunction tracking_controller(std::shared_ptr<Plant> model, Control control, double kp,
+                                   double kd, const VectorXd& inertia) {
+  return [model, control, kp, kd, inertia](double t, const VectorXd& q, const VectorXd& qd,
+                                           VectorXd& effort) {
+    VectorXd qr, qdr, qddr;
+    model->motion(t, qr, qdr, &qddr);
+    const VectorXd servo = kp * (qr - q) + kd * (qdr - qd);
+    if (control == Control::pd) {
+      effort = inertia.cwiseProduct(servo);
+      return;
+    }
+    numeric::MassBias mb;
+    std::string why;
+    if (!model->place(t, q, qd, mb, why)) {
+      effort = VectorXd::Constant(q.size(), std::nan(""));
+      return;
+    }
+    effort = mb.M * (qddr + servo) + mb.h;
+  };
 }
 
 std::string to_string(Integrator integrator) {

@@ -29,8 +29,10 @@ class Plant {
   // Driver coordinate names (as in their `<a>.q` columns) and the sweep's columns.
   virtual const std::vector<std::string>& drivers() const = 0;
   virtual const std::vector<std::string>& columns() const = 0;
-  // The model's own (prescribed) driver motion at t: the initial state of a simulation.
-  virtual void motion(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd) const = 0;
+  // The model's own (prescribed) driver motion at t: the initial state of a simulation, a
+  // controller's reference (with the accelerations when qdd is given).
+  virtual void motion(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                      Eigen::VectorXd* qdd = nullptr) const = 0;
   // Places the mechanism at the drivers' (q, qd) at time t and returns M and h there. False when
   // the solver cannot place it (no configuration, a branch jump, singular kinematics or dynamics);
   // `why` says which.
@@ -81,6 +83,15 @@ struct MotorDrive {
   double output_torque(double qd) const;  // at the driver's rate
   double reflected_inertia() const;       // rotor inertia x ratio^2
 };
+
+// Drivers as force-controlled actuators holding the model's own motion (the drivers' `value:`)
+// as the reference q_r(t): computed torque, effort = M(q) (q_r'' + kd e' + kp e) + h(q, q') with M
+// and h from `model` (a plant of its own, placed at the simulation's state), or PD only, effort =
+// J (kp e + kd e') with J `inertia` (per driver: the diagonal of M at the start, so that both
+// have the same nominal bandwidth). e = q_r - q.
+enum class Control { computed_torque, pd };
+EffortFunction tracking_controller(std::shared_ptr<Plant> model, Control control, double kp,
+                                   double kd, const Eigen::VectorXd& inertia);
 
 enum class Integrator { rk4, implicit_midpoint };
 

@@ -1,6 +1,8 @@
 // mechgen simulate: forward dynamics over time (issue 22): the drivers become free coordinates
 // under their effort laws or a DC motor, integrated with a fixed step (analysis/simulate.hpp).
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -22,6 +24,7 @@ const char* const kSimulateHelp =
     R"(usage: mechgen simulate MODEL.yaml --out FILE.csv [--t1 T] [--dt DT] [--set NAME=VALUE]...
                          [--from-rest] [--integrator rk4|implicit-midpoint] [--every K]
                          [--motor NAME --catalogue CSV [--driver NAME] [--voltage V]]
+                         [--track computed-torque|pd [--kp KP] [--kd KD]]
 
 Forward dynamics: the drivers become free coordinates under given efforts, q'' = M^-1 (effort -
 h) with M and h from the numeric solver at every stage (planar and spatial models). Each driver's
@@ -48,6 +51,13 @@ docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
                       sense of the model's own motion at t0. Its mass is not added: --set it.
   --voltage V         the motor's supply as a fraction of its rated voltage (default 1): stall
                       torque and no-load speed scale with it
+  --track CONTROL     the drivers as force-controlled actuators holding the model's own motion
+                      (their `value:`) as the reference instead of their effort laws:
+                      computed-torque (M (q_r'' + kd e' + kp e) + h, M and h from the numeric
+                      solver at the current state) or pd (J (kp e + kd e'), J the diagonal of M at
+                      the start); prints the largest tracking error of each driver
+  --kp KP, --kd KD    the tracking gains (default 400 1/s^2 and 40 1/s: 20 rad/s, critically
+                      damped)
 A singular configuration reached (M not positive definite, or the solver cannot place the
 mechanism) stops the run: the rows computed so far are written, then the error names t (exit 1).
 )";
@@ -57,6 +67,10 @@ int run_simulate(const Args& args) {
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
   if (args.has("--motor") != args.has("--catalogue"))
     throw UsageError("--motor NAME and --catalogue CSV go together");
+  if (args.has("--track") && args.has("--motor"))
+    throw UsageError("--track drives every driver by its controller: no --motor with it");
+  if ((args.has("--kp") || args.has("--kd")) && !args.has("--track"))
+    throw UsageError("--kp and --kd are the gains of --track");
   if ((args.has("--driver") || args.has("--voltage")) && !args.has("--motor"))
     throw UsageError("--driver and --voltage are the motor's: give --motor too");
   sim::SimulationOptions options;
@@ -137,6 +151,16 @@ int run_simulate(const Args& args) {
     if (!(options.period > 0))
       throw UsageError("--periodic: the driver does not move over the model's step");
   }
+  // A second plant for the controller (it is placed at the states the controller sees).
+  std::shared_ptr<sim::Plant> control_plant;
+  if (args.has("--track")) {
+    const std::string kind = args.get("--track");
+    if (kind != "computed-torque" && kind != "pd")
+      throw UsageError("--track: '" + kind + "' is not computed-torque or pd");
+    for (size_t d = 0; d < drivers.size(); ++d) free.push_back(drivers[d]);
+    control_plant = spatial ? sim::spatial_plant(*spatial_model, parameters)
+                            : sim::planar_plant(*planar_model, parameters);
+  }
   const sim::EffortFunction laws = spatial
                                        ? sim::model_effort_laws(*spatial_model, parameters, free)
                                        : sim::model_effort_laws(*planar_model, parameters, free);
@@ -148,6 +172,19 @@ int run_simulate(const Args& args) {
       e[drive.driver] = drive.output_torque(qd[drive.driver]);
     };
 
+  if (control_plant) {
+    Eigen::VectorXd q, qd;
+    control_plant->motion(options.t0, q, qd);
+    if (options.from_rest) qd.setZero();
+    numeric::MassBias mb;
+    std::string why;
+    if (!control_plant->place(options.t0, q, qd, mb, why))
+      throw ModelError({path, 0, 0}, "simulate --track: at t0: " + why);
+    effort = sim::tracking_controller(
+        control_plant,
+        args.get("--track") == "pd" ? sim::Control::pd : sim::Control::computed_torque,
+        args.number("--kp", 400), args.number("--kd", 40), mb.M.diagonal());
+  }
   const auto start = std::chrono::steady_clock::now();
   const sim::SimulationResult result = sim::simulate(*plant, effort, options);
   const double elapsed = seconds_since(start);
@@ -174,6 +211,22 @@ int run_simulate(const Args& args) {
               << fixed(last.back(), 10) << " J at the end (drift "
               << fixed(last.back() - first.back(), 3) << " J)\n";
   }
+  if (control_plant && !result.rows.empty()) {
+    std::cout << "tracking (" << args.get("--track") << ", kp " << fixed(args.number("--kp", 400))
+              << ", kd " << fixed(args.number("--kd", 40)) << "): largest |q_ref - q|";
+    for (size_t d = 0; d < drivers.size(); ++d) {
+      size_t c = 0;
+      while (result.columns[c] != drivers[d] + ".q") ++c;
+      double worst = 0;
+      for (const std::vector<double>& row : result.rows) {
+        Eigen::VectorXd qr, qdr;
+        plant->motion(row.front(), qr, qdr);
+        worst = std::max(worst, std::abs(qr[static_cast<Eigen::Index>(d)] - row[c]));
+      }
+      std::cout << (d ? ", " : " ") << drivers[d] << " " << fixed(worst, 4);
+    }
+    std::cout << "\n";
+  }
   g_current_file = path;
   if (!result.error.empty())
     throw ModelError({path, 0, 0},
@@ -198,7 +251,10 @@ Command simulate_command() {
            {"--motor", "", true},
            {"--catalogue", "", true},
            {"--driver", "", true},
-           {"--voltage", "", true}},
+           {"--voltage", "", true},
+           {"--track", "", true},
+           {"--kp", "", true},
+           {"--kd", "", true}},
           &run_simulate};
 }
 

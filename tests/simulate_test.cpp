@@ -16,6 +16,7 @@
 #include <iostream>
 #include <map>
 
+#include "analysis/motor_sizing.hpp"
 #include "analysis/simulate.hpp"
 #include "model/model.hpp"
 #include "model/spatial_model.hpp"
@@ -369,6 +370,47 @@ step: {t0: 0, t1: 1, samples: 11}
   const Model pasibot = read_model(MECHGEN_SOURCE_DIR "/models/pasibot.yaml");
   EXPECT_THROW(model_effort_laws(pasibot, pasibot.default_parameters()), ModelError);
   EXPECT_NO_THROW(model_effort_laws(pasibot, pasibot.default_parameters(), {"theta8"}));
+}
+
+// PASIBOT from rest on the catalogue motor size-motor chooses (GM25-150, its mass on the hip),
+// stepping periodically (the support foot alternating): the energy balance (kinetic + potential
+// - work of the motor) holds across the support exchanges, which the step lands on exactly.
+TEST(Simulate, PasibotOnItsMotorKeepsTheEnergyBalanceAcrossSteps) {
+  const Model model = read_model(MECHGEN_SOURCE_DIR "/models/pasibot.yaml");
+  std::vector<double> parameters = model.default_parameters();
+  apply_overrides(model, {"m_load=0.2"}, parameters);
+  std::optional<MotorDrive> drive;
+  for (const Motor& m : read_catalogue(MECHGEN_SOURCE_DIR "/models/motor_catalogue.csv"))
+    if (m.name == "GM25-150") drive = MotorDrive{0, m, 1};
+  ASSERT_TRUE(drive.has_value());
+  SimulationOptions options;
+  options.t0 = 0;
+  options.t1 = 1.5;
+  options.dt = 1e-3;
+  options.every = 10;
+  options.from_rest = true;
+  options.extra_inertia = VectorXd::Constant(1, drive->reflected_inertia());
+  options.periodic_driver = 0;
+  options.period = M_PI;
+  const std::unique_ptr<Plant> plant = planar_plant(model, parameters);
+  const SimulationResult result = simulate(
+      *plant,
+      [&](double, const VectorXd&, const VectorXd& qd, VectorXd& e) {
+        e = VectorXd::Constant(1, drive->output_torque(qd[0]));
+      },
+      options);
+  ASSERT_TRUE(result.error.empty()) << result.error;
+  EXPECT_GE(result.periods, 2);
+  const size_t balance = column(result.columns, "E.balance");
+  double drift = 0;
+  for (const std::vector<double>& row : result.rows)
+    drift = std::max(drift, std::abs(row[balance] - result.rows.front()[balance]));
+  const size_t work = column(result.columns, "W.efforts");
+  std::cout << "PASIBOT on GM25-150 from rest, " << result.periods
+            << " support exchanges in 1.5 s: motor work " << result.rows.back()[work]
+            << " J, energy balance drift " << drift << " J\n";
+  EXPECT_GT(result.rows.back()[work], 0.1);  // the balance is not trivially zero work
+  EXPECT_LT(drift, 1e-6);
 }
 
 // A stiff spring on a pendulum (omega = sqrt(k / I) = 950 rad/s) stepped at dt = 10 ms

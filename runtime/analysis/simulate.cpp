@@ -253,9 +253,12 @@ Law law_of(const GiNaC::exmap& subs, const std::string& name, const std::optiona
            const SourceLoc& loc, const std::vector<std::string>& free) {
   if (effort) return {effort->ex.subs(subs), true};
   if (named(free, name)) return {};
-  throw ModelError(loc, "driver '" + name +
-                            "' has no effort law: give it `effort:` (a law of t, q, qd) or "
-                            "drive it by a motor (--motor NAME --catalogue CSV)");
+  const bool pose = name.find('.') != std::string::npos;  // a pose driver's coordinate
+  throw ModelError(loc, "driver '" + name + "' has no effort law: " +
+                            (pose ? "a pose driver's coordinates take none; "
+                                  : "give it `effort:` (a law of t, q, qd), ") +
+                            "drive it by a motor (--motor NAME --catalogue CSV) or track the "
+                            "model's motion (--track)");
 }
 
 std::string time_text(double t) {

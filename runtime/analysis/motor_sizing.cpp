@@ -49,6 +49,7 @@ std::vector<Motor> parse_catalogue(const std::string& text, const std::string& p
   };
   std::vector<Motor> motors;
   std::vector<int> where;  // column of each of kColumns
+  int rotor_column = -1;   // optional: rotor_inertia[g cm^2]
   size_t header_size = 0;
   std::stringstream in(text);
   std::string line;
@@ -70,6 +71,8 @@ std::vector<Motor> parse_catalogue(const std::string& text, const std::string& p
         where.push_back(static_cast<int>(it - cells.begin()));
       }
       header_size = cells.size();
+      const auto rotor = std::find(cells.begin(), cells.end(), "rotor_inertia[g cm^2]");
+      if (rotor != cells.end()) rotor_column = static_cast<int>(rotor - cells.begin());
       continue;
     }
     if (cells.size() != header_size)
@@ -98,6 +101,18 @@ std::vector<Motor> parse_catalogue(const std::string& text, const std::string& p
     motor.mass = values[3];
     motor.gear_ratio = values[4];
     motor.efficiency = values[5];
+    if (rotor_column >= 0) {
+      const std::string& cell = cells[static_cast<size_t>(rotor_column)];
+      size_t used = 0;
+      try {
+        motor.rotor_inertia = std::stod(cell, &used) * 1e-7;  // g cm^2 -> kg m^2
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (cell.empty() || used != cell.size() || !(motor.rotor_inertia >= 0) ||
+          !std::isfinite(motor.rotor_inertia))
+        fail(line_number, "rotor_inertia[g cm^2]: '" + cell + "' is not a non-negative number");
+    }
     if (motor.efficiency > 1)
       fail(line_number, "efficiency must be at most 1, got " + number(motor.efficiency));
     if (motor.peak_torque < motor.rated_torque)

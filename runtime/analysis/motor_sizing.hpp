@@ -23,6 +23,7 @@ struct Motor {
   double mass = 0;           // kg, motor and gearbox
   double gear_ratio = 1;     // motor turns per output turn
   double efficiency = 1;     // of the gearbox, in (0, 1]
+  double rotor_inertia = 0;  // kg m^2, the motor's rotor (optional column; `mechgen simulate`)
 
   double output_rated_torque() const { return rated_torque * gear_ratio * efficiency; }
   double output_peak_torque() const { return peak_torque * gear_ratio * efficiency; }
@@ -31,7 +32,8 @@ struct Motor {
 
 // The catalogue CSV: '#' comment lines, then the header
 //   name,rated_torque[N m],peak_torque[N m],no_load_speed[rpm],mass[kg],gear_ratio,efficiency
-// (columns in any order), then one motor per line. Throws report::CsvError "FILE:LINE: MESSAGE"
+// (columns in any order; an optional rotor_inertia[g cm^2] is read when present), then one motor
+// per line. Throws report::CsvError "FILE:LINE: MESSAGE"
 // for a missing column, a bad number, a non-positive value or an efficiency above 1.
 std::vector<Motor> parse_catalogue(const std::string& text, const std::string& path);
 std::vector<Motor> read_catalogue(const std::string& path);

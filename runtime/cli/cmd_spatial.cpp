@@ -255,6 +255,8 @@ int run_spatial_sweep(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   const bool generated = solver_option(args) != "numeric";
   if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
+  if (args.has("--mass-matrix") && generated)
+    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   const SpatialModel model = load_spatial(path);
   // The current compiled-in kernel, else one built on demand (never one of another description).
   const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;
@@ -265,6 +267,7 @@ int run_spatial_sweep(const Args& args) {
   if (options.samples < 1) throw UsageError("--samples must be at least 1");
   options.t0 = args.number("--t0", options.t0);
   options.t1 = args.number("--t1", options.t1);
+  options.mass_matrix = args.has("--mass-matrix");
   const auto start = std::chrono::steady_clock::now();
   const spatial::SpatialSweepResult result =
       kernel ? spatial::run_spatial_kernel_sweep(model, options, *kernel)

@@ -22,7 +22,7 @@ namespace {
 const char* const kSweepHelp =
     R"(usage: mechgen sweep MODEL.yaml [--solver generated|numeric] [--set NAME=VALUE]...
                      [--samples N] [--t0 T0] [--t1 T1] [--threads N] [--out FILE.csv] [--summary]
-                     [--shard I/N]
+                     [--shard I/N] [--mass-matrix]
 
 One run over time: every named quantity at N uniform samples from T0 to T1 inclusive (defaults:
 the model's step, evaluated with the --set values), one CSV row per sample (the columns of README.md's
@@ -37,6 +37,10 @@ the model's step, evaluated with the --set values), one CSV row per sample (the 
                       (10^6 PASIBOT samples in about 0.6 s on 2 cores)
   --shard I/N         only part I of N of the samples (with --out): the parts, joined by
                       `mechgen merge --out FILE PART...`, give this run's file byte for byte
+  --mass-matrix       adds the mass matrix and bias in the drivers' coordinates (effort =
+                      M qdd + h): columns M.<a>.<b> (a before b in model order, diagonal
+                      included) and h.<a>; numeric solver only (--solver numeric: the
+                      generated kernels have no mass_matrix entry yet)
 A progress line (samples, rate, time left) is drawn on stderr when it is a terminal.
 A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
 )";
@@ -53,13 +57,17 @@ int run_sweep_command(const Args& args) {
   options.threads = args.integer("--threads", 0);
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
   options.shard = shard_option(args);
+  options.mass_matrix = args.has("--mass-matrix");
+  if (options.mass_matrix && options.solver != "numeric")
+    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
     throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 
   if (args.has("--out")) {  // before computing a table that could not be written
     const auto [first, end] = shard_range(options.shard, static_cast<size_t>(options.samples));
+    const size_t n = model.drivers.size(), extra = options.mass_matrix ? n * (n + 3) / 2 : 0;
     report::check_free_space(args.get("--out"),
-                             expected_csv_bytes(end - first, column_names(model).size()));
+                             expected_csv_bytes(end - first, column_names(model).size() + extra));
   }
   // The kernel first (a model not compiled in is built on its first use): not part of the timing.
   if (options.solver == "generated") generated_kernel(model);
@@ -116,7 +124,8 @@ Command sweep_command() {
            {"--threads", "", true},
            {"--out", "-o", true},
            {"--summary", "", false},
-           {"--shard", "", true}},
+           {"--shard", "", true},
+           {"--mass-matrix", "", false}},
           &run_sweep_command};
 }
 

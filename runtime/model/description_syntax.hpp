@@ -27,6 +27,9 @@ class DescriptionSyntax {
   // An expression of the parameters (and of t when time_allowed).
   virtual Expr expression(const YAML::Node& node, const std::string& what,
                           bool time_allowed) const = 0;
+  // A driver's `effort:` law: an expression of the parameters, t and the driver's own coordinate
+  // and rate, written `q` and `qd` (Model::driver_q, Model::driver_qd).
+  virtual Expr effort_law(const YAML::Node& node, const std::string& what) const = 0;
 };
 
 // The text of a description file; ModelError when it is missing, a directory or unreadable.

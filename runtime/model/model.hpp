@@ -134,6 +134,9 @@ struct Driver {
   DriverKind kind = DriverKind::angle;
   Expr value;                   // of t and parameters
   GiNaC::ex value_d, value_dd;  // exact time derivatives of value
+  // `effort:` (optional): the driver's effort under `mechgen simulate`, a law of t, of the
+  // parameters and of the driver's own coordinate and rate (Model::driver_q, Model::driver_qd).
+  std::optional<Expr> effort;
   SourceLoc loc;
 };
 
@@ -171,6 +174,8 @@ struct Model {
   std::optional<Expr> youngs_modulus;  // Pa, `material: {youngs_modulus: ...}`; buckling only
   double assembly_tolerance = 0.35;    // rad: how far a converged assembly may be from the hint
   GiNaC::symbol t{"t"};
+  // In a driver's `effort:` law: the driver's own coordinate and rate (`q`, `qd`).
+  GiNaC::symbol driver_q{"q"}, driver_qd{"qd"};
   int ground = -1;
   // The description's fingerprint (model/fingerprint.hpp): its parsed YAML document, comments
   // and layout aside. Generated kernels carry it (combined with the generator's) to never be run

@@ -51,8 +51,11 @@ class Reader : public DescriptionSyntax {
   std::string identifier(const YAML::Node& node, const std::string& what) const override;
   Expr expression(const YAML::Node& node, const std::string& what,
                   bool time_allowed) const override;
+  Expr effort_law(const YAML::Node& node, const std::string& what) const override;
 
  private:
+  Expr parse_expression(const YAML::Node& node, const std::string& what, bool time_allowed,
+                        const GiNaC::symtab& symbols) const;
   [[noreturn]] void fail(const YAML::Node& node, const std::string& message) const {
     throw ModelError(loc(node), message);
   }
@@ -166,6 +169,24 @@ constexpr size_t kMaxModelNameLength = 128;
 constexpr int kMaxExpressionDepth = 64;
 
 Expr Reader::expression(const YAML::Node& node, const std::string& what, bool time_allowed) const {
+  return parse_expression(node, what, time_allowed, symbols_);
+}
+
+Expr Reader::effort_law(const YAML::Node& node, const std::string& what) const {
+  GiNaC::symtab symbols = symbols_;
+  for (const auto& [name, symbol] :
+       {std::pair{"q", model_.driver_q}, std::pair{"qd", model_.driver_qd}}) {
+    if (symbols.count(name))
+      fail(node, what + ": the parameter '" + name +
+                     "' would hide the driver's own coordinate or rate in an effort law (q, qd): "
+                     "rename the parameter");
+    symbols[name] = symbol;
+  }
+  return parse_expression(node, what, true, symbols);
+}
+
+Expr Reader::parse_expression(const YAML::Node& node, const std::string& what, bool time_allowed,
+                              const GiNaC::symtab& symbols) const {
   const std::string text = scalar(node, what);
   if (text.empty()) fail(node, what + " is empty");
   if (const std::string why = yaml_special_number(text); !why.empty())
@@ -194,7 +215,7 @@ Expr Reader::expression(const YAML::Node& node, const std::string& what, bool ti
     return at == std::string::npos ? line : line.substr(at + position.size());
   };
   try {
-    GiNaC::parser parse(symbols_, true);  // strict: unknown names are errors
+    GiNaC::parser parse(symbols, true);  // strict: unknown names are errors
     result.ex = parse(text);
   } catch (const GiNaC::pole_error& error) {
     fail(node, what + " '" + text + "' cannot be evaluated (" + first_line(error.what()) + ")");
@@ -477,7 +498,7 @@ void Reader::read_joint(const YAML::Node& node) {
 
 void Reader::read_driver(const YAML::Node& node) {
   expect_map(node, "a driver");
-  expect_keys(node, "driver", {"name", "joint", "kind", "value"});
+  expect_keys(node, "driver", {"name", "joint", "kind", "value", "effort"});
   Driver d;
   d.name = identifier(required(node, "name", "a driver"), "driver name");
   d.loc = loc(node["name"]);
@@ -510,6 +531,7 @@ void Reader::read_driver(const YAML::Node& node) {
   d.value = expression(required(node, "value", "driver '" + d.name + "'"), "driver value", true);
   d.value_d = d.value.ex.diff(model_.t);
   d.value_dd = d.value_d.diff(model_.t);
+  if (node["effort"]) d.effort = effort_law(node["effort"], "driver '" + d.name + "' effort");
   model_.drivers.push_back(d);
 }
 

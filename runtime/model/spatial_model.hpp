@@ -93,6 +93,7 @@ struct SpatialDriver {
   Expr value;
   GiNaC::ex value_d, value_dd;
   std::optional<std::array<Expr, 2>> range;
+  std::optional<Expr> effort;  // `mechgen simulate`: a law of t, q, qd (as Driver::effort)
   SourceLoc loc;
 };
 

@@ -381,7 +381,7 @@ void SpatialReader::read_driver(const YAML::Node& node) {
     read_pose_driver(node);
     return;
   }
-  y_.expect_keys(node, "driver", {"name", "joint", "kind", "value", "range"});
+  y_.expect_keys(node, "driver", {"name", "joint", "kind", "value", "range", "effort"});
   SpatialDriver d;
   d.name = y_.identifier(y_.required(node, "name", "a driver"), "driver name");
   d.loc = y_.loc(node["name"]);
@@ -414,6 +414,7 @@ void SpatialReader::read_driver(const YAML::Node& node) {
   d.value_d = d.value.ex.diff(m_.common.t);
   d.value_dd = d.value_d.diff(m_.common.t);
   d.range = range(node["range"], what);
+  if (node["effort"]) d.effort = y_.effort_law(node["effort"], what + " effort");
   m_.drivers.push_back(d);
 }
 

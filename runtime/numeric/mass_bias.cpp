@@ -15,4 +15,18 @@ bool forward_accelerations(const MassBias& mb, const Eigen::VectorXd& effort,
   return true;
 }
 
+std::vector<std::string> mass_bias_columns(const std::vector<std::string>& drivers) {
+  std::vector<std::string> out;
+  for (size_t a = 0; a < drivers.size(); ++a)
+    for (size_t b = a; b < drivers.size(); ++b) out.push_back("M." + drivers[a] + "." + drivers[b]);
+  for (const std::string& a : drivers) out.push_back("h." + a);
+  return out;
+}
+
+void append_mass_bias(const MassBias& mb, std::vector<double>& row) {
+  for (Eigen::Index a = 0; a < mb.M.rows(); ++a)
+    for (Eigen::Index b = a; b < mb.M.cols(); ++b) row.push_back(mb.M(a, b));
+  for (Eigen::Index a = 0; a < mb.h.size(); ++a) row.push_back(mb.h[a]);
+}
+
 }  // namespace mechgen::numeric

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <string>
+#include <vector>
 
 namespace mechgen::numeric {
 
@@ -15,5 +17,11 @@ struct MassBias {
 // qdd = M^-1 (effort - h) by LDL^T; false (qdd untouched) when M is not positive definite or its
 // smallest pivot is below 1e-12 of its largest diagonal entry (a singular configuration).
 bool forward_accelerations(const MassBias& mb, const Eigen::VectorXd& effort, Eigen::VectorXd& qdd);
+
+// The CSV columns of `sweep --mass-matrix` (issue 22) for driver coordinates named as in their
+// `<a>.q` columns, in model order: `M.<a>.<b>` for a before b (diagonal included), then `h.<a>`.
+std::vector<std::string> mass_bias_columns(const std::vector<std::string>& drivers);
+// Appends mb's values in mass_bias_columns order.
+void append_mass_bias(const MassBias& mb, std::vector<double>& row);
 
 }  // namespace mechgen::numeric

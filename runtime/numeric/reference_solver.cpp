@@ -389,10 +389,10 @@ void ReferenceSolver::residual(const VectorXd& q, double t, VectorXd& phi) const
     const JointData& j = joints_[dr.joint];
     const Kinematic &k1 = st[j.first], &k2 = st[j.second];
     if (dr.kind == DriverKind::angle) {
-      phi[dr.row] = k2.th - k1.th - dr.f(t);
+      phi[dr.row] = k2.th - k1.th - drive(dr, 0, t);
     } else {
       const Vector2d d = k2.r + k2.R * j.p2 - k1.r - k1.R * j.p1;
-      phi[dr.row] = d.dot(k1.R * j.u1) - dr.f(t);
+      phi[dr.row] = d.dot(k1.R * j.u1) - drive(dr, 0, t);
     }
   }
   phi.array() *= row_scale_.array();
@@ -446,7 +446,7 @@ void ReferenceSolver::jacobian(const VectorXd& q, MatrixXd& jac) const {
 
 void ReferenceSolver::velocity_rhs(double t, VectorXd& nu) const {
   nu.setZero(static_cast<int>(rows_.size()));
-  for (const DriverData& dr : drivers_) nu[dr.row] = dr.fd(t);
+  for (const DriverData& dr : drivers_) nu[dr.row] = drive(dr, 1, t);
   nu.array() *= row_scale_.array();
 }
 
@@ -474,7 +474,7 @@ void ReferenceSolver::gamma(const VectorXd& q, const VectorXd& qd, double t, Vec
   }
   for (const DriverData& dr : drivers_) {
     const JointData& j = joints_[dr.joint];
-    g[dr.row] = dr.fdd(t) + (dr.kind == DriverKind::length ? line_gamma(j, j.u1) : 0.0);
+    g[dr.row] = drive(dr, 2, t) + (dr.kind == DriverKind::length ? line_gamma(j, j.u1) : 0.0);
   }
   g.array() *= row_scale_.array();
 }
@@ -734,7 +734,7 @@ void ReferenceSolver::assemble(double t) {
         relative = j.angle;
         fixed = true;
       } else if (angle_driver[ji] >= 0) {
-        relative = drivers_[angle_driver[ji]].f(t);
+        relative = drive(drivers_[angle_driver[ji]], 0, t);
         fixed = true;
       }
       const int sf = bodies_[from].slot, st = bodies_[to].slot;
@@ -743,7 +743,7 @@ void ReferenceSolver::assemble(double t) {
       const Kinematic k1 = body_state(j.first, q), k2 = body_state(j.second, q);
       Vector2d on_first = j.p1;  // joint point (revolute) or where the point sits on the line
       if (j.type != JointType::revolute && length_driver[ji] >= 0)
-        on_first += drivers_[length_driver[ji]].f(t) * j.u1;
+        on_first += drive(drivers_[length_driver[ji]], 0, t) * j.u1;
       if (forward) {
         const Vector2d world = k1.r + k1.R * on_first;
         q.segment<2>(st) = world - k2.R * j.p2;
@@ -763,7 +763,7 @@ void ReferenceSolver::assemble(double t) {
     const JointData& j = joints_[ji];
     if (j.type != JointType::prismatic && angle_driver[ji] < 0) continue;
     const double relative =
-        j.type == JointType::prismatic ? j.angle : drivers_[angle_driver[ji]].f(t);
+        j.type == JointType::prismatic ? j.angle : drive(drivers_[angle_driver[ji]], 0, t);
     const int sf = bodies_[j.first].slot, ss = bodies_[j.second].slot;
     const double th_first = sf < 0 ? 0 : q[sf + 2], th_second = ss < 0 ? 0 : q[ss + 2];
     if (ss >= 0 && hinted[j.second]) {
@@ -1028,7 +1028,7 @@ bool ReferenceSolver::mass_matrix_bias(double t, MatrixXd& M, VectorXd& h, doubl
   const int rank_kept = ne_rank_;
   VectorXd g0;
   gamma(q_, qd_, t, g0);
-  for (const DriverData& dr : drivers_) g0[dr.row] -= dr.fdd(t) * row_scale_[dr.row];
+  for (const DriverData& dr : drivers_) g0[dr.row] -= drive(dr, 2, t) * row_scale_[dr.row];
   // Driver efforts for driver accelerations a (gamma's driver rows carry them).
   auto efforts = [&](int unit, VectorXd& e) {
     VectorXd g = g0;
@@ -1059,6 +1059,72 @@ bool ReferenceSolver::mass_matrix_bias(double t, MatrixXd& M, VectorXd& h, doubl
         (M - M.transpose()).cwiseAbs().maxCoeff() / std::max(M.cwiseAbs().maxCoeff(), 1e-300);
   M = (0.5 * (M + M.transpose())).eval();
   return true;
+}
+
+void ReferenceSolver::set_driver_motion(const VectorXd& q, const VectorXd& qd,
+                                        const VectorXd& qdd) {
+  const auto n = static_cast<Eigen::Index>(drivers_.size());
+  if (q.size() != n || qd.size() != n || qdd.size() != n)
+    throw std::logic_error("ReferenceSolver::set_driver_motion: one value per driver expected");
+  given_ = {q, qd, qdd};
+}
+
+void ReferenceSolver::clear_driver_motion() {
+  given_.reset();
+}
+
+double ReferenceSolver::drive(const DriverData& dr, int order, double t) const {
+  if (given_) return (*given_)[static_cast<size_t>(order)][&dr - drivers_.data()];
+  return order == 0 ? dr.f(t) : order == 1 ? dr.fd(t) : dr.fdd(t);
+}
+
+double ReferenceSolver::potential_energy() const {
+  double v = 0;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    if (bodies_[b].slot < 0) continue;
+    const Kinematic k = body_state(static_cast<int>(b), q_);
+    v -= bodies_[b].mass * gravity_.dot(k.r + k.R * bodies_[b].com);
+  }
+  return v;
+}
+
+double ReferenceSolver::kinetic_energy() const {
+  double e = 0;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    if (bodies_[b].slot < 0) continue;
+    const Kinematic k = body_state(static_cast<int>(b), q_, &qd_);
+    const Vector2d v = k.v + k.w * perp(k.R * bodies_[b].com);
+    e += 0.5 * bodies_[b].mass * v.squaredNorm() + 0.5 * bodies_[b].inertia * k.w * k.w;
+  }
+  return e;
+}
+
+double ReferenceSolver::applied_power(double t) const {
+  double p = 0;
+  auto velocity = [&](const Kinematic& k, const Vector2d& local) {
+    return Vector2d(k.v + k.w * perp(k.R * local));
+  };
+  for (const ForceData& f : forces_) {
+    const Kinematic ka = body_state(f.a, q_, &qd_);
+    switch (f.type) {
+      case ForceType::spring_damper: {
+        const Kinematic kb = body_state(f.b, q_, &qd_);
+        const Vector2d d = kb.r + kb.R * f.pb - ka.r - ka.R * f.pa;
+        const double length = d.norm();
+        const Vector2d u = length > 0 ? Vector2d(d / length) : Vector2d::Zero();
+        const double rate = u.dot(velocity(kb, f.pb) - velocity(ka, f.pa));
+        p -= (f.k(t) * (length - f.free_length(t)) + f.c(t) * rate) * rate;
+        break;
+      }
+      case ForceType::force:
+        p += Vector2d(f.fx(t), f.fy(t)).dot(velocity(ka, f.pa));
+        break;
+      case ForceType::torque:
+        p += f.torque(t) * ka.w;
+        break;
+    }
+  }
+  return p;
 }
 
 void ReferenceSolver::fill_row(double t, Status status, std::vector<double>& row) const {

@@ -23,6 +23,8 @@
 #include <ginac/ginac.h>
 #include <Eigen/Dense>
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -109,6 +111,19 @@ class ReferenceSolver {
   // singular.
   bool mass_matrix_bias(double t, Eigen::MatrixXd& M, Eigen::VectorXd& h,
                         double* asymmetry = nullptr);
+
+  // Simulation (issue 22, `mechgen simulate`): the drivers' coordinates, rates and accelerations
+  // (model order) given instead of their time functions, for assemble, solve and
+  // mass_matrix_bias until cleared. Loads keep their laws of t.
+  void set_driver_motion(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd& qdd);
+  void clear_driver_motion();
+  // At the last solve: the gravity potential energy (-sum m g . c, zero at the ground origin),
+  // the kinetic energy summed over bodies, and the power of the applied loads (forces, torques,
+  // spring-dampers) at time t.
+  double potential_energy() const;
+  double kinetic_energy() const;
+  double applied_power(double t) const;
 
   // Rank of the constraint Jacobian at the last solve/assemble, and its size.
   int constraint_rank() const { return rank_; }
@@ -226,6 +241,8 @@ class ReferenceSolver {
                const Eigen::VectorXd& qdd0, int det_sign0, const Factor* previous,
                Eigen::VectorXd& q, Factor& f) const;
   bool dynamics(double t);
+  // Driver d's value (order 0), rate (1) or acceleration (2) at t: given or its time function.
+  double drive(const DriverData& dr, int order, double t) const;
   void update_poses();
   void fill_row(double t, Status status, std::vector<double>& row) const;
   [[noreturn]] void report_rank_problem(const Eigen::VectorXd& q) const;
@@ -261,6 +278,7 @@ class ReferenceSolver {
   Eigen::VectorXd ne_b_, ne_x_;
   std::vector<std::string> ne_names_;
   int ne_rank_ = 0;
+  std::optional<std::array<Eigen::VectorXd, 3>> given_;  // set_driver_motion
 };
 
 }  // namespace mechgen::numeric

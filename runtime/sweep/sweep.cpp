@@ -11,6 +11,7 @@
 
 #include "model/columns.hpp"
 #include "model/value_checks.hpp"
+#include "numeric/mass_bias.hpp"
 #include "numeric/reference_solver.hpp"
 #include "ondemand/kernel_resolver.hpp"
 #include "report/atomic_output.hpp"
@@ -18,6 +19,10 @@
 #include "sweep/parallel.hpp"
 
 namespace mechgen {
+
+const char* const kMassMatrixNumericOnly =
+    "the mass matrix comes from the numeric solver only (the generated kernels have no "
+    "mass_matrix entry yet, issue 22): use --solver numeric";
 
 namespace {
 
@@ -204,7 +209,14 @@ void sweep_numeric(const Model& model, const SweepOptions& options, const Sample
   solver.assemble(times[0]);
   for (size_t i = 0; i < times.size(); ++i) {
     result.rows[i].assign(result.columns.size(), 0.0);
-    const numeric::Status status = solver.solve(times[i], result.rows[i]);
+    numeric::Status status = solver.solve(times[i], result.rows[i]);
+    numeric::MassBias mb;
+    if (status == numeric::Status::ok && options.mass_matrix) {
+      if (solver.mass_matrix_bias(times[i], mb.M, mb.h))
+        numeric::append_mass_bias(mb, result.rows[i]);
+      else
+        status = numeric::Status::singular_dynamics;
+    }
     if (status != numeric::Status::ok)
       throw ModelError(model_loc(model),
                        "numeric solver: " + sample_text(i, times.size(), times[i]) + ": " +
@@ -265,6 +277,8 @@ SweepOptions checked(const Model& model, const SweepOptions& options_in) {
   if (options.solver != "generated" && options.solver != "numeric")
     throw ModelError(
         where, "sweep: unknown solver '" + options.solver + "' (expected generated or numeric)");
+  if (options.mass_matrix && options.solver != "numeric")
+    throw ModelError(where, std::string("sweep: ") + kMassMatrixNumericOnly);
   return options;
 }
 
@@ -353,6 +367,11 @@ SweepResult run_sweep(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
   SweepResult result;
   result.columns = column_names(model);
+  if (options.mass_matrix) {
+    std::vector<std::string> drivers;
+    for (const Driver& d : model.drivers) drivers.push_back(d.name);
+    for (std::string& c : numeric::mass_bias_columns(drivers)) result.columns.push_back(c);
+  }
   const SampleTimes all{options.t0, options.t1, static_cast<size_t>(options.samples)};
   // A shard's samples: a generated sample stands alone, but the numeric solver follows the
   // mechanism from t0 (each sample starts from the previous configuration), so a numeric shard

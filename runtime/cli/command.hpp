@@ -183,5 +183,6 @@ Command workspace_command();      // cmd_workspace.cpp
 Command follow_command();         // cmd_follow.cpp
 Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
 Command view_command();           // cmd_view.cpp
+Command import_command();         // cmd_import.cpp
 
 }  // namespace mechgen::cli

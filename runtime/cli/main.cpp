@@ -461,6 +461,7 @@ const std::vector<Command>& commands() {
       follow_command(),
       humanoid_gait_command(),
       view_command(),
+      import_command(),
   };
   return list;
 }

@@ -1,0 +1,154 @@
+// What `mechgen import` builds from a URDF (with its Extended URDF closures) or an MJCF file, and
+// turns into a spatial description: a kinematic tree as the source writes it (link frames, joint
+// origins, axes, inertias), the loop closures that cut it, the actuated joints; then the loops
+// closed by Newton-Raphson from the source's configuration (import_assembly.cpp), the closures
+// made joints of our graph and idle spins removed (import_graph.cpp), the description written out
+// (model_writer.cpp).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace mechgen::import {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Frame = Eigen::Isometry3d;
+
+// A problem with a source file: printed as "FILE:LINE: error: MESSAGE".
+class ImportError : public std::runtime_error {
+ public:
+  ImportError(const std::string& file, int line, const std::string& message)
+      : std::runtime_error(file + ":" + std::to_string(line > 0 ? line : 1) +
+                           ": error: " + message) {}
+};
+
+struct Link {
+  std::string name;
+  double mass = 0;
+  Vec3 com = Vec3::Zero();      // link frame
+  Mat3 inertia = Mat3::Zero();  // about the centre of mass, link frame
+  int line = 0;
+};
+
+enum class JointType { revolute, prismatic, fixed, spherical, universal };
+
+struct TreeJoint {
+  std::string name;
+  JointType type = JointType::fixed;
+  int parent = -1, child = -1;       // links
+  Frame origin = Frame::Identity();  // the joint frame in the parent's frame
+  Frame after = Frame::Identity();   // the child's frame in the joint frame (moving with it)
+  Vec3 axis = Vec3::UnitZ();         // joint frame; universal: A = x, then B = y
+  double value = 0;                  // the source's coordinate (URDF: 0; MJCF: keyframe - qpos0)
+  std::vector<double> start;         // several coordinates (a ball): the source's, else zeros
+  double lower = 0, upper = 0;       // limits (lower < upper when given)
+  double stiffness = 0, springref = 0;
+  int line = 0;
+  int dofs() const {
+    return type == JointType::revolute || type == JointType::prismatic ? 1
+           : type == JointType::spherical                              ? 3
+           : type == JointType::universal                              ? 2
+                                                                       : 0;
+  }
+};
+
+struct Closure {
+  std::string a, b;  // the source's frame names
+  int link_a = -1, link_b = -1;
+  Frame in_a = Frame::Identity(), in_b = Frame::Identity();  // the frames in their links
+  bool weld = true;  // 6d / weld; false: 3d / connect (position only)
+  std::string name;
+  std::string file;  // where the closure is written
+  int line = 0;
+};
+
+struct Actuator {
+  std::string name;  // driver name
+  int joint = -1;
+  int line = 0;
+};
+
+struct Tree {
+  std::string source;       // the file read
+  std::string name;         // the robot's name
+  std::vector<Link> links;  // links[0] is the root (the ground)
+  std::vector<TreeJoint> joints;
+  std::vector<Closure> closures;
+  std::vector<Actuator> actuators;
+  std::vector<std::string> notes;  // conversions done, for the header comment
+  Vec3 gravity{0, 0, -9.81};
+};
+
+// A file's text; the line of `<tag name="NAME"` in it (0 when not found).
+std::string read_text(const std::string& path);
+int line_of(const std::string& text, const std::string& tag, const std::string& name);
+
+// URDF through urdfdom; closures (Extended URDF YAML) optional. Throws ImportError.
+Tree read_urdf(const std::string& urdf_path, const std::string& closures_path);
+// MJCF through MuJoCo's compiler. Throws ImportError.
+Tree read_mjcf(const std::string& path);
+
+// Joint coordinates of the tree (per joint, its dofs in order) and the link frames they give.
+struct TreePose {
+  std::vector<Eigen::VectorXd> q;  // per joint
+  std::vector<Frame> link;         // per link, in the root's frame
+};
+// A joint's motion (joint frame) at its coordinates.
+Frame joint_motion(const TreeJoint& joint, const Eigen::VectorXd& q);
+TreePose place(const Tree& tree, const std::vector<Eigen::VectorXd>& q);
+// The closure residuals (3d: 3 rows, 6d: 6) at a pose, stacked in closure order.
+Eigen::VectorXd closure_residual(const Tree& tree, const TreePose& pose);
+
+struct AssemblyReport {
+  double initial = 0, final = 0;  // largest closure residual (m, rad)
+  int iterations = 0;
+  bool restarts = false;  // trapped from the source's configuration: closed from other starts
+};
+// Closes the loops by Newton-Raphson (minimum-norm steps) from the source's coordinates, the
+// actuated joints held; throws ImportError naming the closure that stays open and its distance.
+TreePose assemble(const Tree& tree, AssemblyReport& report);
+
+// A spatial description (everything at the assembled pose, ground frame), ready to be written.
+struct Body {
+  std::string name;
+  bool ground = false;
+  Frame frame = Frame::Identity();  // body frame at the reference pose, ground frame
+  double mass = 0;
+  Vec3 com = Vec3::Zero();                           // body frame
+  Mat3 inertia = Mat3::Zero();                       // about the centre of mass, body frame
+  std::vector<std::pair<std::string, Vec3>> points;  // body frame
+  std::vector<std::string> merged;                   // source links merged into this body
+};
+struct Joint {
+  std::string name;
+  JointType type = JointType::revolute;
+  int first = -1, second = -1;
+  Vec3 s = Vec3::UnitZ(), s2 = Vec3::UnitX(), s0 = Vec3::Zero();  // ground frame
+  double source_value = 0;  // the source's coordinate at the reference pose (1-dof joints)
+  double lower = 0, upper = 0;
+  std::string comment;
+};
+struct Driver {
+  std::string name;
+  int joint = -1;
+};
+struct Description {
+  std::string name, source;
+  std::vector<Body> bodies;
+  std::vector<Joint> joints;
+  std::vector<Driver> drivers;
+  std::vector<std::string> notes;
+  Vec3 gravity{0, 0, -9.81};
+};
+// The tree at the assembled pose as a description: fixed joints and welds merge bodies, connects
+// become spherical joints, revolutes meeting at a point spherical or universal, idle spins
+// removed.
+Description describe(const Tree& tree, const TreePose& pose);
+// The description as YAML text.
+std::string write_model(const Description& d);
+// A name as a C++ identifier (the kernel's fields): other characters become '_'.
+std::string identifier(const std::string& name);
+
+}  // namespace mechgen::import

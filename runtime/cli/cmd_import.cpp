@@ -1,5 +1,6 @@
 // mechgen import: a URDF (with its Extended URDF closures) or an MJCF file as a spatial
 // description (runtime/import/).
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -59,6 +60,8 @@ int run_import(const Args& args) {
     }
     if (tree.name.empty() || tree.name == "onshape" || tree.name == "robot")
       tree.name = std::filesystem::path(out).stem().string();
+    if (!tree.name.empty() && std::isdigit(static_cast<unsigned char>(tree.name[0])))
+      tree.name = "robot_" + tree.name;
     import::AssemblyReport report;
     const import::TreePose pose = import::assemble(tree, report);
     std::cout << "import " << path << ": " << tree.links.size() << " links, " << tree.joints.size()

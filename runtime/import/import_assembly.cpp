@@ -166,29 +166,31 @@ TreePose assemble(const Tree& tree, AssemblyReport& report) {
   report.iterations = it;
   report.final = r.size() ? r.cwiseAbs().maxCoeff() : 0;
   if (report.final > 1e-10) {
-    // Name the closure left farthest open.
-    long row = 0;
-    double worst = -1;
-    const Closure* open = nullptr;
-    for (const Closure& c : tree.closures) {
-      const long rows = c.weld ? 6 : 3;
-      const double d = r.segment(row, 3).norm();
-      const double angle = c.weld ? r.segment(row + 3, 3).norm() : 0;
-      if (d + angle > worst) worst = d + angle, open = &c;
-      row += rows;
+    // Which closure cannot close: the loops closed one more at a time, in the file's order; the
+    // first that fails is named with what it leaves open.
+    size_t bad = tree.closures.size() - 1;
+    Eigen::VectorXd left = r;
+    for (size_t n = 1; n < tree.closures.size(); ++n) {
+      Tree part = tree;
+      part.closures.resize(n);
+      std::vector<Eigen::VectorXd> x = q0;
+      Eigen::VectorXd rp;
+      newton(part, x, unknowns, rp);
+      if (rp.cwiseAbs().maxCoeff() > 1e-10) {
+        bad = n - 1, left = rp;
+        break;
+      }
     }
+    const Closure& open = tree.closures[bad];
     long at = 0;
-    for (const Closure& c : tree.closures) {
-      if (&c == open) break;
-      at += c.weld ? 6 : 3;
-    }
-    std::string what = "distance left " + std::to_string(r.segment(at, 3).norm()) + " m";
-    if (open->weld) what += ", angle left " + std::to_string(r.segment(at + 3, 3).norm()) + " rad";
-    throw ImportError(open->file.empty() ? tree.source : open->file, open->line,
-                      "closure " + open->a + " - " + open->b +
-                          " cannot close with the actuated "
-                          "joints at their source values: " +
-                          what + " after " + std::to_string(it) + " Newton steps (started from " +
+    for (size_t c = 0; c < bad; ++c) at += tree.closures[c].weld ? 6 : 3;
+    std::string what = "distance left " + std::to_string(left.segment(at, 3).norm()) + " m";
+    if (open.weld)
+      what += ", angle left " + std::to_string(left.segment(at + 3, 3).norm()) + " rad";
+    throw ImportError(open.file.empty() ? tree.source : open.file, open.line,
+                      "closure " + open.a + " - " + open.b +
+                          " cannot close with the actuated joints at their source values: " + what +
+                          " (the loops closed from a residual of " +
                           std::to_string(report.initial) + ")");
   }
   return place(tree, q);

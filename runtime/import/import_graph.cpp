@@ -116,7 +116,7 @@ class Builder {
       if (body_of_[static_cast<size_t>(root)] < 0) {
         body_of_[static_cast<size_t>(root)] = static_cast<int>(d_.bodies.size());
         Body b;
-        b.name = tree_.links[static_cast<size_t>(root)].name;
+        b.name = b.link = tree_.links[static_cast<size_t>(root)].name;
         b.frame = pose_.link[static_cast<size_t>(root)];
         b.ground = root == find(0);
         d_.bodies.push_back(b);
@@ -366,6 +366,7 @@ class Builder {
       else if (std::abs(u.z()) < std::abs(u[0]))
         e = Vec3::UnitZ();
       b.type = JointType::universal;
+      d_.bodies[x].spin_fixed = true;
       b.s = u.cross(e).normalized();
       b.s2 = u.cross(b.s).normalized();
       b.comment = "spherical in the source; universal: the link " + d_.bodies[x].name +

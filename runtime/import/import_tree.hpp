@@ -120,6 +120,8 @@ struct Body {
   Mat3 inertia = Mat3::Zero();                       // about the centre of mass, body frame
   std::vector<std::pair<std::string, Vec3>> points;  // body frame
   std::vector<std::string> merged;                   // source links merged into this body
+  std::string link;         // the source link whose frame is the body frame
+  bool spin_fixed = false;  // between two spherical joints: its idle spin fixed by a universal
 };
 struct Joint {
   std::string name;

@@ -1,0 +1,285 @@
+// mechgen import (issue 21): the four Extended URDF robots of ../shared/robots and two MJCF robots
+// written for these tests, each imported, read back as a spatial model and moved by its drivers;
+// every body placed by the reference solver is checked against an independent placement: the
+// source's own tree (URDF joint origins and axes, loops closed by the import's Newton on the
+// tree) and, for MJCF, MuJoCo's compiler and kinematics (mj_kinematics, equality residuals).
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "import/import_tree.hpp"
+#include "model/spatial_model.hpp"
+#include "spatial/spatial_solver.hpp"
+
+#ifndef MECHGEN_SHARED_ROBOTS
+#error "MECHGEN_SHARED_ROBOTS must name ../shared/robots (tests/CMakeLists.txt)"
+#endif
+
+namespace {
+
+using namespace mechgen;
+using import::Frame;
+
+struct Imported {
+  import::Tree tree;
+  import::TreePose pose;
+  import::AssemblyReport report;
+  import::Description description;
+  std::unique_ptr<SpatialModel> model;
+};
+
+Imported import_file(const std::string& path, const std::string& closures = "") {
+  Imported r;
+  r.tree = path.size() > 4 && path.substr(path.size() - 4) == ".xml"
+               ? import::read_mjcf(path)
+               : import::read_urdf(path, closures);
+  r.pose = import::assemble(r.tree, r.report);
+  r.description = import::describe(r.tree, r.pose);
+  r.model = std::make_unique<SpatialModel>(
+      read_spatial_model_text(import::write_model(r.description), path + ".yaml"));
+  return r;
+}
+
+// The tree's loops closed again with each actuated joint moved by `delta` from the assembled pose
+// (Newton from that pose: the same assembly branch).
+import::TreePose tree_at(const Imported& r, double delta){import::Tree moved = r.tree;
+for (size_t i = 0; i < moved.joints.size(); ++i) {
+  import::TreeJoint& j = moved.joints[i];
+  if (j.dofs() == 1)
+    j.value = r.pose.q[i][0];
+  else
+    j.start.assign(r.pose.q[i].data(), r.pose.q[i].data() + r.pose.q[i].size());
+}
+for (const import::Actuator& a : moved.actuators)
+  moved.joints[static_cast<size_t>(a.joint)].value += delta;
+import::AssemblyReport report;
+return import::assemble(moved, report);
+}  // namespace
+
+int link_index(const import::Tree& tree, const std::string& name) {
+  for (size_t l = 0; l < tree.links.size(); ++l)
+    if (tree.links[l].name == name) return static_cast<int>(l);
+  return -1;
+}
+
+class SharedRobot : public testing::TestWithParam<const char*> {};
+
+// Import, then the reference solver along the drivers' motion: every body frame equals the
+// source tree's link frame with its loops closed at the same motor angles (positions to 1e-12 m,
+// rotation matrices to 1e-12; the Delta 3e-11, below; a rod whose idle spin was fixed: its origin
+// only).
+TEST_P(SharedRobot, ImportsAndMovesAsTheSourceTree) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/" + GetParam();
+  const Imported r = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  EXPECT_GT(r.report.initial, 1e-4) << "the source's q = 0 is not assembled";
+  EXPECT_LT(r.report.final, 1e-14);
+  EXPECT_FALSE(r.tree.closures.empty());
+
+  const spatial::SpatialSolver solver(*r.model, {});
+  const double amplitude = 0.05, w = 2 * M_PI;
+  // The reference solver stops at a closure residual of 1e-13; the Delta's parallelograms are
+  // ill-conditioned enough (redundant planar loops) that this leaves 1.2e-11 in the transmission's
+  // orientation, which the tree's Newton (to 1e-15) does not have.
+  const double tol = std::string(GetParam()) == "robot_delta" ? 3e-11 : 1e-12;
+  spatial::SpatialState state;
+  for (const double t : {0.0, 0.05, 0.1, 0.15, 0.2}) {
+    solver.solve(t, state);
+    const import::TreePose tree = tree_at(r, amplitude * std::sin(w * t));
+    for (size_t b = 0; b < r.description.bodies.size(); ++b) {
+      const import::Body& body = r.description.bodies[b];
+      const int l = link_index(r.tree, body.link);
+      ASSERT_GE(l, 0) << body.name;
+      const spatial::Pose ours = solver.body_pose(state, static_cast<int>(b));
+      const Frame& theirs = tree.link[static_cast<size_t>(l)];
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(ours.p[static_cast<size_t>(k)], theirs.translation()[k], tol)
+            << GetParam() << " body " << body.name << " at t = " << t;
+      if (body.spin_fixed) continue;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(ours.R(i, k), theirs.linear()(i, k), tol)
+              << GetParam() << " body " << body.name << " at t = " << t;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, SharedRobot,
+                         testing::Values("5bar_linkage_iso3d", "5bar_linkage_iso6d", "cassie_like",
+                                         "robot_delta"));
+
+// What the conversions became, robot by robot (the README's table).
+TEST(ImportConversions, ClosuresBecomeJointsAndIdleSpinsAreRemoved) {
+  const std::string dir = MECHGEN_SHARED_ROBOTS;
+  auto count = [](const import::Description& d, import::JointType type) {
+    int n = 0;
+    for (const import::Joint& j : d.joints) n += j.type == type;
+    return n;
+  };
+  const Imported iso3d =
+      import_file(dir + "/5bar_linkage_iso3d/robot.urdf", dir + "/5bar_linkage_iso3d/robot.yaml");
+  EXPECT_EQ(count(iso3d.description, import::JointType::spherical), 1);  // the 3d closure
+  EXPECT_EQ(iso3d.description.drivers.size(), 2u);
+  const Imported iso6d =
+      import_file(dir + "/5bar_linkage_iso6d/robot.urdf", dir + "/5bar_linkage_iso6d/robot.yaml");
+  EXPECT_EQ(count(iso6d.description, import::JointType::spherical), 1);  // three revolutes
+  EXPECT_EQ(iso6d.description.bodies.size(), iso3d.description.bodies.size());
+  const Imported cassie =
+      import_file(dir + "/cassie_like/robot.urdf", dir + "/cassie_like/robot.yaml");
+  EXPECT_EQ(count(cassie.description, import::JointType::spherical), 2);
+  EXPECT_EQ(count(cassie.description, import::JointType::universal), 2);  // the rods' spins
+  EXPECT_EQ(cassie.description.drivers.size(), 5u);
+  const Imported delta =
+      import_file(dir + "/robot_delta/robot.urdf", dir + "/robot_delta/robot.yaml");
+  EXPECT_EQ(count(delta.description, import::JointType::revolute), 11);  // 3 coaxial pairs: 1 each
+  EXPECT_EQ(delta.description.bodies.size(), 9u);
+}
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ImportErrors, ALoopThatCannotCloseNamesTheClosureAndTheDistanceLeft) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
+  // The five-bar with both motors held has no freedom left: the effector cannot reach the base.
+  const std::string closures = temp_file(
+      "closures.yaml",
+      "closed_loop: [['closedloop3D_1B', 'closedloop3D_1A'],\n"
+      "              ['part_1', 'effector']]\ntype: ['3d', '3d']\nname_mot: ['mot2', 'mot1']\n");
+  try {
+    import_file(dir + "/robot.urdf", closures);
+    FAIL() << "no error";
+  } catch (const import::ImportError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(closures + ":2: error: closure part_1 - effector cannot close"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("distance left 0."), std::string::npos) << what;
+  }
+}
+
+TEST(ImportErrors, BadFilesAreLocated) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
+  const std::string closures =
+      temp_file("bad.yaml", "closed_loop: [['closedloop3D_1B', 'nowhere']]\ntype: ['3d']\n");
+  EXPECT_THROW(
+      {
+        try {
+          import::read_urdf(dir + "/robot.urdf", closures);
+        } catch (const import::ImportError& e) {
+          EXPECT_EQ(std::string(e.what()),
+                    closures +
+                        ":1: error: closure frame 'nowhere' is neither a link nor a joint "
+                        "of " +
+                        dir + "/robot.urdf");
+          throw;
+        }
+      },
+      import::ImportError);
+  const std::string urdf = temp_file("bad.urdf", "<robot name='r'><link name='a'/>\n<joint");
+  EXPECT_THROW(import::read_urdf(urdf, ""), import::ImportError);
+  const std::string mjcf = temp_file("bad.xml",
+                                     "<mujoco>\n<worldbody>\n<body><joint type='x'/>"
+                                     "</body></worldbody></mujoco>");
+  try {
+    import::read_mjcf(mjcf);
+    FAIL() << "no error";
+  } catch (const import::ImportError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(mjcf + ":3: error: MuJoCo cannot compile", 0), 0u)
+        << e.what();
+  }
+}
+
+// MJCF robots against MuJoCo: MuJoCo's qpos from our body frames, then MuJoCo's own kinematics
+// places every body as ours (1e-12) and its equality constraints hold (1e-10).
+class MjcfRobot : public testing::TestWithParam<const char*> {};
+
+TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
+  const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/tests/data/" + GetParam();
+  const Imported r = import_file(path);
+  EXPECT_LT(r.report.final, 1e-14);
+  EXPECT_GT(r.report.initial, 1e-3) << "the keyframe leaves the loops open";
+  char error[1000] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> m(
+      mj_loadXML(path.c_str(), nullptr, error, sizeof error), mj_deleteModel);
+  ASSERT_TRUE(m) << error;
+  const std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m.get()), mj_deleteData);
+  const spatial::SpatialSolver solver(*r.model, {});
+  spatial::SpatialState state;
+  for (const double t : {0.0, 0.07, 0.19}) {
+    solver.solve(t, state);
+    // Every MuJoCo body's frame, ours: its body's displacement times its reference frame.
+    std::vector<Frame> frame(static_cast<size_t>(m->nbody), Frame::Identity());
+    for (int b = 1; b < m->nbody; ++b) {
+      const std::string name = m->names + m->name_bodyadr[b];
+      const int l = link_index(r.tree, name);
+      ASSERT_GE(l, 0) << name;
+      int ours = -1;
+      for (size_t k = 0; k < r.description.bodies.size(); ++k) {
+        const import::Body& body = r.description.bodies[k];
+        if (body.link == name ||
+            std::find(body.merged.begin(), body.merged.end(), name) != body.merged.end())
+          ours = static_cast<int>(k);
+      }
+      ASSERT_GE(ours, 0) << name;
+      const spatial::Pose& D = state.D[static_cast<size_t>(ours)];
+      Frame d = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        d.translation()[i] = D.p[static_cast<size_t>(i)];
+        for (int k = 0; k < 3; ++k) d.linear()(i, k) = D.R(i, k);
+      }
+      frame[static_cast<size_t>(b)] = d * r.pose.link[static_cast<size_t>(l)];
+    }
+    // qpos: each joint's motion from its parent frame (MuJoCo: body_pos, body_quat, then the
+    // joints about jnt_pos).
+    for (int b = 1; b < m->nbody; ++b) {
+      const Frame& parent = frame[static_cast<size_t>(m->body_parentid[b])];
+      Frame rest = Frame::Identity();
+      rest.linear() = Eigen::Quaterniond(m->body_quat[4 * b], m->body_quat[4 * b + 1],
+                                         m->body_quat[4 * b + 2], m->body_quat[4 * b + 3])
+                          .toRotationMatrix();
+      rest.translation() = Eigen::Vector3d(m->body_pos + 3 * b);
+      const Eigen::Matrix3d rel =
+          (parent * rest).linear().transpose() * frame[static_cast<size_t>(b)].linear();
+      ASSERT_LE(m->body_jntnum[b], 1);
+      if (m->body_jntnum[b] == 0) continue;
+      const int j = m->body_jntadr[b];
+      const int qa = m->jnt_qposadr[j];
+      if (m->jnt_type[j] == mjJNT_HINGE) {
+        const Eigen::Vector3d axis(m->jnt_axis + 3 * j);
+        const Eigen::AngleAxisd aa(rel);
+        data->qpos[qa] = m->qpos0[qa] + aa.angle() * aa.axis().dot(axis);
+      } else if (m->jnt_type[j] == mjJNT_BALL) {
+        const Eigen::Quaterniond q(rel);
+        data->qpos[qa] = q.w(), data->qpos[qa + 1] = q.x(), data->qpos[qa + 2] = q.y(),
+        data->qpos[qa + 3] = q.z();
+      }
+    }
+    mj_forward(m.get(), data.get());
+    for (int b = 1; b < m->nbody; ++b)
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(data->xpos[3 * b + i], frame[static_cast<size_t>(b)].translation()[i], 1e-12)
+            << GetParam() << " body " << m->names + m->name_bodyadr[b] << " t = " << t;
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(data->xmat[9 * b + 3 * i + k], frame[static_cast<size_t>(b)].linear()(i, k),
+                      1e-12);
+      }
+    int rows = 0;
+    for (int i = 0; i < data->nefc; ++i)
+      if (data->efc_type[i] == mjCNSTR_EQUALITY) {
+        ++rows;
+        EXPECT_LT(std::abs(data->efc_pos[i]), 1e-10) << GetParam() << " t = " << t;
+      }
+    EXPECT_EQ(rows, 3 * m->neq);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfRobot,
+                         testing::Values("mjcf_fourbar.xml", "mjcf_cassie_leg.xml"));
+
+}  // namespace

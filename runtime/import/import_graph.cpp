@@ -111,14 +111,23 @@ class Builder {
                          " fixed joints: their child links merged into their parents (kept as "
                          "named points)");
     body_of_.assign(n, -1);
+    // A body is named and framed after its first link with a mass (not a frame-only link of
+    // 1e-9 kg or a cut), the ground after the root.
+    std::vector<int> rep(n, -1);
     for (size_t l = 0; l < n; ++l) {
-      const int root = find(static_cast<int>(l));
+      int& r = rep[static_cast<size_t>(find(static_cast<int>(l)))];
+      if (r < 0 || (find(static_cast<int>(l)) != find(0) &&
+                    tree_.links[static_cast<size_t>(r)].mass <= 1e-9 && tree_.links[l].mass > 1e-9))
+        r = static_cast<int>(l);
+    }
+    for (size_t l = 0; l < n; ++l) {
+      const int root = rep[static_cast<size_t>(find(static_cast<int>(l)))];
       if (body_of_[static_cast<size_t>(root)] < 0) {
         body_of_[static_cast<size_t>(root)] = static_cast<int>(d_.bodies.size());
         Body b;
         b.name = b.link = tree_.links[static_cast<size_t>(root)].name;
         b.frame = pose_.link[static_cast<size_t>(root)];
-        b.ground = root == find(0);
+        b.ground = find(root) == find(0);
         d_.bodies.push_back(b);
       }
       body_of_[l] = body_of_[static_cast<size_t>(root)];

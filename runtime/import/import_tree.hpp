@@ -85,6 +85,10 @@ struct Tree {
 std::string read_text(const std::string& path);
 int line_of(const std::string& text, const std::string& tag, const std::string& name);
 
+// A closure's joint name from its two frames: their common prefix (`jB_A`, `jB_B`: jB), else
+// both joined.
+std::string closure_name(const std::string& a, const std::string& b);
+
 // URDF through urdfdom; closures (Extended URDF YAML) optional. Throws ImportError.
 Tree read_urdf(const std::string& urdf_path, const std::string& closures_path);
 // MJCF through MuJoCo's compiler. Throws ImportError.

@@ -51,6 +51,14 @@ std::vector<std::string> string_list(const YAML::Node& n, const std::string& fil
 
 }  // namespace
 
+std::string closure_name(const std::string& a, const std::string& b) {
+  size_t k = 0;
+  while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
+  std::string prefix = a.substr(0, k);
+  while (!prefix.empty() && prefix.back() == '_') prefix.pop_back();
+  return prefix.size() >= 2 ? prefix : a + "_" + b;
+}
+
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ImportError(path, 0, "cannot read the file");
@@ -215,7 +223,7 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
       else
         throw ImportError(closures_path, yaml_line(y["type"][i]),
                           "closure type '" + t + "': 6d or 3d");
-      c.name = c.a + "_" + c.b;
+      c.name = closure_name(c.a, c.b);
       tree.closures.push_back(c);
     }
   }

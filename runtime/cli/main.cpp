@@ -462,6 +462,7 @@ const std::vector<Command>& commands() {
       humanoid_gait_command(),
       view_command(),
       import_command(),
+      export_command(),
   };
   return list;
 }

@@ -149,11 +149,13 @@ Tree read_mjcf(const std::string& path) {
     }
     link_of[static_cast<size_t>(b)] = parent;
     Link& l = tree.links[static_cast<size_t>(parent)];
-    l.mass = m->body_mass[b];
+    l.mass = m->body_mass[b] > 1e-9 ? m->body_mass[b] : 0;  // boundmass of a massless body
     const Frame inertial = pose_of(m->body_ipos + 3 * b, m->body_iquat + 4 * b);
     l.com = inertial.translation();
     const Vec3 d(m->body_inertia[3 * b], m->body_inertia[3 * b + 1], m->body_inertia[3 * b + 2]);
-    l.inertia = inertial.linear() * d.asDiagonal() * inertial.linear().transpose();
+    l.inertia = l.mass > 0
+                    ? Mat3(inertial.linear() * d.asDiagonal() * inertial.linear().transpose())
+                    : Mat3::Zero();
   }
   for (int e = 0; e < m->neq; ++e) {
     if (!m->eq_active[e]) continue;

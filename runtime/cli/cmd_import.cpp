@@ -3,6 +3,7 @@
 #include <cctype>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "cli/command.hpp"
@@ -69,9 +70,14 @@ int run_import(const Args& args) {
               << " actuated\n";
     std::cout << "  loops closed: residual " << report.initial << " -> " << report.final
               << " after " << report.iterations << " Newton steps\n";
-    tree.notes.push_back("loops closed from the source's configuration: residual " +
-                         std::to_string(report.initial) + " -> " + std::to_string(report.final) +
-                         " (m, rad) in " + std::to_string(report.iterations) + " Newton steps");
+    std::ostringstream closed;
+    closed.precision(3);
+    closed << "loops closed from the source's configuration: residual " << report.initial << " -> "
+           << report.final << " (m, rad) in " << report.iterations << " Newton steps"
+           << (report.restarts ? " (trapped there: restarted from other configurations, the "
+                                 "assembly nearest the source's kept)"
+                               : "");
+    tree.notes.push_back(closed.str());
     const import::Description d = import::describe(tree, pose);
     const std::string text = import::write_model(d);
     report::write_file_atomically(out, text);

@@ -244,6 +244,8 @@ UrdfExport export_urdf(const SpatialModel& model, const std::string& source) {
   for (const SpatialDriver& d : model.drivers)
     y << "# driver " << d.name << " on " << model.joints[static_cast<size_t>(d.joint)].name
       << ": value " << d.value.text << "\n";
+  y << "gravity: [" << num(inst.gravity[0]) << ", " << num(inst.gravity[1]) << ", "
+    << num(inst.gravity[2]) << "]  # not in the Extended URDF convention: mechgen's addition\n";
   y << "closed_loop: [" << pairs.str() << "]\ntype: [" << types.str() << "]\nname_mot: ["
     << mot.str() << "]\n";
   out.closures = y.str();

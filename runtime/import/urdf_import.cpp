@@ -174,10 +174,20 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
   for (const auto& kv : y) {
     const std::string key = kv.first.as<std::string>();
     if (key != "closed_loop" && key != "type" && key != "name_mot" && key != "joint_name" &&
-        key != "joint_type")
-      throw ImportError(
-          closures_path, yaml_line(kv.first),
-          "unknown key '" + key + "' (closed_loop, type, name_mot, joint_name, joint_type)");
+        key != "joint_type" && key != "gravity")
+      throw ImportError(closures_path, yaml_line(kv.first),
+                        "unknown key '" + key +
+                            "' (closed_loop, type, name_mot, joint_name, joint_type, gravity)");
+  }
+  // gravity: [x, y, z] (mechgen's addition: URDF has none; default [0, 0, -9.81]).
+  if (const YAML::Node g = y["gravity"]) {
+    if (!g.IsSequence() || g.size() != 3)
+      throw ImportError(closures_path, yaml_line(g), "gravity must be [x, y, z] (m/s^2)");
+    try {
+      tree.gravity = Vec3(g[0].as<double>(), g[1].as<double>(), g[2].as<double>());
+    } catch (const YAML::Exception&) {
+      throw ImportError(closures_path, yaml_line(g), "gravity must be three numbers (m/s^2)");
+    }
   }
   // A frame: a link, or a joint (its child link's frame).
   auto frame = [&](const YAML::Node& n, int& link, Frame& in) {

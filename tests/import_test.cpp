@@ -13,6 +13,7 @@
 
 #include "import/import_tree.hpp"
 #include "model/spatial_model.hpp"
+#include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 
 #ifndef MECHGEN_SHARED_ROBOTS
@@ -208,13 +209,16 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
   const std::unique_ptr<mjModel, void (*)(mjModel*)> m(
       mj_loadXML(path.c_str(), nullptr, error, sizeof error), mj_deleteModel);
   ASSERT_TRUE(m) << error;
+  m->opt.jacobian = mjJAC_DENSE;  // efc_J as a dense nefc x nv matrix
   const std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m.get()), mj_deleteData);
   const spatial::SpatialSolver solver(*r.model, {});
   spatial::SpatialState state;
+  double worst_rate = 0, worst_effort = 0, largest_effort = 0;
   for (const double t : {0.0, 0.07, 0.19}) {
     solver.solve(t, state);
     // Every MuJoCo body's frame, ours: its body's displacement times its reference frame.
     std::vector<Frame> frame(static_cast<size_t>(m->nbody), Frame::Identity());
+    std::vector<int> ours_of(static_cast<size_t>(m->nbody), -1);  // MuJoCo body -> ours
     for (int b = 1; b < m->nbody; ++b) {
       const std::string name = m->names + m->name_bodyadr[b];
       const int l = link_index(r.tree, name);
@@ -227,6 +231,7 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
           ours = static_cast<int>(k);
       }
       ASSERT_GE(ours, 0) << name;
+      ours_of[static_cast<size_t>(b)] = ours;
       const spatial::Pose& D = state.D[static_cast<size_t>(ours)];
       Frame d = Frame::Identity();
       for (int i = 0; i < 3; ++i) {
@@ -276,7 +281,58 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
         EXPECT_LT(std::abs(data->efc_pos[i]), 1e-10) << GetParam() << " t = " << t;
       }
     EXPECT_EQ(rows, 3 * m->neq);
+
+    // Rates: E, MuJoCo's qvel per unit rate of each driver, from our body twists (a hinge: the
+    // relative angular velocity along its axis; a ball: in the child's frame). MuJoCo's constraint
+    // Jacobian annihilates every column on the loop rows: efc_J E = 0.
+    const long np = static_cast<long>(solver.graph().primary.size());
+    Eigen::VectorXd qp, qpd, qpdd;
+    solver.primary_motion(t, qp, qpd, qpdd);
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(m->nv, np);
+    for (long i = 0; i < np; ++i) {
+      spatial::SpatialState s = state;
+      solver.rates(s, Eigen::VectorXd::Unit(np, i), Eigen::VectorXd::Zero(np));
+      for (int b = 1; b < m->nbody; ++b) {
+        if (m->body_jntnum[b] == 0) continue;
+        const int j = m->body_jntadr[b];
+        const int p = m->body_parentid[b];
+        const Eigen::Vector3d w =
+            Eigen::Vector3d(s.V[static_cast<size_t>(ours_of[static_cast<size_t>(b)])].w.data()) -
+            (p == 0 ? Eigen::Vector3d::Zero()
+                    : Eigen::Vector3d(
+                          s.V[static_cast<size_t>(ours_of[static_cast<size_t>(p)])].w.data()));
+        const int dof = m->jnt_dofadr[j];
+        if (m->jnt_type[j] == mjJNT_HINGE)
+          E(dof, i) = w.dot(Eigen::Vector3d(data->xaxis + 3 * j));
+        else if (m->jnt_type[j] == mjJNT_BALL)
+          E.block(dof, i, 3, 1) = frame[static_cast<size_t>(b)].linear().transpose() * w;
+      }
+    }
+    for (int r = 0; r < data->nefc; ++r)
+      if (data->efc_type[r] == mjCNSTR_EQUALITY)
+        for (long i = 0; i < np; ++i) {
+          double v = 0;
+          for (int k = 0; k < m->nv; ++k) v += data->efc_J[r * m->nv + k] * E(k, i);
+          EXPECT_LT(std::abs(v), 1e-10) << GetParam() << " efc_J E, row " << r << ", t = " << t;
+          worst_rate = std::max(worst_rate, std::abs(v));
+        }
+    // Statics: our driver efforts at rest under gravity equal MuJoCo's bias forces projected on
+    // the drivers (tau = E^T qfrc_bias: the constraint forces do no work along E).
+    spatial::SpatialState rest = state;
+    solver.rates(rest, Eigen::VectorXd::Zero(np), Eigen::VectorXd::Zero(np));
+    const Eigen::VectorXd effort = spatial::inverse_dynamics(solver, rest).effort;
+    mju_zero(data->qvel, m->nv);
+    mj_forward(m.get(), data.get());
+    const Eigen::VectorXd tau = E.transpose() * Eigen::Map<Eigen::VectorXd>(data->qfrc_bias, m->nv);
+    for (long i = 0; i < np; ++i) {
+      EXPECT_NEAR(effort[i], tau[i], 1e-9 * std::max(1.0, std::abs(tau[i])))
+          << GetParam() << " driver " << i << ", t = " << t;
+      worst_effort = std::max(worst_effort, std::abs(effort[i] - tau[i]));
+      largest_effort = std::max(largest_effort, std::abs(tau[i]));
+    }
   }
+  std::cout << GetParam() << ": efc_J E up to " << worst_rate << "; static efforts up to "
+            << largest_effort << " N m, off MuJoCo's E^T qfrc_bias by " << worst_effort << "\n";
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, MjcfRobot,

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <string>
 
 #include "import/import_tree.hpp"
@@ -67,6 +68,12 @@ int link_index(const import::Tree& tree, const std::string& name) {
   return -1;
 }
 
+std::string temp_file(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
 class SharedRobot : public testing::TestWithParam<const char*> {};
 
 // Import, then the reference solver along the drivers' motion: every body frame equals the
@@ -108,6 +115,83 @@ TEST_P(SharedRobot, ImportsAndMovesAsTheSourceTree) {
   }
 }
 
+// MuJoCo reads the same URDF (meshes left out; its own URDF parser, no fused static bodies):
+// with the source tree's joint angles at our motors' positions (the tree's loops closed by the
+// import's Newton), MuJoCo's kinematics places every link our model places (1e-12; the Delta
+// 3e-11, above) and the closure frames coincide in MuJoCo's frames too (1e-10).
+TEST_P(SharedRobot, MuJoCoPlacesTheUrdfTreeAndItsClosuresClose) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/" + GetParam();
+  const Imported r = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  std::string text = import::read_text(dir + "/robot.urdf");
+  text = std::regex_replace(text, std::regex("<(visual|collision)>[\\s\\S]*?</\\1>"), "");
+  const size_t robot = text.find('>', text.find("<robot")) + 1;
+  text.insert(robot,
+              "<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-10\" "
+              "boundinertia=\"1e-14\"/></mujoco>");
+  const std::string path = temp_file(std::string(GetParam()) + ".urdf", text);
+  char error[1000] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> m(
+      mj_loadXML(path.c_str(), nullptr, error, sizeof error), mj_deleteModel);
+  ASSERT_TRUE(m) << error;
+  const std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m.get()), mj_deleteData);
+  const spatial::SpatialSolver solver(*r.model, {});
+  const double tol = std::string(GetParam()) == "robot_delta" ? 3e-11 : 1e-12;
+  spatial::SpatialState state;
+  double worst = 0;
+  for (const double t : {0.0, 0.1, 0.2}) {
+    solver.solve(t, state);
+    const import::TreePose tree = tree_at(r, 0.05 * std::sin(2 * M_PI * t));
+    for (size_t i = 0; i < r.tree.joints.size(); ++i) {
+      if (r.tree.joints[i].dofs() != 1) continue;
+      const int j = mj_name2id(m.get(), mjOBJ_JOINT, r.tree.joints[i].name.c_str());
+      ASSERT_GE(j, 0) << r.tree.joints[i].name;
+      data->qpos[m->jnt_qposadr[j]] = tree.q[i][0];
+    }
+    mj_kinematics(m.get(), data.get());
+    auto mj_frame = [&](const std::string& link) {
+      const int b = mj_name2id(m.get(), mjOBJ_BODY, link.c_str());
+      EXPECT_GE(b, 0) << link;
+      Frame f = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        f.translation()[i] = data->xpos[3 * b + i];
+        for (int k = 0; k < 3; ++k) f.linear()(i, k) = data->xmat[9 * b + 3 * i + k];
+      }
+      return f;
+    };
+    for (size_t b = 0; b < r.description.bodies.size(); ++b) {
+      const import::Body& body = r.description.bodies[b];
+      const spatial::Pose& D = state.D[b];
+      Frame d = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        d.translation()[i] = D.p[static_cast<size_t>(i)];
+        for (int k = 0; k < 3; ++k) d.linear()(i, k) = D.R(i, k);
+      }
+      std::vector<std::string> links = body.merged;
+      links.push_back(body.link);
+      for (const std::string& link : links) {
+        if (std::find(body.idle_links.begin(), body.idle_links.end(), link) !=
+            body.idle_links.end())
+          continue;  // a Delta's pin: its spin about its axis is the tree's arbitrary choice
+        const Frame ours = d * r.pose.link[static_cast<size_t>(link_index(r.tree, link))];
+        const Frame theirs = mj_frame(link);
+        worst = std::max(worst, (ours.translation() - theirs.translation()).cwiseAbs().maxCoeff());
+        if (!body.spin_fixed)
+          worst = std::max(worst, (ours.linear() - theirs.linear()).cwiseAbs().maxCoeff());
+      }
+    }
+    for (const import::Closure& c : r.tree.closures) {
+      const Frame a = mj_frame(r.tree.links[static_cast<size_t>(c.link_a)].name) * c.in_a;
+      const Frame b = mj_frame(r.tree.links[static_cast<size_t>(c.link_b)].name) * c.in_b;
+      EXPECT_LT((a.translation() - b.translation()).norm(), 1e-10) << c.name << " t = " << t;
+      if (c.weld) {
+        EXPECT_LT((a.linear() - b.linear()).norm(), 1e-10) << c.name << " t = " << t;
+      }
+    }
+  }
+  EXPECT_LT(worst, tol) << GetParam();
+  std::cout << GetParam() << ": MuJoCo's link frames off ours by " << worst << "\n";
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, SharedRobot,
                          testing::Values("5bar_linkage_iso3d", "5bar_linkage_iso6d", "cassie_like",
                                          "robot_delta"));
@@ -137,12 +221,6 @@ TEST(ImportConversions, ClosuresBecomeJointsAndIdleSpinsAreRemoved) {
       import_file(dir + "/robot_delta/robot.urdf", dir + "/robot_delta/robot.yaml");
   EXPECT_EQ(count(delta.description, import::JointType::revolute), 11);  // 3 coaxial pairs: 1 each
   EXPECT_EQ(delta.description.bodies.size(), 9u);
-}
-
-std::string temp_file(const std::string& name, const std::string& text) {
-  const std::string path = testing::TempDir() + name;
-  std::ofstream(path) << text;
-  return path;
 }
 
 TEST(ImportErrors, ALoopThatCannotCloseNamesTheClosureAndTheDistanceLeft) {

@@ -393,9 +393,13 @@ class Builder {
     absorb(d_.bodies[static_cast<size_t>(into)], [&] {
       Body part = d_.bodies[static_cast<size_t>(from)];
       part.points.insert(part.points.begin(), {part.name, Vec3::Zero()});
-      part.merged.insert(part.merged.begin(), part.name);
+      part.merged.insert(part.merged.begin(), part.link);
       return part;
     }());
+    Body& b = d_.bodies[static_cast<size_t>(into)];
+    const Body& gone = d_.bodies[static_cast<size_t>(from)];
+    b.idle_links.push_back(gone.link);
+    b.idle_links.insert(b.idle_links.end(), gone.merged.begin(), gone.merged.end());
     erase_joints({removed});
     for (Joint& j : d_.joints) {
       if (j.first == from) j.first = into;

@@ -126,6 +126,9 @@ struct Body {
   std::vector<std::string> merged;                   // source links merged into this body
   std::string link;         // the source link whose frame is the body frame
   bool spin_fixed = false;  // between two spherical joints: its idle spin fixed by a universal
+  // Links welded to this body where their spin about a pin was idle: placed as the source's
+  // tree places them only up to that spin.
+  std::vector<std::string> idle_links;
 };
 struct Joint {
   std::string name;

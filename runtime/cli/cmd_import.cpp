@@ -64,7 +64,7 @@ int run_import(const Args& args) {
     if (!tree.name.empty() && std::isdigit(static_cast<unsigned char>(tree.name[0])))
       tree.name = "robot_" + tree.name;
     import::AssemblyReport report;
-    const import::TreePose pose = import::assemble(tree, report);
+    import::TreePose pose = import::assemble(tree, report);
     std::cout << "import " << path << ": " << tree.links.size() << " links, " << tree.joints.size()
               << " joints, " << tree.closures.size() << " closures, " << tree.actuators.size()
               << " actuated\n";
@@ -78,6 +78,7 @@ int run_import(const Args& args) {
                                  "assembly nearest the source's kept)"
                                : "");
     tree.notes.push_back(closed.str());
+    import::hold_free_joints(tree, pose);
     const import::Description d = import::describe(tree, pose);
     const std::string text = import::write_model(d);
     report::write_file_atomically(out, text);

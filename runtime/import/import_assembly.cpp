@@ -197,3 +197,36 @@ TreePose assemble(const Tree& tree, AssemblyReport& report) {
 }
 
 }  // namespace mechgen::import
+
+namespace mechgen::import {
+
+void hold_free_joints(Tree& tree, TreePose& pose) {
+  // The links below each link (inclusive), by walking the joints backwards (parents first).
+  const size_t n = tree.links.size();
+  std::vector<std::vector<bool>> below(n, std::vector<bool>(n, false));
+  for (size_t l = 0; l < n; ++l) below[l][l] = true;
+  for (size_t i = tree.joints.size(); i-- > 0;) {
+    const TreeJoint& j = tree.joints[i];
+    for (size_t l = 0; l < n; ++l)
+      if (below[static_cast<size_t>(j.child)][l]) below[static_cast<size_t>(j.parent)][l] = true;
+  }
+  for (size_t i = 0; i < tree.joints.size(); ++i) {
+    TreeJoint& j = tree.joints[i];
+    if (j.dofs() == 0) continue;
+    bool actuated = false, in_loop = false;
+    for (const Actuator& a : tree.actuators) actuated = actuated || a.joint == static_cast<int>(i);
+    for (const Closure& c : tree.closures)
+      in_loop = in_loop || below[static_cast<size_t>(j.child)][static_cast<size_t>(c.link_a)] !=
+                               below[static_cast<size_t>(j.child)][static_cast<size_t>(c.link_b)];
+    if (actuated || in_loop) continue;
+    j.origin = j.origin * joint_motion(j, pose.q[i]) * j.after;
+    j.after = Frame::Identity();
+    j.type = JointType::fixed;
+    pose.q[i] = Eigen::VectorXd();
+    tree.notes.push_back("joint " + j.name +
+                         " is neither actuated nor in a loop: held at its source value (no "
+                         "driver would fix it)");
+  }
+}
+
+}  // namespace mechgen::import

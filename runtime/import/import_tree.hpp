@@ -114,6 +114,10 @@ struct AssemblyReport {
 // actuated joints held; throws ImportError naming the closure that stays open and its distance.
 TreePose assemble(const Tree& tree, AssemblyReport& report);
 
+// A joint neither actuated nor in a loop would be free (no driver fixes it): held rigid at its
+// assembled value (a fixed joint), named in the notes.
+void hold_free_joints(Tree& tree, TreePose& pose);
+
 // A spatial description (everything at the assembled pose, ground frame), ready to be written.
 struct Body {
   std::string name;

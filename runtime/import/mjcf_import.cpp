@@ -187,13 +187,26 @@ Tree read_mjcf(const std::string& path) {
     const std::string uname = name_at(m, m->name_actuatoradr[u], "actuator" + std::to_string(u));
     const int line = line_of(text, "motor", uname) ? line_of(text, "motor", uname)
                                                    : line_of(text, "position", uname);
-    if (m->actuator_trntype[u] != mjTRN_JOINT)
-      throw ImportError(path, line,
-                        "actuator '" + uname + "': only actuators on joints become drivers");
+    if (m->actuator_trntype[u] != mjTRN_JOINT) {
+      tree.notes.push_back("actuator " + uname +
+                           " acts through a tendon or a site: not a driver (only actuators on "
+                           "joints are)");
+      continue;
+    }
     const int tj = joint_of[static_cast<size_t>(m->actuator_trnid[2 * u])];
+    if (tj >= 0 && tree.joints[static_cast<size_t>(tj)].type == JointType::fixed) {
+      tree.notes.push_back("actuator " + uname + ": its joint has a spring and is held rigid");
+      continue;
+    }
     if (tj < 0 || tree.joints[static_cast<size_t>(tj)].dofs() != 1)
       throw ImportError(path, line,
                         "actuator '" + uname + "': its joint is not a hinge or a slide");
+    bool twice = false;
+    for (const Actuator& a : tree.actuators) twice = twice || a.joint == tj;
+    if (twice) {
+      tree.notes.push_back("actuator " + uname + ": its joint has a driver already");
+      continue;
+    }
     tree.actuators.push_back({uname, tj, line});
   }
   return tree;

@@ -275,8 +275,10 @@ TEST(ImportErrors, BadFilesAreLocated) {
   }
 }
 
-// MJCF robots against MuJoCo: MuJoCo's qpos from our body frames, then MuJoCo's own kinematics
-// places every body as ours (1e-12) and its equality constraints hold (1e-10).
+// MJCF robots (tests/data: a four-bar cut by a connect; a Cassie-style leg; a rocker pushed by an
+// S-P-S linear actuator, whose idle spin the import removes) against MuJoCo: MuJoCo's qpos from our
+// body frames, then MuJoCo's own kinematics places every body as ours (1e-12) and its equality
+// constraints hold (1e-10).
 class MjcfRobot : public testing::TestWithParam<const char*> {};
 
 TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
@@ -349,6 +351,11 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
         const Eigen::Vector3d axis(m->jnt_axis + 3 * j);
         const Eigen::AngleAxisd aa(rel);
         data->qpos[qa] = m->qpos0[qa] + aa.angle() * aa.axis().dot(axis);
+      } else if (m->jnt_type[j] == mjJNT_SLIDE) {
+        const Eigen::Vector3d axis(m->jnt_axis + 3 * j);
+        data->qpos[qa] =
+            m->qpos0[qa] +
+            ((parent * rest).inverse() * frame[static_cast<size_t>(b)]).translation().dot(axis);
       } else if (m->jnt_type[j] == mjJNT_BALL) {
         const Eigen::Quaterniond q(rel);
         data->qpos[qa] = q.w(), data->qpos[qa + 1] = q.x(), data->qpos[qa + 2] = q.y(),
@@ -392,7 +399,16 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
                     : Eigen::Vector3d(
                           s.V[static_cast<size_t>(ours_of[static_cast<size_t>(p)])].w.data()));
         const int dof = m->jnt_dofadr[j];
-        if (m->jnt_type[j] == mjJNT_HINGE)
+        // A slide: the relative velocity of the child's origin along the axis.
+        const Eigen::Vector3d x = frame[static_cast<size_t>(b)].translation();
+        auto velocity = [&](int body) -> Eigen::Vector3d {
+          if (body == 0) return Eigen::Vector3d::Zero();
+          const spatial::Twist& V = s.V[static_cast<size_t>(ours_of[static_cast<size_t>(body)])];
+          return Eigen::Vector3d(V.v.data()) + Eigen::Vector3d(V.w.data()).cross(x);
+        };
+        if (m->jnt_type[j] == mjJNT_SLIDE)
+          E(dof, i) = (velocity(b) - velocity(p)).dot(Eigen::Vector3d(data->xaxis + 3 * j));
+        else if (m->jnt_type[j] == mjJNT_HINGE)
           E(dof, i) = w.dot(Eigen::Vector3d(data->xaxis + 3 * j));
         else if (m->jnt_type[j] == mjJNT_BALL)
           E.block(dof, i, 3, 1) = frame[static_cast<size_t>(b)].linear().transpose() * w;
@@ -426,6 +442,7 @@ TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, MjcfRobot,
-                         testing::Values("mjcf_fourbar.xml", "mjcf_cassie_leg.xml"));
+                         testing::Values("mjcf_fourbar.xml", "mjcf_cassie_leg.xml",
+                                         "mjcf_sps_rocker.xml"));
 
 }  // namespace

@@ -158,7 +158,14 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
     joint_index[j.name] = static_cast<int>(tree.joints.size());
     tree.joints.push_back(j);
   }
-  if (closures_path.empty()) return tree;
+  if (closures_path.empty()) {  // a tree alone: every joint is driven
+    for (size_t i = 0; i < tree.joints.size(); ++i)
+      if (tree.joints[i].dofs() == 1)
+        tree.actuators.push_back({tree.joints[i].name, static_cast<int>(i), tree.joints[i].line});
+    if (!tree.actuators.empty())
+      tree.notes.push_back("no closures file: a tree, every revolute and prismatic joint driven");
+    return tree;
+  }
 
   // The closure file: closed_loop, type, name_mot, joint_name / joint_type.
   YAML::Node y;

@@ -138,6 +138,7 @@ class Builder {
       part.mass = link.mass;
       part.com = link.com;
       part.inertia = link.inertia;
+      part.points = link.points;
       if (static_cast<int>(l) != root) {
         part.points.push_back({link.name, Vec3::Zero()});
         part.merged.push_back(link.name);

@@ -27,8 +27,9 @@ class ImportError : public std::runtime_error {
 struct Link {
   std::string name;
   double mass = 0;
-  Vec3 com = Vec3::Zero();      // link frame
-  Mat3 inertia = Mat3::Zero();  // about the centre of mass, link frame
+  Vec3 com = Vec3::Zero();                           // link frame
+  Mat3 inertia = Mat3::Zero();                       // about the centre of mass, link frame
+  std::vector<std::pair<std::string, Vec3>> points;  // named points (MJCF sites), link frame
   int line = 0;
 };
 

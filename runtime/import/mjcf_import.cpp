@@ -157,6 +157,15 @@ Tree read_mjcf(const std::string& path) {
                     ? Mat3(inertial.linear() * d.asDiagonal() * inertial.linear().transpose())
                     : Mat3::Zero();
   }
+  // Sites: named points of their bodies (foot contacts, sensors).
+  for (int k = 0; k < m->nsite; ++k) {
+    const std::string sname = name_at(m, m->name_siteadr[k], "");
+    if (sname.empty()) continue;
+    const int link = link_of[static_cast<size_t>(m->site_bodyid[k])];
+    // The site's body frame is its link's frame (the last link of the body's joints).
+    tree.links[static_cast<size_t>(link)].points.push_back(
+        {sname, Vec3(m->site_pos[3 * k], m->site_pos[3 * k + 1], m->site_pos[3 * k + 2])});
+  }
   for (int e = 0; e < m->neq; ++e) {
     if (!m->eq_active[e]) continue;
     const std::string ename = name_at(m, m->name_eqadr[e], "equality" + std::to_string(e));

@@ -167,127 +167,133 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
     return tree;
   }
 
-  // The closure file: closed_loop, type, name_mot, joint_name / joint_type.
-  YAML::Node y;
-  try {
-    y = YAML::LoadFile(closures_path);
-  } catch (const YAML::BadFile&) {
-    throw ImportError(closures_path, 0, "cannot read the file");
+  try {  // a value of the wrong kind (a list for a name) is located in the closures file
+    // The closure file: closed_loop, type, name_mot, joint_name / joint_type.
+    YAML::Node y;
+    try {
+      y = YAML::LoadFile(closures_path);
+    } catch (const YAML::BadFile&) {
+      throw ImportError(closures_path, 0, "cannot read the file");
+    } catch (const YAML::Exception& e) {
+      throw ImportError(closures_path, e.mark.line + 1, e.msg);
+    }
+    if (!y.IsMap())
+      throw ImportError(closures_path, 1, "expected a map (closed_loop, type, name_mot)");
+    for (const auto& kv : y) {
+      const std::string key = kv.first.as<std::string>();
+      if (key != "closed_loop" && key != "type" && key != "name_mot" && key != "joint_name" &&
+          key != "joint_type" && key != "gravity")
+        throw ImportError(closures_path, yaml_line(kv.first),
+                          "unknown key '" + key +
+                              "' (closed_loop, type, name_mot, joint_name, joint_type, gravity)");
+    }
+    // gravity: [x, y, z] (mechgen's addition: URDF has none; default [0, 0, -9.81]).
+    if (const YAML::Node g = y["gravity"]) {
+      if (!g.IsSequence() || g.size() != 3)
+        throw ImportError(closures_path, yaml_line(g), "gravity must be [x, y, z] (m/s^2)");
+      try {
+        tree.gravity = Vec3(g[0].as<double>(), g[1].as<double>(), g[2].as<double>());
+      } catch (const YAML::Exception&) {
+        throw ImportError(closures_path, yaml_line(g), "gravity must be three numbers (m/s^2)");
+      }
+    }
+    // A frame: a link, or a joint (its child link's frame).
+    auto frame = [&](const YAML::Node& n, int& link, Frame& in) {
+      const std::string name = n.as<std::string>();
+      if (const auto it = link_index.find(name); it != link_index.end()) {
+        link = it->second;
+        in = Frame::Identity();
+        return name;
+      }
+      if (const auto it = joint_index.find(name); it != joint_index.end()) {
+        link = tree.joints[static_cast<size_t>(it->second)].child;
+        in = Frame::Identity();
+        return name;
+      }
+      throw ImportError(
+          closures_path, yaml_line(n),
+          "closure frame '" + name + "' is neither a link nor a joint of " + urdf_path);
+    };
+    const YAML::Node loops = y["closed_loop"];
+    const std::vector<std::string> types = string_list(y["type"], closures_path, "type");
+    if (loops) {
+      if (!loops.IsSequence())
+        throw ImportError(closures_path, yaml_line(loops),
+                          "closed_loop must be a list of [frameA, frameB]");
+      if (types.size() != loops.size())
+        throw ImportError(closures_path, yaml_line(y["type"] ? y["type"] : loops),
+                          "type: " + std::to_string(types.size()) + " entries for " +
+                              std::to_string(loops.size()) + " closed loops");
+      for (size_t i = 0; i < loops.size(); ++i) {
+        const YAML::Node pair = loops[i];
+        if (!pair.IsSequence() || pair.size() != 2)
+          throw ImportError(closures_path, yaml_line(pair),
+                            "a closed loop is a pair [frameA, frameB]");
+        Closure c;
+        c.line = yaml_line(pair);
+        c.file = closures_path;
+        c.a = frame(pair[0], c.link_a, c.in_a);
+        c.b = frame(pair[1], c.link_b, c.in_b);
+        const std::string t = types[i];
+        if (t == "6d" || t == "6D")
+          c.weld = true;
+        else if (t == "3d" || t == "3D")
+          c.weld = false;
+        else
+          throw ImportError(closures_path, yaml_line(y["type"][i]),
+                            "closure type '" + t + "': 6d or 3d");
+        c.name = closure_name(c.a, c.b);
+        tree.closures.push_back(c);
+      }
+    }
+    for (const auto& n : y["name_mot"] ? y["name_mot"] : YAML::Node()) {
+      const std::string name = n.as<std::string>();
+      const auto it = joint_index.find(name);
+      if (it == joint_index.end())
+        throw ImportError(closures_path, yaml_line(n),
+                          "name_mot: '" + name + "' is not a joint of " + urdf_path);
+      if (tree.joints[static_cast<size_t>(it->second)].dofs() != 1)
+        throw ImportError(closures_path, yaml_line(n),
+                          "name_mot: '" + name + "' is not a revolute or prismatic joint");
+      tree.actuators.push_back({name, it->second, yaml_line(n)});
+    }
+    const std::vector<std::string> retype_names =
+        string_list(y["joint_name"], closures_path, "joint_name");
+    const std::vector<std::string> retype_types =
+        string_list(y["joint_type"], closures_path, "joint_type");
+    if (retype_names.size() != retype_types.size())
+      throw ImportError(closures_path,
+                        yaml_line(y["joint_type"] ? y["joint_type"] : y["joint_name"]),
+                        "joint_type: one type per joint_name");
+    for (size_t i = 0; i < retype_names.size(); ++i) {
+      const int line = yaml_line(y["joint_name"][i]);
+      const auto it = joint_index.find(retype_names[i]);
+      if (it == joint_index.end())
+        throw ImportError(closures_path, line,
+                          "joint_name: '" + retype_names[i] + "' is not a joint");
+      TreeJoint& j = tree.joints[static_cast<size_t>(it->second)];
+      std::string t = retype_types[i];
+      std::transform(t.begin(), t.end(), t.begin(), ::toupper);
+      if (t == "SPHERICAL")
+        j.type = JointType::spherical;
+      else if (t == "UJOINT_AB" || t == "UJOINT")
+        j.type = JointType::universal;
+      else if (t == "FIXED")
+        j.type = JointType::fixed;
+      else if (t == "REVOLUTE" || t == "PRISMATIC")
+        continue;
+      else
+        throw ImportError(closures_path, yaml_line(y["joint_type"][i]),
+                          "joint_type '" + retype_types[i] + "': SPHERICAL, UJOINT_AB or FIXED");
+      tree.notes.push_back("joint " + j.name + " re-typed " + t + " (" + closures_path + ")");
+    }
+    for (const Actuator& a : tree.actuators)
+      if (tree.joints[static_cast<size_t>(a.joint)].dofs() != 1)
+        throw ImportError(closures_path, a.line,
+                          "name_mot: '" + a.name + "' was re-typed: not a 1-dof joint");
   } catch (const YAML::Exception& e) {
     throw ImportError(closures_path, e.mark.line + 1, e.msg);
   }
-  if (!y.IsMap())
-    throw ImportError(closures_path, 1, "expected a map (closed_loop, type, name_mot)");
-  for (const auto& kv : y) {
-    const std::string key = kv.first.as<std::string>();
-    if (key != "closed_loop" && key != "type" && key != "name_mot" && key != "joint_name" &&
-        key != "joint_type" && key != "gravity")
-      throw ImportError(closures_path, yaml_line(kv.first),
-                        "unknown key '" + key +
-                            "' (closed_loop, type, name_mot, joint_name, joint_type, gravity)");
-  }
-  // gravity: [x, y, z] (mechgen's addition: URDF has none; default [0, 0, -9.81]).
-  if (const YAML::Node g = y["gravity"]) {
-    if (!g.IsSequence() || g.size() != 3)
-      throw ImportError(closures_path, yaml_line(g), "gravity must be [x, y, z] (m/s^2)");
-    try {
-      tree.gravity = Vec3(g[0].as<double>(), g[1].as<double>(), g[2].as<double>());
-    } catch (const YAML::Exception&) {
-      throw ImportError(closures_path, yaml_line(g), "gravity must be three numbers (m/s^2)");
-    }
-  }
-  // A frame: a link, or a joint (its child link's frame).
-  auto frame = [&](const YAML::Node& n, int& link, Frame& in) {
-    const std::string name = n.as<std::string>();
-    if (const auto it = link_index.find(name); it != link_index.end()) {
-      link = it->second;
-      in = Frame::Identity();
-      return name;
-    }
-    if (const auto it = joint_index.find(name); it != joint_index.end()) {
-      link = tree.joints[static_cast<size_t>(it->second)].child;
-      in = Frame::Identity();
-      return name;
-    }
-    throw ImportError(closures_path, yaml_line(n),
-                      "closure frame '" + name + "' is neither a link nor a joint of " + urdf_path);
-  };
-  const YAML::Node loops = y["closed_loop"];
-  const std::vector<std::string> types = string_list(y["type"], closures_path, "type");
-  if (loops) {
-    if (!loops.IsSequence())
-      throw ImportError(closures_path, yaml_line(loops),
-                        "closed_loop must be a list of [frameA, frameB]");
-    if (types.size() != loops.size())
-      throw ImportError(closures_path, yaml_line(y["type"] ? y["type"] : loops),
-                        "type: " + std::to_string(types.size()) + " entries for " +
-                            std::to_string(loops.size()) + " closed loops");
-    for (size_t i = 0; i < loops.size(); ++i) {
-      const YAML::Node pair = loops[i];
-      if (!pair.IsSequence() || pair.size() != 2)
-        throw ImportError(closures_path, yaml_line(pair),
-                          "a closed loop is a pair [frameA, frameB]");
-      Closure c;
-      c.line = yaml_line(pair);
-      c.file = closures_path;
-      c.a = frame(pair[0], c.link_a, c.in_a);
-      c.b = frame(pair[1], c.link_b, c.in_b);
-      const std::string t = types[i];
-      if (t == "6d" || t == "6D")
-        c.weld = true;
-      else if (t == "3d" || t == "3D")
-        c.weld = false;
-      else
-        throw ImportError(closures_path, yaml_line(y["type"][i]),
-                          "closure type '" + t + "': 6d or 3d");
-      c.name = closure_name(c.a, c.b);
-      tree.closures.push_back(c);
-    }
-  }
-  for (const auto& n : y["name_mot"] ? y["name_mot"] : YAML::Node()) {
-    const std::string name = n.as<std::string>();
-    const auto it = joint_index.find(name);
-    if (it == joint_index.end())
-      throw ImportError(closures_path, yaml_line(n),
-                        "name_mot: '" + name + "' is not a joint of " + urdf_path);
-    if (tree.joints[static_cast<size_t>(it->second)].dofs() != 1)
-      throw ImportError(closures_path, yaml_line(n),
-                        "name_mot: '" + name + "' is not a revolute or prismatic joint");
-    tree.actuators.push_back({name, it->second, yaml_line(n)});
-  }
-  const std::vector<std::string> retype_names =
-      string_list(y["joint_name"], closures_path, "joint_name");
-  const std::vector<std::string> retype_types =
-      string_list(y["joint_type"], closures_path, "joint_type");
-  if (retype_names.size() != retype_types.size())
-    throw ImportError(closures_path, yaml_line(y["joint_type"] ? y["joint_type"] : y["joint_name"]),
-                      "joint_type: one type per joint_name");
-  for (size_t i = 0; i < retype_names.size(); ++i) {
-    const int line = yaml_line(y["joint_name"][i]);
-    const auto it = joint_index.find(retype_names[i]);
-    if (it == joint_index.end())
-      throw ImportError(closures_path, line,
-                        "joint_name: '" + retype_names[i] + "' is not a joint");
-    TreeJoint& j = tree.joints[static_cast<size_t>(it->second)];
-    std::string t = retype_types[i];
-    std::transform(t.begin(), t.end(), t.begin(), ::toupper);
-    if (t == "SPHERICAL")
-      j.type = JointType::spherical;
-    else if (t == "UJOINT_AB" || t == "UJOINT")
-      j.type = JointType::universal;
-    else if (t == "FIXED")
-      j.type = JointType::fixed;
-    else if (t == "REVOLUTE" || t == "PRISMATIC")
-      continue;
-    else
-      throw ImportError(closures_path, yaml_line(y["joint_type"][i]),
-                        "joint_type '" + retype_types[i] + "': SPHERICAL, UJOINT_AB or FIXED");
-    tree.notes.push_back("joint " + j.name + " re-typed " + t + " (" + closures_path + ")");
-  }
-  for (const Actuator& a : tree.actuators)
-    if (tree.joints[static_cast<size_t>(a.joint)].dofs() != 1)
-      throw ImportError(closures_path, a.line,
-                        "name_mot: '" + a.name + "' was re-typed: not a 1-dof joint");
   return tree;
 }
 

@@ -91,20 +91,12 @@ TEST_P(RoundTrip, MovesEveryBodyAsTheOriginal) {
       for (int r = 0; r < 3; ++r)
         worst_pose =
             std::max(worst_pose, std::abs(c1[static_cast<size_t>(r)] - c2[static_cast<size_t>(r)]));
-      for (int r = 0; r < 3; ++r) {
-        worst_rate =
-            std::max(worst_rate, std::abs(a.V[i].w[static_cast<size_t>(r)] -
-                                          b.V[static_cast<size_t>(j)].w[static_cast<size_t>(r)]));
-        worst_rate =
-            std::max(worst_rate, std::abs(a.V[i].v[static_cast<size_t>(r)] -
-                                          b.V[static_cast<size_t>(j)].v[static_cast<size_t>(r)]));
-        worst_rate =
-            std::max(worst_rate, std::abs(a.A[i].w[static_cast<size_t>(r)] -
-                                          b.A[static_cast<size_t>(j)].w[static_cast<size_t>(r)]));
-        worst_rate =
-            std::max(worst_rate, std::abs(a.A[i].v[static_cast<size_t>(r)] -
-                                          b.A[static_cast<size_t>(j)].v[static_cast<size_t>(r)]));
-      }
+      auto differ = [](const spatial::V3& x, const spatial::V3& y) {
+        return std::max({std::abs(x[0] - y[0]), std::abs(x[1] - y[1]), std::abs(x[2] - y[2])});
+      };
+      const size_t k = static_cast<size_t>(j);
+      worst_rate = std::max({worst_rate, differ(a.V[i].w, b.V[k].w), differ(a.V[i].v, b.V[k].v),
+                             differ(a.A[i].w, b.A[k].w), differ(a.A[i].v, b.A[k].v)});
     }
     const Eigen::VectorXd e1 = spatial::inverse_dynamics(s1, a).effort;
     const Eigen::VectorXd e2 = spatial::inverse_dynamics(s2, b).effort;

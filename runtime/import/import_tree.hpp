@@ -162,6 +162,8 @@ struct Description {
 Description describe(const Tree& tree, const TreePose& pose);
 // The description as YAML text.
 std::string write_model(const Description& d);
+// The shortest text that reads back as the same double; round-off dust (|v| < dust) as 0.
+std::string shortest(double v, double dust);
 // A name as a C++ identifier (the kernel's fields): other characters become '_'.
 std::string identifier(const std::string& name);
 

@@ -2,11 +2,11 @@
 #include "import/model_export.hpp"
 
 #include <Eigen/Geometry>
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <sstream>
 
+#include "import/import_tree.hpp"
 #include "spatial/spatial_solver.hpp"
 
 namespace mechgen::import {
@@ -18,10 +18,7 @@ using Mat3 = Eigen::Matrix3d;
 using Frame = Eigen::Isometry3d;
 
 std::string num(double v) {
-  if (std::abs(v) < 1e-15) v = 0;
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, result.ptr);
+  return shortest(v, 1e-15);
 }
 std::string triple(const Vec3& v) {
   return num(v.x()) + " " + num(v.y()) + " " + num(v.z());

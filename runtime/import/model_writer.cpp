@@ -9,14 +9,17 @@
 
 namespace mechgen::import {
 
-namespace {
-
-// The shortest text that reads back as the same double; round-off dust (below 1e-14) as 0.
-std::string num(double v) {
-  if (std::abs(v) < 1e-14) v = 0;
+std::string shortest(double v, double dust) {
+  if (std::abs(v) < dust) v = 0;
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
   return std::string(buffer, result.ptr);
+}
+
+namespace {
+
+std::string num(double v) {
+  return shortest(v, 1e-14);
 }
 
 std::string vec(const Vec3& v) {

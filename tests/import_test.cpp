@@ -224,6 +224,44 @@ TEST(ImportConversions, ClosuresBecomeJointsAndIdleSpinsAreRemoved) {
   EXPECT_EQ(delta.description.bodies.size(), 9u);
 }
 
+// Re-typed joints (`joint_name` / `joint_type`): the five-bar whose ball is written as three
+// revolutes, re-typed as one SPHERICAL joint (the other two FIXED), or as a UJOINT_AB (x then y)
+// followed by the third revolute, moves as the original: every body in place (1e-12).
+TEST(ImportRetyping, SphericalAndUniversalJointsMoveAsTheirRevolutes) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso6d";
+  const Imported original = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  const std::string base =
+      "closed_loop: [['closedloop6D_1B', 'closedloop6D_1A']]\ntype: ['6d']\n"
+      "name_mot: ['mot2', 'mot1']\n";
+  const std::string ball = temp_file(
+      "ball.yaml", base +
+                       "joint_name: ['part_4_part_6_rev0', 'part_4_part_6_rev1', "
+                       "'part_4_part_6_rev2']\njoint_type: ['SPHERICAL', 'FIXED', 'FIXED']\n");
+  const std::string cross =
+      temp_file("cross.yaml", base +
+                                  "joint_name: ['part_4_part_6_rev0', 'part_4_part_6_rev1']\n"
+                                  "joint_type: ['UJOINT_AB', 'FIXED']\n");
+  for (const std::string& closures : {ball, cross}) {
+    const Imported r = import_file(dir + "/robot.urdf", closures);
+    const spatial::SpatialSolver s1(*original.model, {}), s2(*r.model, {});
+    spatial::SpatialState a, b;
+    for (const double t : {0.0, 0.1, 0.2}) {
+      s1.solve(t, a);
+      s2.solve(t, b);
+      for (size_t i = 0; i < original.description.bodies.size(); ++i) {
+        const int j = r.model->body_index(original.model->bodies[i].name);
+        ASSERT_GE(j, 0) << original.model->bodies[i].name;
+        const spatial::Pose p1 = s1.body_pose(a, static_cast<int>(i)), p2 = s2.body_pose(b, j);
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_NEAR(p1.p[static_cast<size_t>(k)], p2.p[static_cast<size_t>(k)], 1e-12)
+              << closures << " " << original.model->bodies[i].name << " t = " << t;
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
+        }
+      }
+    }
+  }
+}
+
 TEST(ImportErrors, ALoopThatCannotCloseNamesTheClosureAndTheDistanceLeft) {
   const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
   // The five-bar with both motors held has no freedom left: the effector cannot reach the base.

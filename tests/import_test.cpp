@@ -34,14 +34,16 @@ struct Imported {
   std::unique_ptr<SpatialModel> model;
 };
 
-Imported import_file(const std::string& path, const std::string& closures = "") {
+Imported import_file(const std::string& path, const std::string& closures = "",
+                     bool floating = false) {
   Imported r;
   r.tree = path.size() > 4 && path.substr(path.size() - 4) == ".xml"
                ? import::read_mjcf(path)
                : import::read_urdf(path, closures);
+  if (floating) import::float_base(r.tree);
   r.pose = import::assemble(r.tree, r.report);
   import::hold_free_joints(r.tree, r.pose);
-  r.description = import::describe(r.tree, r.pose);
+  r.description = import::describe(r.tree, r.pose, floating);
   r.model = std::make_unique<SpatialModel>(
       read_spatial_model_text(import::write_model(r.description), path + ".yaml"));
   return r;
@@ -257,6 +259,33 @@ TEST(ImportRetyping, SphericalAndUniversalJointsMoveAsTheirRevolutes) {
               << closures << " " << original.model->bodies[i].name << " t = " << t;
           for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
         }
+      }
+    }
+  }
+}
+
+// --floating: the base floats, held at its source pose by a pose driver from a new ground; the
+// robot then moves exactly as with its base as the ground (every body, 1e-12), with 6 more
+// coordinates (the pose driver's virtual chain).
+TEST(ImportFloating, APoseDriverHoldsTheBaseWhereTheGroundWas) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/cassie_like";
+  const Imported fixed = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  const Imported floating = import_file(dir + "/robot.urdf", dir + "/robot.yaml", true);
+  ASSERT_EQ(floating.description.pose_drivers.size(), 1u);
+  EXPECT_EQ(floating.description.pose_drivers[0].name, "pelvis_pose");
+  const spatial::SpatialSolver s1(*fixed.model, {}), s2(*floating.model, {});
+  EXPECT_EQ(s2.graph().cols(), s1.graph().cols() + 6);
+  spatial::SpatialState a, b;
+  for (const double t : {0.0, 0.1, 0.2}) {
+    s1.solve(t, a);
+    s2.solve(t, b);
+    for (size_t i = 0; i < fixed.model->bodies.size(); ++i) {
+      const int j = floating.model->body_index(fixed.model->bodies[i].name);
+      ASSERT_GE(j, 0) << fixed.model->bodies[i].name;
+      const spatial::Pose p1 = s1.body_pose(a, static_cast<int>(i)), p2 = s2.body_pose(b, j);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(p1.p[static_cast<size_t>(k)], p2.p[static_cast<size_t>(k)], 1e-12);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
       }
     }
   }

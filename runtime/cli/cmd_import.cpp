@@ -18,8 +18,8 @@ namespace mechgen::cli {
 namespace {
 
 const char* const kImportHelp =
-    R"(usage: mechgen import FILE.urdf [--closures FILE.yaml] -o MODEL.yaml
-       mechgen import FILE.xml -o MODEL.yaml
+    R"(usage: mechgen import FILE.urdf [--closures FILE.yaml] [--floating] -o MODEL.yaml
+       mechgen import FILE.xml [--floating] -o MODEL.yaml
 
 Writes a spatial description (docs/model_format.md) of a robot written for ROS or MuJoCo:
   FILE.urdf   a URDF tree (urdfdom), with the loop closures of the Extended URDF convention of
@@ -28,7 +28,9 @@ Writes a spatial description (docs/model_format.md) of a robot written for ROS o
               joint_name / joint_type (joints re-typed SPHERICAL, UJOINT_AB or FIXED);
   FILE.xml    an MJCF model (MuJoCo's compiler): connect and weld equality constraints as
               closures, actuators on joints as drivers.
-The root link is the ground. Links on fixed joints and the two sides of a weld become one body; a
+The root link is the ground (an MJCF free joint's body too); --floating: the base floats, held
+at its source pose by a pose driver (six prescribed coordinates, as models/bioloid.yaml) from a
+new ground `world`. Without --closures, a URDF is a tree driven at every joint. Links on fixed joints and the two sides of a weld become one body; a
 ball closure a spherical joint at its anchor; three revolutes whose axes meet at a point (through
 massless links) a spherical joint, two perpendicular ones a universal joint; a link between two
 spherical joints gets a universal joint at one end (its spin about the rod would be idle), a link
@@ -63,6 +65,7 @@ int run_import(const Args& args) {
       tree.name = std::filesystem::path(out).stem().string();
     if (!tree.name.empty() && std::isdigit(static_cast<unsigned char>(tree.name[0])))
       tree.name = "robot_" + tree.name;
+    if (args.has("--floating")) import::float_base(tree);
     import::AssemblyReport report;
     import::TreePose pose = import::assemble(tree, report);
     std::cout << "import " << path << ": " << tree.links.size() << " links, " << tree.joints.size()
@@ -79,7 +82,7 @@ int run_import(const Args& args) {
                                : "");
     tree.notes.push_back(closed.str());
     import::hold_free_joints(tree, pose);
-    const import::Description d = import::describe(tree, pose);
+    const import::Description d = import::describe(tree, pose, args.has("--floating"));
     const std::string text = import::write_model(d);
     report::write_file_atomically(out, text);
     std::cout << "  " << d.bodies.size() << " bodies, " << d.joints.size() << " joints, "
@@ -104,7 +107,7 @@ Command import_command() {
   return {"import",
           "a URDF (+ Extended URDF closures) or MJCF robot as a spatial description",
           kImportHelp,
-          {{"--out", "-o", true}, {"--closures", "", true}},
+          {{"--out", "-o", true}, {"--closures", "", true}, {"--floating", "", false}},
           &run_import};
 }
 

@@ -44,7 +44,8 @@ Vec3 closest_point(const Vec3& p1, const Vec3& d1, const Vec3& p2, const Vec3& d
 
 class Builder {
  public:
-  Builder(const Tree& tree, const TreePose& pose) : tree_(tree), pose_(pose) {}
+  Builder(const Tree& tree, const TreePose& pose, bool floating)
+      : tree_(tree), pose_(pose), floating_(floating) {}
 
   Description run() {
     d_.name = tree_.name;
@@ -93,8 +94,16 @@ class Builder {
       parent_[static_cast<size_t>(b)] = a;  // the link nearer the root names the body
     };
     int fixed = 0;
-    for (const TreeJoint& j : tree_.joints)
-      if (j.type == JointType::fixed) unite(j.parent, j.child), ++fixed;
+    for (const TreeJoint& j : tree_.joints) {
+      if (j.floating)
+        d_.notes.push_back("free joint " + j.name + " of " +
+                           tree_.links[static_cast<size_t>(j.child)].name +
+                           (floating_ ? ": a pose driver holds the base at its source pose"
+                                      : ": the base is the ground, at its source pose "
+                                        "(--floating: a pose driver)"));
+      if (j.type == JointType::fixed && !(j.floating && floating_))
+        unite(j.parent, j.child), ++fixed;
+    }
     for (const Closure& c : tree_.closures)
       if (c.weld) {
         if (find(c.link_a) == find(c.link_b))
@@ -168,6 +177,11 @@ class Builder {
   void make_joints() {
     for (size_t i = 0; i < tree_.joints.size(); ++i) {
       const TreeJoint& tj = tree_.joints[i];
+      if (tj.floating && floating_)
+        d_.pose_drivers.push_back({tree_.links[static_cast<size_t>(tj.child)].name + "_pose",
+                                   body_of_[static_cast<size_t>(tj.parent)],
+                                   body_of_[static_cast<size_t>(tj.child)],
+                                   pose_.link[static_cast<size_t>(tj.child)].translation()});
       if (tj.type == JointType::fixed) continue;
       Joint j;
       j.name = tj.name;
@@ -480,6 +494,7 @@ class Builder {
     for (Body& b : d_.bodies)
       for (auto& p : b.points) claim(p.first, "point");
     for (Joint& j : d_.joints) claim(j.name, "joint");
+    for (PoseDriver& pd : d_.pose_drivers) claim(pd.name, "pose");
     for (Driver& dr : d_.drivers) {
       std::string n = identifier(dr.name);
       if (taken.count(n)) dr.name = n + "_drive";
@@ -489,14 +504,34 @@ class Builder {
 
   const Tree& tree_;
   const TreePose& pose_;
+  bool floating_ = false;
   Description d_;
   std::vector<int> parent_, body_of_;
 };
 
 }  // namespace
 
-Description describe(const Tree& tree, const TreePose& pose) {
-  return Builder(tree, pose).run();
+Description describe(const Tree& tree, const TreePose& pose, bool floating) {
+  return Builder(tree, pose, floating).run();
+}
+
+void float_base(Tree& tree) {
+  for (const TreeJoint& j : tree.joints)
+    if (j.floating) return;  // MJCF: the free joint's body floats
+  // URDF: a new ground below the root link.
+  Link world;
+  world.name = "world";
+  tree.links.insert(tree.links.begin(), world);
+  for (TreeJoint& j : tree.joints) ++j.parent, ++j.child;
+  for (Closure& c : tree.closures) ++c.link_a, ++c.link_b;
+  for (Actuator& a : tree.actuators) ++a.joint;
+  TreeJoint free;
+  free.name = tree.links[1].name + "_free";
+  free.type = JointType::fixed;
+  free.floating = true;
+  free.parent = 0;
+  free.child = 1;
+  tree.joints.insert(tree.joints.begin(), free);
 }
 
 std::string identifier(const std::string& name) {

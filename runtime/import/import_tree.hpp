@@ -46,6 +46,7 @@ struct TreeJoint {
   std::vector<double> start;         // several coordinates (a ball): the source's, else zeros
   double lower = 0, upper = 0;       // limits (lower < upper when given)
   double stiffness = 0, springref = 0;
+  bool floating = false;  // a free joint (held fixed; a pose driver with --floating)
   int line = 0;
   int dofs() const {
     return type == JointType::revolute || type == JointType::prismatic ? 1
@@ -94,6 +95,10 @@ std::string closure_name(const std::string& a, const std::string& b);
 Tree read_urdf(const std::string& urdf_path, const std::string& closures_path);
 // MJCF through MuJoCo's compiler. Throws ImportError.
 Tree read_mjcf(const std::string& path);
+
+// --floating: the base floats, placed by a pose driver from a new ground `world` (URDF: the root
+// link; MJCF: the body of the free joint), at its source pose. Before assemble().
+void float_base(Tree& tree);
 
 // Joint coordinates of the tree (per joint, its dofs in order) and the link frames they give.
 struct TreePose {
@@ -148,18 +153,25 @@ struct Driver {
   std::string name;
   int joint = -1;
 };
+struct PoseDriver {  // every coordinate prescribed, constant: the base at its source pose
+  std::string name;
+  int first = -1, second = -1;
+  Vec3 at = Vec3::Zero();  // ground frame, reference pose
+};
 struct Description {
   std::string name, source;
   std::vector<Body> bodies;
   std::vector<Joint> joints;
   std::vector<Driver> drivers;
+  std::vector<PoseDriver> pose_drivers;
   std::vector<std::string> notes;
   Vec3 gravity{0, 0, -9.81};
 };
 // The tree at the assembled pose as a description: fixed joints and welds merge bodies, connects
 // become spherical joints, revolutes meeting at a point spherical or universal, idle spins
 // removed.
-Description describe(const Tree& tree, const TreePose& pose);
+// `floating`: free joints become pose drivers (else the base is welded to the ground).
+Description describe(const Tree& tree, const TreePose& pose, bool floating = false);
 // The description as YAML text.
 std::string write_model(const Description& d);
 // The shortest text that reads back as the same double; round-off dust (|v| < dust) as 0.

@@ -107,8 +107,7 @@ Tree read_mjcf(const std::string& path) {
           if (m->body_parentid[b] != 0)
             throw ImportError(path, j.line, "joint '" + jname + "': a free joint below the root");
           j.type = JointType::fixed;
-          tree.notes.push_back("free joint " + jname + " of " + bname +
-                               ": the base is the ground (held at the source's pose)");
+          j.floating = true;
           j.origin = pose_of(qstart + qa, qstart + qa + 3);
           j.after = Frame::Identity();
           break;

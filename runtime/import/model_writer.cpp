@@ -116,6 +116,14 @@ std::string write_model(const Description& d) {
       << ", kind: " << (j.type == JointType::prismatic ? "length" : "angle")
       << ", value: amplitude*sin(w*t)}\n";
   }
+  for (const PoseDriver& pd : d.pose_drivers)
+    o << "  - {name: " << pd.name
+      << ", type: pose, first: " << identifier(d.bodies[static_cast<size_t>(pd.first)].name)
+      << ", second: " << identifier(d.bodies[static_cast<size_t>(pd.second)].name)
+      << ", at: " << vec(pd.at) << ",\n     x: " << num(pd.at.x()) << ", y: " << num(pd.at.y())
+      << ", z: " << num(pd.at.z())
+      << ", rotations: [{axis: z, value: 0}, {axis: y, value: 0}, {axis: x, value: 0}]}"
+      << "  # the floating base at its source pose\n";
   o << "\nstep: {t0: 0, t1: 2*pi/w, samples: 101}\n";
   return o.str();
 }

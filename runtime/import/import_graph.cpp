@@ -51,6 +51,7 @@ class Builder {
     d_.name = tree_.name;
     d_.source = tree_.source;
     d_.gravity = tree_.gravity;
+    d_.step = tree_.step;
     d_.notes = tree_.notes;
     make_bodies();
     make_joints();
@@ -70,7 +71,7 @@ class Builder {
       if (k < 0)
         throw ImportError(tree_.source, a.line,
                           "actuated joint '" + jn + "' was merged away (it lies inside a weld)");
-      d_.drivers.push_back({a.name, k});
+      d_.drivers.push_back({a.name, k, a.value});
     }
     unique_names();
     return d_;

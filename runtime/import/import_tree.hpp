@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,12 @@ struct Actuator {
   std::string name;  // driver name
   int joint = -1;
   int line = 0;
+  std::string value;  // its law of t when the source carries one (mechgen export), else empty
+};
+
+struct SweepStep {  // the default sweep when the source carries one (mechgen export)
+  double t0 = 0, t1 = 1;
+  int samples = 101;
 };
 
 struct Tree {
@@ -81,6 +88,7 @@ struct Tree {
   std::vector<Actuator> actuators;
   std::vector<std::string> notes;  // conversions done, for the header comment
   Vec3 gravity{0, 0, -9.81};
+  std::optional<SweepStep> step;
 };
 
 // A file's text; the line of `<tag name="NAME"` in it (0 when not found).
@@ -152,6 +160,7 @@ struct Joint {
 struct Driver {
   std::string name;
   int joint = -1;
+  std::string value;  // empty: amplitude*sin(w*t)
 };
 struct PoseDriver {  // every coordinate prescribed, constant: the base at its source pose
   std::string name;
@@ -166,6 +175,7 @@ struct Description {
   std::vector<PoseDriver> pose_drivers;
   std::vector<std::string> notes;
   Vec3 gravity{0, 0, -9.81};
+  std::optional<SweepStep> step;
 };
 // The tree at the assembled pose as a description: fixed joints and welds merge bodies, connects
 // become spherical joints, revolutes meeting at a point spherical or universal, idle spins

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <regex>
+#include <sstream>
 
 #include "import/import_tree.hpp"
 
@@ -215,7 +216,23 @@ Tree read_mjcf(const std::string& path) {
       tree.notes.push_back("actuator " + uname + ": its joint has a driver already");
       continue;
     }
-    tree.actuators.push_back({uname, tj, line});
+    tree.actuators.push_back({uname, tj, line, ""});
+  }
+  // mechgen's additions (written by `mechgen export`): custom texts mechgen_value_<actuator> (a
+  // driver's law) and mechgen_step ("t0 t1 samples").
+  for (int k = 0; k < m->ntext; ++k) {
+    const std::string tname = name_at(m, m->name_textadr[k], "");
+    const std::string data(m->text_data + m->text_adr[k]);
+    if (tname.rfind("mechgen_value_", 0) == 0) {
+      for (Actuator& a : tree.actuators)
+        if (a.name == tname.substr(14)) a.value = data;
+    } else if (tname == "mechgen_step") {
+      std::istringstream in(data);
+      SweepStep st;
+      if (!(in >> st.t0 >> st.t1 >> st.samples))
+        throw ImportError(path, line_of(text, "text", tname), "mechgen_step: \"t0 t1 samples\"");
+      tree.step = st;
+    }
   }
   return tree;
 }

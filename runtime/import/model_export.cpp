@@ -100,6 +100,19 @@ struct Layout {
     }
     return out;
   }
+  // A driver's law with the default parameters in (numbers: what a URDF or MJCF file holds).
+  std::string law(const SpatialDriver& d) const {
+    const GiNaC::exmap subs = m.common.substitutions(m.common.default_parameters());
+    std::ostringstream o;
+    o.precision(17);
+    o << d.value.ex.subs(subs).evalf();
+    return o.str();
+  }
+  std::string step() const {
+    const GiNaC::exmap subs = m.common.substitutions(m.common.default_parameters());
+    return num(m.evaluate(m.common.step.t0, subs)) + " " + num(m.evaluate(m.common.step.t1, subs)) +
+           " " + std::to_string(m.common.step.samples);
+  }
   bool driven(int j) const {
     for (const SpatialDriver& d : m.drivers)
       if (d.joint == j) return true;
@@ -245,6 +258,17 @@ UrdfExport export_urdf(const SpatialModel& model, const std::string& source) {
     << num(inst.gravity[2]) << "]  # not in the Extended URDF convention: mechgen's addition\n";
   y << "closed_loop: [" << pairs.str() << "]\ntype: [" << types.str() << "]\nname_mot: ["
     << mot.str() << "]\n";
+  y << "# mechgen's additions: each driver's law (default parameters) and name, the default step\n";
+  std::string values, names;
+  for (const SpatialDriver& d : model.drivers) {
+    values += (values.empty() ? "'" : ", '") + L.law(d) + "'";
+    names += (names.empty() ? "'" : ", '") + d.name + "'";
+  }
+  y << "driver_values: [" << values << "]\ndriver_names: [" << names << "]\n";
+  const std::string st = L.step();
+  y << "step: [" << st.substr(0, st.find(' ')) << ", "
+    << st.substr(st.find(' ') + 1, st.rfind(' ') - st.find(' ') - 1) << ", "
+    << st.substr(st.rfind(' ') + 1) << "]\n";
   out.closures = y.str();
   return out;
 }
@@ -257,6 +281,9 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
   std::vector<Frame> frame(nb);  // the frames bodies nest in: the ground is the world
   for (size_t b = 0; b < nb; ++b) frame[b] = model.bodies[b].ground ? Frame::Identity() : L.body[b];
   std::ostringstream x, eq;
+  auto x_site = [&](const std::string& indent, const std::string& name, const Vec3& p) {
+    x << indent << "<site name=\"" << name << "\" pos=\"" << triple(p) << "\"/>\n";
+  };
   auto inertial = [&](int b, const std::string& indent) {
     if (model.bodies[static_cast<size_t>(b)].ground || inst.mass[static_cast<size_t>(b)] <= 0)
       return;
@@ -283,6 +310,17 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
         << triple(F.inverse() * L.s0(j)) << "\" axis=\""
         << triple(F.linear().transpose() * st[k].axis) << "\"/>\n";
   };
+  // Named points (each on the first body that carries it) as sites, body frame.
+  auto sites = [&](int b, const std::string& indent) {
+    for (const auto& [name, bi] : model.named_points()) {
+      if (bi != b) continue;
+      size_t k = 0;
+      while (model.bodies[static_cast<size_t>(b)].points[k].name != name) ++k;
+      const Vec3 x = frame[static_cast<size_t>(b)].inverse() *
+                     (L.body[static_cast<size_t>(b)] * vec(inst.points[static_cast<size_t>(b)][k]));
+      x_site(indent, name, x);
+    }
+  };
   std::function<void(int, const std::string&)> body = [&](int b, const std::string& indent) {
     const int p = g.parent[static_cast<size_t>(b)];
     const Frame rel = frame[static_cast<size_t>(p)].inverse() * frame[static_cast<size_t>(b)];
@@ -292,6 +330,7 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     if (model.joints[static_cast<size_t>(j)].type != SpatialJointType::fixed)
       steps(j, p, frame[static_cast<size_t>(b)], indent + "  ");
     inertial(b, indent + "  ");
+    sites(b, indent + "  ");
     for (const int c : g.order)
       if (g.parent[static_cast<size_t>(c)] == b) body(c, indent + "  ");
     // Cut links of the chords from this body: the chord's joint, welded to its second body.
@@ -315,6 +354,7 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     << model.common.name << "\">\n  <compiler angle=\"radian\" boundmass=\"1e-12\" "
     << "boundinertia=\"1e-18\"/>\n  <option gravity=\"" << triple(vec(inst.gravity)) << "\"/>\n"
     << "  <worldbody>\n";
+  sites(model.ground, "    ");
   for (const int b : g.order)
     if (g.parent[static_cast<size_t>(b)] >= 0 &&
         model.bodies[static_cast<size_t>(g.parent[static_cast<size_t>(b)])].ground)
@@ -340,7 +380,10 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       x << "    <motor name=\"" << d.name << "\" joint=\""
         << model.joints[static_cast<size_t>(d.joint)].name << "\"/>  <!-- value " << d.value.text
         << " -->\n";
-    x << "  </actuator>\n";
+    x << "  </actuator>\n  <custom>\n";
+    for (const SpatialDriver& d : model.drivers)
+      x << "    <text name=\"mechgen_value_" << d.name << "\" data=\"" << L.law(d) << "\"/>\n";
+    x << "    <text name=\"mechgen_step\" data=\"" << L.step() << "\"/>\n  </custom>\n";
   }
   x << "</mujoco>\n";
   return x.str();

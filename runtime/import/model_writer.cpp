@@ -108,13 +108,13 @@ std::string write_model(const Description& d) {
     if (!comment.empty()) o << "  # " << comment;
     o << "\n";
   }
-  o << "\ndrivers:   # the actuated joints: their value at the assembled pose (0) plus a small "
-       "motion\n";
+  o << "\ndrivers:   # the actuated joints (coordinates from the assembled pose): the law the "
+       "source\n           # carries (mechgen export), else a small motion about that pose\n";
   for (const Driver& dr : d.drivers) {
     const Joint& j = d.joints[static_cast<size_t>(dr.joint)];
     o << "  - {name: " << identifier(dr.name) << ", joint: " << identifier(j.name)
       << ", kind: " << (j.type == JointType::prismatic ? "length" : "angle")
-      << ", value: amplitude*sin(w*t)}\n";
+      << ", value: " << (dr.value.empty() ? "amplitude*sin(w*t)" : "\"" + dr.value + "\"") << "}\n";
   }
   for (const PoseDriver& pd : d.pose_drivers)
     o << "  - {name: " << pd.name
@@ -124,7 +124,11 @@ std::string write_model(const Description& d) {
       << ", z: " << num(pd.at.z())
       << ", rotations: [{axis: z, value: 0}, {axis: y, value: 0}, {axis: x, value: 0}]}"
       << "  # the floating base at its source pose\n";
-  o << "\nstep: {t0: 0, t1: 2*pi/w, samples: 101}\n";
+  if (d.step)
+    o << "\nstep: {t0: " << num(d.step->t0) << ", t1: " << num(d.step->t1)
+      << ", samples: " << d.step->samples << "}\n";
+  else
+    o << "\nstep: {t0: 0, t1: 2*pi/w, samples: 101}\n";
   return o.str();
 }
 

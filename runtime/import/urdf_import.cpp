@@ -161,7 +161,8 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
   if (closures_path.empty()) {  // a tree alone: every joint is driven
     for (size_t i = 0; i < tree.joints.size(); ++i)
       if (tree.joints[i].dofs() == 1)
-        tree.actuators.push_back({tree.joints[i].name, static_cast<int>(i), tree.joints[i].line});
+        tree.actuators.push_back(
+            {tree.joints[i].name, static_cast<int>(i), tree.joints[i].line, ""});
     if (!tree.actuators.empty())
       tree.notes.push_back("no closures file: a tree, every revolute and prismatic joint driven");
     return tree;
@@ -182,10 +183,13 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
     for (const auto& kv : y) {
       const std::string key = kv.first.as<std::string>();
       if (key != "closed_loop" && key != "type" && key != "name_mot" && key != "joint_name" &&
-          key != "joint_type" && key != "gravity")
+          key != "joint_type" && key != "gravity" && key != "driver_values" &&
+          key != "driver_names" && key != "step")
         throw ImportError(closures_path, yaml_line(kv.first),
                           "unknown key '" + key +
-                              "' (closed_loop, type, name_mot, joint_name, joint_type, gravity)");
+                              "' (closed_loop, type, name_mot, joint_name, joint_type; mechgen's "
+                              "gravity, driver_values, "
+                              "driver_names, step)");
     }
     // gravity: [x, y, z] (mechgen's addition: URDF has none; default [0, 0, -9.81]).
     if (const YAML::Node g = y["gravity"]) {
@@ -255,7 +259,26 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
       if (tree.joints[static_cast<size_t>(it->second)].dofs() != 1)
         throw ImportError(closures_path, yaml_line(n),
                           "name_mot: '" + name + "' is not a revolute or prismatic joint");
-      tree.actuators.push_back({name, it->second, yaml_line(n)});
+      tree.actuators.push_back({name, it->second, yaml_line(n), ""});
+    }
+    // mechgen's additions (written by `mechgen export`): each driver's law and name, the step.
+    const std::vector<std::string> values =
+        string_list(y["driver_values"], closures_path, "driver_values");
+    const std::vector<std::string> names =
+        string_list(y["driver_names"], closures_path, "driver_names");
+    for (size_t i = 0; i < tree.actuators.size(); ++i) {
+      if (i < values.size()) tree.actuators[i].value = values[i];
+      if (i < names.size()) tree.actuators[i].name = names[i];
+    }
+    if ((!values.empty() && values.size() != tree.actuators.size()) ||
+        (!names.empty() && names.size() != tree.actuators.size()))
+      throw ImportError(closures_path,
+                        yaml_line(y["driver_values"] ? y["driver_values"] : y["driver_names"]),
+                        "driver_values / driver_names: one per name_mot entry");
+    if (const YAML::Node st = y["step"]) {
+      if (!st.IsSequence() || st.size() != 3)
+        throw ImportError(closures_path, yaml_line(st), "step must be [t0, t1, samples]");
+      tree.step = SweepStep{st[0].as<double>(), st[1].as<double>(), st[2].as<int>()};
     }
     const std::vector<std::string> retype_names =
         string_list(y["joint_name"], closures_path, "joint_name");

@@ -24,8 +24,10 @@ ball), a body's URDF link frame lies on the axis of the joint above it. Each cho
 a spherical chord is a ball closure at its point (Extended URDF `3d`, MJCF `connect`), any other
 chord is kept as a joint to a massless cut link welded to its second body (`6d`, MJCF `weld`).
 --closures (default: OUT.urdf with the extension .yaml) gets closed_loop, type and name_mot (the
-driven joints; each driver's law in a comment). Named points are frame links (URDF). `mechgen
-import` reads both back: the round trip moves every body as the model does.
+driven joints), and mechgen's additions: gravity, driver_values (each driver's law, default
+parameters substituted), driver_names, step (MJCF: <custom> texts mechgen_value_<actuator> and
+mechgen_step). Named points are frame links (URDF) or sites (MJCF). `mechgen import` reads both
+back: the round trip sweeps as the model does.
 Pose drivers and helical joints have no URDF or MJCF form (an error at the element).
 )";
 

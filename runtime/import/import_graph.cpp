@@ -253,7 +253,8 @@ class Builder {
     for (int i : ids) d_.joints.erase(d_.joints.begin() + i);
   }
 
-  bool massless(const Body& b) const { return !b.ground && b.mass <= 1e-12 && b.points.empty(); }
+  // A link of no mass, or of the 1e-9 kg URDF exporters give frame links (dropped with it).
+  bool massless(const Body& b) const { return !b.ground && b.mass <= 1e-9 && b.points.empty(); }
 
   // P -R- X1 -R- X2 -R- C with X massless binary links: three axes through one point make a
   // spherical joint, two perpendicular ones a universal joint.

@@ -51,19 +51,23 @@ Imported import_file(const std::string& path, const std::string& closures = "",
 
 // The tree's loops closed again with each actuated joint moved by `delta` from the assembled pose
 // (Newton from that pose: the same assembly branch).
-import::TreePose tree_at(const Imported& r, double delta){import::Tree moved = r.tree;
-for (size_t i = 0; i < moved.joints.size(); ++i) {
-  import::TreeJoint& j = moved.joints[i];
-  if (j.dofs() == 1)
-    j.value = r.pose.q[i][0];
-  else
-    j.start.assign(r.pose.q[i].data(), r.pose.q[i].data() + r.pose.q[i].size());
+auto tree_at(const Imported& r, const std::vector<double>& delta) -> import::TreePose {
+  import::Tree moved = r.tree;
+  for (size_t i = 0; i < moved.joints.size(); ++i) {
+    import::TreeJoint& j = moved.joints[i];
+    if (j.dofs() == 1)
+      j.value = r.pose.q[i][0];
+    else
+      j.start.assign(r.pose.q[i].data(), r.pose.q[i].data() + r.pose.q[i].size());
+  }
+  for (size_t k = 0; k < moved.actuators.size(); ++k)
+    moved.joints[static_cast<size_t>(moved.actuators[k].joint)].value += delta[k];
+  auto report = import::AssemblyReport();
+  return import::assemble(moved, report);
 }
-for (const import::Actuator& a : moved.actuators)
-  moved.joints[static_cast<size_t>(a.joint)].value += delta;
-import::AssemblyReport report;
-return import::assemble(moved, report);
-}  // namespace
+auto tree_at(const Imported& r, double delta) -> import::TreePose {
+  return tree_at(r, std::vector<double>(r.tree.actuators.size(), delta));
+}
 
 int link_index(const import::Tree& tree, const std::string& name) {
   for (size_t l = 0; l < tree.links.size(); ++l)
@@ -140,7 +144,7 @@ TEST_P(SharedRobot, MuJoCoPlacesTheUrdfTreeAndItsClosuresClose) {
   const spatial::SpatialSolver solver(*r.model, {});
   const double tol = std::string(GetParam()) == "robot_delta" ? 3e-11 : 1e-12;
   spatial::SpatialState state;
-  double worst = 0;
+  double worst = 0, worst_effort = 0, largest_effort = 0;
   for (const double t : {0.0, 0.1, 0.2}) {
     solver.solve(t, state);
     const import::TreePose tree = tree_at(r, 0.05 * std::sin(2 * M_PI * t));
@@ -190,9 +194,44 @@ TEST_P(SharedRobot, MuJoCoPlacesTheUrdfTreeAndItsClosuresClose) {
         EXPECT_LT((a.linear() - b.linear()).norm(), 1e-10) << c.name << " t = " << t;
       }
     }
+    // Statics: our driver efforts at rest under gravity against MuJoCo's bias forces projected
+    // on the motors, tau = E^T qfrc_bias, E the tree's joint rates per motor rate (central
+    // differences of the tree's assembly, h = 1e-6: E to about 1e-9).
+    const size_t na = r.tree.actuators.size();
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(m->nv, static_cast<long>(na));
+    const double h = 1e-6;
+    for (size_t k = 0; k < na; ++k) {
+      std::vector<double> plus(na, 0.05 * std::sin(2 * M_PI * t)), minus = plus;
+      plus[k] += h, minus[k] -= h;
+      const import::TreePose tp = tree_at(r, plus), tm = tree_at(r, minus);
+      for (size_t i = 0; i < r.tree.joints.size(); ++i)
+        if (r.tree.joints[i].dofs() == 1)
+          E(m->jnt_dofadr[mj_name2id(m.get(), mjOBJ_JOINT, r.tree.joints[i].name.c_str())],
+            static_cast<long>(k)) = (tp.q[i][0] - tm.q[i][0]) / (2 * h);
+    }
+    mju_zero(data->qvel, m->nv);
+    mj_forward(m.get(), data.get());
+    const Eigen::VectorXd tau = E.transpose() * Eigen::Map<Eigen::VectorXd>(data->qfrc_bias, m->nv);
+    spatial::SpatialState rest = state;
+    const long np = static_cast<long>(solver.graph().primary.size());
+    solver.rates(rest, Eigen::VectorXd::Zero(np), Eigen::VectorXd::Zero(np));
+    const Eigen::VectorXd effort = spatial::inverse_dynamics(solver, rest).effort;
+    for (long i = 0; i < np; ++i) {
+      const int driver =
+          solver.graph()
+              .columns[static_cast<size_t>(solver.graph().primary[static_cast<size_t>(i)])]
+              .driver;
+      const double ours = effort[i], theirs = tau[driver];
+      EXPECT_NEAR(ours, theirs, 1e-6 * std::max(1.0, std::abs(theirs)))
+          << GetParam() << " driver " << driver << " t = " << t;
+      worst_effort = std::max(worst_effort, std::abs(ours - theirs));
+      largest_effort = std::max(largest_effort, std::abs(theirs));
+    }
   }
   EXPECT_LT(worst, tol) << GetParam();
-  std::cout << GetParam() << ": MuJoCo's link frames off ours by " << worst << "\n";
+  std::cout << GetParam() << ": MuJoCo's link frames off ours by " << worst
+            << "; static efforts up to " << largest_effort << " N m, off E^T qfrc_bias by "
+            << worst_effort << "\n";
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, SharedRobot,

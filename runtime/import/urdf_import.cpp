@@ -142,11 +142,15 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
       case urdf::Joint::FIXED:
         j.type = JointType::fixed;
         break;
+      case urdf::Joint::FLOATING:  // a floating base: as MJCF's free joint (held; --floating)
+        if (j.parent != 0)
+          throw ImportError(urdf_path, j.line,
+                            "joint '" + j.name + "': a floating joint below the root's children");
+        j.type = JointType::fixed;
+        j.floating = true;
+        break;
       default:
-        throw ImportError(urdf_path, j.line,
-                          "joint '" + j.name +
-                              "': type floating or planar is not imported (a floating base is "
-                              "the ground: remove its joint)");
+        throw ImportError(urdf_path, j.line, "joint '" + j.name + "': type planar is not imported");
     }
     if (j.dofs() > 0) {
       if (j.axis.norm() < 1e-12)

@@ -113,11 +113,6 @@ struct Layout {
     return num(m.evaluate(m.common.step.t0, subs)) + " " + num(m.evaluate(m.common.step.t1, subs)) +
            " " + std::to_string(m.common.step.samples);
   }
-  bool driven(int j) const {
-    for (const SpatialDriver& d : m.drivers)
-      if (d.joint == j) return true;
-    return false;
-  }
 };
 
 }  // namespace

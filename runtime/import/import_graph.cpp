@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "import/import_tree.hpp"
+#include "model/description_syntax.hpp"
 
 namespace mechgen::import {
 
@@ -539,7 +540,10 @@ void float_base(Tree& tree) {
 std::string identifier(const std::string& name) {
   std::string out;
   for (const char c : name) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "n" + out;
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0])) || out[0] == '_')
+    out = "n" + out;
+  while (out.find("__") != std::string::npos) out.replace(out.find("__"), 2, "_");
+  if (!reserved_name_reason(out).empty()) out += "_";  // a C++ keyword, a kernel's own name
   return out;
 }
 

@@ -29,6 +29,10 @@ class DescriptionSyntax {
                           bool time_allowed) const = 0;
 };
 
+// Why a name cannot be a field of a generated kernel (a C++ keyword, a name the kernels use,
+// `__`): empty when it can. Every reader refuses such names; `mechgen import` renames them.
+std::string reserved_name_reason(const std::string& name);
+
 // The text of a description file; ModelError when it is missing, a directory or unreadable.
 std::string read_description_file(const std::string& path);
 

@@ -14,6 +14,7 @@ mechgen_deps() {
     liborocos-kdl-dev                                          # spatial checks against KDL (tests, bench)
     libjs-three                                                # mechgen view: three.js, inlined into each page
     chromium libpng-dev nlohmann-json3-dev                     # view_test: headless browser, PNG, JSON
+    liburdfdom-dev libmujoco-dev                               # mechgen import: URDF, MJCF (MuJoCo)
     "$@"
   )
   if ! command -v dpkg-query >/dev/null 2>&1; then

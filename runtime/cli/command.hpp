@@ -184,5 +184,7 @@ Command follow_command();         // cmd_follow.cpp
 Command humanoid_gait_command();  // cmd_humanoid_gait.cpp
 Command view_command();           // cmd_view.cpp
 Command simulate_command();       // cmd_simulate.cpp
+Command import_command();         // cmd_import.cpp
+Command export_command();         // cmd_export.cpp
 
 }  // namespace mechgen::cli

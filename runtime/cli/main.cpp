@@ -462,6 +462,8 @@ const std::vector<Command>& commands() {
       humanoid_gait_command(),
       view_command(),
       simulate_command(),
+      import_command(),
+      export_command(),
   };
   return list;
 }

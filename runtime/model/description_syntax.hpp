@@ -32,6 +32,10 @@ class DescriptionSyntax {
   virtual Expr effort_law(const YAML::Node& node, const std::string& what) const = 0;
 };
 
+// Why a name cannot be a field of a generated kernel (a C++ keyword, a name the kernels use,
+// `__`): empty when it can. Every reader refuses such names; `mechgen import` renames them.
+std::string reserved_name_reason(const std::string& name);
+
 // The text of a description file; ModelError when it is missing, a directory or unreadable.
 std::string read_description_file(const std::string& path);
 

@@ -710,6 +710,10 @@ YAML::Node load_yaml(const std::string& text, const std::string& file_label) {
 
 }  // namespace
 
+std::string reserved_name_reason(const std::string& name) {
+  return reserved_in_kernels(name);
+}
+
 SpatialModel read_spatial_model_text(const std::string& text, const std::string& file_label) {
   return Reader(file_label).read_spatial(load_yaml(text, file_label));
 }

@@ -1,0 +1,554 @@
+// mechgen import (issue 21): the four Extended URDF robots of ../shared/robots and two MJCF robots
+// written for these tests, each imported, read back as a spatial model and moved by its drivers;
+// every body placed by the reference solver is checked against an independent placement: the
+// source's own tree (URDF joint origins and axes, loops closed by the import's Newton on the
+// tree) and, for MJCF, MuJoCo's compiler and kinematics (mj_kinematics, equality residuals).
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <regex>
+#include <string>
+
+#include "import/import_tree.hpp"
+#include "model/spatial_model.hpp"
+#include "spatial/spatial_dynamics.hpp"
+#include "spatial/spatial_solver.hpp"
+
+#ifndef MECHGEN_SHARED_ROBOTS
+#error "MECHGEN_SHARED_ROBOTS must name ../shared/robots (tests/CMakeLists.txt)"
+#endif
+
+namespace {
+
+using namespace mechgen;
+using import::Frame;
+
+struct Imported {
+  import::Tree tree;
+  import::TreePose pose;
+  import::AssemblyReport report;
+  import::Description description;
+  std::unique_ptr<SpatialModel> model;
+};
+
+Imported import_file(const std::string& path, const std::string& closures = "",
+                     bool floating = false) {
+  Imported r;
+  r.tree = path.size() > 4 && path.substr(path.size() - 4) == ".xml"
+               ? import::read_mjcf(path)
+               : import::read_urdf(path, closures);
+  if (floating) import::float_base(r.tree);
+  r.pose = import::assemble(r.tree, r.report);
+  import::hold_free_joints(r.tree, r.pose);
+  r.description = import::describe(r.tree, r.pose, floating);
+  r.model = std::make_unique<SpatialModel>(
+      read_spatial_model_text(import::write_model(r.description), path + ".yaml"));
+  return r;
+}
+
+// The tree's loops closed again with each actuated joint moved by `delta` from the assembled pose
+// (Newton from that pose: the same assembly branch).
+auto tree_at(const Imported& r, const std::vector<double>& delta) -> import::TreePose {
+  import::Tree moved = r.tree;
+  for (size_t i = 0; i < moved.joints.size(); ++i) {
+    import::TreeJoint& j = moved.joints[i];
+    if (j.dofs() == 1)
+      j.value = r.pose.q[i][0];
+    else
+      j.start.assign(r.pose.q[i].data(), r.pose.q[i].data() + r.pose.q[i].size());
+  }
+  for (size_t k = 0; k < moved.actuators.size(); ++k)
+    moved.joints[static_cast<size_t>(moved.actuators[k].joint)].value += delta[k];
+  auto report = import::AssemblyReport();
+  return import::assemble(moved, report);
+}
+auto tree_at(const Imported& r, double delta) -> import::TreePose {
+  return tree_at(r, std::vector<double>(r.tree.actuators.size(), delta));
+}
+
+int link_index(const import::Tree& tree, const std::string& name) {
+  for (size_t l = 0; l < tree.links.size(); ++l)
+    if (tree.links[l].name == name) return static_cast<int>(l);
+  return -1;
+}
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+class SharedRobot : public testing::TestWithParam<const char*> {};
+
+// Import, then the reference solver along the drivers' motion: every body frame equals the
+// source tree's link frame with its loops closed at the same motor angles (positions to 1e-12 m,
+// rotation matrices to 1e-12; the Delta 3e-11, below; a rod whose idle spin was fixed: its origin
+// only).
+TEST_P(SharedRobot, ImportsAndMovesAsTheSourceTree) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/" + GetParam();
+  const Imported r = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  EXPECT_GT(r.report.initial, 1e-4) << "the source's q = 0 is not assembled";
+  EXPECT_LT(r.report.final, 1e-14);
+  EXPECT_FALSE(r.tree.closures.empty());
+
+  const spatial::SpatialSolver solver(*r.model, {});
+  const double amplitude = 0.05, w = 2 * M_PI;
+  // The reference solver stops at a closure residual of 1e-13; the Delta's parallelograms are
+  // ill-conditioned enough (redundant planar loops) that this leaves 1.2e-11 in the transmission's
+  // orientation, which the tree's Newton (to 1e-15) does not have.
+  const double tol = std::string(GetParam()) == "robot_delta" ? 3e-11 : 1e-12;
+  spatial::SpatialState state;
+  for (const double t : {0.0, 0.05, 0.1, 0.15, 0.2}) {
+    solver.solve(t, state);
+    const import::TreePose tree = tree_at(r, amplitude * std::sin(w * t));
+    for (size_t b = 0; b < r.description.bodies.size(); ++b) {
+      const import::Body& body = r.description.bodies[b];
+      const int l = link_index(r.tree, body.link);
+      ASSERT_GE(l, 0) << body.name;
+      const spatial::Pose ours = solver.body_pose(state, static_cast<int>(b));
+      const Frame& theirs = tree.link[static_cast<size_t>(l)];
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(ours.p[static_cast<size_t>(k)], theirs.translation()[k], tol)
+            << GetParam() << " body " << body.name << " at t = " << t;
+      if (body.spin_fixed) continue;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(ours.R(i, k), theirs.linear()(i, k), tol)
+              << GetParam() << " body " << body.name << " at t = " << t;
+    }
+  }
+}
+
+// MuJoCo reads the same URDF (meshes left out; its own URDF parser, no fused static bodies):
+// with the source tree's joint angles at our motors' positions (the tree's loops closed by the
+// import's Newton), MuJoCo's kinematics places every link our model places (1e-12; the Delta
+// 3e-11, above) and the closure frames coincide in MuJoCo's frames too (1e-10).
+TEST_P(SharedRobot, MuJoCoPlacesTheUrdfTreeAndItsClosuresClose) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/" + GetParam();
+  const Imported r = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  std::string text = import::read_text(dir + "/robot.urdf");
+  text = std::regex_replace(text, std::regex("<(visual|collision)>[\\s\\S]*?</\\1>"), "");
+  const size_t robot = text.find('>', text.find("<robot")) + 1;
+  text.insert(robot,
+              "<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-10\" "
+              "boundinertia=\"1e-14\"/></mujoco>");
+  const std::string path = temp_file(std::string(GetParam()) + ".urdf", text);
+  char error[1000] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> m(
+      mj_loadXML(path.c_str(), nullptr, error, sizeof error), mj_deleteModel);
+  ASSERT_TRUE(m) << error;
+  const std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m.get()), mj_deleteData);
+  const spatial::SpatialSolver solver(*r.model, {});
+  const double tol = std::string(GetParam()) == "robot_delta" ? 3e-11 : 1e-12;
+  spatial::SpatialState state;
+  double worst = 0, worst_effort = 0, largest_effort = 0;
+  for (const double t : {0.0, 0.1, 0.2}) {
+    solver.solve(t, state);
+    const import::TreePose tree = tree_at(r, 0.05 * std::sin(2 * M_PI * t));
+    for (size_t i = 0; i < r.tree.joints.size(); ++i) {
+      if (r.tree.joints[i].dofs() != 1) continue;
+      const int j = mj_name2id(m.get(), mjOBJ_JOINT, r.tree.joints[i].name.c_str());
+      ASSERT_GE(j, 0) << r.tree.joints[i].name;
+      data->qpos[m->jnt_qposadr[j]] = tree.q[i][0];
+    }
+    mj_kinematics(m.get(), data.get());
+    auto mj_frame = [&](const std::string& link) {
+      const int b = mj_name2id(m.get(), mjOBJ_BODY, link.c_str());
+      EXPECT_GE(b, 0) << link;
+      Frame f = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        f.translation()[i] = data->xpos[3 * b + i];
+        for (int k = 0; k < 3; ++k) f.linear()(i, k) = data->xmat[9 * b + 3 * i + k];
+      }
+      return f;
+    };
+    for (size_t b = 0; b < r.description.bodies.size(); ++b) {
+      const import::Body& body = r.description.bodies[b];
+      const spatial::Pose& D = state.D[b];
+      Frame d = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        d.translation()[i] = D.p[static_cast<size_t>(i)];
+        for (int k = 0; k < 3; ++k) d.linear()(i, k) = D.R(i, k);
+      }
+      std::vector<std::string> links = body.merged;
+      links.push_back(body.link);
+      for (const std::string& link : links) {
+        if (std::find(body.idle_links.begin(), body.idle_links.end(), link) !=
+            body.idle_links.end())
+          continue;  // a Delta's pin: its spin about its axis is the tree's arbitrary choice
+        const Frame ours = d * r.pose.link[static_cast<size_t>(link_index(r.tree, link))];
+        const Frame theirs = mj_frame(link);
+        worst = std::max(worst, (ours.translation() - theirs.translation()).cwiseAbs().maxCoeff());
+        if (!body.spin_fixed)
+          worst = std::max(worst, (ours.linear() - theirs.linear()).cwiseAbs().maxCoeff());
+      }
+    }
+    for (const import::Closure& c : r.tree.closures) {
+      const Frame a = mj_frame(r.tree.links[static_cast<size_t>(c.link_a)].name) * c.in_a;
+      const Frame b = mj_frame(r.tree.links[static_cast<size_t>(c.link_b)].name) * c.in_b;
+      EXPECT_LT((a.translation() - b.translation()).norm(), 1e-10) << c.name << " t = " << t;
+      if (c.weld) {
+        EXPECT_LT((a.linear() - b.linear()).norm(), 1e-10) << c.name << " t = " << t;
+      }
+    }
+    // Statics: our driver efforts at rest under gravity against MuJoCo's bias forces projected
+    // on the motors, tau = E^T qfrc_bias, E the tree's joint rates per motor rate (central
+    // differences of the tree's assembly, h = 1e-6: E to about 1e-9).
+    const size_t na = r.tree.actuators.size();
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(m->nv, static_cast<long>(na));
+    const double h = 1e-6;
+    for (size_t k = 0; k < na; ++k) {
+      std::vector<double> plus(na, 0.05 * std::sin(2 * M_PI * t)), minus = plus;
+      plus[k] += h, minus[k] -= h;
+      const import::TreePose tp = tree_at(r, plus), tm = tree_at(r, minus);
+      for (size_t i = 0; i < r.tree.joints.size(); ++i)
+        if (r.tree.joints[i].dofs() == 1)
+          E(m->jnt_dofadr[mj_name2id(m.get(), mjOBJ_JOINT, r.tree.joints[i].name.c_str())],
+            static_cast<long>(k)) = (tp.q[i][0] - tm.q[i][0]) / (2 * h);
+    }
+    mju_zero(data->qvel, m->nv);
+    mj_forward(m.get(), data.get());
+    const Eigen::VectorXd tau = E.transpose() * Eigen::Map<Eigen::VectorXd>(data->qfrc_bias, m->nv);
+    spatial::SpatialState rest = state;
+    const long np = static_cast<long>(solver.graph().primary.size());
+    solver.rates(rest, Eigen::VectorXd::Zero(np), Eigen::VectorXd::Zero(np));
+    const Eigen::VectorXd effort = spatial::inverse_dynamics(solver, rest).effort;
+    for (long i = 0; i < np; ++i) {
+      const int driver =
+          solver.graph()
+              .columns[static_cast<size_t>(solver.graph().primary[static_cast<size_t>(i)])]
+              .driver;
+      const double ours = effort[i], theirs = tau[driver];
+      EXPECT_NEAR(ours, theirs, 1e-6 * std::max(1.0, std::abs(theirs)))
+          << GetParam() << " driver " << driver << " t = " << t;
+      worst_effort = std::max(worst_effort, std::abs(ours - theirs));
+      largest_effort = std::max(largest_effort, std::abs(theirs));
+    }
+  }
+  EXPECT_LT(worst, tol) << GetParam();
+  std::cout << GetParam() << ": MuJoCo's link frames off ours by " << worst
+            << "; static efforts up to " << largest_effort << " N m, off E^T qfrc_bias by "
+            << worst_effort << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, SharedRobot,
+                         testing::Values("5bar_linkage_iso3d", "5bar_linkage_iso6d", "cassie_like",
+                                         "robot_delta"));
+
+// What the conversions became, robot by robot (the README's table).
+TEST(ImportConversions, ClosuresBecomeJointsAndIdleSpinsAreRemoved) {
+  const std::string dir = MECHGEN_SHARED_ROBOTS;
+  auto count = [](const import::Description& d, import::JointType type) {
+    int n = 0;
+    for (const import::Joint& j : d.joints) n += j.type == type;
+    return n;
+  };
+  const Imported iso3d =
+      import_file(dir + "/5bar_linkage_iso3d/robot.urdf", dir + "/5bar_linkage_iso3d/robot.yaml");
+  EXPECT_EQ(count(iso3d.description, import::JointType::spherical), 1);  // the 3d closure
+  EXPECT_EQ(iso3d.description.drivers.size(), 2u);
+  const Imported iso6d =
+      import_file(dir + "/5bar_linkage_iso6d/robot.urdf", dir + "/5bar_linkage_iso6d/robot.yaml");
+  EXPECT_EQ(count(iso6d.description, import::JointType::spherical), 1);  // three revolutes
+  EXPECT_EQ(iso6d.description.bodies.size(), iso3d.description.bodies.size());
+  const Imported cassie =
+      import_file(dir + "/cassie_like/robot.urdf", dir + "/cassie_like/robot.yaml");
+  EXPECT_EQ(count(cassie.description, import::JointType::spherical), 2);
+  EXPECT_EQ(count(cassie.description, import::JointType::universal), 2);  // the rods' spins
+  EXPECT_EQ(cassie.description.drivers.size(), 5u);
+  const Imported delta =
+      import_file(dir + "/robot_delta/robot.urdf", dir + "/robot_delta/robot.yaml");
+  EXPECT_EQ(count(delta.description, import::JointType::revolute), 11);  // 3 coaxial pairs: 1 each
+  EXPECT_EQ(delta.description.bodies.size(), 9u);
+}
+
+// Re-typed joints (`joint_name` / `joint_type`): the five-bar whose ball is written as three
+// revolutes, re-typed as one SPHERICAL joint (the other two FIXED), or as a UJOINT_AB (x then y)
+// followed by the third revolute, moves as the original: every body in place (1e-12).
+TEST(ImportRetyping, SphericalAndUniversalJointsMoveAsTheirRevolutes) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso6d";
+  const Imported original = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  const std::string base =
+      "closed_loop: [['closedloop6D_1B', 'closedloop6D_1A']]\ntype: ['6d']\n"
+      "name_mot: ['mot2', 'mot1']\n";
+  const std::string ball = temp_file(
+      "ball.yaml", base +
+                       "joint_name: ['part_4_part_6_rev0', 'part_4_part_6_rev1', "
+                       "'part_4_part_6_rev2']\njoint_type: ['SPHERICAL', 'FIXED', 'FIXED']\n");
+  const std::string cross =
+      temp_file("cross.yaml", base +
+                                  "joint_name: ['part_4_part_6_rev0', 'part_4_part_6_rev1']\n"
+                                  "joint_type: ['UJOINT_AB', 'FIXED']\n");
+  for (const std::string& closures : {ball, cross}) {
+    const Imported r = import_file(dir + "/robot.urdf", closures);
+    const spatial::SpatialSolver s1(*original.model, {}), s2(*r.model, {});
+    spatial::SpatialState a, b;
+    for (const double t : {0.0, 0.1, 0.2}) {
+      s1.solve(t, a);
+      s2.solve(t, b);
+      for (size_t i = 0; i < original.description.bodies.size(); ++i) {
+        const int j = r.model->body_index(original.model->bodies[i].name);
+        ASSERT_GE(j, 0) << original.model->bodies[i].name;
+        const spatial::Pose p1 = s1.body_pose(a, static_cast<int>(i)), p2 = s2.body_pose(b, j);
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_NEAR(p1.p[static_cast<size_t>(k)], p2.p[static_cast<size_t>(k)], 1e-12)
+              << closures << " " << original.model->bodies[i].name << " t = " << t;
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
+        }
+      }
+    }
+  }
+}
+
+// --floating: the base floats, held at its source pose by a pose driver from a new ground; the
+// robot then moves exactly as with its base as the ground (every body, 1e-12), with 6 more
+// coordinates (the pose driver's virtual chain).
+TEST(ImportFloating, APoseDriverHoldsTheBaseWhereTheGroundWas) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/cassie_like";
+  const Imported fixed = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  const Imported floating = import_file(dir + "/robot.urdf", dir + "/robot.yaml", true);
+  ASSERT_EQ(floating.description.pose_drivers.size(), 1u);
+  EXPECT_EQ(floating.description.pose_drivers[0].name, "pelvis_pose");
+  const spatial::SpatialSolver s1(*fixed.model, {}), s2(*floating.model, {});
+  EXPECT_EQ(s2.graph().cols(), s1.graph().cols() + 6);
+  spatial::SpatialState a, b;
+  for (const double t : {0.0, 0.1, 0.2}) {
+    s1.solve(t, a);
+    s2.solve(t, b);
+    for (size_t i = 0; i < fixed.model->bodies.size(); ++i) {
+      const int j = floating.model->body_index(fixed.model->bodies[i].name);
+      ASSERT_GE(j, 0) << fixed.model->bodies[i].name;
+      const spatial::Pose p1 = s1.body_pose(a, static_cast<int>(i)), p2 = s2.body_pose(b, j);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(p1.p[static_cast<size_t>(k)], p2.p[static_cast<size_t>(k)], 1e-12);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
+      }
+    }
+  }
+}
+
+TEST(ImportErrors, ALoopThatCannotCloseNamesTheClosureAndTheDistanceLeft) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
+  // The five-bar with both motors held has no freedom left: the effector cannot reach the base.
+  const std::string closures = temp_file(
+      "closures.yaml",
+      "closed_loop: [['closedloop3D_1B', 'closedloop3D_1A'],\n"
+      "              ['part_1', 'effector']]\ntype: ['3d', '3d']\nname_mot: ['mot2', 'mot1']\n");
+  try {
+    import_file(dir + "/robot.urdf", closures);
+    FAIL() << "no error";
+  } catch (const import::ImportError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(closures + ":2: error: closure part_1 - effector cannot close"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("distance left 0."), std::string::npos) << what;
+  }
+}
+
+TEST(ImportErrors, BadFilesAreLocated) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
+  const std::string closures =
+      temp_file("bad.yaml", "closed_loop: [['closedloop3D_1B', 'nowhere']]\ntype: ['3d']\n");
+  EXPECT_THROW(
+      {
+        try {
+          import::read_urdf(dir + "/robot.urdf", closures);
+        } catch (const import::ImportError& e) {
+          EXPECT_EQ(std::string(e.what()),
+                    closures +
+                        ":1: error: closure frame 'nowhere' is neither a link nor a joint "
+                        "of " +
+                        dir + "/robot.urdf");
+          throw;
+        }
+      },
+      import::ImportError);
+  const std::string urdf = temp_file("bad.urdf", "<robot name='r'><link name='a'/>\n<joint");
+  EXPECT_THROW(import::read_urdf(urdf, ""), import::ImportError);
+  const std::string mjcf = temp_file("bad.xml",
+                                     "<mujoco>\n<worldbody>\n<body><joint type='x'/>"
+                                     "</body></worldbody></mujoco>");
+  try {
+    import::read_mjcf(mjcf);
+    FAIL() << "no error";
+  } catch (const import::ImportError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(mjcf + ":3: error: MuJoCo cannot compile", 0), 0u)
+        << e.what();
+  }
+}
+
+// MJCF robots (tests/data: a four-bar cut by a connect; a Cassie-style leg; a rocker pushed by an
+// S-P-S linear actuator, whose idle spin the import removes) against MuJoCo: MuJoCo's qpos from our
+// body frames, then MuJoCo's own kinematics places every body as ours (1e-12) and its equality
+// constraints hold (1e-10).
+class MjcfRobot : public testing::TestWithParam<const char*> {};
+
+TEST_P(MjcfRobot, MuJoCoPlacesEveryBodyAsWeDoAndItsConstraintsHold) {
+  const std::string path = std::string(MECHGEN_SOURCE_DIR) + "/tests/data/" + GetParam();
+  const Imported r = import_file(path);
+  EXPECT_LT(r.report.final, 1e-14);
+  EXPECT_GT(r.report.initial, 1e-3) << "the keyframe leaves the loops open";
+  if (std::string(GetParam()) == "mjcf_cassie_leg.xml") {  // the knee spring, the toe flap
+    const std::string notes = [&] {
+      std::string all;
+      for (const std::string& n : r.description.notes) all += n + "\n";
+      return all;
+    }();
+    EXPECT_NE(notes.find("joint knee_spring (stiffness 1500.000000) kept rigid"), std::string::npos)
+        << notes;
+    EXPECT_NE(notes.find("joint flap is neither actuated nor in a loop: held"), std::string::npos)
+        << notes;
+  }
+  char error[1000] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> m(
+      mj_loadXML(path.c_str(), nullptr, error, sizeof error), mj_deleteModel);
+  ASSERT_TRUE(m) << error;
+  m->opt.jacobian = mjJAC_DENSE;  // efc_J as a dense nefc x nv matrix
+  const std::unique_ptr<mjData, void (*)(mjData*)> data(mj_makeData(m.get()), mj_deleteData);
+  const spatial::SpatialSolver solver(*r.model, {});
+  spatial::SpatialState state;
+  double worst_rate = 0, worst_effort = 0, largest_effort = 0;
+  for (const double t : {0.0, 0.07, 0.19}) {
+    solver.solve(t, state);
+    // Every MuJoCo body's frame, ours: its body's displacement times its reference frame.
+    std::vector<Frame> frame(static_cast<size_t>(m->nbody), Frame::Identity());
+    std::vector<int> ours_of(static_cast<size_t>(m->nbody), -1);  // MuJoCo body -> ours
+    for (int b = 1; b < m->nbody; ++b) {
+      const std::string name = m->names + m->name_bodyadr[b];
+      const int l = link_index(r.tree, name);
+      ASSERT_GE(l, 0) << name;
+      int ours = -1;
+      for (size_t k = 0; k < r.description.bodies.size(); ++k) {
+        const import::Body& body = r.description.bodies[k];
+        if (body.link == name ||
+            std::find(body.merged.begin(), body.merged.end(), name) != body.merged.end())
+          ours = static_cast<int>(k);
+      }
+      ASSERT_GE(ours, 0) << name;
+      ours_of[static_cast<size_t>(b)] = ours;
+      const spatial::Pose& D = state.D[static_cast<size_t>(ours)];
+      Frame d = Frame::Identity();
+      for (int i = 0; i < 3; ++i) {
+        d.translation()[i] = D.p[static_cast<size_t>(i)];
+        for (int k = 0; k < 3; ++k) d.linear()(i, k) = D.R(i, k);
+      }
+      frame[static_cast<size_t>(b)] = d * r.pose.link[static_cast<size_t>(l)];
+    }
+    // qpos: each joint's motion from its parent frame (MuJoCo: body_pos, body_quat, then the
+    // joints about jnt_pos).
+    for (int b = 1; b < m->nbody; ++b) {
+      const Frame& parent = frame[static_cast<size_t>(m->body_parentid[b])];
+      Frame rest = Frame::Identity();
+      rest.linear() = Eigen::Quaterniond(m->body_quat[4 * b], m->body_quat[4 * b + 1],
+                                         m->body_quat[4 * b + 2], m->body_quat[4 * b + 3])
+                          .toRotationMatrix();
+      rest.translation() = Eigen::Vector3d(m->body_pos + 3 * b);
+      const Eigen::Matrix3d rel =
+          (parent * rest).linear().transpose() * frame[static_cast<size_t>(b)].linear();
+      ASSERT_LE(m->body_jntnum[b], 1);
+      if (m->body_jntnum[b] == 0) continue;
+      const int j = m->body_jntadr[b];
+      const int qa = m->jnt_qposadr[j];
+      if (m->jnt_type[j] == mjJNT_HINGE) {
+        const Eigen::Vector3d axis(m->jnt_axis + 3 * j);
+        const Eigen::AngleAxisd aa(rel);
+        data->qpos[qa] = m->qpos0[qa] + aa.angle() * aa.axis().dot(axis);
+      } else if (m->jnt_type[j] == mjJNT_SLIDE) {
+        const Eigen::Vector3d axis(m->jnt_axis + 3 * j);
+        data->qpos[qa] =
+            m->qpos0[qa] +
+            ((parent * rest).inverse() * frame[static_cast<size_t>(b)]).translation().dot(axis);
+      } else if (m->jnt_type[j] == mjJNT_BALL) {
+        const Eigen::Quaterniond q(rel);
+        data->qpos[qa] = q.w(), data->qpos[qa + 1] = q.x(), data->qpos[qa + 2] = q.y(),
+        data->qpos[qa + 3] = q.z();
+      }
+    }
+    mj_forward(m.get(), data.get());
+    for (int b = 1; b < m->nbody; ++b)
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(data->xpos[3 * b + i], frame[static_cast<size_t>(b)].translation()[i], 1e-12)
+            << GetParam() << " body " << m->names + m->name_bodyadr[b] << " t = " << t;
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(data->xmat[9 * b + 3 * i + k], frame[static_cast<size_t>(b)].linear()(i, k),
+                      1e-12);
+      }
+    int rows = 0;
+    for (int i = 0; i < data->nefc; ++i)
+      if (data->efc_type[i] == mjCNSTR_EQUALITY) {
+        ++rows;
+        EXPECT_LT(std::abs(data->efc_pos[i]), 1e-10) << GetParam() << " t = " << t;
+      }
+    EXPECT_EQ(rows, 3 * m->neq);
+
+    // Rates: E, MuJoCo's qvel per unit rate of each driver, from our body twists (a hinge: the
+    // relative angular velocity along its axis; a ball: in the child's frame). MuJoCo's constraint
+    // Jacobian annihilates every column on the loop rows: efc_J E = 0.
+    const long np = static_cast<long>(solver.graph().primary.size());
+    Eigen::VectorXd qp, qpd, qpdd;
+    solver.primary_motion(t, qp, qpd, qpdd);
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(m->nv, np);
+    for (long i = 0; i < np; ++i) {
+      spatial::SpatialState s = state;
+      solver.rates(s, Eigen::VectorXd::Unit(np, i), Eigen::VectorXd::Zero(np));
+      for (int b = 1; b < m->nbody; ++b) {
+        if (m->body_jntnum[b] == 0) continue;
+        const int j = m->body_jntadr[b];
+        const int p = m->body_parentid[b];
+        const Eigen::Vector3d w =
+            Eigen::Vector3d(s.V[static_cast<size_t>(ours_of[static_cast<size_t>(b)])].w.data()) -
+            (p == 0 ? Eigen::Vector3d::Zero()
+                    : Eigen::Vector3d(
+                          s.V[static_cast<size_t>(ours_of[static_cast<size_t>(p)])].w.data()));
+        const int dof = m->jnt_dofadr[j];
+        // A slide: the relative velocity of the child's origin along the axis.
+        const Eigen::Vector3d x = frame[static_cast<size_t>(b)].translation();
+        auto velocity = [&](int body) -> Eigen::Vector3d {
+          if (body == 0) return Eigen::Vector3d::Zero();
+          const spatial::Twist& V = s.V[static_cast<size_t>(ours_of[static_cast<size_t>(body)])];
+          return Eigen::Vector3d(V.v.data()) + Eigen::Vector3d(V.w.data()).cross(x);
+        };
+        if (m->jnt_type[j] == mjJNT_SLIDE)
+          E(dof, i) = (velocity(b) - velocity(p)).dot(Eigen::Vector3d(data->xaxis + 3 * j));
+        else if (m->jnt_type[j] == mjJNT_HINGE)
+          E(dof, i) = w.dot(Eigen::Vector3d(data->xaxis + 3 * j));
+        else if (m->jnt_type[j] == mjJNT_BALL)
+          E.block(dof, i, 3, 1) = frame[static_cast<size_t>(b)].linear().transpose() * w;
+      }
+    }
+    for (int r = 0; r < data->nefc; ++r)
+      if (data->efc_type[r] == mjCNSTR_EQUALITY)
+        for (long i = 0; i < np; ++i) {
+          double v = 0;
+          for (int k = 0; k < m->nv; ++k) v += data->efc_J[r * m->nv + k] * E(k, i);
+          EXPECT_LT(std::abs(v), 1e-10) << GetParam() << " efc_J E, row " << r << ", t = " << t;
+          worst_rate = std::max(worst_rate, std::abs(v));
+        }
+    // Statics: our driver efforts at rest under gravity equal MuJoCo's bias forces projected on
+    // the drivers (tau = E^T qfrc_bias: the constraint forces do no work along E).
+    spatial::SpatialState rest = state;
+    solver.rates(rest, Eigen::VectorXd::Zero(np), Eigen::VectorXd::Zero(np));
+    const Eigen::VectorXd effort = spatial::inverse_dynamics(solver, rest).effort;
+    mju_zero(data->qvel, m->nv);
+    mj_forward(m.get(), data.get());
+    const Eigen::VectorXd tau = E.transpose() * Eigen::Map<Eigen::VectorXd>(data->qfrc_bias, m->nv);
+    for (long i = 0; i < np; ++i) {
+      EXPECT_NEAR(effort[i], tau[i], 1e-9 * std::max(1.0, std::abs(tau[i])))
+          << GetParam() << " driver " << i << ", t = " << t;
+      worst_effort = std::max(worst_effort, std::abs(effort[i] - tau[i]));
+      largest_effort = std::max(largest_effort, std::abs(tau[i]));
+    }
+  }
+  std::cout << GetParam() << ": efc_J E up to " << worst_rate << "; static efforts up to "
+            << largest_effort << " N m, off MuJoCo's E^T qfrc_bias by " << worst_effort << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, MjcfRobot,
+                         testing::Values("mjcf_fourbar.xml", "mjcf_cassie_leg.xml",
+                                         "mjcf_sps_rocker.xml"));
+
+}  // namespace

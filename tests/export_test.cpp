@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <ostream>
 #include <set>
 #include <string>
 
@@ -48,6 +49,10 @@ struct Case {
   const char* model;
   bool mjcf;
 };
+// Test names and ctest's display of the parameter: the model and the format, not the struct's bytes.
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.model << (c.mjcf ? "_mjcf" : "_urdf");
+}
 
 class RoundTrip : public testing::TestWithParam<Case> {};
 

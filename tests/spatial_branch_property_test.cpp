@@ -222,5 +222,31 @@ TEST(BranchProperty, QuadrupedLegTheta8KeepsTheParallelogram) {
   EXPECT_EQ(disagreement(model, *kernel, parameters), "");
 }
 
+// The Bioloid's hands posed with the elbow at +0.5 rad instead of -0.5: the arms assemble on their
+// other elbow branch, which the kernel's own start (the defaults' assembly) would not take; the
+// sweep starts from the numeric assembly, agrees with it, and names the arms' joints.
+TEST(BranchProperty, AnElbowFlippedBySetIsFollowedAndNamed) {
+  const SpatialModel model = shipped("bioloid");
+  const CompiledKernel* kernel = find_compiled_kernel("bioloid");
+  ASSERT_NE(kernel, nullptr);
+  std::vector<double> parameters = model.common.default_parameters();
+  const SpatialSweepOptions defaults = default_spatial_sweep(model, parameters);
+  EXPECT_TRUE(run_spatial_kernel_sweep(model, defaults, *kernel).warnings.empty());
+  parameters[static_cast<size_t>(model.common.parameter_index("elbow"))] = 0.5;
+  SpatialSweepOptions options = default_spatial_sweep(model, parameters);
+  options.samples = 9;
+  const SpatialSweepResult generated = run_spatial_kernel_sweep(model, options, *kernel);
+  ASSERT_EQ(generated.warnings.size(), 1u);
+  for (const char* joint : {"'RA1'", "'RA3'", "'RA5'", "'LA1'", "'LA3'", "'LA5'"})
+    EXPECT_NE(generated.warnings[0].find(joint), std::string::npos) << generated.warnings[0];
+  EXPECT_EQ(generated.warnings[0].find("'RL"), std::string::npos) << generated.warnings[0];
+  std::string where;
+  const SpatialSweepResult numeric = run_spatial_sweep(model, options);
+  EXPECT_LT(test::worst_column_difference(numeric.columns, numeric.rows, generated.rows, where,
+                                          1e-4),
+            1e-8)
+      << where;
+}
+
 }  // namespace
 }  // namespace mechgen::spatial

@@ -49,7 +49,8 @@ struct Case {
   const char* model;
   bool mjcf;
 };
-// Test names and ctest's display of the parameter: the model and the format, not the struct's bytes.
+// Test names and ctest's display of the parameter: the model and the format, not the struct's
+// bytes.
 void PrintTo(const Case& c, std::ostream* os) {
   *os << c.model << (c.mjcf ? "_mjcf" : "_urdf");
 }

@@ -242,9 +242,9 @@ TEST(BranchProperty, AnElbowFlippedBySetIsFollowedAndNamed) {
   EXPECT_EQ(generated.warnings[0].find("'RL"), std::string::npos) << generated.warnings[0];
   std::string where;
   const SpatialSweepResult numeric = run_spatial_sweep(model, options);
-  EXPECT_LT(test::worst_column_difference(numeric.columns, numeric.rows, generated.rows, where,
-                                          1e-4),
-            1e-8)
+  EXPECT_LT(
+      test::worst_column_difference(numeric.columns, numeric.rows, generated.rows, where, 1e-4),
+      1e-8)
       << where;
 }
 

@@ -12,6 +12,7 @@
 #include "model/spatial_graph.hpp"
 #include "model/spatial_value_checks.hpp"
 #include "ondemand/kernel_resolver.hpp"
+#include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
 #include "spatial/spatial_drawing.hpp"
 #include "spatial/spatial_dynamics.hpp"
@@ -19,6 +20,8 @@
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
+#include "sweep/shard.hpp"
+#include "sweep/sweep.hpp"
 
 namespace mechgen::cli {
 
@@ -254,7 +257,15 @@ int run_spatial_info(const Args& args) {
 int run_spatial_sweep(const Args& args) {
   const std::string path = args.single_positional("MODEL.yaml");
   const bool generated = solver_option(args) != "numeric";
-  if (!args.has("--out")) throw UsageError("missing --out FILE.csv");
+  // The planar sweep's checks (cmd_sweep.cpp), so no option is taken and then ignored: a spatial
+  // sweep is one sequential run (each sample starts from the previous one), so --threads is
+  // checked and has nothing to share out; a shard writes its part of the whole run's rows.
+  if (!args.has("--out") && !args.has("--summary"))
+    throw UsageError("missing --out FILE.csv (or --summary)");
+  if (args.integer("--threads", 0) < 0) throw UsageError("--threads must be at least 0");
+  const Shard shard = shard_option(args);
+  if (!shard.whole() && (!args.has("--out") || args.has("--summary")))
+    throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
   if (args.has("--mass-matrix") && generated)
     throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   const SpatialModel model = load_spatial(path);
@@ -275,14 +286,32 @@ int run_spatial_sweep(const Args& args) {
   const double elapsed = seconds_since(start);
   for (const std::string& warning : result.warnings)
     std::cerr << path << ": warning: " << warning << "\n";
-  const std::string out = args.get("--out");
-  g_current_file = out;
-  report::CsvTable table{out, result.columns, result.rows};
-  report::write_csv(table, out);
+  SweepResult part{result.columns, {}};
+  const auto [first, end] = shard_range(shard, result.rows.size());
+  part.rows.assign(result.rows.begin() + static_cast<std::ptrdiff_t>(first),
+                   result.rows.begin() + static_cast<std::ptrdiff_t>(end));
   std::cout << "sweep " << model.common.name << ": "
             << (kernel ? "generated spatial kernel, " : "numeric spatial solver, ")
             << options.samples << " samples, " << result.columns.size() << " columns, "
-            << fixed(elapsed * 1e3, 3) << " ms -> " << out << "\n";
+            << fixed(elapsed * 1e3, 3) << " ms";
+  if (args.has("--out")) {
+    const std::string out = args.get("--out");
+    g_current_file = out;
+    write_csv(out, part, part_line(shard));
+    if (!shard.whole())
+      std::cout << ", part " << shard.index << "/" << shard.count << " (" << part.rows.size()
+                << " rows)";
+    std::cout << " -> " << out;
+  }
+  std::cout << "\n";
+  if (args.has("--summary")) {
+    const ColumnRanges ranges = column_ranges(part);
+    std::vector<std::vector<std::string>> rows{{"column", "min", "max", "unit"}};
+    for (size_t c = 0; c < ranges.columns.size(); ++c)
+      rows.push_back({ranges.columns[c], fixed(ranges.min[c], 8), fixed(ranges.max[c], 8),
+                      report::column_unit(ranges.columns[c])});
+    std::cout << table(rows, "  ");
+  }
   return 0;
 }
 

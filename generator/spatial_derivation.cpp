@@ -238,7 +238,7 @@ class Builder {
     std::vector<std::vector<ex>> a;  // upper triangle after elimination
     std::vector<std::vector<ex>> f;  // multipliers below the diagonal
     std::vector<ex> inv;             // reciprocal pivots
-    ex det = 1;
+    std::vector<ex> pivots;          // a[k][k] before its reciprocal
     std::string prefix;
   };
   Lu factor(std::vector<std::vector<ex>> a, const std::string& prefix) {
@@ -248,7 +248,7 @@ class Builder {
     lu.f.assign(n, std::vector<ex>(n, 0));
     for (size_t k = 0; k < n; ++k) {
       const std::string sk = std::to_string(k);
-      lu.det = lu.det * a[k][k];
+      lu.pivots.push_back(a[k][k]);
       lu.inv.push_back(named_always(prefix + "ipiv" + sk, 1 / a[k][k]));
       for (size_t i = k + 1; i < n; ++i) {
         if (a[i][k].is_zero()) continue;
@@ -356,8 +356,42 @@ class Builder {
   // elimination meaningless there). Rows never chosen are redundant (an overconstrained circuit).
   struct PivotOrder {
     std::vector<size_t> rows, columns;  // unknown k of the elimination is columns[k]
-    double det = 1, worst = 1;          // at the assembly; the smallest pivot ratio
+    std::vector<double> pivots;         // each pivot's value at the assembly
+    std::vector<size_t> blocks;         // each pivot's independent block of N_s
+    double worst = 1;                   // the smallest pivot ratio over the samples
   };
+  // The independent blocks of N_s: secondary coordinates joined by a closure row that holds both
+  // (nonzero in some sample; an exact zero in every sample is a structural zero). Circuits that
+  // share no coordinate are separate blocks, and elimination never mixes blocks, so the pivots of
+  // a block multiply to its determinant whatever the order.
+  std::vector<size_t> secondary_blocks() const {
+    std::vector<size_t> parent(g_.secondary.size());
+    for (size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    const auto root = [&](size_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (size_t r = 0; r < network_.size(); ++r) {
+      size_t first = parent.size();
+      for (size_t i = 0; i < parent.size(); ++i) {
+        bool nonzero = false;
+        for (const auto& m : samples_) nonzero = nonzero || m[r][i] != 0;
+        if (!nonzero) continue;
+        if (first == parent.size())
+          first = i;
+        else
+          parent[root(i)] = root(first);
+      }
+    }
+    std::vector<size_t> block(parent.size()), number(parent.size(), parent.size());
+    size_t blocks = 0;
+    for (size_t i = 0; i < parent.size(); ++i) {
+      size_t& n = number[root(i)];
+      if (n == parent.size()) n = blocks++;
+      block[i] = n;
+    }
+    return block;
+  }
   PivotOrder pivot_order(const std::vector<size_t>& rows,
                          const std::vector<size_t>& columns) const {
     std::vector<std::vector<std::vector<double>>> a = samples_;
@@ -365,6 +399,7 @@ class Builder {
     for (const size_t r : rows) used[r] = false;
     for (const size_t i : columns) done[i] = false;
     PivotOrder order;
+    const std::vector<size_t> block = secondary_blocks();
     for (size_t k = 0; k < columns.size(); ++k) {
       size_t best = network_.size(), column = g_.secondary.size();
       double value = 0;
@@ -395,7 +430,8 @@ class Builder {
       used[best] = true;
       done[column] = true;
       order.worst = std::min(order.worst, value);
-      order.det *= a[0][best][column];
+      order.pivots.push_back(a[0][best][column]);
+      order.blocks.push_back(block[column]);
       order.rows.push_back(best);
       order.columns.push_back(column);
       for (auto& m : a)
@@ -414,7 +450,8 @@ class Builder {
     for (size_t i = 0; i < columns.size(); ++i) columns[i] = i;
     const PivotOrder order = pivot_order(rows, columns);
     pivot_ = order;
-    out_.closure_det = order.det;
+    out_.closure_pivots = order.pivots;
+    out_.closure_blocks = order.blocks;
     out_.groups.push_back("closure");
     std::string dropped;
     std::vector<bool> used(rows.size(), false);
@@ -658,7 +695,8 @@ class Builder {
     const size_t ns = g_.secondary.size();
     if (!accelerations) {
       lu_ = factor(secondary_matrix(pivot_, {}), "lu_");
-      output(out_.kinematics, "s.closure.det", named("closure_det", lu_.det));
+      for (size_t k = 0; k < lu_.pivots.size(); ++k)
+        output(out_.kinematics, "s.closure.pivot[" + std::to_string(k) + "]", lu_.pivots[k]);
       std::vector<ex> rhs;
       for (const size_t r : pivot_.rows) {
         ex b = 0;

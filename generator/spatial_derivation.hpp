@@ -46,7 +46,8 @@ struct SpatialDerivation {
   // (default parameters, t0), the State's default warm start. Empty for a tree and for a closed
   // chain solved in closed form throughout.
   std::vector<double> closure_start;
-  double closure_det = 0;  // det of the eliminated N_s there
+  std::vector<double> closure_pivots;  // the pivots of the eliminated N_s there
+  std::vector<size_t> closure_blocks;  // each pivot's independent block (circuits sharing none)
   bool closed_chain = false;
   // Closed-form groups' reachability: each value must be >= 0, else the kernel returns
   // unreachable naming groups[group] (a law of cosines' 1 - cos^2, before its square root).

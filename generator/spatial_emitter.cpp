@@ -36,12 +36,17 @@ std::string read_text(const std::string& path) {
 }
 
 // `scalar`(value): T in functions, Real in the structs that hold the model's names.
-std::string number_literal(double value, const std::string& scalar = "T") {
+// The shortest text that reads back as `value`, as a double literal.
+std::string decimal(double value) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   std::string text(buffer, result.ptr);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return scalar + "(" + text + ")";
+  return text;
+}
+
+std::string number_literal(double value, const std::string& scalar = "T") {
+  return scalar + "(" + decimal(value) + ")";
 }
 
 std::string lines(const std::vector<std::string>& items) {
@@ -426,8 +431,9 @@ class SpatialEmitter {
     v["closure_fields"] =
         (newton ? "  // The closure: secondary coordinates left to Newton-Raphson (the warm start, "
                   "the assembly at t0\n  // by default, replaced by every call that closes the "
-                  "circuits), the last call's result,\n  // squared closure error and det N_s"
-                : "  // The closure: squared closure error and det N_s") +
+                  "circuits), the last call's result,\n  // squared closure error and the pivots "
+                  "of N_s's elimination"
+                : "  // The closure: squared closure error and the pivots of N_s's elimination") +
         std::string(angles ? "; the closed-form angles' warm start (the assembly at t0 by "
                              "default,\n  // unwinding: joint angles stay continuous) and the "
                              "last call's angles"
@@ -444,7 +450,8 @@ class SpatialEmitter {
                    "follow\n    // the warm start; 0 (fresh): the assembly's roots.\n"
                    "    Real follow = Real(0);\n"
              : "") +
-        "    Real residual, det;\n  } closure;\n";
+        "    Real residual, pivot[" + std::to_string(d_.closure_pivots.size()) +
+        "];\n  } closure;\n";
     // After a call that closed the circuits: the Newton coordinates and the angles' warm starts
     // carried to the next call, with the rates and accelerations the entry computed (zero where
     // it does not: the velocities' entry has no accelerations, the positions' no rates).
@@ -456,18 +463,33 @@ class SpatialEmitter {
              "    s.closure.wdd[i] = " + (accelerations ? "s.closure.wddnext[i]" : "T(0)") +
              ";\n  }\n  s.closure.wt = in.t;\n" + (rates ? "  s.closure.follow = T(1);\n" : "");
     };
+    // One determinant check per independent block of N_s: the product of its pivots is the block's
+    // determinant whatever the pivot order (a single pivot of a fixed order may pass near zero at
+    // a regular pose), and independent circuits do not multiply into one vanishing product.
+    std::vector<std::string> block_products;
+    std::vector<double> block_dets;
+    for (size_t k = 0; k < d_.closure_pivots.size(); ++k) {
+      const size_t b = d_.closure_blocks[k];
+      if (b >= block_products.size()) block_products.resize(b + 1), block_dets.resize(b + 1, 1.0);
+      block_products[b] += (block_products[b].empty() ? "" : " * ") +
+                           std::string("s.closure.pivot[") + std::to_string(k) + "]";
+      block_dets[b] *= d_.closure_pivots[k];
+    }
+    std::string singular_checks;
+    for (size_t b = 0; b < block_products.size(); ++b)
+      singular_checks += "  if (!(abs(" + block_products[b] + ") > " +
+                         number_literal(1e-9 * std::abs(block_dets[b])) +
+                         "))\n    return s.failed_group = " + closure_group +
+                         ", Status::singular;\n";
     const std::string checks =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
-        "(nearly)\n  // singular there (|det| below 1e-9 of its value at the assembly).\n"
+        "(nearly)\n  // singular there: the determinant of an independent block (circuits that "
+        "share coordinates)\n  // below 1e-9 of its value at the assembly.\n"
         "  using std::abs;\n"
         "  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *\n"
         "                                   std::numeric_limits<T>::epsilon()))\n"
         "    return s.failed_group = " +
-        closure_group +
-        ", Status::unreachable;\n"
-        "  if (!(abs(s.closure.det) > " +
-        number_literal(1e-9 * std::abs(d_.closure_det)) +
-        "))\n    return s.failed_group = " + closure_group + ", Status::singular;\n" +
+        closure_group + ", Status::unreachable;\n" + singular_checks +
         (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
                 : "");
     v["closure_check"] = checks + carried(true, true);

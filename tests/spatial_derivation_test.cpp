@@ -327,5 +327,65 @@ TEST(SpatialDerivation, RandomChainsEqualTheNumericSolver) {
   std::cout << "8 random chains: " << compared << " outputs, worst " << worst << "\n";
 }
 
+// Copies of the RSUR loop side by side, sharing only the ground: N_s is block diagonal, one block
+// per copy, and the kernel checks each block's determinant against its own value at the assembly
+// (issue 28: 16 copies in phase multiplied into one determinant that fell below its floor at a
+// regular pose). Expected: as many blocks as copies, six pivots each, each block's determinant the
+// single loop's.
+TEST(SpatialDerivation, IndependentCircuitsAreCheckedBlockByBlock) {
+  const std::string rsur = model_text("rsur");
+  const size_t bodies = rsur.find("bodies:");
+  ASSERT_NE(bodies, std::string::npos);
+  constexpr int kCopies = 4;
+  std::string ground, moving, joints, drivers;
+  for (int i = 0; i < kCopies; ++i) {
+    const std::string k = std::to_string(i), x = std::to_string(0.3 * i);
+    ground += (i ? ", " : "") + std::string("A") + k + ": [" + x + ", 0, 0], D" + k + ": [" + x +
+              ", d, h]";
+    moving += "  - {name: crank" + k + ", points: {A" + k + ": [" + x + ", 0, 0], B" + k + ": [" +
+              x + " + a, 0, 0]}, mass: {bar: [A" + k + ", B" + k +
+              "], radius: r, density: rho}}\n"
+              "  - {name: coupler" +
+              k + ", points: {B" + k + ": [" + x + " + a, 0, 0], C" + k + ": [" + x +
+              ", d, h + c]}, mass: {bar: [B" + k + ", C" + k +
+              "], radius: r, density: rho}}\n"
+              "  - {name: rocker" +
+              k + ", points: {D" + k + ": [" + x + ", d, h], C" + k + ": [" + x +
+              ", d, h + c]}, mass: {bar: [D" + k + ", C" + k + "], radius: r, density: rho}}\n";
+    joints += "  - {name: jA" + k + ", type: revolute, first: ground, second: crank" + k +
+              ", s: [0, 0, 1], s0: A" + k + "}\n  - {name: jB" + k +
+              ", type: spherical, first: crank" + k + ", second: coupler" + k + ", s0: B" + k +
+              "}\n  - {name: jC" + k + ", type: universal, first: coupler" + k +
+              ", second: rocker" + k + ", s: [1, 0, 0], s2: [0, 0, 1], s0: C" + k +
+              "}\n  - {name: jD" + k + ", type: revolute, first: ground, second: rocker" + k +
+              ", s: [1, 0, 0], s0: D" + k + "}\n";
+    drivers += "  - {name: theta" + k + ", joint: jA" + k + ", kind: angle, value: w*t}\n";
+  }
+  const std::string copies = rsur.substr(0, bodies) +
+                             "bodies:\n  - {name: ground, ground: true, points: {" + ground +
+                             "}}\n" + moving + "joints:\n" + joints + "drivers:\n" + drivers +
+                             "step: {t0: 0, t1: 2*pi/w, samples: 181}\n";
+  const SpatialModel one_model = read_spatial_model_text(rsur, "rsur.yaml");
+  const SpatialDerivation one = derive_spatial(one_model, build_spatial_graph(one_model));
+  const SpatialModel model = read_spatial_model_text(copies, "rsur_copies.yaml");
+  const SpatialDerivation d = derive_spatial(model, build_spatial_graph(model));
+  double one_det = 1;
+  for (const double pivot : one.closure_pivots) one_det *= pivot;
+  ASSERT_EQ(d.closure_pivots.size(), kCopies * one.closure_pivots.size());
+  ASSERT_EQ(d.closure_blocks.size(), d.closure_pivots.size());
+  std::map<size_t, std::pair<int, double>> blocks;  // pivots and determinant per block
+  for (size_t k = 0; k < d.closure_pivots.size(); ++k) {
+    auto& [count, det] = blocks.try_emplace(d.closure_blocks[k], 0, 1.0).first->second;
+    ++count;
+    det *= d.closure_pivots[k];
+  }
+  ASSERT_EQ(blocks.size(), static_cast<size_t>(kCopies));
+  for (const auto& [block, pivots] : blocks) {
+    EXPECT_EQ(pivots.first, 6) << "block " << block;
+    EXPECT_NEAR(std::abs(pivots.second), std::abs(one_det), 1e-12 * std::abs(one_det))
+        << "block " << block;
+  }
+}
+
 }  // namespace
 }  // namespace mechgen::gen

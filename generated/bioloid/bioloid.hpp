@@ -494,7 +494,7 @@ struct State {
   struct PointJacobians {
 
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[24] = {Real(7.014859498848591e-18), Real(-0.522314821806081), Real(1.0446296436121456), Real(-0.5223148218060646), Real(-7.014857284863195e-18), Real(3.099862597106126e-25), Real(-4.921496761752021e-18), Real(-0.522314821806081), Real(1.0446296436121456), Real(-0.5223148218060646), Real(4.921497346067249e-18), Real(-1.3292303596018274e-25), Real(0.15000000000000027), Real(-3.4572480559992497e-18), Real(-0.5000000000000006), Real(-1.6574927847058469e-18), Real(2.2601015521126027e-16), Real(3.0340205514796084e-18), Real(0.15000000000000027), Real(7.912292502332483e-18), Real(-0.5000000000000006), Real(3.793358489492872e-18), Real(2.3034900842890745e-16), Real(-6.943688770221482e-18)};
@@ -505,7 +505,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[24];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -554,7 +554,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 11722
+  // Total ops: 11699
   const T s0_RL2_z = p.l1 + p.l2 + p.l3;
   const T s0_RL3_z = s0_RL2_z;
   const T s0_RL4_z = p.l2 + p.l3;
@@ -1979,7 +1979,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_ipiv21 = T(1)/lu_a19_21_21;
   const T lu_ipiv22 = T(1)/lu_a14_22_22;
   const T lu_ipiv23 = T(1)/lu_a15_23_23;
-  const T closure_det = R_l_hip1_00*R_r_hip1_00*(R_waist_11*R_waist_11)*lu_a0_1_1*lu_a10_12_12*lu_a11_13_13*lu_a12_14_14*lu_a13_15_15*lu_a14_22_22*lu_a15_23_23*lu_a16_18_18*lu_a17_19_19*lu_a18_20_20*lu_a19_21_21*lu_a1_6_6*lu_a2_3_3*lu_a3_7_7*lu_a4_8_8*lu_a5_9_9*lu_a6_16_16*lu_a7_17_17*lu_a8_10_10*lu_a9_11_11;
   const T _tmp208 = in.vFB_rx_d*sin_vFB_ry;
   const T _tmp209 = in.vRL_rx_d*sin_vRL_ry;
   const T vel_b0_1 = R_vFB_b5_00*in.vFB_rx_d*lu_f1_0 + _tmp208 + in.vRL_ry_d*lu_f1_0*sin_vRL_rz + in.vRL_rz_d - R_vRL_b5_00*in.vRL_rx_d*lu_f1_0 - in.vFB_ry_d*lu_f1_0*sin_vFB_rz - in.vFB_rz_d - _tmp209;
@@ -3538,7 +3537,30 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[22] = q_LA5;
   s.closure.wnext[23] = q_LA6;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = R_r_hip1_00;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = R_l_hip1_00;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = R_waist_11;
+  s.closure.pivot[5] = R_waist_11;
+  s.closure.pivot[6] = lu_a1_6_6;
+  s.closure.pivot[7] = lu_a3_7_7;
+  s.closure.pivot[8] = lu_a4_8_8;
+  s.closure.pivot[9] = lu_a5_9_9;
+  s.closure.pivot[10] = lu_a8_10_10;
+  s.closure.pivot[11] = lu_a9_11_11;
+  s.closure.pivot[12] = lu_a10_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a12_14_14;
+  s.closure.pivot[15] = lu_a13_15_15;
+  s.closure.pivot[16] = lu_a6_16_16;
+  s.closure.pivot[17] = lu_a7_17_17;
+  s.closure.pivot[18] = lu_a16_18_18;
+  s.closure.pivot[19] = lu_a17_19_19;
+  s.closure.pivot[20] = lu_a18_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a14_22_22;
+  s.closure.pivot[23] = lu_a15_23_23;
   s.closure.wdnext[0] = vel_x18;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x20;
@@ -4667,38 +4689,47 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_31 = (_sum_positions_24 + _sum_positions_25) + (_sum_positions_26 + _sum_positions_27);
   const T _sum_positions = (_sum_positions_28 + _sum_positions_29) + (_sum_positions_30 + _sum_positions_31);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 56, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.waist.ax + s.bodies.waist.ay)) + ((s.bodies.waist.az + s.bodies.r_hip1.ax) + (s.bodies.r_hip1.ay + s.bodies.r_hip1.az));
-  const T _sum_rates_1 = ((s.bodies.r_hip2.ax + s.bodies.r_hip2.ay) + (s.bodies.r_hip2.az + s.bodies.r_thigh.ax)) + ((s.bodies.r_thigh.ay + s.bodies.r_thigh.az) + (s.bodies.r_calf.ax + s.bodies.r_calf.ay));
-  const T _sum_rates_2 = ((s.bodies.r_calf.az + s.bodies.r_ankle.ax) + (s.bodies.r_ankle.ay + s.bodies.r_ankle.az)) + ((s.bodies.r_foot.ax + s.bodies.r_foot.ay) + (s.bodies.r_foot.az + s.bodies.l_hip1.ax));
-  const T _sum_rates_3 = ((s.bodies.l_hip1.ay + s.bodies.l_hip1.az) + (s.bodies.l_hip2.ax + s.bodies.l_hip2.ay)) + ((s.bodies.l_hip2.az + s.bodies.l_thigh.ax) + (s.bodies.l_thigh.ay + s.bodies.l_thigh.az));
-  const T _sum_rates_4 = ((s.bodies.l_calf.ax + s.bodies.l_calf.ay) + (s.bodies.l_calf.az + s.bodies.l_ankle.ax)) + ((s.bodies.l_ankle.ay + s.bodies.l_ankle.az) + (s.bodies.l_foot.ax + s.bodies.l_foot.ay));
-  const T _sum_rates_5 = ((s.bodies.l_foot.az + s.bodies.r_shoulder.ax) + (s.bodies.r_shoulder.ay + s.bodies.r_shoulder.az)) + ((s.bodies.r_upper_arm.ax + s.bodies.r_upper_arm.ay) + (s.bodies.r_upper_arm.az + s.bodies.r_forearm.ax));
-  const T _sum_rates_6 = ((s.bodies.r_forearm.ay + s.bodies.r_forearm.az) + (s.bodies.r_wrist1.ax + s.bodies.r_wrist1.ay)) + ((s.bodies.r_wrist1.az + s.bodies.r_wrist2.ax) + (s.bodies.r_wrist2.ay + s.bodies.r_wrist2.az));
-  const T _sum_rates_7 = ((s.bodies.r_hand.ax + s.bodies.r_hand.ay) + (s.bodies.r_hand.az + s.bodies.l_shoulder.ax)) + ((s.bodies.l_shoulder.ay + s.bodies.l_shoulder.az) + (s.bodies.l_upper_arm.ax + s.bodies.l_upper_arm.ay));
-  const T _sum_rates_8 = ((s.bodies.l_upper_arm.az + s.bodies.l_forearm.ax) + (s.bodies.l_forearm.ay + s.bodies.l_forearm.az)) + ((s.bodies.l_wrist1.ax + s.bodies.l_wrist1.ay) + (s.bodies.l_wrist1.az + s.bodies.l_wrist2.ax));
-  const T _sum_rates_9 = ((s.bodies.l_wrist2.ay + s.bodies.l_wrist2.az) + (s.bodies.l_hand.ax + s.bodies.l_hand.ay)) + ((s.bodies.l_hand.az + s.points.W.ax) + (s.points.W.ay + s.points.W.az));
-  const T _sum_rates_10 = ((s.points.head.ax + s.points.head.ay) + (s.points.head.az + s.points.RH.ax)) + ((s.points.RH.ay + s.points.RH.az) + (s.points.RK.ax + s.points.RK.ay));
-  const T _sum_rates_11 = ((s.points.RK.az + s.points.RA.ax) + (s.points.RA.ay + s.points.RA.az)) + ((s.points.RF.ax + s.points.RF.ay) + (s.points.RF.az + s.points.r_toe_out.ax));
-  const T _sum_rates_12 = ((s.points.r_toe_out.ay + s.points.r_toe_out.az) + (s.points.r_toe_in.ax + s.points.r_toe_in.ay)) + ((s.points.r_toe_in.az + s.points.r_heel_in.ax) + (s.points.r_heel_in.ay + s.points.r_heel_in.az));
-  const T _sum_rates_13 = ((s.points.r_heel_out.ax + s.points.r_heel_out.ay) + (s.points.r_heel_out.az + s.points.LH.ax)) + ((s.points.LH.ay + s.points.LH.az) + (s.points.LK.ax + s.points.LK.ay));
-  const T _sum_rates_14 = ((s.points.LK.az + s.points.LA.ax) + (s.points.LA.ay + s.points.LA.az)) + ((s.points.LF.ax + s.points.LF.ay) + (s.points.LF.az + s.points.l_toe_out.ax));
-  const T _sum_rates_15 = ((s.points.l_toe_out.ay + s.points.l_toe_out.az) + (s.points.l_toe_in.ax + s.points.l_toe_in.ay)) + ((s.points.l_toe_in.az + s.points.l_heel_in.ax) + (s.points.l_heel_in.ay + s.points.l_heel_in.az));
-  const T _sum_rates_16 = ((s.points.l_heel_out.ax + s.points.l_heel_out.ay) + (s.points.l_heel_out.az + s.points.RS.ax)) + ((s.points.RS.ay + s.points.RS.az) + (s.points.RE.ax + s.points.RE.ay));
-  const T _sum_rates_17 = ((s.points.RE.az + s.points.RP.ax) + (s.points.RP.ay + s.points.RP.az)) + ((s.points.LS.ax + s.points.LS.ay) + (s.points.LS.az + s.points.LE.ax));
-  const T _sum_rates_18 = (s.points.LE.ay + s.points.LE.az) + (s.points.LP.ax + (s.points.LP.ay + s.points.LP.az));
-  const T _sum_rates_19 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
-  const T _sum_rates_20 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
-  const T _sum_rates_21 = _sum_rates_16 + (_sum_rates_17 + _sum_rates_18);
-  const T _sum_rates = _sum_rates_19 + (_sum_rates_20 + _sum_rates_21);
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[3] + s.closure.pivot[6])) + ((s.closure.pivot[7] + s.closure.pivot[8]) + (s.closure.pivot[9] + s.closure.pivot[10]));
+  const T _sum_rates_1 = ((s.closure.pivot[11] + s.closure.pivot[12]) + (s.closure.pivot[13] + s.closure.pivot[14])) + ((s.closure.pivot[15] + s.closure.pivot[16]) + (s.closure.pivot[17] + s.closure.pivot[18]));
+  const T _sum_rates_2 = ((s.closure.pivot[19] + s.closure.pivot[20]) + (s.closure.pivot[21] + s.closure.pivot[22])) + ((s.closure.pivot[23] + s.bodies.waist.ax) + (s.bodies.waist.ay + s.bodies.waist.az));
+  const T _sum_rates_3 = ((s.bodies.r_hip1.ax + s.bodies.r_hip1.ay) + (s.bodies.r_hip1.az + s.bodies.r_hip2.ax)) + ((s.bodies.r_hip2.ay + s.bodies.r_hip2.az) + (s.bodies.r_thigh.ax + s.bodies.r_thigh.ay));
+  const T _sum_rates_4 = ((s.bodies.r_thigh.az + s.bodies.r_calf.ax) + (s.bodies.r_calf.ay + s.bodies.r_calf.az)) + ((s.bodies.r_ankle.ax + s.bodies.r_ankle.ay) + (s.bodies.r_ankle.az + s.bodies.r_foot.ax));
+  const T _sum_rates_5 = ((s.bodies.r_foot.ay + s.bodies.r_foot.az) + (s.bodies.l_hip1.ax + s.bodies.l_hip1.ay)) + ((s.bodies.l_hip1.az + s.bodies.l_hip2.ax) + (s.bodies.l_hip2.ay + s.bodies.l_hip2.az));
+  const T _sum_rates_6 = ((s.bodies.l_thigh.ax + s.bodies.l_thigh.ay) + (s.bodies.l_thigh.az + s.bodies.l_calf.ax)) + ((s.bodies.l_calf.ay + s.bodies.l_calf.az) + (s.bodies.l_ankle.ax + s.bodies.l_ankle.ay));
+  const T _sum_rates_7 = ((s.bodies.l_ankle.az + s.bodies.l_foot.ax) + (s.bodies.l_foot.ay + s.bodies.l_foot.az)) + ((s.bodies.r_shoulder.ax + s.bodies.r_shoulder.ay) + (s.bodies.r_shoulder.az + s.bodies.r_upper_arm.ax));
+  const T _sum_rates_8 = ((s.bodies.r_upper_arm.ay + s.bodies.r_upper_arm.az) + (s.bodies.r_forearm.ax + s.bodies.r_forearm.ay)) + ((s.bodies.r_forearm.az + s.bodies.r_wrist1.ax) + (s.bodies.r_wrist1.ay + s.bodies.r_wrist1.az));
+  const T _sum_rates_9 = ((s.bodies.r_wrist2.ax + s.bodies.r_wrist2.ay) + (s.bodies.r_wrist2.az + s.bodies.r_hand.ax)) + ((s.bodies.r_hand.ay + s.bodies.r_hand.az) + (s.bodies.l_shoulder.ax + s.bodies.l_shoulder.ay));
+  const T _sum_rates_10 = ((s.bodies.l_shoulder.az + s.bodies.l_upper_arm.ax) + (s.bodies.l_upper_arm.ay + s.bodies.l_upper_arm.az)) + ((s.bodies.l_forearm.ax + s.bodies.l_forearm.ay) + (s.bodies.l_forearm.az + s.bodies.l_wrist1.ax));
+  const T _sum_rates_11 = ((s.bodies.l_wrist1.ay + s.bodies.l_wrist1.az) + (s.bodies.l_wrist2.ax + s.bodies.l_wrist2.ay)) + ((s.bodies.l_wrist2.az + s.bodies.l_hand.ax) + (s.bodies.l_hand.ay + s.bodies.l_hand.az));
+  const T _sum_rates_12 = ((s.points.W.ax + s.points.W.ay) + (s.points.W.az + s.points.head.ax)) + ((s.points.head.ay + s.points.head.az) + (s.points.RH.ax + s.points.RH.ay));
+  const T _sum_rates_13 = ((s.points.RH.az + s.points.RK.ax) + (s.points.RK.ay + s.points.RK.az)) + ((s.points.RA.ax + s.points.RA.ay) + (s.points.RA.az + s.points.RF.ax));
+  const T _sum_rates_14 = ((s.points.RF.ay + s.points.RF.az) + (s.points.r_toe_out.ax + s.points.r_toe_out.ay)) + ((s.points.r_toe_out.az + s.points.r_toe_in.ax) + (s.points.r_toe_in.ay + s.points.r_toe_in.az));
+  const T _sum_rates_15 = ((s.points.r_heel_in.ax + s.points.r_heel_in.ay) + (s.points.r_heel_in.az + s.points.r_heel_out.ax)) + ((s.points.r_heel_out.ay + s.points.r_heel_out.az) + (s.points.LH.ax + s.points.LH.ay));
+  const T _sum_rates_16 = ((s.points.LH.az + s.points.LK.ax) + (s.points.LK.ay + s.points.LK.az)) + ((s.points.LA.ax + s.points.LA.ay) + (s.points.LA.az + s.points.LF.ax));
+  const T _sum_rates_17 = ((s.points.LF.ay + s.points.LF.az) + (s.points.l_toe_out.ax + s.points.l_toe_out.ay)) + ((s.points.l_toe_out.az + s.points.l_toe_in.ax) + (s.points.l_toe_in.ay + s.points.l_toe_in.az));
+  const T _sum_rates_18 = ((s.points.l_heel_in.ax + s.points.l_heel_in.ay) + (s.points.l_heel_in.az + s.points.l_heel_out.ax)) + ((s.points.l_heel_out.ay + s.points.l_heel_out.az) + (s.points.RS.ax + s.points.RS.ay));
+  const T _sum_rates_19 = ((s.points.RS.az + s.points.RE.ax) + (s.points.RE.ay + s.points.RE.az)) + ((s.points.RP.ax + s.points.RP.ay) + (s.points.RP.az + s.points.LS.ax));
+  const T _sum_rates_20 = ((s.points.LS.ay + s.points.LS.az) + (s.points.LE.ax + s.points.LE.ay)) + ((s.points.LE.az + s.points.LP.ax) + (s.points.LP.ay + s.points.LP.az));
+  const T _sum_rates_21 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_22 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_23 = (_sum_rates_16 + _sum_rates_17) + (_sum_rates_18 + (_sum_rates_19 + _sum_rates_20));
+  const T _sum_rates = _sum_rates_21 + (_sum_rates_22 + _sum_rates_23);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 57, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 54, Status::unreachable;
-  if (!(abs(s.closure.det) > T(8.504494921217879e-23)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[6] * s.closure.pivot[16] * s.closure.pivot[18] * s.closure.pivot[20]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[7] * s.closure.pivot[17] * s.closure.pivot[19] * s.closure.pivot[21]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[4] * s.closure.pivot[8] * s.closure.pivot[10] * s.closure.pivot[12] * s.closure.pivot[14] * s.closure.pivot[22]) > T(4.611832660474763e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[5] * s.closure.pivot[9] * s.closure.pivot[11] * s.closure.pivot[13] * s.closure.pivot[15] * s.closure.pivot[23]) > T(4.611832660474763e-13)))
     return s.failed_group = 54, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -4722,7 +4753,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 8213
+  // Total ops: 8190
   const T s0_RL2_z = p.l1 + p.l2 + p.l3;
   const T s0_RL3_z = s0_RL2_z;
   const T s0_RL4_z = p.l2 + p.l3;
@@ -6147,7 +6178,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_ipiv21 = T(1)/lu_a19_21_21;
   const T lu_ipiv22 = T(1)/lu_a14_22_22;
   const T lu_ipiv23 = T(1)/lu_a15_23_23;
-  const T closure_det = R_l_hip1_00*R_r_hip1_00*(R_waist_11*R_waist_11)*lu_a0_1_1*lu_a10_12_12*lu_a11_13_13*lu_a12_14_14*lu_a13_15_15*lu_a14_22_22*lu_a15_23_23*lu_a16_18_18*lu_a17_19_19*lu_a18_20_20*lu_a19_21_21*lu_a1_6_6*lu_a2_3_3*lu_a3_7_7*lu_a4_8_8*lu_a5_9_9*lu_a6_16_16*lu_a7_17_17*lu_a8_10_10*lu_a9_11_11;
   const T _tmp208 = in.vFB_rx_d*sin_vFB_ry;
   const T _tmp209 = in.vRL_rx_d*sin_vRL_ry;
   const T vel_b0_1 = R_vFB_b5_00*in.vFB_rx_d*lu_f1_0 + _tmp208 + in.vRL_ry_d*lu_f1_0*sin_vRL_rz + in.vRL_rz_d - R_vRL_b5_00*in.vRL_rx_d*lu_f1_0 - in.vFB_ry_d*lu_f1_0*sin_vFB_rz - in.vFB_rz_d - _tmp209;
@@ -6873,7 +6903,30 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[22] = q_LA5;
   s.closure.wnext[23] = q_LA6;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = R_r_hip1_00;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = R_l_hip1_00;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = R_waist_11;
+  s.closure.pivot[5] = R_waist_11;
+  s.closure.pivot[6] = lu_a1_6_6;
+  s.closure.pivot[7] = lu_a3_7_7;
+  s.closure.pivot[8] = lu_a4_8_8;
+  s.closure.pivot[9] = lu_a5_9_9;
+  s.closure.pivot[10] = lu_a8_10_10;
+  s.closure.pivot[11] = lu_a9_11_11;
+  s.closure.pivot[12] = lu_a10_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a12_14_14;
+  s.closure.pivot[15] = lu_a13_15_15;
+  s.closure.pivot[16] = lu_a6_16_16;
+  s.closure.pivot[17] = lu_a7_17_17;
+  s.closure.pivot[18] = lu_a16_18_18;
+  s.closure.pivot[19] = lu_a17_19_19;
+  s.closure.pivot[20] = lu_a18_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a14_22_22;
+  s.closure.pivot[23] = lu_a15_23_23;
   s.closure.wdnext[0] = vel_x18;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x20;
@@ -7631,38 +7684,47 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_28 = _sum_positions_24;
   const T _sum_positions = (_sum_positions_25 + _sum_positions_26) + (_sum_positions_27 + _sum_positions_28);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 56, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.waist.vx + s.bodies.waist.vy)) + ((s.bodies.waist.vz + s.bodies.r_hip1.vx) + (s.bodies.r_hip1.vy + s.bodies.r_hip1.vz));
-  const T _sum_rates_1 = ((s.bodies.r_hip2.vx + s.bodies.r_hip2.vy) + (s.bodies.r_hip2.vz + s.bodies.r_thigh.vx)) + ((s.bodies.r_thigh.vy + s.bodies.r_thigh.vz) + (s.bodies.r_calf.vx + s.bodies.r_calf.vy));
-  const T _sum_rates_2 = ((s.bodies.r_calf.vz + s.bodies.r_ankle.vx) + (s.bodies.r_ankle.vy + s.bodies.r_ankle.vz)) + ((s.bodies.r_foot.vx + s.bodies.r_foot.vy) + (s.bodies.r_foot.vz + s.bodies.l_hip1.vx));
-  const T _sum_rates_3 = ((s.bodies.l_hip1.vy + s.bodies.l_hip1.vz) + (s.bodies.l_hip2.vx + s.bodies.l_hip2.vy)) + ((s.bodies.l_hip2.vz + s.bodies.l_thigh.vx) + (s.bodies.l_thigh.vy + s.bodies.l_thigh.vz));
-  const T _sum_rates_4 = ((s.bodies.l_calf.vx + s.bodies.l_calf.vy) + (s.bodies.l_calf.vz + s.bodies.l_ankle.vx)) + ((s.bodies.l_ankle.vy + s.bodies.l_ankle.vz) + (s.bodies.l_foot.vx + s.bodies.l_foot.vy));
-  const T _sum_rates_5 = ((s.bodies.l_foot.vz + s.bodies.r_shoulder.vx) + (s.bodies.r_shoulder.vy + s.bodies.r_shoulder.vz)) + ((s.bodies.r_upper_arm.vx + s.bodies.r_upper_arm.vy) + (s.bodies.r_upper_arm.vz + s.bodies.r_forearm.vx));
-  const T _sum_rates_6 = ((s.bodies.r_forearm.vy + s.bodies.r_forearm.vz) + (s.bodies.r_wrist1.vx + s.bodies.r_wrist1.vy)) + ((s.bodies.r_wrist1.vz + s.bodies.r_wrist2.vx) + (s.bodies.r_wrist2.vy + s.bodies.r_wrist2.vz));
-  const T _sum_rates_7 = ((s.bodies.r_hand.vx + s.bodies.r_hand.vy) + (s.bodies.r_hand.vz + s.bodies.l_shoulder.vx)) + ((s.bodies.l_shoulder.vy + s.bodies.l_shoulder.vz) + (s.bodies.l_upper_arm.vx + s.bodies.l_upper_arm.vy));
-  const T _sum_rates_8 = ((s.bodies.l_upper_arm.vz + s.bodies.l_forearm.vx) + (s.bodies.l_forearm.vy + s.bodies.l_forearm.vz)) + ((s.bodies.l_wrist1.vx + s.bodies.l_wrist1.vy) + (s.bodies.l_wrist1.vz + s.bodies.l_wrist2.vx));
-  const T _sum_rates_9 = ((s.bodies.l_wrist2.vy + s.bodies.l_wrist2.vz) + (s.bodies.l_hand.vx + s.bodies.l_hand.vy)) + ((s.bodies.l_hand.vz + s.points.W.vx) + (s.points.W.vy + s.points.W.vz));
-  const T _sum_rates_10 = ((s.points.head.vx + s.points.head.vy) + (s.points.head.vz + s.points.RH.vx)) + ((s.points.RH.vy + s.points.RH.vz) + (s.points.RK.vx + s.points.RK.vy));
-  const T _sum_rates_11 = ((s.points.RK.vz + s.points.RA.vx) + (s.points.RA.vy + s.points.RA.vz)) + ((s.points.RF.vx + s.points.RF.vy) + (s.points.RF.vz + s.points.r_toe_out.vx));
-  const T _sum_rates_12 = ((s.points.r_toe_out.vy + s.points.r_toe_out.vz) + (s.points.r_toe_in.vx + s.points.r_toe_in.vy)) + ((s.points.r_toe_in.vz + s.points.r_heel_in.vx) + (s.points.r_heel_in.vy + s.points.r_heel_in.vz));
-  const T _sum_rates_13 = ((s.points.r_heel_out.vx + s.points.r_heel_out.vy) + (s.points.r_heel_out.vz + s.points.LH.vx)) + ((s.points.LH.vy + s.points.LH.vz) + (s.points.LK.vx + s.points.LK.vy));
-  const T _sum_rates_14 = ((s.points.LK.vz + s.points.LA.vx) + (s.points.LA.vy + s.points.LA.vz)) + ((s.points.LF.vx + s.points.LF.vy) + (s.points.LF.vz + s.points.l_toe_out.vx));
-  const T _sum_rates_15 = ((s.points.l_toe_out.vy + s.points.l_toe_out.vz) + (s.points.l_toe_in.vx + s.points.l_toe_in.vy)) + ((s.points.l_toe_in.vz + s.points.l_heel_in.vx) + (s.points.l_heel_in.vy + s.points.l_heel_in.vz));
-  const T _sum_rates_16 = ((s.points.l_heel_out.vx + s.points.l_heel_out.vy) + (s.points.l_heel_out.vz + s.points.RS.vx)) + ((s.points.RS.vy + s.points.RS.vz) + (s.points.RE.vx + s.points.RE.vy));
-  const T _sum_rates_17 = ((s.points.RE.vz + s.points.RP.vx) + (s.points.RP.vy + s.points.RP.vz)) + ((s.points.LS.vx + s.points.LS.vy) + (s.points.LS.vz + s.points.LE.vx));
-  const T _sum_rates_18 = (s.points.LE.vy + s.points.LE.vz) + (s.points.LP.vx + (s.points.LP.vy + s.points.LP.vz));
-  const T _sum_rates_19 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
-  const T _sum_rates_20 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
-  const T _sum_rates_21 = _sum_rates_16 + (_sum_rates_17 + _sum_rates_18);
-  const T _sum_rates = _sum_rates_19 + (_sum_rates_20 + _sum_rates_21);
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[3] + s.closure.pivot[6])) + ((s.closure.pivot[7] + s.closure.pivot[8]) + (s.closure.pivot[9] + s.closure.pivot[10]));
+  const T _sum_rates_1 = ((s.closure.pivot[11] + s.closure.pivot[12]) + (s.closure.pivot[13] + s.closure.pivot[14])) + ((s.closure.pivot[15] + s.closure.pivot[16]) + (s.closure.pivot[17] + s.closure.pivot[18]));
+  const T _sum_rates_2 = ((s.closure.pivot[19] + s.closure.pivot[20]) + (s.closure.pivot[21] + s.closure.pivot[22])) + ((s.closure.pivot[23] + s.bodies.waist.vx) + (s.bodies.waist.vy + s.bodies.waist.vz));
+  const T _sum_rates_3 = ((s.bodies.r_hip1.vx + s.bodies.r_hip1.vy) + (s.bodies.r_hip1.vz + s.bodies.r_hip2.vx)) + ((s.bodies.r_hip2.vy + s.bodies.r_hip2.vz) + (s.bodies.r_thigh.vx + s.bodies.r_thigh.vy));
+  const T _sum_rates_4 = ((s.bodies.r_thigh.vz + s.bodies.r_calf.vx) + (s.bodies.r_calf.vy + s.bodies.r_calf.vz)) + ((s.bodies.r_ankle.vx + s.bodies.r_ankle.vy) + (s.bodies.r_ankle.vz + s.bodies.r_foot.vx));
+  const T _sum_rates_5 = ((s.bodies.r_foot.vy + s.bodies.r_foot.vz) + (s.bodies.l_hip1.vx + s.bodies.l_hip1.vy)) + ((s.bodies.l_hip1.vz + s.bodies.l_hip2.vx) + (s.bodies.l_hip2.vy + s.bodies.l_hip2.vz));
+  const T _sum_rates_6 = ((s.bodies.l_thigh.vx + s.bodies.l_thigh.vy) + (s.bodies.l_thigh.vz + s.bodies.l_calf.vx)) + ((s.bodies.l_calf.vy + s.bodies.l_calf.vz) + (s.bodies.l_ankle.vx + s.bodies.l_ankle.vy));
+  const T _sum_rates_7 = ((s.bodies.l_ankle.vz + s.bodies.l_foot.vx) + (s.bodies.l_foot.vy + s.bodies.l_foot.vz)) + ((s.bodies.r_shoulder.vx + s.bodies.r_shoulder.vy) + (s.bodies.r_shoulder.vz + s.bodies.r_upper_arm.vx));
+  const T _sum_rates_8 = ((s.bodies.r_upper_arm.vy + s.bodies.r_upper_arm.vz) + (s.bodies.r_forearm.vx + s.bodies.r_forearm.vy)) + ((s.bodies.r_forearm.vz + s.bodies.r_wrist1.vx) + (s.bodies.r_wrist1.vy + s.bodies.r_wrist1.vz));
+  const T _sum_rates_9 = ((s.bodies.r_wrist2.vx + s.bodies.r_wrist2.vy) + (s.bodies.r_wrist2.vz + s.bodies.r_hand.vx)) + ((s.bodies.r_hand.vy + s.bodies.r_hand.vz) + (s.bodies.l_shoulder.vx + s.bodies.l_shoulder.vy));
+  const T _sum_rates_10 = ((s.bodies.l_shoulder.vz + s.bodies.l_upper_arm.vx) + (s.bodies.l_upper_arm.vy + s.bodies.l_upper_arm.vz)) + ((s.bodies.l_forearm.vx + s.bodies.l_forearm.vy) + (s.bodies.l_forearm.vz + s.bodies.l_wrist1.vx));
+  const T _sum_rates_11 = ((s.bodies.l_wrist1.vy + s.bodies.l_wrist1.vz) + (s.bodies.l_wrist2.vx + s.bodies.l_wrist2.vy)) + ((s.bodies.l_wrist2.vz + s.bodies.l_hand.vx) + (s.bodies.l_hand.vy + s.bodies.l_hand.vz));
+  const T _sum_rates_12 = ((s.points.W.vx + s.points.W.vy) + (s.points.W.vz + s.points.head.vx)) + ((s.points.head.vy + s.points.head.vz) + (s.points.RH.vx + s.points.RH.vy));
+  const T _sum_rates_13 = ((s.points.RH.vz + s.points.RK.vx) + (s.points.RK.vy + s.points.RK.vz)) + ((s.points.RA.vx + s.points.RA.vy) + (s.points.RA.vz + s.points.RF.vx));
+  const T _sum_rates_14 = ((s.points.RF.vy + s.points.RF.vz) + (s.points.r_toe_out.vx + s.points.r_toe_out.vy)) + ((s.points.r_toe_out.vz + s.points.r_toe_in.vx) + (s.points.r_toe_in.vy + s.points.r_toe_in.vz));
+  const T _sum_rates_15 = ((s.points.r_heel_in.vx + s.points.r_heel_in.vy) + (s.points.r_heel_in.vz + s.points.r_heel_out.vx)) + ((s.points.r_heel_out.vy + s.points.r_heel_out.vz) + (s.points.LH.vx + s.points.LH.vy));
+  const T _sum_rates_16 = ((s.points.LH.vz + s.points.LK.vx) + (s.points.LK.vy + s.points.LK.vz)) + ((s.points.LA.vx + s.points.LA.vy) + (s.points.LA.vz + s.points.LF.vx));
+  const T _sum_rates_17 = ((s.points.LF.vy + s.points.LF.vz) + (s.points.l_toe_out.vx + s.points.l_toe_out.vy)) + ((s.points.l_toe_out.vz + s.points.l_toe_in.vx) + (s.points.l_toe_in.vy + s.points.l_toe_in.vz));
+  const T _sum_rates_18 = ((s.points.l_heel_in.vx + s.points.l_heel_in.vy) + (s.points.l_heel_in.vz + s.points.l_heel_out.vx)) + ((s.points.l_heel_out.vy + s.points.l_heel_out.vz) + (s.points.RS.vx + s.points.RS.vy));
+  const T _sum_rates_19 = ((s.points.RS.vz + s.points.RE.vx) + (s.points.RE.vy + s.points.RE.vz)) + ((s.points.RP.vx + s.points.RP.vy) + (s.points.RP.vz + s.points.LS.vx));
+  const T _sum_rates_20 = ((s.points.LS.vy + s.points.LS.vz) + (s.points.LE.vx + s.points.LE.vy)) + ((s.points.LE.vz + s.points.LP.vx) + (s.points.LP.vy + s.points.LP.vz));
+  const T _sum_rates_21 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_22 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_23 = (_sum_rates_16 + _sum_rates_17) + (_sum_rates_18 + (_sum_rates_19 + _sum_rates_20));
+  const T _sum_rates = _sum_rates_21 + (_sum_rates_22 + _sum_rates_23);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 57, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 54, Status::unreachable;
-  if (!(abs(s.closure.det) > T(8.504494921217879e-23)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[6] * s.closure.pivot[16] * s.closure.pivot[18] * s.closure.pivot[20]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[7] * s.closure.pivot[17] * s.closure.pivot[19] * s.closure.pivot[21]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[4] * s.closure.pivot[8] * s.closure.pivot[10] * s.closure.pivot[12] * s.closure.pivot[14] * s.closure.pivot[22]) > T(4.611832660474763e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[5] * s.closure.pivot[9] * s.closure.pivot[11] * s.closure.pivot[13] * s.closure.pivot[15] * s.closure.pivot[23]) > T(4.611832660474763e-13)))
     return s.failed_group = 54, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -7684,7 +7746,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 22360
+  // Total ops: 22337
   const T s0_RL1_z = p.l1 + p.l2 + p.l3;
   const T s0_RL2_z = s0_RL1_z;
   const T s0_RL3_z = s0_RL1_z;
@@ -9131,7 +9193,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_ipiv21 = T(1)/lu_a19_21_21;
   const T lu_ipiv22 = T(1)/lu_a14_22_22;
   const T lu_ipiv23 = T(1)/lu_a15_23_23;
-  const T closure_det = R_l_hip1_00*R_r_hip1_00*(R_waist_11*R_waist_11)*lu_a0_1_1*lu_a10_12_12*lu_a11_13_13*lu_a12_14_14*lu_a13_15_15*lu_a14_22_22*lu_a15_23_23*lu_a16_18_18*lu_a17_19_19*lu_a18_20_20*lu_a19_21_21*lu_a1_6_6*lu_a2_3_3*lu_a3_7_7*lu_a4_8_8*lu_a5_9_9*lu_a6_16_16*lu_a7_17_17*lu_a8_10_10*lu_a9_11_11;
   const T _tmp226 = in.vFB_rx_d*sin_vFB_ry;
   const T _tmp227 = in.vRL_rx_d*sin_vRL_ry;
   const T vel_b0_1 = R_vFB_b5_00*in.vFB_rx_d*lu_f1_0 + _tmp226 + in.vRL_ry_d*lu_f1_0*sin_vRL_rz + in.vRL_rz_d - R_vRL_b5_00*in.vRL_rx_d*lu_f1_0 - in.vFB_ry_d*lu_f1_0*sin_vFB_rz - in.vFB_rz_d - _tmp227;
@@ -13731,7 +13792,30 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[22] = q_LA5;
   s.closure.wnext[23] = q_LA6;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = R_r_hip1_00;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = R_l_hip1_00;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = R_waist_11;
+  s.closure.pivot[5] = R_waist_11;
+  s.closure.pivot[6] = lu_a1_6_6;
+  s.closure.pivot[7] = lu_a3_7_7;
+  s.closure.pivot[8] = lu_a4_8_8;
+  s.closure.pivot[9] = lu_a5_9_9;
+  s.closure.pivot[10] = lu_a8_10_10;
+  s.closure.pivot[11] = lu_a9_11_11;
+  s.closure.pivot[12] = lu_a10_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a12_14_14;
+  s.closure.pivot[15] = lu_a13_15_15;
+  s.closure.pivot[16] = lu_a6_16_16;
+  s.closure.pivot[17] = lu_a7_17_17;
+  s.closure.pivot[18] = lu_a16_18_18;
+  s.closure.pivot[19] = lu_a17_19_19;
+  s.closure.pivot[20] = lu_a18_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a14_22_22;
+  s.closure.pivot[23] = lu_a15_23_23;
   s.closure.wdnext[0] = vel_x18;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x20;
@@ -15034,29 +15118,31 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_31 = (_sum_positions_24 + _sum_positions_25) + (_sum_positions_26 + _sum_positions_27);
   const T _sum_positions = (_sum_positions_28 + _sum_positions_29) + (_sum_positions_30 + _sum_positions_31);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 56, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.waist.ax + s.bodies.waist.ay)) + ((s.bodies.waist.az + s.bodies.r_hip1.ax) + (s.bodies.r_hip1.ay + s.bodies.r_hip1.az));
-  const T _sum_rates_1 = ((s.bodies.r_hip2.ax + s.bodies.r_hip2.ay) + (s.bodies.r_hip2.az + s.bodies.r_thigh.ax)) + ((s.bodies.r_thigh.ay + s.bodies.r_thigh.az) + (s.bodies.r_calf.ax + s.bodies.r_calf.ay));
-  const T _sum_rates_2 = ((s.bodies.r_calf.az + s.bodies.r_ankle.ax) + (s.bodies.r_ankle.ay + s.bodies.r_ankle.az)) + ((s.bodies.r_foot.ax + s.bodies.r_foot.ay) + (s.bodies.r_foot.az + s.bodies.l_hip1.ax));
-  const T _sum_rates_3 = ((s.bodies.l_hip1.ay + s.bodies.l_hip1.az) + (s.bodies.l_hip2.ax + s.bodies.l_hip2.ay)) + ((s.bodies.l_hip2.az + s.bodies.l_thigh.ax) + (s.bodies.l_thigh.ay + s.bodies.l_thigh.az));
-  const T _sum_rates_4 = ((s.bodies.l_calf.ax + s.bodies.l_calf.ay) + (s.bodies.l_calf.az + s.bodies.l_ankle.ax)) + ((s.bodies.l_ankle.ay + s.bodies.l_ankle.az) + (s.bodies.l_foot.ax + s.bodies.l_foot.ay));
-  const T _sum_rates_5 = ((s.bodies.l_foot.az + s.bodies.r_shoulder.ax) + (s.bodies.r_shoulder.ay + s.bodies.r_shoulder.az)) + ((s.bodies.r_upper_arm.ax + s.bodies.r_upper_arm.ay) + (s.bodies.r_upper_arm.az + s.bodies.r_forearm.ax));
-  const T _sum_rates_6 = ((s.bodies.r_forearm.ay + s.bodies.r_forearm.az) + (s.bodies.r_wrist1.ax + s.bodies.r_wrist1.ay)) + ((s.bodies.r_wrist1.az + s.bodies.r_wrist2.ax) + (s.bodies.r_wrist2.ay + s.bodies.r_wrist2.az));
-  const T _sum_rates_7 = ((s.bodies.r_hand.ax + s.bodies.r_hand.ay) + (s.bodies.r_hand.az + s.bodies.l_shoulder.ax)) + ((s.bodies.l_shoulder.ay + s.bodies.l_shoulder.az) + (s.bodies.l_upper_arm.ax + s.bodies.l_upper_arm.ay));
-  const T _sum_rates_8 = ((s.bodies.l_upper_arm.az + s.bodies.l_forearm.ax) + (s.bodies.l_forearm.ay + s.bodies.l_forearm.az)) + ((s.bodies.l_wrist1.ax + s.bodies.l_wrist1.ay) + (s.bodies.l_wrist1.az + s.bodies.l_wrist2.ax));
-  const T _sum_rates_9 = ((s.bodies.l_wrist2.ay + s.bodies.l_wrist2.az) + (s.bodies.l_hand.ax + s.bodies.l_hand.ay)) + ((s.bodies.l_hand.az + s.points.W.ax) + (s.points.W.ay + s.points.W.az));
-  const T _sum_rates_10 = ((s.points.head.ax + s.points.head.ay) + (s.points.head.az + s.points.RH.ax)) + ((s.points.RH.ay + s.points.RH.az) + (s.points.RK.ax + s.points.RK.ay));
-  const T _sum_rates_11 = ((s.points.RK.az + s.points.RA.ax) + (s.points.RA.ay + s.points.RA.az)) + ((s.points.RF.ax + s.points.RF.ay) + (s.points.RF.az + s.points.r_toe_out.ax));
-  const T _sum_rates_12 = ((s.points.r_toe_out.ay + s.points.r_toe_out.az) + (s.points.r_toe_in.ax + s.points.r_toe_in.ay)) + ((s.points.r_toe_in.az + s.points.r_heel_in.ax) + (s.points.r_heel_in.ay + s.points.r_heel_in.az));
-  const T _sum_rates_13 = ((s.points.r_heel_out.ax + s.points.r_heel_out.ay) + (s.points.r_heel_out.az + s.points.LH.ax)) + ((s.points.LH.ay + s.points.LH.az) + (s.points.LK.ax + s.points.LK.ay));
-  const T _sum_rates_14 = ((s.points.LK.az + s.points.LA.ax) + (s.points.LA.ay + s.points.LA.az)) + ((s.points.LF.ax + s.points.LF.ay) + (s.points.LF.az + s.points.l_toe_out.ax));
-  const T _sum_rates_15 = ((s.points.l_toe_out.ay + s.points.l_toe_out.az) + (s.points.l_toe_in.ax + s.points.l_toe_in.ay)) + ((s.points.l_toe_in.az + s.points.l_heel_in.ax) + (s.points.l_heel_in.ay + s.points.l_heel_in.az));
-  const T _sum_rates_16 = ((s.points.l_heel_out.ax + s.points.l_heel_out.ay) + (s.points.l_heel_out.az + s.points.RS.ax)) + ((s.points.RS.ay + s.points.RS.az) + (s.points.RE.ax + s.points.RE.ay));
-  const T _sum_rates_17 = ((s.points.RE.az + s.points.RP.ax) + (s.points.RP.ay + s.points.RP.az)) + ((s.points.LS.ax + s.points.LS.ay) + (s.points.LS.az + s.points.LE.ax));
-  const T _sum_rates_18 = (s.points.LE.ay + s.points.LE.az) + (s.points.LP.ax + (s.points.LP.ay + s.points.LP.az));
-  const T _sum_rates_19 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
-  const T _sum_rates_20 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
-  const T _sum_rates_21 = _sum_rates_16 + (_sum_rates_17 + _sum_rates_18);
-  const T _sum_rates = _sum_rates_19 + (_sum_rates_20 + _sum_rates_21);
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[3] + s.closure.pivot[6])) + ((s.closure.pivot[7] + s.closure.pivot[8]) + (s.closure.pivot[9] + s.closure.pivot[10]));
+  const T _sum_rates_1 = ((s.closure.pivot[11] + s.closure.pivot[12]) + (s.closure.pivot[13] + s.closure.pivot[14])) + ((s.closure.pivot[15] + s.closure.pivot[16]) + (s.closure.pivot[17] + s.closure.pivot[18]));
+  const T _sum_rates_2 = ((s.closure.pivot[19] + s.closure.pivot[20]) + (s.closure.pivot[21] + s.closure.pivot[22])) + ((s.closure.pivot[23] + s.bodies.waist.ax) + (s.bodies.waist.ay + s.bodies.waist.az));
+  const T _sum_rates_3 = ((s.bodies.r_hip1.ax + s.bodies.r_hip1.ay) + (s.bodies.r_hip1.az + s.bodies.r_hip2.ax)) + ((s.bodies.r_hip2.ay + s.bodies.r_hip2.az) + (s.bodies.r_thigh.ax + s.bodies.r_thigh.ay));
+  const T _sum_rates_4 = ((s.bodies.r_thigh.az + s.bodies.r_calf.ax) + (s.bodies.r_calf.ay + s.bodies.r_calf.az)) + ((s.bodies.r_ankle.ax + s.bodies.r_ankle.ay) + (s.bodies.r_ankle.az + s.bodies.r_foot.ax));
+  const T _sum_rates_5 = ((s.bodies.r_foot.ay + s.bodies.r_foot.az) + (s.bodies.l_hip1.ax + s.bodies.l_hip1.ay)) + ((s.bodies.l_hip1.az + s.bodies.l_hip2.ax) + (s.bodies.l_hip2.ay + s.bodies.l_hip2.az));
+  const T _sum_rates_6 = ((s.bodies.l_thigh.ax + s.bodies.l_thigh.ay) + (s.bodies.l_thigh.az + s.bodies.l_calf.ax)) + ((s.bodies.l_calf.ay + s.bodies.l_calf.az) + (s.bodies.l_ankle.ax + s.bodies.l_ankle.ay));
+  const T _sum_rates_7 = ((s.bodies.l_ankle.az + s.bodies.l_foot.ax) + (s.bodies.l_foot.ay + s.bodies.l_foot.az)) + ((s.bodies.r_shoulder.ax + s.bodies.r_shoulder.ay) + (s.bodies.r_shoulder.az + s.bodies.r_upper_arm.ax));
+  const T _sum_rates_8 = ((s.bodies.r_upper_arm.ay + s.bodies.r_upper_arm.az) + (s.bodies.r_forearm.ax + s.bodies.r_forearm.ay)) + ((s.bodies.r_forearm.az + s.bodies.r_wrist1.ax) + (s.bodies.r_wrist1.ay + s.bodies.r_wrist1.az));
+  const T _sum_rates_9 = ((s.bodies.r_wrist2.ax + s.bodies.r_wrist2.ay) + (s.bodies.r_wrist2.az + s.bodies.r_hand.ax)) + ((s.bodies.r_hand.ay + s.bodies.r_hand.az) + (s.bodies.l_shoulder.ax + s.bodies.l_shoulder.ay));
+  const T _sum_rates_10 = ((s.bodies.l_shoulder.az + s.bodies.l_upper_arm.ax) + (s.bodies.l_upper_arm.ay + s.bodies.l_upper_arm.az)) + ((s.bodies.l_forearm.ax + s.bodies.l_forearm.ay) + (s.bodies.l_forearm.az + s.bodies.l_wrist1.ax));
+  const T _sum_rates_11 = ((s.bodies.l_wrist1.ay + s.bodies.l_wrist1.az) + (s.bodies.l_wrist2.ax + s.bodies.l_wrist2.ay)) + ((s.bodies.l_wrist2.az + s.bodies.l_hand.ax) + (s.bodies.l_hand.ay + s.bodies.l_hand.az));
+  const T _sum_rates_12 = ((s.points.W.ax + s.points.W.ay) + (s.points.W.az + s.points.head.ax)) + ((s.points.head.ay + s.points.head.az) + (s.points.RH.ax + s.points.RH.ay));
+  const T _sum_rates_13 = ((s.points.RH.az + s.points.RK.ax) + (s.points.RK.ay + s.points.RK.az)) + ((s.points.RA.ax + s.points.RA.ay) + (s.points.RA.az + s.points.RF.ax));
+  const T _sum_rates_14 = ((s.points.RF.ay + s.points.RF.az) + (s.points.r_toe_out.ax + s.points.r_toe_out.ay)) + ((s.points.r_toe_out.az + s.points.r_toe_in.ax) + (s.points.r_toe_in.ay + s.points.r_toe_in.az));
+  const T _sum_rates_15 = ((s.points.r_heel_in.ax + s.points.r_heel_in.ay) + (s.points.r_heel_in.az + s.points.r_heel_out.ax)) + ((s.points.r_heel_out.ay + s.points.r_heel_out.az) + (s.points.LH.ax + s.points.LH.ay));
+  const T _sum_rates_16 = ((s.points.LH.az + s.points.LK.ax) + (s.points.LK.ay + s.points.LK.az)) + ((s.points.LA.ax + s.points.LA.ay) + (s.points.LA.az + s.points.LF.ax));
+  const T _sum_rates_17 = ((s.points.LF.ay + s.points.LF.az) + (s.points.l_toe_out.ax + s.points.l_toe_out.ay)) + ((s.points.l_toe_out.az + s.points.l_toe_in.ax) + (s.points.l_toe_in.ay + s.points.l_toe_in.az));
+  const T _sum_rates_18 = ((s.points.l_heel_in.ax + s.points.l_heel_in.ay) + (s.points.l_heel_in.az + s.points.l_heel_out.ax)) + ((s.points.l_heel_out.ay + s.points.l_heel_out.az) + (s.points.RS.ax + s.points.RS.ay));
+  const T _sum_rates_19 = ((s.points.RS.az + s.points.RE.ax) + (s.points.RE.ay + s.points.RE.az)) + ((s.points.RP.ax + s.points.RP.ay) + (s.points.RP.az + s.points.LS.ax));
+  const T _sum_rates_20 = ((s.points.LS.ay + s.points.LS.az) + (s.points.LE.ax + s.points.LE.ay)) + ((s.points.LE.az + s.points.LP.ax) + (s.points.LP.ay + s.points.LP.az));
+  const T _sum_rates_21 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_22 = ((_sum_rates_8 + _sum_rates_9) + (_sum_rates_10 + _sum_rates_11)) + ((_sum_rates_12 + _sum_rates_13) + (_sum_rates_14 + _sum_rates_15));
+  const T _sum_rates_23 = (_sum_rates_16 + _sum_rates_17) + (_sum_rates_18 + (_sum_rates_19 + _sum_rates_20));
+  const T _sum_rates = _sum_rates_21 + (_sum_rates_22 + _sum_rates_23);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 57, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.vFB_x.effort + s.drivers.vFB_y.effort) + (s.drivers.vFB_z.effort + s.drivers.vFB_rz.effort)) + ((s.drivers.vFB_ry.effort + s.drivers.vFB_rx.effort) + (s.drivers.vRL_x.effort + s.drivers.vRL_y.effort));
   const T _sum_forces_1 = ((s.drivers.vRL_z.effort + s.drivers.vRL_rz.effort) + (s.drivers.vRL_ry.effort + s.drivers.vRL_rx.effort)) + ((s.drivers.vLL_x.effort + s.drivers.vLL_y.effort) + (s.drivers.vLL_z.effort + s.drivers.vLL_rz.effort));
@@ -15077,12 +15163,19 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 58, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 54, Status::unreachable;
-  if (!(abs(s.closure.det) > T(8.504494921217879e-23)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[6] * s.closure.pivot[16] * s.closure.pivot[18] * s.closure.pivot[20]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[7] * s.closure.pivot[17] * s.closure.pivot[19] * s.closure.pivot[21]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[4] * s.closure.pivot[8] * s.closure.pivot[10] * s.closure.pivot[12] * s.closure.pivot[14] * s.closure.pivot[22]) > T(4.611832660474763e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[5] * s.closure.pivot[9] * s.closure.pivot[11] * s.closure.pivot[13] * s.closure.pivot[15] * s.closure.pivot[23]) > T(4.611832660474763e-13)))
     return s.failed_group = 54, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -15104,7 +15197,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 19894
+  // Total ops: 19871
   const T s0_RL2_z = p.l1 + p.l2 + p.l3;
   const T s0_RL3_z = s0_RL2_z;
   const T s0_RL4_z = p.l2 + p.l3;
@@ -16547,7 +16640,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_ipiv21 = T(1)/lu_a19_21_21;
   const T lu_ipiv22 = T(1)/lu_a14_22_22;
   const T lu_ipiv23 = T(1)/lu_a15_23_23;
-  const T closure_det = R_l_hip1_00*R_r_hip1_00*(R_waist_11*R_waist_11)*lu_a0_1_1*lu_a10_12_12*lu_a11_13_13*lu_a12_14_14*lu_a13_15_15*lu_a14_22_22*lu_a15_23_23*lu_a16_18_18*lu_a17_19_19*lu_a18_20_20*lu_a19_21_21*lu_a1_6_6*lu_a2_3_3*lu_a3_7_7*lu_a4_8_8*lu_a5_9_9*lu_a6_16_16*lu_a7_17_17*lu_a8_10_10*lu_a9_11_11;
   const T _tmp226 = in.vFB_rx_d*sin_vFB_ry;
   const T _tmp227 = in.vRL_rx_d*sin_vRL_ry;
   const T vel_b0_1 = R_vFB_b5_00*in.vFB_rx_d*lu_f1_0 + _tmp226 + in.vRL_ry_d*lu_f1_0*sin_vRL_rz + in.vRL_rz_d - R_vRL_b5_00*in.vRL_rx_d*lu_f1_0 - in.vFB_ry_d*lu_f1_0*sin_vFB_rz - in.vFB_rz_d - _tmp227;
@@ -20578,7 +20670,30 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[22] = q_LA5;
   s.closure.wnext[23] = q_LA6;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = R_r_hip1_00;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = R_l_hip1_00;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = R_waist_11;
+  s.closure.pivot[5] = R_waist_11;
+  s.closure.pivot[6] = lu_a1_6_6;
+  s.closure.pivot[7] = lu_a3_7_7;
+  s.closure.pivot[8] = lu_a4_8_8;
+  s.closure.pivot[9] = lu_a5_9_9;
+  s.closure.pivot[10] = lu_a8_10_10;
+  s.closure.pivot[11] = lu_a9_11_11;
+  s.closure.pivot[12] = lu_a10_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a12_14_14;
+  s.closure.pivot[15] = lu_a13_15_15;
+  s.closure.pivot[16] = lu_a6_16_16;
+  s.closure.pivot[17] = lu_a7_17_17;
+  s.closure.pivot[18] = lu_a16_18_18;
+  s.closure.pivot[19] = lu_a17_19_19;
+  s.closure.pivot[20] = lu_a18_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a14_22_22;
+  s.closure.pivot[23] = lu_a15_23_23;
   s.closure.wdnext[0] = vel_x18;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x20;
@@ -20817,8 +20932,11 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_rates_0 = ((s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + s.closure.wnext[3])) + ((s.closure.wnext[4] + s.closure.wnext[5]) + (s.closure.wnext[6] + s.closure.wnext[7]));
   const T _sum_rates_1 = ((s.closure.wnext[8] + s.closure.wnext[9]) + (s.closure.wnext[10] + s.closure.wnext[11])) + ((s.closure.wnext[12] + s.closure.wnext[13]) + (s.closure.wnext[14] + s.closure.wnext[15]));
   const T _sum_rates_2 = ((s.closure.wnext[16] + s.closure.wnext[17]) + (s.closure.wnext[18] + s.closure.wnext[19])) + ((s.closure.wnext[20] + s.closure.wnext[21]) + (s.closure.wnext[22] + s.closure.wnext[23]));
-  const T _sum_rates_3 = (s.closure.residual + (s.closure.det + s.closure.wddnext[4])) + (s.closure.wddnext[10] + (s.closure.wddnext[12] + s.closure.wddnext[18]));
-  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+  const T _sum_rates_3 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[3] + s.closure.pivot[6])) + ((s.closure.pivot[7] + s.closure.pivot[8]) + (s.closure.pivot[9] + s.closure.pivot[10]));
+  const T _sum_rates_4 = ((s.closure.pivot[11] + s.closure.pivot[12]) + (s.closure.pivot[13] + s.closure.pivot[14])) + ((s.closure.pivot[15] + s.closure.pivot[16]) + (s.closure.pivot[17] + s.closure.pivot[18]));
+  const T _sum_rates_5 = ((s.closure.pivot[19] + s.closure.pivot[20]) + (s.closure.pivot[21] + s.closure.pivot[22])) + ((s.closure.pivot[23] + s.closure.wddnext[4]) + (s.closure.wddnext[10] + s.closure.wddnext[12]));
+  const T _sum_rates_6 = s.closure.wddnext[18];
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + ((_sum_rates_3 + _sum_rates_4) + (_sum_rates_5 + _sum_rates_6));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 57, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.vFB_x.effort + s.drivers.vFB_y.effort) + (s.drivers.vFB_z.effort + s.drivers.vFB_rz.effort)) + ((s.drivers.vFB_ry.effort + s.drivers.vFB_rx.effort) + (s.drivers.vRL_x.effort + s.drivers.vRL_y.effort));
   const T _sum_forces_1 = ((s.drivers.vRL_z.effort + s.drivers.vRL_rz.effort) + (s.drivers.vRL_ry.effort + s.drivers.vRL_rx.effort)) + ((s.drivers.vLL_x.effort + s.drivers.vLL_y.effort) + (s.drivers.vLL_z.effort + s.drivers.vLL_rz.effort));
@@ -20828,12 +20946,19 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 58, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 54, Status::unreachable;
-  if (!(abs(s.closure.det) > T(8.504494921217879e-23)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[6] * s.closure.pivot[16] * s.closure.pivot[18] * s.closure.pivot[20]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[7] * s.closure.pivot[17] * s.closure.pivot[19] * s.closure.pivot[21]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[4] * s.closure.pivot[8] * s.closure.pivot[10] * s.closure.pivot[12] * s.closure.pivot[14] * s.closure.pivot[22]) > T(4.611832660474763e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[5] * s.closure.pivot[9] * s.closure.pivot[11] * s.closure.pivot[13] * s.closure.pivot[15] * s.closure.pivot[23]) > T(4.611832660474763e-13)))
     return s.failed_group = 54, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -21948,7 +22073,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 12874
+  // Total ops: 12851
   const T s0_RL1_z = p.l1 + p.l2 + p.l3;
   const T s0_RL2_z = s0_RL1_z;
   const T s0_RL3_z = s0_RL1_z;
@@ -23398,7 +23523,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_ipiv21 = T(1)/lu_a19_21_21;
   const T lu_ipiv22 = T(1)/lu_a14_22_22;
   const T lu_ipiv23 = T(1)/lu_a15_23_23;
-  const T closure_det = R_l_hip1_00*R_r_hip1_00*(R_waist_11*R_waist_11)*lu_a0_1_1*lu_a10_12_12*lu_a11_13_13*lu_a12_14_14*lu_a13_15_15*lu_a14_22_22*lu_a15_23_23*lu_a16_18_18*lu_a17_19_19*lu_a18_20_20*lu_a19_21_21*lu_a1_6_6*lu_a2_3_3*lu_a3_7_7*lu_a4_8_8*lu_a5_9_9*lu_a6_16_16*lu_a7_17_17*lu_a8_10_10*lu_a9_11_11;
   const T _tmp217 = in.vFB_rx_d*sin_vFB_ry;
   const T _tmp218 = in.vRL_rx_d*sin_vRL_ry;
   const T vel_b0_1 = R_vFB_b5_00*in.vFB_rx_d*lu_f1_0 + _tmp217 + in.vRL_ry_d*lu_f1_0*sin_vRL_rz + in.vRL_rz_d - R_vRL_b5_00*in.vRL_rx_d*lu_f1_0 - in.vFB_ry_d*lu_f1_0*sin_vFB_rz - in.vFB_rz_d - _tmp218;
@@ -26856,7 +26980,30 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[22] = q_LA5;
   s.closure.wnext[23] = q_LA6;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = R_r_hip1_00;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = R_l_hip1_00;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = R_waist_11;
+  s.closure.pivot[5] = R_waist_11;
+  s.closure.pivot[6] = lu_a1_6_6;
+  s.closure.pivot[7] = lu_a3_7_7;
+  s.closure.pivot[8] = lu_a4_8_8;
+  s.closure.pivot[9] = lu_a5_9_9;
+  s.closure.pivot[10] = lu_a8_10_10;
+  s.closure.pivot[11] = lu_a9_11_11;
+  s.closure.pivot[12] = lu_a10_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a12_14_14;
+  s.closure.pivot[15] = lu_a13_15_15;
+  s.closure.pivot[16] = lu_a6_16_16;
+  s.closure.pivot[17] = lu_a7_17_17;
+  s.closure.pivot[18] = lu_a16_18_18;
+  s.closure.pivot[19] = lu_a17_19_19;
+  s.closure.pivot[20] = lu_a18_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a14_22_22;
+  s.closure.pivot[23] = lu_a15_23_23;
   s.closure.wdnext[0] = vel_x18;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x20;
@@ -26931,21 +27078,30 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_forces_23 = ((b[129] + b[130]) + (b[131] + s.closure.wnext[0])) + ((s.closure.wnext[1] + s.closure.wnext[2]) + (s.closure.wnext[3] + s.closure.wnext[4]));
   const T _sum_forces_24 = ((s.closure.wnext[5] + s.closure.wnext[6]) + (s.closure.wnext[7] + s.closure.wnext[8])) + ((s.closure.wnext[9] + s.closure.wnext[10]) + (s.closure.wnext[11] + s.closure.wnext[12]));
   const T _sum_forces_25 = ((s.closure.wnext[13] + s.closure.wnext[14]) + (s.closure.wnext[15] + s.closure.wnext[16])) + ((s.closure.wnext[17] + s.closure.wnext[18]) + (s.closure.wnext[19] + s.closure.wnext[20]));
-  const T _sum_forces_26 = (s.closure.wnext[21] + s.closure.wnext[22]) + (s.closure.wnext[23] + (s.closure.residual + s.closure.det));
-  const T _sum_forces_27 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
-  const T _sum_forces_28 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
-  const T _sum_forces_29 = ((_sum_forces_16 + _sum_forces_17) + (_sum_forces_18 + _sum_forces_19)) + ((_sum_forces_20 + _sum_forces_21) + (_sum_forces_22 + _sum_forces_23));
-  const T _sum_forces_30 = _sum_forces_24 + (_sum_forces_25 + _sum_forces_26);
-  const T _sum_forces = (_sum_forces_27 + _sum_forces_28) + (_sum_forces_29 + _sum_forces_30);
+  const T _sum_forces_26 = ((s.closure.wnext[21] + s.closure.wnext[22]) + (s.closure.wnext[23] + s.closure.residual)) + ((s.closure.pivot[1] + s.closure.pivot[3]) + (s.closure.pivot[6] + s.closure.pivot[7]));
+  const T _sum_forces_27 = ((s.closure.pivot[8] + s.closure.pivot[9]) + (s.closure.pivot[10] + s.closure.pivot[11])) + ((s.closure.pivot[12] + s.closure.pivot[13]) + (s.closure.pivot[14] + s.closure.pivot[15]));
+  const T _sum_forces_28 = ((s.closure.pivot[16] + s.closure.pivot[17]) + (s.closure.pivot[18] + s.closure.pivot[19])) + ((s.closure.pivot[20] + s.closure.pivot[21]) + (s.closure.pivot[22] + s.closure.pivot[23]));
+  const T _sum_forces_29 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+  const T _sum_forces_30 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
+  const T _sum_forces_31 = ((_sum_forces_16 + _sum_forces_17) + (_sum_forces_18 + _sum_forces_19)) + ((_sum_forces_20 + _sum_forces_21) + (_sum_forces_22 + _sum_forces_23));
+  const T _sum_forces_32 = (_sum_forces_24 + _sum_forces_25) + (_sum_forces_26 + (_sum_forces_27 + _sum_forces_28));
+  const T _sum_forces = (_sum_forces_29 + _sum_forces_30) + (_sum_forces_31 + _sum_forces_32);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 58, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 54, Status::unreachable;
-  if (!(abs(s.closure.det) > T(8.504494921217879e-23)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[6] * s.closure.pivot[16] * s.closure.pivot[18] * s.closure.pivot[20]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[7] * s.closure.pivot[17] * s.closure.pivot[19] * s.closure.pivot[21]) > T(6.323400983648137e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[4] * s.closure.pivot[8] * s.closure.pivot[10] * s.closure.pivot[12] * s.closure.pivot[14] * s.closure.pivot[22]) > T(4.611832660474763e-13)))
+    return s.failed_group = 54, Status::singular;
+  if (!(abs(s.closure.pivot[5] * s.closure.pivot[9] * s.closure.pivot[11] * s.closure.pivot[13] * s.closure.pivot[15] * s.closure.pivot[23]) > T(4.611832660474763e-13)))
     return s.failed_group = 54, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

@@ -239,7 +239,7 @@ struct State {
     Real C[3][primary_count] = {};
     Real M[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[3] = {Real(0.0), Real(0.0), Real(0.0)};
@@ -250,7 +250,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[3];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -300,7 +300,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 490
+  // Total ops: 489
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -383,7 +383,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _tmp20 = lu_f1_0*lu_f2_1;
   const T lu_a1_2_2 = lu_a0_2_2 + _tmp20;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
-  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
   const T vel_b0_2 = -in.crank_angle_d*lu_f2_0;
   const T vel_b1_2 = vel_b0_2 - lu_f2_1*vel_b0_1;
@@ -456,7 +455,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_M_rocker_coupler;
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = lu_a1_2_2;
   s.closure.wdnext[0] = vel_x2;
   s.closure.wdnext[1] = vel_x1;
   s.closure.wdnext[2] = vel_x0;
@@ -612,18 +613,19 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_2 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.coupler.ax + s.bodies.coupler.ay) + (s.bodies.rocker.ax + s.bodies.rocker.ay));
-  const T _sum_rates_1 = (s.points.P.ax + (s.points.P.ay + s.points.C.ax)) + (s.points.C.ay + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[2] + s.bodies.crank.ax)) + ((s.bodies.crank.ay + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.rocker.ax));
+  const T _sum_rates_1 = (s.bodies.rocker.ay + (s.points.P.ax + s.points.P.ay)) + ((s.points.C.ax + s.points.C.ay) + (s.points.M.ax + s.points.M.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(4.5e-12)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2]) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -648,7 +650,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 390
+  // Total ops: 389
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -730,7 +732,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
   const T lu_a1_2_2 = lu_a0_2_2 + lu_f1_0*lu_f2_1;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
-  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
   const T vel_b0_2 = -in.crank_angle_d*lu_f2_0;
   const T vel_b1_2 = vel_b0_2 - lu_f2_1*vel_b0_1;
@@ -771,7 +772,9 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_M_rocker_coupler;
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = lu_a1_2_2;
   s.closure.wdnext[0] = vel_x2;
   s.closure.wdnext[1] = vel_x1;
   s.closure.wdnext[2] = vel_x0;
@@ -874,18 +877,19 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_2 = s.points.M.x + s.points.M.y;
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
-  const T _sum_rates_1 = (s.points.P.vx + (s.points.P.vy + s.points.C.vx)) + (s.points.C.vy + (s.points.M.vx + s.points.M.vy));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[2] + s.bodies.crank.vx)) + ((s.bodies.crank.vy + s.bodies.coupler.vx) + (s.bodies.coupler.vy + s.bodies.rocker.vx));
+  const T _sum_rates_1 = (s.bodies.rocker.vy + (s.points.P.vx + s.points.P.vy)) + ((s.points.C.vx + s.points.C.vy) + (s.points.M.vx + s.points.M.vy));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(4.5e-12)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2]) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -908,7 +912,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 625
+  // Total ops: 624
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -994,7 +998,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _tmp23 = lu_f1_0*lu_f2_1;
   const T lu_a1_2_2 = lu_a0_2_2 + _tmp23;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
-  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
   const T vel_b0_2 = -in.crank_angle_d*lu_f2_0;
   const T vel_b1_2 = vel_b0_2 - lu_f2_1*vel_b0_1;
@@ -1113,7 +1116,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[1] = q_M_rocker_coupler;
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = lu_a1_2_2;
   s.closure.wdnext[0] = vel_x2;
   s.closure.wdnext[1] = vel_x1;
   s.closure.wdnext[2] = vel_x0;
@@ -1294,20 +1299,21 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_2 = s.point_jacobians.C[1][0] + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]);
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.coupler.ax + s.bodies.coupler.ay) + (s.bodies.rocker.ax + s.bodies.rocker.ay));
-  const T _sum_rates_1 = (s.points.P.ax + (s.points.P.ay + s.points.C.ax)) + (s.points.C.ay + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[2] + s.bodies.crank.ax)) + ((s.bodies.crank.ay + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.rocker.ax));
+  const T _sum_rates_1 = (s.bodies.rocker.ay + (s.points.P.ax + s.points.P.ay)) + ((s.points.C.ax + s.points.C.ay) + (s.points.M.ax + s.points.M.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
   const T _sum_forces = (s.joints.A_ground_crank.fx + (s.joints.A_ground_crank.fy + s.joints.A_ground_crank.mz)) + (s.joints.P_crank_coupler.mz + (s.joints.M_rocker_coupler.mz + s.joints.B_ground_rocker.mz));
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(4.5e-12)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2]) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1330,7 +1336,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 538
+  // Total ops: 537
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -1414,7 +1420,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _tmp21 = lu_f1_0*lu_f2_1;
   const T lu_a1_2_2 = lu_a0_2_2 + _tmp21;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
-  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
   const T vel_b0_2 = -in.crank_angle_d*lu_f2_0;
   const T vel_b1_2 = vel_b0_2 - lu_f2_1*vel_b0_1;
@@ -1503,7 +1508,9 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_M_rocker_coupler;
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = lu_a1_2_2;
   s.closure.wdnext[0] = vel_x2;
   s.closure.wdnext[1] = vel_x1;
   s.closure.wdnext[2] = vel_x0;
@@ -1540,18 +1547,19 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.crank_angle.effort = tau_crank_angle;
   const T _sum_positions = ((s.points.B.x + s.points.P.x) + (s.points.P.y + s.body_jacobians.rocker[4][0])) + ((s.point_jacobians.C[0][0] + s.point_jacobians.C[1][0]) + (s.point_jacobians.M[0][0] + s.point_jacobians.M[1][0]));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[2] + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
   const T _sum_forces = s.drivers.crank_angle.effort;
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(4.5e-12)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2]) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1683,7 +1691,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 510
+  // Total ops: 509
   const T cos_A_ground_crank = cos(in.crank_angle);
   const T sin_A_ground_crank = sin(in.crank_angle);
   const T sv_P_crank_coupler_x = p.l*cos_A_ground_crank;
@@ -1768,7 +1776,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f2_1 = lu_a0_2_1*lu_ipiv1;
   const T lu_a1_2_2 = lu_a0_2_2 + lu_f1_0*lu_f2_1;
   const T lu_ipiv2 = T(1)/lu_a1_2_2;
-  const T closure_det = -lu_a0_1_1*lu_a1_2_2;
   const T vel_b0_1 = -in.crank_angle_d*lu_f1_0;
   const T vel_b0_2 = -in.crank_angle_d*lu_f2_0;
   const T vel_b1_2 = vel_b0_2 - lu_f2_1*vel_b0_1;
@@ -1924,7 +1931,9 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_M_rocker_coupler;
   s.closure.wnext[2] = q_P_crank_coupler;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = lu_a1_2_2;
   s.closure.wdnext[0] = vel_x2;
   s.closure.wdnext[1] = vel_x1;
   s.closure.wdnext[2] = vel_x0;
@@ -1932,17 +1941,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wddnext[1] = acc_x1;
   s.closure.wddnext[2] = acc_x0;
   const T _sum_forces_0 = ((A[395] + A[481]) + (A[482] + A[512])) + ((A[513] + A[544]) + (b[5] + b[11]));
-  const T _sum_forces_1 = (b[17] + (s.closure.wnext[0] + s.closure.wnext[1])) + (s.closure.wnext[2] + (s.closure.residual + s.closure.det));
+  const T _sum_forces_1 = (b[17] + (s.closure.wnext[0] + s.closure.wnext[1])) + ((s.closure.wnext[2] + s.closure.residual) + (s.closure.pivot[1] + s.closure.pivot[2]));
   const T _sum_forces = _sum_forces_0 + _sum_forces_1;
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(4.5e-12)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2]) > T(4.5e-12)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

@@ -246,7 +246,7 @@ struct State {
     Real ankle[3][primary_count] = {};
     Real toe[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[3] = {Real(-0.6548110329800715), Real(1.1096220659601428), Real(-0.4548110329800713)};
@@ -257,7 +257,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[6];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -306,7 +306,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 584
+  // Total ops: 581
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -405,7 +405,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_leg_pose_rz*lu_a0_1_1*lu_a4_5_5*sv_j3_x;
   const T vel_b0_4 = -in.leg_pose_rz_d*sv_leg_pose_rz_x - in.leg_pose_x_d;
   const T vel_b0_5 = in.leg_pose_rz_d*in.leg_pose_x - in.leg_pose_y_d;
   const T vel_b4_5 = vel_b0_5 - lu_f5_4*vel_b0_4;
@@ -503,7 +502,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = cos_leg_pose_rz;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = -T(1);
+  s.closure.pivot[3] = T(1);
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x2;
@@ -681,18 +685,19 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_1 = (s.points.knee.ax + (s.points.knee.ay + s.points.ankle.ax)) + (s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
+  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -716,7 +721,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 414
+  // Total ops: 411
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -815,7 +820,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_leg_pose_rz*lu_a0_1_1*lu_a4_5_5*sv_j3_x;
   const T vel_b0_4 = -in.leg_pose_rz_d*sv_leg_pose_rz_x - in.leg_pose_x_d;
   const T vel_b0_5 = in.leg_pose_rz_d*in.leg_pose_x - in.leg_pose_y_d;
   const T vel_b4_5 = vel_b0_5 - lu_f5_4*vel_b0_4;
@@ -858,7 +862,12 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = cos_leg_pose_rz;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = -T(1);
+  s.closure.pivot[3] = T(1);
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x2;
@@ -956,18 +965,19 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_1 = (s.bodies.foot.y + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.foot.vx + s.bodies.foot.vy));
-  const T _sum_rates_1 = (s.points.knee.vx + (s.points.knee.vy + s.points.ankle.vx)) + (s.points.ankle.vy + (s.points.toe.vx + s.points.toe.vy));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[5] + s.bodies.thigh.vx)) + ((s.bodies.thigh.vy + s.bodies.shank.vx) + (s.bodies.shank.vy + s.bodies.foot.vx));
+  const T _sum_rates_1 = (s.bodies.foot.vy + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.ankle.vx + s.points.ankle.vy) + (s.points.toe.vx + s.points.toe.vy));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -989,7 +999,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 751
+  // Total ops: 748
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -1097,7 +1107,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_leg_pose_rz*lu_a0_1_1*lu_a4_5_5*sv_j3_x;
   const T vel_b0_4 = -in.leg_pose_rz_d*sv_leg_pose_rz_x - in.leg_pose_x_d;
   const T vel_b0_5 = in.leg_pose_rz_d*in.leg_pose_x - in.leg_pose_y_d;
   const T vel_b4_5 = vel_b0_5 - lu_f5_4*vel_b0_4;
@@ -1247,7 +1256,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = cos_leg_pose_rz;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = -T(1);
+  s.closure.pivot[3] = T(1);
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x2;
@@ -1446,8 +1460,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_1 = (s.points.knee.ax + (s.points.knee.ay + s.points.ankle.ax)) + (s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
+  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.leg_pose_x.effort + s.drivers.leg_pose_y.effort) + (s.drivers.leg_pose_rz.effort + s.joints.j1.fx)) + ((s.joints.j1.fy + s.joints.j1.mx) + (s.joints.j1.mz + s.joints.j2.mz));
@@ -1456,12 +1470,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1483,7 +1498,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 649
+  // Total ops: 646
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -1582,7 +1597,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_leg_pose_rz*lu_a0_1_1*lu_a4_5_5*sv_j3_x;
   const T vel_b0_4 = -in.leg_pose_rz_d*sv_leg_pose_rz_x - in.leg_pose_x_d;
   const T vel_b0_5 = in.leg_pose_rz_d*in.leg_pose_x - in.leg_pose_y_d;
   const T vel_b4_5 = vel_b0_5 - lu_f5_4*vel_b0_4;
@@ -1701,7 +1715,12 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = cos_leg_pose_rz;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = -T(1);
+  s.closure.pivot[3] = T(1);
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x2;
@@ -1767,18 +1786,19 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_positions_2 = s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2];
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.residual + s.closure.pivot[1]) + (s.closure.pivot[5] + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces = s.drivers.leg_pose_x.effort + (s.drivers.leg_pose_y.effort + s.drivers.leg_pose_rz.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1929,7 +1949,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 553
+  // Total ops: 550
   const T _tmp0 = T(2)*p.l;
   const T q_leg_pose_y = _tmp0 + in.leg_pose_y;
   const T cos_leg_pose_rz = cos(in.leg_pose_rz);
@@ -2031,7 +2051,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_leg_pose_rz*lu_a0_1_1*lu_a4_5_5*sv_j3_x;
   const T vel_b0_4 = -in.leg_pose_rz_d*sv_leg_pose_rz_x - in.leg_pose_x_d;
   const T vel_b0_5 = in.leg_pose_rz_d*in.leg_pose_x - in.leg_pose_y_d;
   const T vel_b4_5 = vel_b0_5 - lu_f5_4*vel_b0_4;
@@ -2328,7 +2347,12 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = cos_leg_pose_rz;
+  s.closure.pivot[1] = lu_a0_1_1;
+  s.closure.pivot[2] = -T(1);
+  s.closure.pivot[3] = T(1);
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x2;
@@ -2337,17 +2361,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wddnext[2] = acc_x2;
   const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1571] + A[2799])) + ((A[2800] + A[2862]) + (A[2863] + A[3114]));
   const T _sum_forces_1 = ((A[3115] + A[3177]) + (A[3178] + A[3179])) + ((A[3242] + b[5]) + (b[11] + b[17]));
-  const T _sum_forces_2 = (s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + (s.closure.residual + s.closure.det));
+  const T _sum_forces_2 = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.pivot[1] + s.closure.pivot[5]));
   const T _sum_forces = _sum_forces_0 + (_sum_forces_1 + _sum_forces_2);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.582122275969932e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.582122275969932e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

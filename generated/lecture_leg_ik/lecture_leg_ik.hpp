@@ -246,7 +246,7 @@ struct State {
     Real ankle[3][primary_count] = {};
     Real toe[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[3] = {Real(0.4932596711582197), Real(-1.1040309877479058), Real(0.610771316589686)};
@@ -257,7 +257,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[6];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -306,7 +306,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 629
+  // Total ops: 626
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -412,7 +412,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
   const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
   const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
@@ -510,7 +509,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = T(1);
+  s.closure.pivot[2] = cos_foot_pose_rz;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -688,18 +692,19 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_1 = (s.points.knee.ax + (s.points.knee.ay + s.points.ankle.ax)) + (s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
+  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -723,7 +728,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 459
+  // Total ops: 456
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -829,7 +834,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
   const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
   const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
@@ -872,7 +876,12 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = T(1);
+  s.closure.pivot[2] = cos_foot_pose_rz;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -970,18 +979,19 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_1 = (s.bodies.foot.y + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.vx + s.bodies.thigh.vy)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.foot.vx + s.bodies.foot.vy));
-  const T _sum_rates_1 = (s.points.knee.vx + (s.points.knee.vy + s.points.ankle.vx)) + (s.points.ankle.vy + (s.points.toe.vx + s.points.toe.vy));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.vx)) + ((s.bodies.thigh.vy + s.bodies.shank.vx) + (s.bodies.shank.vy + s.bodies.foot.vx));
+  const T _sum_rates_1 = (s.bodies.foot.vy + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.ankle.vx + s.points.ankle.vy) + (s.points.toe.vx + s.points.toe.vy));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1003,7 +1013,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 804
+  // Total ops: 801
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1120,7 +1130,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
   const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
   const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
@@ -1270,7 +1279,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = T(1);
+  s.closure.pivot[2] = cos_foot_pose_rz;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -1469,8 +1483,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.thigh.ax + s.bodies.thigh.ay)) + ((s.bodies.shank.ax + s.bodies.shank.ay) + (s.bodies.foot.ax + s.bodies.foot.ay));
-  const T _sum_rates_1 = (s.points.knee.ax + (s.points.knee.ay + s.points.ankle.ax)) + (s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
+  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.foot_pose_x.effort + s.drivers.foot_pose_y.effort) + (s.drivers.foot_pose_rz.effort + s.joints.j1.fx)) + ((s.joints.j1.fy + s.joints.j1.mx) + (s.joints.j1.mz + s.joints.j2.mz));
@@ -1479,12 +1493,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1506,7 +1521,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 694
+  // Total ops: 691
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1612,7 +1627,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
   const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
   const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
@@ -1731,7 +1745,12 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = T(1);
+  s.closure.pivot[2] = cos_foot_pose_rz;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -1797,18 +1816,19 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_positions_2 = s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2];
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + (s.closure.residual + (s.closure.det + s.closure.wddnext[2]));
+  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.closure.wddnext[2]));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces = s.drivers.foot_pose_x.effort + (s.drivers.foot_pose_y.effort + s.drivers.foot_pose_rz.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1960,7 +1980,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 625
+  // Total ops: 622
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -2075,7 +2095,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = cos_foot_pose_rz*lu_a2_3_3*lu_a4_5_5*sv_j3_x;
   const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
   const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
@@ -2380,7 +2399,12 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[1] = q_j2;
   s.closure.wnext[2] = q_j1;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = T(1);
+  s.closure.pivot[2] = cos_foot_pose_rz;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = -sv_j3_x;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -2390,17 +2414,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1274] + A[1280])) + ((A[1571] + A[1628]) + (A[2799] + A[2800]));
   const T _sum_forces_1 = ((A[2862] + A[2863]) + (A[3114] + A[3115])) + ((A[3177] + A[3178]) + (A[3179] + A[3240]));
   const T _sum_forces_2 = ((A[3241] + A[3242]) + (b[5] + b[11])) + ((b[17] + s.closure.wnext[0]) + (s.closure.wnext[1] + s.closure.wnext[2]));
-  const T _sum_forces_3 = s.closure.residual + s.closure.det;
+  const T _sum_forces_3 = s.closure.residual + (s.closure.pivot[3] + s.closure.pivot[5]);
   const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.572114219898901e-11)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

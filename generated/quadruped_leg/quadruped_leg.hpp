@@ -349,7 +349,7 @@ struct State {
     Real B[3][primary_count] = {};
     Real D[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[24] = {Real(-0.012685980514781018), Real(-0.0010834286315873482), Real(-8.696533047216142e-23), Real(-0.01160255188319367), Real(-3.578397058740295e-24), Real(9.462753191483704e-23), Real(-0.08337488972024684), Real(-0.010092885865430529), Real(-9.152101152640766e-21), Real(-5.248757161194311e-20), Real(0.07328200385481631), Real(9.123143668184774e-20), Real(-0.4760039937669238), Real(-0.03571159670914986), Real(-6.325231183497818e-19), Real(3.1229536850619025e-19), Real(0.4402923970577739), Real(4.348146434349636e-19), Real(-0.392629104046677), Real(3.9860627762258414e-20), Real(-0.39262910404667684), Real(-2.33513155751659e-19), Real(0.3926291040466768), Real(3.313282896946004e-19)};
@@ -360,7 +360,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[24];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -410,7 +410,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 12715
+  // Total ops: 12693
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
@@ -1808,7 +1808,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_a21_22_22 = lu_a19_22_22 - lu_a19_21_22*lu_f22_21;
   const T lu_ipiv22 = T(1)/lu_a21_22_22;
   const T lu_ipiv23 = T(1)/lu_a17_23_23;
-  const T closure_det = -s0_cyl3_base_1_y*R_rod2_00*R_shank_00*cos_cyl1_base_1*cos_cyl3_base_1*cos_swing*lu_a10_11_11*lu_a11_13_13*lu_a12_15_15*lu_a13_14_14*lu_a14_18_18*lu_a15_20_20*lu_a17_23_23*lu_a18_19_19*lu_a19_21_21*lu_a1_4_4*lu_a21_22_22*lu_a2_5_5*lu_a4_17_17*lu_a5_6_6*lu_a6_12_12*lu_a7_8_8*lu_a8_9_9;
   const T vel_b1_17 = -in.l3_d*sv_cyl3_x;
   const T vel_b2_12 = -in.l2_d*sv_cyl2_z;
   const T vel_b2_15 = -in.l2_d*sv_cyl2_y;
@@ -2696,7 +2695,30 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[22] = q_coupler_C_1;
   s.closure.wnext[23] = q_coupler_C_2;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = cos_cyl3_base_1;
+  s.closure.pivot[2] = R_rod2_00;
+  s.closure.pivot[3] = cos_cyl1_base_1;
+  s.closure.pivot[4] = lu_a1_4_4;
+  s.closure.pivot[5] = lu_a2_5_5;
+  s.closure.pivot[6] = lu_a5_6_6;
+  s.closure.pivot[7] = -cos_swing;
+  s.closure.pivot[8] = lu_a7_8_8;
+  s.closure.pivot[9] = lu_a8_9_9;
+  s.closure.pivot[10] = R_shank_00;
+  s.closure.pivot[11] = lu_a10_11_11;
+  s.closure.pivot[12] = lu_a6_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a13_14_14;
+  s.closure.pivot[15] = lu_a12_15_15;
+  s.closure.pivot[16] = -s0_cyl3_base_1_y;
+  s.closure.pivot[17] = lu_a4_17_17;
+  s.closure.pivot[18] = lu_a14_18_18;
+  s.closure.pivot[19] = lu_a18_19_19;
+  s.closure.pivot[20] = lu_a15_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a21_22_22;
+  s.closure.pivot[23] = lu_a17_23_23;
   s.closure.wdnext[0] = vel_x0;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x1;
@@ -3360,24 +3382,31 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_26 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
   const T _sum_positions = _sum_positions_24 + (_sum_positions_25 + _sum_positions_26);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 17, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.frame.ay + s.bodies.frame.az)) + ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.thigh.az + s.bodies.crank.ax));
-  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.shank.az + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az));
-  const T _sum_rates_2 = ((s.bodies.barrel1.ax + s.bodies.barrel1.ay) + (s.bodies.barrel1.az + s.bodies.rod1.ax)) + ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.barrel2.ax + s.bodies.barrel2.ay));
-  const T _sum_rates_3 = ((s.bodies.barrel2.az + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.az)) + ((s.bodies.barrel3.ax + s.bodies.barrel3.ay) + (s.bodies.barrel3.az + s.bodies.rod3.ax));
-  const T _sum_rates_4 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.ay + s.points.H.az) + (s.points.F.ay + s.points.F.az));
-  const T _sum_rates_5 = ((s.points.N.ay + s.points.N.az) + (s.points.A.ax + s.points.A.ay)) + ((s.points.A.az + s.points.G.ax) + (s.points.G.ay + s.points.G.az));
-  const T _sum_rates_6 = ((s.points.C.ax + s.points.C.ay) + (s.points.C.az + s.points.B.ax)) + ((s.points.B.ay + s.points.B.az) + (s.points.D.ax + s.points.D.ay));
-  const T _sum_rates_7 = s.points.D.az;
-  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[4]) + (s.closure.pivot[5] + s.closure.pivot[6])) + ((s.closure.pivot[8] + s.closure.pivot[9]) + (s.closure.pivot[11] + s.closure.pivot[12]));
+  const T _sum_rates_1 = ((s.closure.pivot[13] + s.closure.pivot[14]) + (s.closure.pivot[15] + s.closure.pivot[17])) + ((s.closure.pivot[18] + s.closure.pivot[19]) + (s.closure.pivot[20] + s.closure.pivot[21]));
+  const T _sum_rates_2 = ((s.closure.pivot[22] + s.closure.pivot[23]) + (s.bodies.frame.ay + s.bodies.frame.az)) + ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.thigh.az + s.bodies.crank.ax));
+  const T _sum_rates_3 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.shank.az + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az));
+  const T _sum_rates_4 = ((s.bodies.barrel1.ax + s.bodies.barrel1.ay) + (s.bodies.barrel1.az + s.bodies.rod1.ax)) + ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.barrel2.ax + s.bodies.barrel2.ay));
+  const T _sum_rates_5 = ((s.bodies.barrel2.az + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.az)) + ((s.bodies.barrel3.ax + s.bodies.barrel3.ay) + (s.bodies.barrel3.az + s.bodies.rod3.ax));
+  const T _sum_rates_6 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.ay + s.points.H.az) + (s.points.F.ay + s.points.F.az));
+  const T _sum_rates_7 = ((s.points.N.ay + s.points.N.az) + (s.points.A.ax + s.points.A.ay)) + ((s.points.A.az + s.points.G.ax) + (s.points.G.ay + s.points.G.az));
+  const T _sum_rates_8 = ((s.points.C.ax + s.points.C.ay) + (s.points.C.az + s.points.B.ax)) + ((s.points.B.ay + s.points.B.az) + (s.points.D.ax + s.points.D.ay));
+  const T _sum_rates_9 = s.points.D.az;
+  const T _sum_rates_10 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_11 = _sum_rates_8 + _sum_rates_9;
+  const T _sum_rates = _sum_rates_10 + _sum_rates_11;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 15, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.901543277919752e-17)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[4] * s.closure.pivot[16] * s.closure.pivot[17] * s.closure.pivot[23]) > T(8.933411499561216e-12)))
+    return s.failed_group = 15, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[5] * s.closure.pivot[6] * s.closure.pivot[7] * s.closure.pivot[8] * s.closure.pivot[9] * s.closure.pivot[10] * s.closure.pivot[11] * s.closure.pivot[12] * s.closure.pivot[13] * s.closure.pivot[14] * s.closure.pivot[15] * s.closure.pivot[18] * s.closure.pivot[19] * s.closure.pivot[20] * s.closure.pivot[21] * s.closure.pivot[22]) > T(4.3673609775071765e-15)))
     return s.failed_group = 15, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -3402,7 +3431,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 9292
+  // Total ops: 9270
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
@@ -4800,7 +4829,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_a21_22_22 = lu_a19_22_22 - lu_a19_21_22*lu_f22_21;
   const T lu_ipiv22 = T(1)/lu_a21_22_22;
   const T lu_ipiv23 = T(1)/lu_a17_23_23;
-  const T closure_det = -s0_cyl3_base_1_y*R_rod2_00*R_shank_00*cos_cyl1_base_1*cos_cyl3_base_1*cos_swing*lu_a10_11_11*lu_a11_13_13*lu_a12_15_15*lu_a13_14_14*lu_a14_18_18*lu_a15_20_20*lu_a17_23_23*lu_a18_19_19*lu_a19_21_21*lu_a1_4_4*lu_a21_22_22*lu_a2_5_5*lu_a4_17_17*lu_a5_6_6*lu_a6_12_12*lu_a7_8_8*lu_a8_9_9;
   const T vel_b1_17 = -in.l3_d*sv_cyl3_x;
   const T vel_b2_12 = -in.l2_d*sv_cyl2_z;
   const T vel_b2_15 = -in.l2_d*sv_cyl2_y;
@@ -5072,7 +5100,30 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[22] = q_coupler_C_1;
   s.closure.wnext[23] = q_coupler_C_2;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = cos_cyl3_base_1;
+  s.closure.pivot[2] = R_rod2_00;
+  s.closure.pivot[3] = cos_cyl1_base_1;
+  s.closure.pivot[4] = lu_a1_4_4;
+  s.closure.pivot[5] = lu_a2_5_5;
+  s.closure.pivot[6] = lu_a5_6_6;
+  s.closure.pivot[7] = -cos_swing;
+  s.closure.pivot[8] = lu_a7_8_8;
+  s.closure.pivot[9] = lu_a8_9_9;
+  s.closure.pivot[10] = R_shank_00;
+  s.closure.pivot[11] = lu_a10_11_11;
+  s.closure.pivot[12] = lu_a6_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a13_14_14;
+  s.closure.pivot[15] = lu_a12_15_15;
+  s.closure.pivot[16] = -s0_cyl3_base_1_y;
+  s.closure.pivot[17] = lu_a4_17_17;
+  s.closure.pivot[18] = lu_a14_18_18;
+  s.closure.pivot[19] = lu_a18_19_19;
+  s.closure.pivot[20] = lu_a15_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a21_22_22;
+  s.closure.pivot[23] = lu_a17_23_23;
   s.closure.wdnext[0] = vel_x0;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x1;
@@ -5440,24 +5491,31 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_16 = (_sum_positions_8 + (_sum_positions_9 + _sum_positions_10)) + ((_sum_positions_11 + _sum_positions_12) + (_sum_positions_13 + _sum_positions_14));
   const T _sum_positions = _sum_positions_15 + _sum_positions_16;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 17, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.frame.vy + s.bodies.frame.vz)) + ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.vz + s.bodies.crank.vx));
-  const T _sum_rates_1 = ((s.bodies.crank.vy + s.bodies.crank.vz) + (s.bodies.shank.vx + s.bodies.shank.vy)) + ((s.bodies.shank.vz + s.bodies.coupler.vx) + (s.bodies.coupler.vy + s.bodies.coupler.vz));
-  const T _sum_rates_2 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.vz + s.bodies.rod1.vx)) + ((s.bodies.rod1.vy + s.bodies.rod1.vz) + (s.bodies.barrel2.vx + s.bodies.barrel2.vy));
-  const T _sum_rates_3 = ((s.bodies.barrel2.vz + s.bodies.rod2.vx) + (s.bodies.rod2.vy + s.bodies.rod2.vz)) + ((s.bodies.barrel3.vx + s.bodies.barrel3.vy) + (s.bodies.barrel3.vz + s.bodies.rod3.vx));
-  const T _sum_rates_4 = ((s.bodies.rod3.vy + s.bodies.rod3.vz) + (s.points.Q.vy + s.points.Q.vz)) + ((s.points.H.vy + s.points.H.vz) + (s.points.F.vy + s.points.F.vz));
-  const T _sum_rates_5 = ((s.points.N.vy + s.points.N.vz) + (s.points.A.vx + s.points.A.vy)) + ((s.points.A.vz + s.points.G.vx) + (s.points.G.vy + s.points.G.vz));
-  const T _sum_rates_6 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.B.vx)) + ((s.points.B.vy + s.points.B.vz) + (s.points.D.vx + s.points.D.vy));
-  const T _sum_rates_7 = s.points.D.vz;
-  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[4]) + (s.closure.pivot[5] + s.closure.pivot[6])) + ((s.closure.pivot[8] + s.closure.pivot[9]) + (s.closure.pivot[11] + s.closure.pivot[12]));
+  const T _sum_rates_1 = ((s.closure.pivot[13] + s.closure.pivot[14]) + (s.closure.pivot[15] + s.closure.pivot[17])) + ((s.closure.pivot[18] + s.closure.pivot[19]) + (s.closure.pivot[20] + s.closure.pivot[21]));
+  const T _sum_rates_2 = ((s.closure.pivot[22] + s.closure.pivot[23]) + (s.bodies.frame.vy + s.bodies.frame.vz)) + ((s.bodies.thigh.vx + s.bodies.thigh.vy) + (s.bodies.thigh.vz + s.bodies.crank.vx));
+  const T _sum_rates_3 = ((s.bodies.crank.vy + s.bodies.crank.vz) + (s.bodies.shank.vx + s.bodies.shank.vy)) + ((s.bodies.shank.vz + s.bodies.coupler.vx) + (s.bodies.coupler.vy + s.bodies.coupler.vz));
+  const T _sum_rates_4 = ((s.bodies.barrel1.vx + s.bodies.barrel1.vy) + (s.bodies.barrel1.vz + s.bodies.rod1.vx)) + ((s.bodies.rod1.vy + s.bodies.rod1.vz) + (s.bodies.barrel2.vx + s.bodies.barrel2.vy));
+  const T _sum_rates_5 = ((s.bodies.barrel2.vz + s.bodies.rod2.vx) + (s.bodies.rod2.vy + s.bodies.rod2.vz)) + ((s.bodies.barrel3.vx + s.bodies.barrel3.vy) + (s.bodies.barrel3.vz + s.bodies.rod3.vx));
+  const T _sum_rates_6 = ((s.bodies.rod3.vy + s.bodies.rod3.vz) + (s.points.Q.vy + s.points.Q.vz)) + ((s.points.H.vy + s.points.H.vz) + (s.points.F.vy + s.points.F.vz));
+  const T _sum_rates_7 = ((s.points.N.vy + s.points.N.vz) + (s.points.A.vx + s.points.A.vy)) + ((s.points.A.vz + s.points.G.vx) + (s.points.G.vy + s.points.G.vz));
+  const T _sum_rates_8 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.vz + s.points.B.vx)) + ((s.points.B.vy + s.points.B.vz) + (s.points.D.vx + s.points.D.vy));
+  const T _sum_rates_9 = s.points.D.vz;
+  const T _sum_rates_10 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_11 = _sum_rates_8 + _sum_rates_9;
+  const T _sum_rates = _sum_rates_10 + _sum_rates_11;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 15, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.901543277919752e-17)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[4] * s.closure.pivot[16] * s.closure.pivot[17] * s.closure.pivot[23]) > T(8.933411499561216e-12)))
+    return s.failed_group = 15, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[5] * s.closure.pivot[6] * s.closure.pivot[7] * s.closure.pivot[8] * s.closure.pivot[9] * s.closure.pivot[10] * s.closure.pivot[11] * s.closure.pivot[12] * s.closure.pivot[13] * s.closure.pivot[14] * s.closure.pivot[15] * s.closure.pivot[18] * s.closure.pivot[19] * s.closure.pivot[20] * s.closure.pivot[21] * s.closure.pivot[22]) > T(4.3673609775071765e-15)))
     return s.failed_group = 15, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -5480,7 +5538,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 15206
+  // Total ops: 15184
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
@@ -6892,7 +6950,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_a21_22_22 = lu_a19_22_22 - lu_a19_21_22*lu_f22_21;
   const T lu_ipiv22 = T(1)/lu_a21_22_22;
   const T lu_ipiv23 = T(1)/lu_a17_23_23;
-  const T closure_det = -s0_cyl3_base_1_y*R_rod2_00*R_shank_00*cos_cyl1_base_1*cos_cyl3_base_1*cos_swing*lu_a10_11_11*lu_a11_13_13*lu_a12_15_15*lu_a13_14_14*lu_a14_18_18*lu_a15_20_20*lu_a17_23_23*lu_a18_19_19*lu_a19_21_21*lu_a1_4_4*lu_a21_22_22*lu_a2_5_5*lu_a4_17_17*lu_a5_6_6*lu_a6_12_12*lu_a7_8_8*lu_a8_9_9;
   const T vel_b1_17 = -in.l3_d*sv_cyl3_x;
   const T vel_b2_12 = -in.l2_d*sv_cyl2_z;
   const T vel_b2_15 = -in.l2_d*sv_cyl2_y;
@@ -8190,7 +8247,30 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[22] = q_coupler_C_1;
   s.closure.wnext[23] = q_coupler_C_2;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = cos_cyl3_base_1;
+  s.closure.pivot[2] = R_rod2_00;
+  s.closure.pivot[3] = cos_cyl1_base_1;
+  s.closure.pivot[4] = lu_a1_4_4;
+  s.closure.pivot[5] = lu_a2_5_5;
+  s.closure.pivot[6] = lu_a5_6_6;
+  s.closure.pivot[7] = -cos_swing;
+  s.closure.pivot[8] = lu_a7_8_8;
+  s.closure.pivot[9] = lu_a8_9_9;
+  s.closure.pivot[10] = R_shank_00;
+  s.closure.pivot[11] = lu_a10_11_11;
+  s.closure.pivot[12] = lu_a6_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a13_14_14;
+  s.closure.pivot[15] = lu_a12_15_15;
+  s.closure.pivot[16] = -s0_cyl3_base_1_y;
+  s.closure.pivot[17] = lu_a4_17_17;
+  s.closure.pivot[18] = lu_a14_18_18;
+  s.closure.pivot[19] = lu_a18_19_19;
+  s.closure.pivot[20] = lu_a15_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a21_22_22;
+  s.closure.pivot[23] = lu_a17_23_23;
   s.closure.wdnext[0] = vel_x0;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x1;
@@ -8947,15 +9027,19 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_26 = ((_sum_positions_16 + _sum_positions_17) + (_sum_positions_18 + _sum_positions_19)) + ((_sum_positions_20 + _sum_positions_21) + (_sum_positions_22 + _sum_positions_23));
   const T _sum_positions = _sum_positions_24 + (_sum_positions_25 + _sum_positions_26);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 17, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.frame.ay + s.bodies.frame.az)) + ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.thigh.az + s.bodies.crank.ax));
-  const T _sum_rates_1 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.shank.az + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az));
-  const T _sum_rates_2 = ((s.bodies.barrel1.ax + s.bodies.barrel1.ay) + (s.bodies.barrel1.az + s.bodies.rod1.ax)) + ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.barrel2.ax + s.bodies.barrel2.ay));
-  const T _sum_rates_3 = ((s.bodies.barrel2.az + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.az)) + ((s.bodies.barrel3.ax + s.bodies.barrel3.ay) + (s.bodies.barrel3.az + s.bodies.rod3.ax));
-  const T _sum_rates_4 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.ay + s.points.H.az) + (s.points.F.ay + s.points.F.az));
-  const T _sum_rates_5 = ((s.points.N.ay + s.points.N.az) + (s.points.A.ax + s.points.A.ay)) + ((s.points.A.az + s.points.G.ax) + (s.points.G.ay + s.points.G.az));
-  const T _sum_rates_6 = ((s.points.C.ax + s.points.C.ay) + (s.points.C.az + s.points.B.ax)) + ((s.points.B.ay + s.points.B.az) + (s.points.D.ax + s.points.D.ay));
-  const T _sum_rates_7 = s.points.D.az;
-  const T _sum_rates = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[4]) + (s.closure.pivot[5] + s.closure.pivot[6])) + ((s.closure.pivot[8] + s.closure.pivot[9]) + (s.closure.pivot[11] + s.closure.pivot[12]));
+  const T _sum_rates_1 = ((s.closure.pivot[13] + s.closure.pivot[14]) + (s.closure.pivot[15] + s.closure.pivot[17])) + ((s.closure.pivot[18] + s.closure.pivot[19]) + (s.closure.pivot[20] + s.closure.pivot[21]));
+  const T _sum_rates_2 = ((s.closure.pivot[22] + s.closure.pivot[23]) + (s.bodies.frame.ay + s.bodies.frame.az)) + ((s.bodies.thigh.ax + s.bodies.thigh.ay) + (s.bodies.thigh.az + s.bodies.crank.ax));
+  const T _sum_rates_3 = ((s.bodies.crank.ay + s.bodies.crank.az) + (s.bodies.shank.ax + s.bodies.shank.ay)) + ((s.bodies.shank.az + s.bodies.coupler.ax) + (s.bodies.coupler.ay + s.bodies.coupler.az));
+  const T _sum_rates_4 = ((s.bodies.barrel1.ax + s.bodies.barrel1.ay) + (s.bodies.barrel1.az + s.bodies.rod1.ax)) + ((s.bodies.rod1.ay + s.bodies.rod1.az) + (s.bodies.barrel2.ax + s.bodies.barrel2.ay));
+  const T _sum_rates_5 = ((s.bodies.barrel2.az + s.bodies.rod2.ax) + (s.bodies.rod2.ay + s.bodies.rod2.az)) + ((s.bodies.barrel3.ax + s.bodies.barrel3.ay) + (s.bodies.barrel3.az + s.bodies.rod3.ax));
+  const T _sum_rates_6 = ((s.bodies.rod3.ay + s.bodies.rod3.az) + (s.points.Q.ay + s.points.Q.az)) + ((s.points.H.ay + s.points.H.az) + (s.points.F.ay + s.points.F.az));
+  const T _sum_rates_7 = ((s.points.N.ay + s.points.N.az) + (s.points.A.ax + s.points.A.ay)) + ((s.points.A.az + s.points.G.ax) + (s.points.G.ay + s.points.G.az));
+  const T _sum_rates_8 = ((s.points.C.ax + s.points.C.ay) + (s.points.C.az + s.points.B.ax)) + ((s.points.B.ay + s.points.B.az) + (s.points.D.ax + s.points.D.ay));
+  const T _sum_rates_9 = s.points.D.az;
+  const T _sum_rates_10 = ((_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3)) + ((_sum_rates_4 + _sum_rates_5) + (_sum_rates_6 + _sum_rates_7));
+  const T _sum_rates_11 = _sum_rates_8 + _sum_rates_9;
+  const T _sum_rates = _sum_rates_10 + _sum_rates_11;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.swing.fx + s.joints.swing.fy) + (s.joints.swing.fz + s.joints.swing.mx)) + ((s.joints.swing.my + s.joints.swing.mz) + (s.joints.hip.mx + s.joints.hip.my));
   const T _sum_forces_1 = ((s.joints.hip.mz + s.joints.crank_pivot.mx) + (s.joints.crank_pivot.my + s.joints.crank_pivot.mz)) + ((s.joints.knee.mx + s.joints.knee.my) + (s.joints.knee.mz + s.joints.coupler_B.mx));
@@ -8967,12 +9051,15 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 19, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 15, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.901543277919752e-17)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[4] * s.closure.pivot[16] * s.closure.pivot[17] * s.closure.pivot[23]) > T(8.933411499561216e-12)))
+    return s.failed_group = 15, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[5] * s.closure.pivot[6] * s.closure.pivot[7] * s.closure.pivot[8] * s.closure.pivot[9] * s.closure.pivot[10] * s.closure.pivot[11] * s.closure.pivot[12] * s.closure.pivot[13] * s.closure.pivot[14] * s.closure.pivot[15] * s.closure.pivot[18] * s.closure.pivot[19] * s.closure.pivot[20] * s.closure.pivot[21] * s.closure.pivot[22]) > T(4.3673609775071765e-15)))
     return s.failed_group = 15, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -8995,7 +9082,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 13780
+  // Total ops: 13758
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
@@ -10394,7 +10481,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_a21_22_22 = lu_a19_22_22 - lu_a19_21_22*lu_f22_21;
   const T lu_ipiv22 = T(1)/lu_a21_22_22;
   const T lu_ipiv23 = T(1)/lu_a17_23_23;
-  const T closure_det = -s0_cyl3_base_1_y*R_rod2_00*R_shank_00*cos_cyl1_base_1*cos_cyl3_base_1*cos_swing*lu_a10_11_11*lu_a11_13_13*lu_a12_15_15*lu_a13_14_14*lu_a14_18_18*lu_a15_20_20*lu_a17_23_23*lu_a18_19_19*lu_a19_21_21*lu_a1_4_4*lu_a21_22_22*lu_a2_5_5*lu_a4_17_17*lu_a5_6_6*lu_a6_12_12*lu_a7_8_8*lu_a8_9_9;
   const T vel_b1_17 = -in.l3_d*sv_cyl3_x;
   const T vel_b2_12 = -in.l2_d*sv_cyl2_z;
   const T vel_b2_15 = -in.l2_d*sv_cyl2_y;
@@ -11477,7 +11563,30 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[22] = q_coupler_C_1;
   s.closure.wnext[23] = q_coupler_C_2;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = cos_cyl3_base_1;
+  s.closure.pivot[2] = R_rod2_00;
+  s.closure.pivot[3] = cos_cyl1_base_1;
+  s.closure.pivot[4] = lu_a1_4_4;
+  s.closure.pivot[5] = lu_a2_5_5;
+  s.closure.pivot[6] = lu_a5_6_6;
+  s.closure.pivot[7] = -cos_swing;
+  s.closure.pivot[8] = lu_a7_8_8;
+  s.closure.pivot[9] = lu_a8_9_9;
+  s.closure.pivot[10] = R_shank_00;
+  s.closure.pivot[11] = lu_a10_11_11;
+  s.closure.pivot[12] = lu_a6_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a13_14_14;
+  s.closure.pivot[15] = lu_a12_15_15;
+  s.closure.pivot[16] = -s0_cyl3_base_1_y;
+  s.closure.pivot[17] = lu_a4_17_17;
+  s.closure.pivot[18] = lu_a14_18_18;
+  s.closure.pivot[19] = lu_a18_19_19;
+  s.closure.pivot[20] = lu_a15_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a21_22_22;
+  s.closure.pivot[23] = lu_a17_23_23;
   s.closure.wdnext[0] = vel_x0;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x1;
@@ -11716,19 +11825,24 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_rates_0 = ((s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + s.closure.wnext[3])) + ((s.closure.wnext[4] + s.closure.wnext[5]) + (s.closure.wnext[6] + s.closure.wnext[7]));
   const T _sum_rates_1 = ((s.closure.wnext[8] + s.closure.wnext[9]) + (s.closure.wnext[10] + s.closure.wnext[11])) + ((s.closure.wnext[12] + s.closure.wnext[13]) + (s.closure.wnext[14] + s.closure.wnext[15]));
   const T _sum_rates_2 = ((s.closure.wnext[16] + s.closure.wnext[17]) + (s.closure.wnext[18] + s.closure.wnext[19])) + ((s.closure.wnext[20] + s.closure.wnext[21]) + (s.closure.wnext[22] + s.closure.wnext[23]));
-  const T _sum_rates_3 = (s.closure.residual + (s.closure.det + s.closure.wddnext[0])) + ((s.closure.wddnext[2] + s.closure.wddnext[6]) + (s.closure.wddnext[8] + s.closure.wddnext[15]));
-  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
+  const T _sum_rates_3 = ((s.closure.residual + s.closure.pivot[4]) + (s.closure.pivot[5] + s.closure.pivot[6])) + ((s.closure.pivot[8] + s.closure.pivot[9]) + (s.closure.pivot[11] + s.closure.pivot[12]));
+  const T _sum_rates_4 = ((s.closure.pivot[13] + s.closure.pivot[14]) + (s.closure.pivot[15] + s.closure.pivot[17])) + ((s.closure.pivot[18] + s.closure.pivot[19]) + (s.closure.pivot[20] + s.closure.pivot[21]));
+  const T _sum_rates_5 = (s.closure.pivot[22] + (s.closure.pivot[23] + s.closure.wddnext[0])) + ((s.closure.wddnext[2] + s.closure.wddnext[6]) + (s.closure.wddnext[8] + s.closure.wddnext[15]));
+  const T _sum_rates = (_sum_rates_0 + (_sum_rates_1 + _sum_rates_2)) + (_sum_rates_3 + (_sum_rates_4 + _sum_rates_5));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 18, Status::non_finite);
   const T _sum_forces = s.drivers.l1.effort + (s.drivers.l2.effort + s.drivers.l3.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 19, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 15, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.901543277919752e-17)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[4] * s.closure.pivot[16] * s.closure.pivot[17] * s.closure.pivot[23]) > T(8.933411499561216e-12)))
+    return s.failed_group = 15, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[5] * s.closure.pivot[6] * s.closure.pivot[7] * s.closure.pivot[8] * s.closure.pivot[9] * s.closure.pivot[10] * s.closure.pivot[11] * s.closure.pivot[12] * s.closure.pivot[13] * s.closure.pivot[14] * s.closure.pivot[15] * s.closure.pivot[18] * s.closure.pivot[19] * s.closure.pivot[20] * s.closure.pivot[21] * s.closure.pivot[22]) > T(4.3673609775071765e-15)))
     return s.failed_group = 15, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -12173,7 +12287,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 13110
+  // Total ops: 13088
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
@@ -13585,7 +13699,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_a21_22_22 = lu_a19_22_22 - lu_a19_21_22*lu_f22_21;
   const T lu_ipiv22 = T(1)/lu_a21_22_22;
   const T lu_ipiv23 = T(1)/lu_a17_23_23;
-  const T closure_det = -s0_cyl3_base_1_y*R_rod2_00*R_shank_00*cos_cyl1_base_1*cos_cyl3_base_1*cos_swing*lu_a10_11_11*lu_a11_13_13*lu_a12_15_15*lu_a13_14_14*lu_a14_18_18*lu_a15_20_20*lu_a17_23_23*lu_a18_19_19*lu_a19_21_21*lu_a1_4_4*lu_a21_22_22*lu_a2_5_5*lu_a4_17_17*lu_a5_6_6*lu_a6_12_12*lu_a7_8_8*lu_a8_9_9;
   const T vel_b1_17 = -in.l3_d*sv_cyl3_x;
   const T vel_b2_12 = -in.l2_d*sv_cyl2_z;
   const T vel_b2_15 = -in.l2_d*sv_cyl2_y;
@@ -15072,7 +15185,30 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[22] = q_coupler_C_1;
   s.closure.wnext[23] = q_coupler_C_2;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = cos_cyl3_base_1;
+  s.closure.pivot[2] = R_rod2_00;
+  s.closure.pivot[3] = cos_cyl1_base_1;
+  s.closure.pivot[4] = lu_a1_4_4;
+  s.closure.pivot[5] = lu_a2_5_5;
+  s.closure.pivot[6] = lu_a5_6_6;
+  s.closure.pivot[7] = -cos_swing;
+  s.closure.pivot[8] = lu_a7_8_8;
+  s.closure.pivot[9] = lu_a8_9_9;
+  s.closure.pivot[10] = R_shank_00;
+  s.closure.pivot[11] = lu_a10_11_11;
+  s.closure.pivot[12] = lu_a6_12_12;
+  s.closure.pivot[13] = lu_a11_13_13;
+  s.closure.pivot[14] = lu_a13_14_14;
+  s.closure.pivot[15] = lu_a12_15_15;
+  s.closure.pivot[16] = -s0_cyl3_base_1_y;
+  s.closure.pivot[17] = lu_a4_17_17;
+  s.closure.pivot[18] = lu_a14_18_18;
+  s.closure.pivot[19] = lu_a18_19_19;
+  s.closure.pivot[20] = lu_a15_20_20;
+  s.closure.pivot[21] = lu_a19_21_21;
+  s.closure.pivot[22] = lu_a21_22_22;
+  s.closure.pivot[23] = lu_a17_23_23;
   s.closure.wdnext[0] = vel_x0;
   s.closure.wdnext[1] = vel_x16;
   s.closure.wdnext[2] = vel_x1;
@@ -15138,20 +15274,25 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_forces_14 = ((s.closure.wnext[1] + s.closure.wnext[2]) + (s.closure.wnext[3] + s.closure.wnext[4])) + ((s.closure.wnext[5] + s.closure.wnext[6]) + (s.closure.wnext[7] + s.closure.wnext[8]));
   const T _sum_forces_15 = ((s.closure.wnext[9] + s.closure.wnext[10]) + (s.closure.wnext[11] + s.closure.wnext[12])) + ((s.closure.wnext[13] + s.closure.wnext[14]) + (s.closure.wnext[15] + s.closure.wnext[16]));
   const T _sum_forces_16 = ((s.closure.wnext[17] + s.closure.wnext[18]) + (s.closure.wnext[19] + s.closure.wnext[20])) + ((s.closure.wnext[21] + s.closure.wnext[22]) + (s.closure.wnext[23] + s.closure.residual));
-  const T _sum_forces_17 = s.closure.det;
-  const T _sum_forces_18 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
-  const T _sum_forces_19 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
-  const T _sum_forces_20 = _sum_forces_16 + _sum_forces_17;
-  const T _sum_forces = _sum_forces_18 + (_sum_forces_19 + _sum_forces_20);
+  const T _sum_forces_17 = ((s.closure.pivot[4] + s.closure.pivot[5]) + (s.closure.pivot[6] + s.closure.pivot[8])) + ((s.closure.pivot[9] + s.closure.pivot[11]) + (s.closure.pivot[12] + s.closure.pivot[13]));
+  const T _sum_forces_18 = ((s.closure.pivot[14] + s.closure.pivot[15]) + (s.closure.pivot[17] + s.closure.pivot[18])) + ((s.closure.pivot[19] + s.closure.pivot[20]) + (s.closure.pivot[21] + s.closure.pivot[22]));
+  const T _sum_forces_19 = s.closure.pivot[23];
+  const T _sum_forces_20 = ((_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3)) + ((_sum_forces_4 + _sum_forces_5) + (_sum_forces_6 + _sum_forces_7));
+  const T _sum_forces_21 = ((_sum_forces_8 + _sum_forces_9) + (_sum_forces_10 + _sum_forces_11)) + ((_sum_forces_12 + _sum_forces_13) + (_sum_forces_14 + _sum_forces_15));
+  const T _sum_forces_22 = (_sum_forces_16 + _sum_forces_17) + (_sum_forces_18 + _sum_forces_19);
+  const T _sum_forces = _sum_forces_20 + (_sum_forces_21 + _sum_forces_22);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 19, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 15, Status::unreachable;
-  if (!(abs(s.closure.det) > T(3.901543277919752e-17)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[4] * s.closure.pivot[16] * s.closure.pivot[17] * s.closure.pivot[23]) > T(8.933411499561216e-12)))
+    return s.failed_group = 15, Status::singular;
+  if (!(abs(s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[5] * s.closure.pivot[6] * s.closure.pivot[7] * s.closure.pivot[8] * s.closure.pivot[9] * s.closure.pivot[10] * s.closure.pivot[11] * s.closure.pivot[12] * s.closure.pivot[13] * s.closure.pivot[14] * s.closure.pivot[15] * s.closure.pivot[18] * s.closure.pivot[19] * s.closure.pivot[20] * s.closure.pivot[21] * s.closure.pivot[22]) > T(4.3673609775071765e-15)))
     return s.failed_group = 15, Status::singular;
   for (int i = 0; i < 24; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

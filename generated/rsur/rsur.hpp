@@ -239,7 +239,7 @@ struct State {
     Real B[3][primary_count] = {};
     Real C[3][primary_count] = {};
   } point_jacobians;
-  // The closure: squared closure error and det N_s; the closed-form angles' warm start (the assembly at t0 by default,
+  // The closure: squared closure error and the pivots of N_s's elimination; the closed-form angles' warm start (the assembly at t0 by default,
   // unwinding: joint angles stay continuous) and the last call's angles.
   struct {
     Real w[6] = {Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0)};
@@ -250,7 +250,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, det;
+    Real residual, pivot[6];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -300,7 +300,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 1701
+  // Total ops: 1697
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
   const T s0_jC_1_z = p.c + p.h;
@@ -504,7 +504,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
   const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
   const T vel_b1_2 = in.theta_d*lu_f2_1;
   const T vel_b1_3 = in.theta_d*lu_f3_1;
   const T vel_b1_4 = in.theta_d*lu_f4_1;
@@ -663,7 +662,12 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[4] = q_jC_2;
   s.closure.wnext[5] = q_jD;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = sw_jB_3_z;
+  s.closure.pivot[2] = lu_a1_2_2;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = lu_a3_4_4;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x5;
   s.closure.wdnext[1] = vel_x4;
   s.closure.wdnext[2] = vel_x1;
@@ -828,18 +832,20 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_2 = (s.body_jacobians.rocker[5][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]);
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.coupler.ax + s.bodies.coupler.ay) + (s.bodies.coupler.az + s.bodies.rocker.ay));
-  const T _sum_rates_1 = (s.bodies.rocker.az + (s.points.B.ax + s.points.B.ay)) + (s.points.C.ax + (s.points.C.ay + s.points.C.az));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[2]) + (s.closure.pivot[3] + s.closure.pivot[4])) + ((s.closure.pivot[5] + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.coupler.ax));
+  const T _sum_rates_1 = ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.rocker.ay + s.bodies.rocker.az)) + ((s.points.B.ax + s.points.B.ay) + (s.points.C.ax + s.points.C.ay));
+  const T _sum_rates_2 = s.points.C.az;
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(7.000000000000001e-13)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 6; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -864,7 +870,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 1159
+  // Total ops: 1155
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
   const T s0_jC_1_z = p.c + p.h;
@@ -1068,7 +1074,6 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
   const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
   const T vel_b1_2 = in.theta_d*lu_f2_1;
   const T vel_b1_3 = in.theta_d*lu_f3_1;
   const T vel_b1_4 = in.theta_d*lu_f4_1;
@@ -1128,7 +1133,12 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.wnext[4] = q_jC_2;
   s.closure.wnext[5] = q_jD;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = sw_jB_3_z;
+  s.closure.pivot[2] = lu_a1_2_2;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = lu_a3_4_4;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x5;
   s.closure.wdnext[1] = vel_x4;
   s.closure.wdnext[2] = vel_x1;
@@ -1234,18 +1244,20 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_2 = s.points.C.y + s.points.C.z;
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.vz + s.bodies.rocker.vy));
-  const T _sum_rates_1 = (s.bodies.rocker.vz + (s.points.B.vx + s.points.B.vy)) + (s.points.C.vx + (s.points.C.vy + s.points.C.vz));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[2]) + (s.closure.pivot[3] + s.closure.pivot[4])) + ((s.closure.pivot[5] + s.bodies.crank.vx) + (s.bodies.crank.vy + s.bodies.coupler.vx));
+  const T _sum_rates_1 = ((s.bodies.coupler.vy + s.bodies.coupler.vz) + (s.bodies.rocker.vy + s.bodies.rocker.vz)) + ((s.points.B.vx + s.points.B.vy) + (s.points.C.vx + s.points.C.vy));
+  const T _sum_rates_2 = s.points.C.vz;
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(7.000000000000001e-13)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 6; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1268,7 +1280,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 2431
+  // Total ops: 2427
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
   const T s0_jC_1_z = p.c + p.h;
@@ -1476,7 +1488,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
   const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
   const T vel_b1_2 = in.theta_d*lu_f2_1;
   const T vel_b1_3 = in.theta_d*lu_f3_1;
   const T vel_b1_4 = in.theta_d*lu_f4_1;
@@ -1750,7 +1761,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.wnext[4] = q_jC_2;
   s.closure.wnext[5] = q_jD;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = sw_jB_3_z;
+  s.closure.pivot[2] = lu_a1_2_2;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = lu_a3_4_4;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x5;
   s.closure.wdnext[1] = vel_x4;
   s.closure.wdnext[2] = vel_x1;
@@ -1940,9 +1956,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_2 = (s.body_jacobians.rocker[5][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]);
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.det) + (s.bodies.crank.ax + s.bodies.crank.ay)) + ((s.bodies.coupler.ax + s.bodies.coupler.ay) + (s.bodies.coupler.az + s.bodies.rocker.ay));
-  const T _sum_rates_1 = (s.bodies.rocker.az + (s.points.B.ax + s.points.B.ay)) + (s.points.C.ax + (s.points.C.ay + s.points.C.az));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[2]) + (s.closure.pivot[3] + s.closure.pivot[4])) + ((s.closure.pivot[5] + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.coupler.ax));
+  const T _sum_rates_1 = ((s.bodies.coupler.ay + s.bodies.coupler.az) + (s.bodies.rocker.ay + s.bodies.rocker.az)) + ((s.points.B.ax + s.points.B.ay) + (s.points.C.ax + s.points.C.ay));
+  const T _sum_rates_2 = s.points.C.az;
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.jA.fx + s.joints.jA.fy) + (s.joints.jA.fz + s.joints.jA.mx)) + ((s.joints.jA.my + s.joints.jA.mz) + (s.joints.jB.mx + s.joints.jB.my));
   const T _sum_forces_1 = (s.joints.jB.mz + (s.joints.jC.mx + s.joints.jC.my)) + ((s.joints.jC.mz + s.joints.jD.mx) + (s.joints.jD.my + s.joints.jD.mz));
@@ -1950,12 +1967,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(7.000000000000001e-13)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 6; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1978,7 +1996,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 2206
+  // Total ops: 2202
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
   const T s0_jC_1_z = p.c + p.h;
@@ -2184,7 +2202,6 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
   const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
   const T vel_b1_2 = in.theta_d*lu_f2_1;
   const T vel_b1_3 = in.theta_d*lu_f3_1;
   const T vel_b1_4 = in.theta_d*lu_f4_1;
@@ -2407,7 +2424,12 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[4] = q_jC_2;
   s.closure.wnext[5] = q_jD;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = sw_jB_3_z;
+  s.closure.pivot[2] = lu_a1_2_2;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = lu_a3_4_4;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x5;
   s.closure.wdnext[1] = vel_x4;
   s.closure.wdnext[2] = vel_x1;
@@ -2450,20 +2472,21 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.drivers.theta.effort = tau_theta;
   const T _sum_positions = (s.points.B.x + (s.points.B.y + s.body_jacobians.rocker[4][0])) + ((s.body_jacobians.rocker[5][0] + s.point_jacobians.C[0][0]) + (s.point_jacobians.C[1][0] + s.point_jacobians.C[2][0]));
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 6, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + s.closure.wnext[3])) + ((s.closure.wnext[4] + s.closure.wnext[5]) + (s.closure.residual + s.closure.det));
-  const T _sum_rates_1 = s.closure.wdnext[5] + s.closure.wddnext[5];
+  const T _sum_rates_0 = ((s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + s.closure.wnext[3])) + ((s.closure.wnext[4] + s.closure.wnext[5]) + (s.closure.residual + s.closure.pivot[2]));
+  const T _sum_rates_1 = (s.closure.pivot[3] + s.closure.pivot[4]) + (s.closure.pivot[5] + (s.closure.wdnext[5] + s.closure.wddnext[5]));
   const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 7, Status::non_finite);
   const T _sum_forces = s.drivers.theta.effort;
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(7.000000000000001e-13)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 6; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -2656,7 +2679,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 5, Status::unreachable);
-  // Total ops: 2153
+  // Total ops: 2149
   const T cos_jA = cos(in.theta);
   const T sin_jA = sin(in.theta);
   const T s0_jC_1_z = p.c + p.h;
@@ -2861,7 +2884,6 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = lu_a3_5_4*lu_ipiv4;
   const T lu_a4_5_5 = lu_a3_5_5 - lu_a3_4_5*lu_f5_4;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T closure_det = -lu_a1_2_2*lu_a2_3_3*lu_a3_4_4*lu_a4_5_5*sw_jB_3_z;
   const T vel_b1_2 = in.theta_d*lu_f2_1;
   const T vel_b1_3 = in.theta_d*lu_f3_1;
   const T vel_b1_4 = in.theta_d*lu_f4_1;
@@ -3175,7 +3197,12 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.wnext[4] = q_jC_2;
   s.closure.wnext[5] = q_jD;
   s.closure.residual = closure_residual;
-  s.closure.det = closure_det;
+  s.closure.pivot[0] = -T(1);
+  s.closure.pivot[1] = sw_jB_3_z;
+  s.closure.pivot[2] = lu_a1_2_2;
+  s.closure.pivot[3] = lu_a2_3_3;
+  s.closure.pivot[4] = lu_a3_4_4;
+  s.closure.pivot[5] = lu_a4_5_5;
   s.closure.wdnext[0] = vel_x5;
   s.closure.wdnext[1] = vel_x4;
   s.closure.wdnext[2] = vel_x1;
@@ -3192,17 +3219,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_forces_1 = ((A[533] + A[562]) + (A[563] + A[564])) + ((A[587] + A[588]) + (A[589] + A[619]));
   const T _sum_forces_2 = ((A[620] + b[2]) + (b[3] + b[4])) + ((b[5] + b[9]) + (b[10] + b[11]));
   const T _sum_forces_3 = ((b[15] + s.closure.wnext[0]) + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.wnext[3] + s.closure.wnext[4]) + (s.closure.wnext[5] + s.closure.residual));
-  const T _sum_forces_4 = s.closure.det;
+  const T _sum_forces_4 = (s.closure.pivot[2] + s.closure.pivot[3]) + (s.closure.pivot[4] + s.closure.pivot[5]);
   const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + (_sum_forces_3 + _sum_forces_4));
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 8, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
-  // singular there (|det| below 1e-9 of its value at the assembly).
+  // singular there: the determinant of an independent block (circuits that share coordinates)
+  // below 1e-9 of its value at the assembly.
   using std::abs;
   if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 4, Status::unreachable;
-  if (!(abs(s.closure.det) > T(7.000000000000001e-13)))
+  if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(7.000000000000001e-13)))
     return s.failed_group = 4, Status::singular;
   for (int i = 0; i < 6; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

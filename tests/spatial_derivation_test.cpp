@@ -19,6 +19,7 @@
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
 #include "spatial_derivation_values.hpp"
+#include "spatial_test_models.hpp"
 
 namespace mechgen::gen {
 namespace {
@@ -333,38 +334,9 @@ TEST(SpatialDerivation, RandomChainsEqualTheNumericSolver) {
 // regular pose). Expected: as many blocks as copies, six pivots each, each block's determinant the
 // single loop's.
 TEST(SpatialDerivation, IndependentCircuitsAreCheckedBlockByBlock) {
-  const std::string rsur = model_text("rsur");
-  const size_t bodies = rsur.find("bodies:");
-  ASSERT_NE(bodies, std::string::npos);
   constexpr int kCopies = 4;
-  std::string ground, moving, joints, drivers;
-  for (int i = 0; i < kCopies; ++i) {
-    const std::string k = std::to_string(i), x = std::to_string(0.3 * i);
-    ground += (i ? ", " : "") + std::string("A") + k + ": [" + x + ", 0, 0], D" + k + ": [" + x +
-              ", d, h]";
-    moving += "  - {name: crank" + k + ", points: {A" + k + ": [" + x + ", 0, 0], B" + k + ": [" +
-              x + " + a, 0, 0]}, mass: {bar: [A" + k + ", B" + k +
-              "], radius: r, density: rho}}\n"
-              "  - {name: coupler" +
-              k + ", points: {B" + k + ": [" + x + " + a, 0, 0], C" + k + ": [" + x +
-              ", d, h + c]}, mass: {bar: [B" + k + ", C" + k +
-              "], radius: r, density: rho}}\n"
-              "  - {name: rocker" +
-              k + ", points: {D" + k + ": [" + x + ", d, h], C" + k + ": [" + x +
-              ", d, h + c]}, mass: {bar: [D" + k + ", C" + k + "], radius: r, density: rho}}\n";
-    joints += "  - {name: jA" + k + ", type: revolute, first: ground, second: crank" + k +
-              ", s: [0, 0, 1], s0: A" + k + "}\n  - {name: jB" + k +
-              ", type: spherical, first: crank" + k + ", second: coupler" + k + ", s0: B" + k +
-              "}\n  - {name: jC" + k + ", type: universal, first: coupler" + k +
-              ", second: rocker" + k + ", s: [1, 0, 0], s2: [0, 0, 1], s0: C" + k +
-              "}\n  - {name: jD" + k + ", type: revolute, first: ground, second: rocker" + k +
-              ", s: [1, 0, 0], s0: D" + k + "}\n";
-    drivers += "  - {name: theta" + k + ", joint: jA" + k + ", kind: angle, value: w*t}\n";
-  }
-  const std::string copies = rsur.substr(0, bodies) +
-                             "bodies:\n  - {name: ground, ground: true, points: {" + ground +
-                             "}}\n" + moving + "joints:\n" + joints + "drivers:\n" + drivers +
-                             "step: {t0: 0, t1: 2*pi/w, samples: 181}\n";
+  const std::string rsur = model_text("rsur");
+  const std::string copies = spatial::rsur_copies(kCopies, false);
   const SpatialModel one_model = read_spatial_model_text(rsur, "rsur.yaml");
   const SpatialDerivation one = derive_spatial(one_model, build_spatial_graph(one_model));
   const SpatialModel model = read_spatial_model_text(copies, "rsur_copies.yaml");

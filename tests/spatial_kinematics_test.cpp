@@ -277,5 +277,27 @@ TEST(SpatialKinematics, CoarseSamplesFollowTheBranchOfFineOnes) {
   }
 }
 
+// Cranks started out of phase (issue 28): Newton-Raphson from the assembly hints (every joint at
+// zero) does not close four RSUR copies whose cranks start a quarter turn apart; the first
+// assembly moves the drivers there from the hints' values in steps. Each copy must then sit where
+// the single loop, followed continuously from its hints, is when its crank has turned as far.
+TEST(SpatialKinematics, OutOfPhaseCranksAssembleByContinuationFromTheHints) {
+  constexpr int kCopies = 4;
+  const SpatialModel model = read_spatial_model_text(rsur_copies(kCopies, true), "copies.yaml");
+  const SpatialSolver solver(model, model.common.default_parameters());
+  SpatialState s;
+  solver.solve(0, s);
+  const SpatialModel one = read_spatial_model(MECHGEN_SOURCE_DIR "/models/rsur.yaml");
+  const std::vector<double> defaults = one.common.default_parameters();
+  const SpatialSolver single(one, defaults);
+  const double w = 2;  // models/rsur.yaml's crank speed
+  for (int i = 0; i < kCopies; ++i) {
+    SpatialState loop;
+    for (int f = 0; f <= 32 * i; ++f) single.solve(2 * M_PI / kCopies / w * f / 32, loop);
+    const Eigen::Index offset = 7 * i;  // seven coordinates a copy, in model order
+    EXPECT_LT((s.q.segment(offset, 7) - loop.q).cwiseAbs().maxCoeff(), 1e-9) << "copy " << i;
+  }
+}
+
 }  // namespace
 }  // namespace mechgen::spatial

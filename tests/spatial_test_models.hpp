@@ -17,6 +17,38 @@ inline std::string text_of(const std::string& path) {
   return s.str();
 }
 
+// `copies` RSUR loops (models/rsur.yaml) side by side 0.3 m apart along x, sharing only the ground,
+// one crank driver each at w*t, shifted by 2 pi i / copies when `out_of_phase`.
+inline std::string rsur_copies(int copies, bool out_of_phase) {
+  const std::string rsur = text_of(MECHGEN_SOURCE_DIR "/models/rsur.yaml");
+  std::string ground, moving, joints, drivers;
+  for (int i = 0; i < copies; ++i) {
+    const std::string k = std::to_string(i), x = std::to_string(0.3 * i);
+    const std::string bar = "], radius: r, density: rho}}\n";
+    ground += (i ? ", " : "") + std::string("A") + k + ": [" + x + ", 0, 0], D" + k + ": [" + x +
+              ", d, h]";
+    moving += "  - {name: crank" + k + ", points: {A" + k + ": [" + x + ", 0, 0], B" + k + ": [" +
+              x + " + a, 0, 0]}, mass: {bar: [A" + k + ", B" + k + bar + "  - {name: coupler" + k +
+              ", points: {B" + k + ": [" + x + " + a, 0, 0], C" + k + ": [" + x +
+              ", d, h + c]}, mass: {bar: [B" + k + ", C" + k + bar + "  - {name: rocker" + k +
+              ", points: {D" + k + ": [" + x + ", d, h], C" + k + ": [" + x +
+              ", d, h + c]}, mass: {bar: [D" + k + ", C" + k + bar;
+    joints += "  - {name: jA" + k + ", type: revolute, first: ground, second: crank" + k +
+              ", s: [0, 0, 1], s0: A" + k + "}\n  - {name: jB" + k +
+              ", type: spherical, first: crank" + k + ", second: coupler" + k + ", s0: B" + k +
+              "}\n  - {name: jC" + k + ", type: universal, first: coupler" + k +
+              ", second: rocker" + k + ", s: [1, 0, 0], s2: [0, 0, 1], s0: C" + k +
+              "}\n  - {name: jD" + k + ", type: revolute, first: ground, second: rocker" + k +
+              ", s: [1, 0, 0], s0: D" + k + "}\n";
+    drivers += "  - {name: theta" + k + ", joint: jA" + k + ", kind: angle, value: w*t" +
+               (out_of_phase && i ? " + 2*pi*" + k + "/" + std::to_string(copies) : "") + "}\n";
+  }
+  return rsur.substr(0, rsur.find("bodies:")) +
+         "bodies:\n  - {name: ground, ground: true, points: {" + ground + "}}\n" + moving +
+         "joints:\n" + joints + "drivers:\n" + drivers +
+         "step: {t0: 0, t1: 2*pi/w, samples: 181}\n";
+}
+
 // leg6 as inverse kinematics: the same leg, its foot pose-driven relative to the waist.
 inline std::string leg6_inverse_kinematics() {
   std::string text = text_of(MECHGEN_SOURCE_DIR "/models/leg6.yaml");

@@ -429,6 +429,69 @@ void SpatialSolver::advance(double t, SpatialState& s, int halvings) const {
   advance(t, s, halvings + 1);
 }
 
+// The first assembly: Newton-Raphson from the assembly hints with the drivers at their values at
+// t0. Where that does not close (drivers far from the hints' values: cranks started out of phase),
+// the drivers move from the hints' values to theirs in steps, each closed from the last (halved on
+// failure), when the hints themselves close: the assembly is then the one the hints' branch
+// reaches continuously, not whichever one Newton-Raphson falls into.
+void SpatialSolver::assemble(const Eigen::VectorXd& qp, SpatialState& s) const {
+  const Eigen::VectorXd hint = Eigen::Map<const Eigen::VectorXd>(
+      inst_.hint.data(), static_cast<Eigen::Index>(inst_.hint.size()));
+  const auto drive = [&](double fraction) {
+    for (size_t k = 0; k < graph_.primary.size(); ++k) {
+      const Eigen::Index c = graph_.primary[k];
+      s.q[c] = hint[c] + fraction * (qp[static_cast<Eigen::Index>(k)] - hint[c]);
+    }
+  };
+  s.q = hint;
+  drive(1);
+  try {
+    close_circuits(s, true);
+    return;
+  } catch (const ClosureFailure& direct) {
+    s.q = hint;
+    try {
+      close_circuits(s, true);
+    } catch (const ClosureFailure&) {
+      throw direct;  // the hints themselves do not close: nothing to continue from
+    }
+    double done = 0, step = 0.125;
+    Eigen::VectorXd travel(static_cast<Eigen::Index>(graph_.primary.size()));
+    for (size_t k = 0; k < graph_.primary.size(); ++k)
+      travel[static_cast<Eigen::Index>(k)] =
+          qp[static_cast<Eigen::Index>(k)] - hint[graph_.primary[k]];
+    while (done < 1) {
+      const Eigen::VectorXd from = s.q;
+      const double next = std::min(1.0, done + step);
+      // Start each step from the first-order prediction, and refuse a step that lands farther
+      // from it than a branch jump (Newton-Raphson wandering to another assembly or winding an
+      // angle by turns), as advance() does along time.
+      const Eigen::VectorXd predicted = secondary_map(s) * ((next - done) * travel);
+      for (size_t k = 0; k < graph_.secondary.size(); ++k)
+        s.q[graph_.secondary[k]] += predicted[static_cast<Eigen::Index>(k)];
+      const Eigen::VectorXd start = s.q;
+      drive(next);
+      bool closed = true;
+      try {
+        close_circuits(s, true);
+      } catch (const ClosureFailure&) {
+        closed = false;
+      }
+      for (size_t k = 0; closed && k < graph_.secondary.size(); ++k)
+        closed = std::abs(s.q[graph_.secondary[k]] - start[graph_.secondary[k]]) <= kBranchJump;
+      if (closed) {
+        done = next;
+        step = std::min(2 * step, 0.125);
+      } else {
+        s.q = from;
+        place(s);
+        step /= 2;
+        if (step < 1.0 / 4096) throw direct;
+      }
+    }
+  }
+}
+
 void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
                           const Eigen::VectorXd& qpdd, SpatialState& s) const {
   const auto np = static_cast<Eigen::Index>(graph_.primary.size());
@@ -437,17 +500,17 @@ void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::Vect
                                 " primary coordinates expected");
   const bool first = !s.assembled;
   if (first) {
-    s.q = Eigen::Map<const Eigen::VectorXd>(inst_.hint.data(),
-                                            static_cast<Eigen::Index>(inst_.hint.size()));
+    s.t = t;
+    assemble(qp, s);
   } else {
     // Continue from the previous sample, extrapolated along its rates.
     const double dt = t - s.t;
+    s.t = t;
     s.q += dt * s.qd + (dt * dt / 2) * s.qdd;
+    for (size_t k = 0; k < graph_.primary.size(); ++k)
+      s.q[graph_.primary[k]] = qp[static_cast<Eigen::Index>(k)];
+    close_circuits(s, first);
   }
-  s.t = t;
-  for (size_t k = 0; k < graph_.primary.size(); ++k)
-    s.q[graph_.primary[k]] = qp[static_cast<Eigen::Index>(k)];
-  close_circuits(s, first);
   if (first) check_mobility(network(s));
   rates(s, qpd, qpdd);
   s.assembled = true;

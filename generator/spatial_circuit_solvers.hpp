@@ -54,6 +54,10 @@ struct CircuitClosedForm {
   // Per graph column: its cosine and sine where the closed form has them without trigonometry
   // (the tree's positions then use them instead of cos q, sin q).
   std::map<int, std::pair<GiNaC::ex, GiNaC::ex>> cos_sin;
+  // Whether the circuit is closed by these coordinates. A partial closed form (false) defines some
+  // of the circuit's coordinates only (a planar loop with two unknown revolutes on one pivot gives
+  // their sum, not each): the circuit is offered again once other circuits gave more coordinates.
+  bool closes = true;
 };
 
 using CircuitSolver =
@@ -61,5 +65,10 @@ using CircuitSolver =
 
 // Every closed-form solver, in the order they are tried on each circuit.
 const std::vector<CircuitSolver>& circuit_solvers();
+
+// The solvers tried, after those above, only once those above make no more progress (issue 21
+// item 4: the imported robots' planar loops): a circuit the others close, at any pass, keeps the
+// kernel it had before them (the shipped models' kernels unchanged).
+const std::vector<CircuitSolver>& fallback_circuit_solvers();
 
 }  // namespace mechgen::gen

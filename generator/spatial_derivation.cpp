@@ -563,28 +563,36 @@ class Builder {
     std::vector<int> secondary_index(g_.columns.size(), -1);
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       secondary_index[static_cast<size_t>(g_.secondary[i])] = static_cast<int>(i);
-    for (bool progress = true; progress;) {
-      progress = false;
-      for (size_t ci = 0; ci < g_.chords.size(); ++ci)
-        for (const CircuitSolver& solver : circuit_solvers()) {
-          if (circuit_closed[ci]) break;
-          const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
-          if (!group) continue;
-          circuit_closed[ci] = progress = true;
-          const int index = static_cast<int>(out_.groups.size());
-          out_.closed_form_groups.push_back(index);
-          out_.groups.push_back(group->name);
-          out_.plan.push_back(group->name + ": " + group->plan);
-          for (const ex& reach : group->reach) out_.guards.push_back({reach, index});
-          for (const auto& [column, q] : group->coordinates) {
-            value[static_cast<size_t>(secondary_index[static_cast<size_t>(column)])] = q;
-            context.known[static_cast<size_t>(column)] = true;
+    // The fallback solvers join only once the others make no more progress.
+    std::vector<CircuitSolver> solvers = circuit_solvers();
+    for (int phase = 0; phase < 2; ++phase) {
+      if (phase == 1)
+        solvers.insert(solvers.end(), fallback_circuit_solvers().begin(),
+                       fallback_circuit_solvers().end());
+      for (bool progress = true; progress;) {
+        progress = false;
+        for (size_t ci = 0; ci < g_.chords.size(); ++ci)
+          for (const CircuitSolver& solver : solvers) {
+            if (circuit_closed[ci]) break;
+            const std::optional<CircuitClosedForm> group = solver(context, static_cast<int>(ci));
+            if (!group) continue;
+            circuit_closed[ci] = group->closes;
+            progress = true;
+            const int index = static_cast<int>(out_.groups.size());
+            out_.closed_form_groups.push_back(index);
+            out_.groups.push_back(group->name);
+            out_.plan.push_back(group->name + ": " + group->plan);
+            for (const ex& reach : group->reach) out_.guards.push_back({reach, index});
+            for (const auto& [column, q] : group->coordinates) {
+              value[static_cast<size_t>(secondary_index[static_cast<size_t>(column)])] = q;
+              context.known[static_cast<size_t>(column)] = true;
+            }
+            for (const auto& [column, cs] : group->cos_sin) {
+              trig_[GiNaC::cos(cols_[static_cast<size_t>(column)].q)] = cs.first;
+              trig_[GiNaC::sin(cols_[static_cast<size_t>(column)].q)] = cs.second;
+            }
           }
-          for (const auto& [column, cs] : group->cos_sin) {
-            trig_[GiNaC::cos(cols_[static_cast<size_t>(column)].q)] = cs.first;
-            trig_[GiNaC::sin(cols_[static_cast<size_t>(column)].q)] = cs.second;
-          }
-        }
+      }
     }
     return value;
   }

@@ -1,6 +1,8 @@
 // RRR dyads of planar loops inside spatial models (spatial_planar_loops.hpp).
 #include "spatial_planar_loops.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -125,17 +127,30 @@ struct DyadSolution {
 class DyadSolver {
  public:
   DyadSolver(const CircuitSolverContext& c, const Dyad& d, std::string prefix)
-      : c_(c), d_(d), prefix_(std::move(prefix)) {}
+      : c_(c), n_(d.n), prefix_(std::move(prefix)) {
+    for (int k = 0; k < 3; ++k) {
+      segment_[k] = segment_motion(c, d.segment[k]);
+      pivot_[k] = c.columns[static_cast<size_t>(d.column[k])].axis.s0;
+    }
+  }
+  // A loop R1 B1 R2 B2 R3 B3 = I given by its segments' motions and its pivots.
+  DyadSolver(const CircuitSolverContext& c, const V& n, const Pose (&segment)[3],
+             const V (&pivot)[3], std::string prefix)
+      : c_(c), n_(n), prefix_(std::move(prefix)) {
+    for (int k = 0; k < 3; ++k) {
+      segment_[k] = segment[k];
+      pivot_[k] = pivot[k];
+    }
+  }
 
   // Side lengths from the known segments; with `naming`, each intermediate a definition.
   // tau: which of the circles' two intersections (+1 or -1), or with `theta1_warm` (the warm
   // start of theta1) the one nearer it, chosen at run time.
   DyadSolution solve(int tau, bool naming, const ex* theta1_warm = nullptr) {
     naming_ = naming;
-    const V& n = d_.n;
+    const V& n = n_;
     const auto in_plane = [&n](const V& x) { return x - geometry::dot(x, n) * n; };
-    const Pose B1 = segment_motion(c_, d_.segment[0]), B2 = segment_motion(c_, d_.segment[1]),
-               B3 = segment_motion(c_, d_.segment[2]);
+    const Pose &B1 = segment_[0], &B2 = segment_[1], &B3 = segment_[2];
     const V& p1 = pivot(0);
     const V& p2 = pivot(1);
     const V& p3 = pivot(2);
@@ -185,16 +200,15 @@ class DyadSolver {
   // Which root the rule takes at the assembly (theta1 there).
   int assembly_branch(double theta1) {
     naming_ = false;
-    const V& n = d_.n;
+    const V& n = n_;
     const auto in_plane = [&n](const V& x) { return x - geometry::dot(x, n) * n; };
-    const V r = in_plane(
-        geometry::apply(geometry::inverse(segment_motion(c_, d_.segment[2])), pivot(2)) - pivot(0));
-    const V d = in_plane(geometry::apply(segment_motion(c_, d_.segment[0]), pivot(1)) - pivot(0));
+    const V r = in_plane(geometry::apply(geometry::inverse(segment_[2]), pivot(2)) - pivot(0));
+    const V d = in_plane(geometry::apply(segment_[0], pivot(1)) - pivot(0));
     return c_.at_assembly(nearer_plus(n, d, r, theta1)) >= 0 ? 1 : -1;
   }
 
  private:
-  const V& pivot(int k) const { return c_.columns[static_cast<size_t>(d_.column[k])].axis.s0; }
+  const V& pivot(int k) const { return pivot_[k]; }
   ex name(const std::string& n, const ex& e) const {
     return naming_ ? c_.named(prefix_ + n, e) : e;
   }
@@ -203,7 +217,9 @@ class DyadSolver {
   }
 
   const CircuitSolverContext& c_;
-  const Dyad& d_;
+  V n_;
+  Pose segment_[3];
+  V pivot_[3];
   std::string prefix_;
   bool naming_ = false;
 };
@@ -257,6 +273,301 @@ std::optional<CircuitClosedForm> planar_loop_closed_form(const CircuitSolverCont
   out.plan = "planar loop " + joints +
              " (parallel revolute axes) in closed form in its plane: circle intersection (the one "
              "nearer the warm start), angles unwound to the warm start";
+  return out;
+}
+
+namespace {
+
+// The loop at the coordinate level: each column of the circuit's joints in loop order (a joint's
+// columns reversed where the loop runs against it: (E1 E2)^-1 = E2^-1 E1^-1).
+struct LoopColumn {
+  int column = -1;
+  int direction = 1;
+};
+
+std::vector<LoopColumn> column_loop(const CircuitSolverContext& c, int circuit) {
+  std::vector<LoopColumn> out;
+  for (const CircuitStep& s : circuit_loop(c.model, c.graph, circuit)) {
+    const auto n = static_cast<int>(c.model.joints[static_cast<size_t>(s.joint)].columns.size());
+    const int c0 = c.graph.joint_column[static_cast<size_t>(s.joint)];
+    for (int i = 0; i < n; ++i)
+      out.push_back({s.direction > 0 ? c0 + i : c0 + n - 1 - i, s.direction});
+  }
+  return out;
+}
+
+Pose column_motion(const CircuitSolverContext& c, const LoopColumn& l) {
+  const Pose& E = c.columns[static_cast<size_t>(l.column)].displacement;
+  return l.direction > 0 ? E : geometry::inverse(E);
+}
+
+std::string column_name(const CircuitSolverContext& c, int column) {
+  const SpatialColumn& sc = c.graph.columns[static_cast<size_t>(column)];
+  const std::string& joint = c.model.joints[static_cast<size_t>(sc.joint)].name;
+  return sc.index == 0 ? joint : joint + "_" + std::to_string(sc.index + 1);
+}
+
+// q = w + atan2(sin(q - w), cos(q - w)): the angle of cosine cq and sine sq nearest the warm
+// start w (continuous along a sweep).
+ex unwound(const ex& cq, const ex& sq, const ex& w) {
+  const ex cw = GiNaC::cos(w), sw = GiNaC::sin(w);
+  return w + GiNaC::atan2((sq * cw - cq * sw).expand(), (cq * cw + sq * sw).expand());
+}
+
+// A planar loop read at the coordinate level: positions (indices in `loop`) of the unknown
+// revolutes parallel to n grouped by pivot (loop order, first group's first position the
+// reading's start), the other unknown positions held at 0.
+struct HeldLoop {
+  V n;
+  std::vector<LoopColumn> loop;
+  std::vector<bool> held;
+  std::vector<int> sigma;                   // per position: theta = sigma q about n
+  std::vector<std::vector<size_t>> pivots;  // unknown in-plane revolutes, by pivot
+};
+
+bool parallel(const CircuitSolverContext& c, const V& a, const V& n) {
+  return small(c, geometry::cross(a, n));
+}
+
+// Whether the held columns' screws, at the reference pose, move out of the plane independently:
+// their out-of-plane parts (w x n, v . n) have a Gram determinant away from 0.
+bool held_independent(const CircuitSolverContext& c, const HeldLoop& h) {
+  std::vector<std::array<double, 4>> a;
+  for (size_t k = 0; k < h.loop.size(); ++k) {
+    if (!h.held[k]) continue;
+    const geometry::Twist<ex> t =
+        geometry::unit_twist(c.columns[static_cast<size_t>(h.loop[k].column)].axis);
+    const V wn = geometry::cross(t.w, h.n);
+    a.push_back({c.at_assembly(wn[0]), c.at_assembly(wn[1]), c.at_assembly(wn[2]),
+                 c.at_assembly(geometry::dot(t.v, h.n))});
+  }
+  if (a.size() > 3) return false;
+  // Gram-Schmidt: each residual against the ones before must keep a fair part of its norm
+  // (lengths are scaled by the largest lever arm, so the test is on directions).
+  std::vector<std::array<double, 4>> basis;
+  for (std::array<double, 4> v : a) {
+    double norm0 = 0;
+    for (const double x : v) norm0 += x * x;
+    for (const auto& b : basis) {
+      double p = 0;
+      for (size_t i = 0; i < 4; ++i) p += v[i] * b[i];
+      for (size_t i = 0; i < 4; ++i) v[i] -= p * b[i];
+    }
+    double norm = 0;
+    for (const double x : v) norm += x * x;
+    if (!(norm0 > 0) || !(norm > 1e-6 * norm0)) return false;
+    for (double& x : v) x /= std::sqrt(norm);
+    basis.push_back(v);
+  }
+  return true;
+}
+
+std::optional<HeldLoop> find_held_loop(const CircuitSolverContext& c, int circuit) {
+  HeldLoop h;
+  h.loop = column_loop(c, circuit);
+  const size_t size = h.loop.size();
+  const auto axis = [&](size_t k) -> const geometry::ScrewAxis<ex>& {
+    return c.columns[static_cast<size_t>(h.loop[k].column)].axis;
+  };
+  const auto known = [&](size_t k) { return c.known[static_cast<size_t>(h.loop[k].column)]; };
+  const auto planar = [&](size_t k, const V& n) {
+    const geometry::ScrewAxis<ex>& a = axis(k);
+    return a.kind == geometry::ScrewKind::rotation
+               ? parallel(c, a.s, n)
+               : std::abs(c.at_assembly(geometry::dot(a.s, n))) < kTolerance;
+  };
+  // n: the rotation axis most columns are planar to (the first such on ties).
+  size_t best = 0;
+  for (size_t k = 0; k < size; ++k) {
+    if (axis(k).kind == geometry::ScrewKind::helical) return std::nullopt;
+    if (axis(k).kind != geometry::ScrewKind::rotation) continue;
+    size_t count = 0;
+    for (size_t i = 0; i < size; ++i) count += planar(i, axis(k).s) ? 1 : 0;
+    if (count > best) {
+      best = count;
+      h.n = axis(k).s;
+    }
+  }
+  if (best == 0) return std::nullopt;
+  h.held.assign(size, false);
+  h.sigma.assign(size, 1);
+  std::vector<size_t> unknown;
+  for (size_t k = 0; k < size; ++k) {
+    if (!planar(k, h.n)) {
+      // A known out-of-plane motion (a driver) tilts the plane: not this loop.
+      if (known(k) || !(std::abs(c.assembly_q[static_cast<size_t>(h.loop[k].column)]) < kTolerance))
+        return std::nullopt;
+      h.held[k] = true;
+      continue;
+    }
+    if (known(k)) continue;
+    if (axis(k).kind != geometry::ScrewKind::rotation) return std::nullopt;
+    h.sigma[k] = h.loop[k].direction * (c.at_assembly(geometry::dot(axis(k).s, h.n)) > 0 ? 1 : -1);
+    unknown.push_back(k);
+  }
+  if (unknown.size() < 3 || !held_independent(c, h)) return std::nullopt;
+  // Two unknown revolutes share a pivot when only held columns lie between them and their axes
+  // meet the plane at one point.
+  const auto shared = [&](size_t a, size_t b) {
+    for (size_t k = (a + 1) % size; k != b; k = (k + 1) % size)
+      if (!h.held[k]) return false;
+    const V d = axis(b).s0 - axis(a).s0;
+    return small(c, d - geometry::dot(d, h.n) * h.n);
+  };
+  size_t start = unknown.size();
+  for (size_t i = 0; i < unknown.size() && start == unknown.size(); ++i)
+    if (!shared(unknown[(i + unknown.size() - 1) % unknown.size()], unknown[i])) start = i;
+  if (start == unknown.size()) return std::nullopt;
+  for (size_t i = 0; i < unknown.size(); ++i) {
+    const size_t k = unknown[(start + i) % unknown.size()];
+    if (i > 0 && shared(h.pivots.back().back(), k))
+      h.pivots.back().push_back(k);
+    else
+      h.pivots.push_back({k});
+  }
+  if (h.pivots.size() != 3) return std::nullopt;
+  // The reading: a pivot with one revolute first (its angle takes the branch), preferably with
+  // nothing moving between it and the next (the circle intersection's base then never shrinks).
+  const auto moving_between = [&](size_t a, size_t b) {
+    for (size_t k = (a + 1) % size; k != b; k = (k + 1) % size)
+      if (!h.held[k]) return true;
+    return false;
+  };
+  int first = -1;
+  for (int r = 0; r < 3; ++r) {
+    const auto& p = h.pivots[static_cast<size_t>(r)];
+    if (p.size() != 1) continue;
+    if (first < 0) first = r;
+    if (!moving_between(p.back(), h.pivots[static_cast<size_t>((r + 1) % 3)].front())) {
+      first = r;
+      break;
+    }
+  }
+  if (first < 0) return std::nullopt;
+  std::rotate(h.pivots.begin(), h.pivots.begin() + first, h.pivots.end());
+  return h;
+}
+
+}  // namespace
+
+std::optional<CircuitClosedForm> planar_loop_held_closed_form(const CircuitSolverContext& c,
+                                                              int circuit) {
+  const std::optional<HeldLoop> found = find_held_loop(c, circuit);
+  if (!found) return std::nullopt;
+  const HeldLoop& h = *found;
+  const size_t size = h.loop.size();
+  Pose segment[3];
+  V pivot[3];
+  for (size_t k = 0; k < 3; ++k) {
+    pivot[k] = c.columns[static_cast<size_t>(h.loop[h.pivots[k].front()].column)].axis.s0;
+    const size_t end = h.pivots[(k + 1) % 3].front();
+    for (size_t i = (h.pivots[k].back() + 1) % size; i != end; i = (i + 1) % size)
+      if (!h.held[i]) segment[k] = segment[k] * column_motion(c, h.loop[i]);
+  }
+  const std::string chord =
+      c.model.joints[static_cast<size_t>(c.graph.chords[static_cast<size_t>(circuit)])].name;
+  DyadSolver solver(c, h.n, segment, pivot, "ph_" + chord + "_");
+  // Each pivot's angle at the assembly: the sum of its revolutes' theta.
+  double theta[3] = {0, 0, 0};
+  for (size_t k = 0; k < 3; ++k)
+    for (const size_t i : h.pivots[k])
+      theta[k] += h.sigma[i] * c.assembly_q[static_cast<size_t>(h.loop[i].column)];
+  const DyadSolution at_assembly = solver.solve(solver.assembly_branch(theta[0]), false);
+  if (!(c.at_assembly(at_assembly.disc) > 0)) return std::nullopt;
+  for (size_t k = 0; k < 3; ++k) {
+    const double t =
+        std::atan2(c.at_assembly(at_assembly.sin[k]), c.at_assembly(at_assembly.cos[k]));
+    if (!(std::abs(std::remainder(t - theta[k], 2 * M_PI)) < 1e-8)) return std::nullopt;
+  }
+  const size_t lead = h.pivots[0].front();
+  const int lead_column = h.loop[lead].column;
+  const ex warm0 = c.warm_start(lead_column);
+  const ex theta1_warm = h.sigma[lead] * warm0;
+  const DyadSolution s = solver.solve(0, true, &theta1_warm);
+  CircuitClosedForm out;
+  out.name = "planar_loop_held_" + chord;
+  out.reach.push_back(s.disc);
+  std::string joints, pairs, held;
+  for (size_t k = 0; k < 3; ++k) {
+    if (h.pivots[k].size() != 1) {
+      out.closes = false;
+      std::string names;
+      for (const size_t i : h.pivots[k])
+        names += (names.empty() ? "" : " + ") + column_name(c, h.loop[i].column);
+      pairs += (pairs.empty() ? "" : ", ") + names;
+      continue;
+    }
+    const size_t i = h.pivots[k].front();
+    const int col = h.loop[i].column;
+    const ex cq = s.cos[k], sq = h.sigma[i] * s.sin[k];
+    out.coordinates.emplace_back(col, unwound(cq, sq, k == 0 ? warm0 : c.warm_start(col)));
+    out.cos_sin[col] = {cq, c.named("ph_" + chord + "_sin_q" + std::to_string(k + 1), sq)};
+    joints += (joints.empty() ? "" : ", ") + column_name(c, col);
+  }
+  for (size_t i = 0; i < size; ++i)
+    if (h.held[i]) {
+      const int col = h.loop[i].column;
+      out.coordinates.emplace_back(col, ex(0));
+      out.cos_sin[col] = {ex(1), ex(0)};
+      held += (held.empty() ? "" : ", ") + column_name(c, col);
+    }
+  out.plan =
+      "planar loop " + joints + " (parallel revolute axes)" +
+      (held.empty() ? "" : "; out of its plane " + held + " held at 0") +
+      (pairs.empty() ? "" : "; on a shared pivot " + pairs + " (their sum only: the rest later)") +
+      "; in closed form in its plane: circle intersection (the one nearer the warm start), "
+      "angles unwound to the warm start";
+  return out;
+}
+
+std::optional<CircuitClosedForm> one_angle_closed_form(const CircuitSolverContext& c, int circuit) {
+  const std::vector<LoopColumn> loop = column_loop(c, circuit);
+  size_t at = loop.size();
+  for (size_t k = 0; k < loop.size(); ++k)
+    if (!c.known[static_cast<size_t>(loop[k].column)]) {
+      if (at != loop.size()) return std::nullopt;
+      at = k;
+    }
+  if (at == loop.size()) return std::nullopt;
+  const int col = loop[at].column;
+  const geometry::ScrewAxis<ex>& a = c.columns[static_cast<size_t>(col)].axis;
+  if (a.kind != geometry::ScrewKind::rotation) return std::nullopt;
+  // M_before E^dir M_after = I: E^dir = M_before^-1 M_after^-1; its rotation R about s by q.
+  Pose before, after;
+  for (size_t k = 0; k < at; ++k) before = before * column_motion(c, loop[k]);
+  for (size_t k = at + 1; k < loop.size(); ++k) after = after * column_motion(c, loop[k]);
+  geometry::Mat3<ex> R = geometry::transpose(before.R) * geometry::transpose(after.R);
+  if (loop[at].direction < 0) R = geometry::transpose(R);
+  // u = s x e, e the coordinate axis least along s.
+  int e = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(c.at_assembly(a.s[static_cast<size_t>(i)])) <
+        std::abs(c.at_assembly(a.s[static_cast<size_t>(e)])))
+      e = i;
+  V unit{ex(0), ex(0), ex(0)};
+  unit[static_cast<size_t>(e)] = 1;
+  const std::string chord =
+      c.model.joints[static_cast<size_t>(c.graph.chords[static_cast<size_t>(circuit)])].name;
+  const std::string prefix = "oa_" + chord + "_";
+  const V u = geometry::cross(a.s, unit);
+  const ex uu = geometry::dot(u, u);
+  const V Ru = geometry::operator*(R, u);
+  const ex cq = geometry::dot(u, Ru) / uu, sq = geometry::dot(a.s, geometry::cross(u, Ru)) / uu;
+  const double q = std::atan2(c.at_assembly(sq), c.at_assembly(cq));
+  if (!(std::abs(std::remainder(q - c.assembly_q[static_cast<size_t>(col)], 2 * M_PI)) < 1e-8))
+    return std::nullopt;
+  const V Ru_named{c.named(prefix + "Ru_x", Ru[0]), c.named(prefix + "Ru_y", Ru[1]),
+                   c.named(prefix + "Ru_z", Ru[2])};
+  const ex cos_named = c.named(prefix + "cos", geometry::dot(u, Ru_named) / uu);
+  const ex sin_named =
+      c.named(prefix + "sin", geometry::dot(a.s, geometry::cross(u, Ru_named)) / uu);
+  CircuitClosedForm out;
+  out.name = "one_angle_" + chord;
+  out.coordinates.emplace_back(col, unwound(cos_named, sin_named, c.warm_start(col)));
+  out.cos_sin[col] = {cos_named, sin_named};
+  out.plan = "the loop's last unknown " + column_name(c, col) +
+             " from the rotation of the rest (cos q = u.R u, sin q = s.(u x R u)), unwound to the "
+             "warm start";
   return out;
 }
 

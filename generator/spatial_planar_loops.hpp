@@ -23,4 +23,25 @@ namespace mechgen::gen {
 std::optional<CircuitClosedForm> planar_loop_closed_form(const CircuitSolverContext& context,
                                                          int circuit);
 
+// Planar loops of imported robots (issue 21 item 4), tried after every other solver so that a
+// circuit another solver takes keeps its kernel:
+//  - out-of-plane joints held: a loop whose revolutes are parallel to n may also hold unknown
+//    coordinates that are not (a five-bar's spherical or universal closure, an oblique revolute)
+//    when they are 0 at the assembly and their out-of-plane screws are independent there (the
+//    out-of-plane rows then fix them at 0 as long as the loop stays planar): they are held at 0
+//    and the rest is the planar loop;
+//  - shared pivots: two unknown revolutes on one pivot of the plane with nothing moving between
+//    them (a Delta's rod ends on the platform) turn as one about it; three such pivots are a
+//    triangle as above, which gives every revolute alone on its pivot (a partial closed form when
+//    a pivot holds two: their sum only, the circuit is offered again later).
+// The branch and unreachable guard as planar_loop_closed_form.
+std::optional<CircuitClosedForm> planar_loop_held_closed_form(const CircuitSolverContext& context,
+                                                              int circuit);
+
+// A circuit with one unknown coordinate left, a revolute (the others given by closed forms
+// before): its angle from the rotation of the rest of the loop, cos q = u.(R u), sin q = s.(u x R
+// u) over u.u with u normal to the axis, unwound to its warm start. No root to choose.
+std::optional<CircuitClosedForm> one_angle_closed_form(const CircuitSolverContext& context,
+                                                       int circuit);
+
 }  // namespace mechgen::gen

@@ -1,6 +1,8 @@
 // Planar loops inside spatial models in closed form (generator/spatial_planar_loops.hpp): random
 // Grashof crank-rocker four-bars in randomly oriented planes (pivots offset at random along the
-// axis, axes written either way) are closed by the RRR dyad with no Newton-Raphson, and the
+// axis, axes written either way) are closed by the RRR dyad with no Newton-Raphson, as are a
+// four-bar closed by an in-plane revolute and a spherical joint (out-of-plane coordinates held at
+// 0, the imported five-bars' pattern) and loops sharing a pivot (the imported Delta's), and the
 // derivation's outputs evaluated numerically along a full crank turn (each sample warm-started
 // from the previous one, as a kernel in a sweep) equal the numeric solver's; a non-Grashof
 // four-bar driven past its limit makes the kernel built on demand report Status::unreachable in
@@ -107,6 +109,9 @@ double evaluate(const GiNaC::ex& e, const std::map<std::string, double>& values)
   return GiNaC::ex_to<GiNaC::numeric>(GiNaC::evalf(e.subs(subs))).to_double();
 }
 
+double kernel_against_numeric(const std::string& text, double t_end, size_t angles,
+                              const std::vector<std::string>& groups);
+
 // A random crank-rocker (Grashof: shortest + longest < the other two, the crank the shortest)
 // in a random plane; returns the worst difference from the numeric solver over a crank turn.
 double random_crank_rocker_against_numeric(std::mt19937& rng) {
@@ -123,14 +128,26 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
   const std::string text = four_bar_model(f, q, {u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5},
                                           {0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng)},
                                           {u(rng) < 0.5, u(rng) < 0.5, u(rng) < 0.5, u(rng) < 0.5});
+  return kernel_against_numeric(text, M_PI, 3, {"planar_loop_"});
+}
+
+// The derivation's outputs evaluated numerically at `samples` times over [0, t_end], each
+// warm-started from the previous one (as a kernel in a sweep), against the numeric solver: the
+// worst difference of a joint coordinate, body position or rotation entry. The model's driver is
+// crank_angle on its first joint; no Newton-Raphson, `angles` warm starts, and a plan line
+// starting with each of `groups` (closed forms).
+double kernel_against_numeric(const std::string& text, double t_end, size_t angles,
+                              const std::vector<std::string>& groups) {
   const SpatialModel model = read_spatial_model_text(text, "four_bar.yaml");
   const SpatialGraph graph = build_spatial_graph(model);
   const SpatialDerivation d = derive_spatial(model, graph);
   EXPECT_TRUE(d.closure_start.empty()) << text;  // no Newton-Raphson coordinates
-  EXPECT_EQ(d.angle_start.size(), 3u);
-  EXPECT_TRUE(std::any_of(d.plan.begin(), d.plan.end(), [](const std::string& line) {
-    return line.rfind("planar_loop_", 0) == 0 && line.find("circle intersection") != line.npos;
-  })) << text;
+  EXPECT_EQ(d.angle_start.size(), angles);
+  for (const std::string& group : groups)
+    EXPECT_TRUE(std::any_of(d.plan.begin(), d.plan.end(),
+                            [&](const std::string& line) { return line.rfind(group, 0) == 0; }))
+        << group << "\n"
+        << text;
   // The outputs compared: every joint coordinate, every body's position and rotation; the warm
   // starts (the previous sample's coordinates) from the kernel's own outputs.
   std::map<std::string, GiNaC::ex> outputs;
@@ -139,12 +156,10 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
     if (o.target.rfind("s.closure.wnext[", 0) == 0)
       warm_of["s.closure.w[" + o.target.substr(16)] =
           GiNaC::ex_to<GiNaC::symbol>(o.value).get_name();
-    if (o.target.rfind("s.joints.", 0) == 0 && o.target.size() > 2 &&
-        o.target.compare(o.target.size() - 2, 2, ".q") == 0)
-      outputs[o.target] = o.value;
+    if (o.target.rfind("s.joints.", 0) == 0 && o.target.back() != 'd') outputs[o.target] = o.value;
     if (o.target.rfind("s.bodies.", 0) == 0) outputs[o.target] = o.value;
   }
-  EXPECT_EQ(warm_of.size(), 3u);
+  EXPECT_EQ(warm_of.size(), angles);
   std::set<GiNaC::ex, GiNaC::ex_is_less> needed;
   std::vector<GiNaC::ex> pending;
   for (const auto& [target, value] : outputs) pending.push_back(value);
@@ -171,7 +186,7 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
   double worst = 0;
   const int samples = 25;
   for (int i = 0; i < samples; ++i) {
-    const double t = M_PI * i / (samples - 1);  // w = 2: one crank turn
+    const double t = t_end * i / (samples - 1);
     solver.solve(t, st);
     std::map<std::string, double> values = previous;
     values["p.w"] = parameters[0];
@@ -182,8 +197,14 @@ double random_crank_rocker_against_numeric(std::mt19937& rng) {
     for (const auto& [symbol, value] : d.definitions)
       if (needed.count(symbol)) values[symbol.get_name()] = evaluate(value, values);
     for (size_t j = 0; j < model.joints.size(); ++j) {
-      const double got = evaluate(outputs.at("s.joints." + model.joints[j].name + ".q"), values);
-      worst = std::max(worst, std::abs(got - st.q[graph.joint_column[j]]));
+      const size_t n = model.joints[j].columns.size();
+      for (size_t k = 0; k < n; ++k) {
+        const std::string q = n == 1 ? "q" : "q" + std::to_string(k + 1);
+        const double got =
+            evaluate(outputs.at("s.joints." + model.joints[j].name + "." + q), values);
+        worst =
+            std::max(worst, std::abs(got - st.q[static_cast<size_t>(graph.joint_column[j]) + k]));
+      }
     }
     for (size_t b = 0; b < model.bodies.size(); ++b) {
       if (model.bodies[b].ground) continue;
@@ -211,6 +232,79 @@ TEST(SpatialPlanarLoop, RandomCrankRockersInRandomPlanesEqualTheNumericSolver) {
   EXPECT_LT(worst, 1e-10);
   std::cout << "random crank-rockers in random planes, closed-form dyad against numeric: worst "
             << worst << "\n";
+}
+
+// The pivots of a four-bar in the plane z = z0 (A, P, M, B as four_bar_model).
+std::array<Vec, 4> four_bar_pivots(const FourBar& f, double z0) {
+  const double px = f.crank * std::cos(f.crank0), py = f.crank * std::sin(f.crank0);
+  const double dx = f.ground - px, dy = -py, d2 = dx * dx + dy * dy;
+  const double e = (d2 + f.coupler * f.coupler - f.rocker * f.rocker) / 2;
+  const double h = std::sqrt(f.coupler * f.coupler * d2 - e * e);
+  return {{{0, 0, z0},
+           {px, py, z0},
+           {px + (e * dx - h * dy) / d2, py + (e * dy + h * dx) / d2, z0},
+           {f.ground, 0, z0}}};
+}
+
+std::string body(const std::string& name, const Vec& com) {
+  return "  - {name: " + name + ", mass: {mass: 0.5, com: " + vec(com) +
+         ", inertia: [1e-3, 2e-3, 3e-3]}}\n";
+}
+std::string revolute(const std::string& name, const std::string& first, const std::string& second,
+                     const Vec& s, const Vec& s0) {
+  return "  - {name: " + name + ", type: revolute, first: " + first + ", second: " + second +
+         ", s: " + vec(s) + ", s0: " + vec(s0) + "}\n";
+}
+
+// An imported five-bar's pattern on a four-bar (issue 21 item 4): the coupler ends in a
+// revolute whose axis lies in the plane (normal to the coupler) and a spherical joint at the
+// rocker, as the Extended URDF five-bars close their loop. Their out-of-plane coordinates stay 0.
+TEST(SpatialPlanarLoop, OutOfPlaneJointsHeldAtZeroEqualTheNumericSolver) {
+  const FourBar f{0.05, 0.15, 0.12, 0.14, 1.0};
+  const std::array<Vec, 4> p = four_bar_pivots(f, 0.02);
+  const Vec o{(p[1][0] + p[2][0]) / 2, (p[1][1] + p[2][1]) / 2, 0.05};
+  const double lx = p[2][0] - p[1][0], ly = p[2][1] - p[1][1], l = std::hypot(lx, ly);
+  const std::string text =
+      "name: held_loop\ndimension: spatial\ngravity: [0, -9.81, 0]\n"
+      "parameters:\n  w: {value: 2, unit: rad/s}\nbodies:\n  - {name: ground, ground: true}\n" +
+      body("crank", p[1]) + body("coupler", o) + body("link2", p[2]) + body("rocker", p[3]) +
+      "joints:\n" + revolute("jA", "ground", "crank", {0, 0, 1}, p[0]) +
+      revolute("jP", "crank", "coupler", {0, 0, -1}, p[1]) +
+      revolute("jO", "coupler", "link2", {-ly / l, lx / l, 0}, o) +
+      "  - {name: jM, type: spherical, first: link2, second: rocker, s0: " + vec(p[2]) + "}\n" +
+      revolute("jB", "ground", "rocker", {0, 0, 1}, p[3]) +
+      "drivers:\n  - {name: crank_angle, joint: jA, kind: angle, value: w*t}\n"
+      "step: {t0: 0, t1: 2*pi/w, samples: 37}\n";
+  const double worst = kernel_against_numeric(text, M_PI, 3, {"planar_loop_held_"});
+  EXPECT_LT(worst, 1e-10);
+  std::cout << "four-bar closed by an in-plane revolute and a spherical joint, out-of-plane "
+               "coordinates held at 0: worst "
+            << worst << "\n";
+}
+
+// Two revolutes on one pivot (a Delta's rod ends): the four-bar's coupler and rocker meet at M
+// through a plate turning about M, held by a bar from its corner Q to the ground. The first loop
+// gives the coupler and rocker and the plate-rocker sum, the plate's loop its angle, then the
+// last revolute its own.
+TEST(SpatialPlanarLoop, SharedPivotsEqualTheNumericSolver) {
+  const FourBar f{0.05, 0.15, 0.12, 0.14, 1.0};
+  const std::array<Vec, 4> p = four_bar_pivots(f, 0);
+  const Vec q{p[2][0] + 0.03, p[2][1] + 0.05, 0.01}, c{q[0] + 0.02, q[1] - 0.12, -0.02};
+  const Vec n{0, 0, 1};
+  const std::string text =
+      "name: shared_pivot\ndimension: spatial\ngravity: [0, -9.81, 0]\n"
+      "parameters:\n  w: {value: 0.5, unit: rad/s}\nbodies:\n  - {name: ground, ground: true}\n" +
+      body("crank", p[1]) + body("coupler", p[2]) + body("plate", q) + body("rocker", p[3]) +
+      body("bar", c) + "joints:\n" + revolute("jA", "ground", "crank", n, p[0]) +
+      revolute("jP", "crank", "coupler", n, p[1]) + revolute("jT", "coupler", "plate", n, p[2]) +
+      revolute("jM", "plate", "rocker", {0, 0, -1}, {p[2][0], p[2][1], 0.03}) +
+      revolute("jB", "ground", "rocker", n, p[3]) + revolute("jQ", "plate", "bar", n, q) +
+      revolute("jC", "ground", "bar", n, c) +
+      "drivers:\n  - {name: crank_angle, joint: jA, kind: angle, value: w*t}\n"
+      "step: {t0: 0, t1: 1, samples: 21}\n";
+  const double worst = kernel_against_numeric(text, 1, 6, {"planar_loop_held_", "one_angle_"});
+  EXPECT_LT(worst, 1e-10);
+  std::cout << "shared pivots: worst " << worst << "\n";
 }
 
 // A non-Grashof four-bar (1 + 2.5 > 1 + 1): the crank cannot pass 0.863 rad (|P - B| = 2, the

@@ -274,45 +274,30 @@ void check_header(const Kernel& k, const Params& p, const Inputs& in, double tol
   }
 }
 
-struct Pasibot {
-  static constexpr auto ok = gen::pasibot::Status::ok;
-  template <class... A>
-  static auto mass_bias(A&&... a) {
-    return gen::pasibot::mass_bias(a...);
-  }
-  template <class... A>
-  static auto mass_matrix(A&&... a) {
-    return gen::pasibot::mass_matrix(a...);
-  }
-  template <class... A>
-  static auto bias(A&&... a) {
-    return gen::pasibot::bias(a...);
-  }
-  template <class... A>
-  static auto forward_dynamics(A&&... a) {
-    return gen::pasibot::forward_dynamics(a...);
-  }
-};
-
-struct Leg6 {
-  static constexpr auto ok = gen::leg6::Status::ok;
-  template <class... A>
-  static auto mass_bias(A&&... a) {
-    return gen::leg6::mass_bias(a...);
-  }
-  template <class... A>
-  static auto mass_matrix(A&&... a) {
-    return gen::leg6::mass_matrix(a...);
-  }
-  template <class... A>
-  static auto bias(A&&... a) {
-    return gen::leg6::bias(a...);
-  }
-  template <class... A>
-  static auto forward_dynamics(A&&... a) {
-    return gen::leg6::forward_dynamics(a...);
-  }
-};
+// One kernel's header entries as static members (a namespace is no template argument).
+#define MECHGEN_KERNEL_ENTRIES(Name, ns)       \
+  struct Name {                                \
+    static constexpr auto ok = ns::Status::ok; \
+    template <class... A>                      \
+    static auto mass_bias(A&&... a) {          \
+      return ns::mass_bias(a...);              \
+    }                                          \
+    template <class... A>                      \
+    static auto mass_matrix(A&&... a) {        \
+      return ns::mass_matrix(a...);            \
+    }                                          \
+    template <class... A>                      \
+    static auto bias(A&&... a) {               \
+      return ns::bias(a...);                   \
+    }                                          \
+    template <class... A>                      \
+    static auto forward_dynamics(A&&... a) {   \
+      return ns::forward_dynamics(a...);       \
+    }                                          \
+  };
+MECHGEN_KERNEL_ENTRIES(Pasibot, gen::pasibot)
+MECHGEN_KERNEL_ENTRIES(Leg6, gen::leg6)
+#undef MECHGEN_KERNEL_ENTRIES
 
 template <class T>
 void check_headers(double tolerance) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "code_block.hpp"
+#include "forward_dynamics_emit.hpp"
 #include "latency_schedule.hpp"
 #include "model/columns.hpp"
 #include "model/fingerprint.hpp"
@@ -477,14 +478,12 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
                                      const EmitOptions& options) {
   Emitter emitter(model, derivation, program, options);
   std::map<std::string, std::string> values = emitter.values(plan);
-  std::vector<EmittedFile> files;
-  const std::string kernel = options.templates_dir + "/kernel.hpp.in";
-  files.push_back(
-      {model.name + ".hpp", render_template(read_template(kernel), values, "kernel.hpp.in")});
   // Driven evaluation (a motion other than the model's own, e.g. a start from rest): the driver
   // inputs are read from a flat array, (q, qd, qdd) per driver in model order.
   std::string driven_inputs;
-  for (size_t i = 0; i < model.drivers.size(); ++i)
+  std::vector<std::string> coordinates;
+  for (size_t i = 0; i < model.drivers.size(); ++i) {
+    coordinates.push_back(model.drivers[i].name);
     for (size_t k = 0; k < 3; ++k)
       driven_inputs += std::string(driven_inputs.empty() ? "" : "\n") + "in." +
                        model.drivers[i].name +
@@ -492,12 +491,18 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
                         : k == 1 ? "_d"
                                  : "_dd") +
                        " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
+  }
+  const ForwardDynamicsText dynamics =
+      emit_forward_dynamics(options.templates_dir, coordinates, driven_inputs, "State<T> s;");
+  values["forward_dynamics"] = dynamics.header;
+  std::vector<EmittedFile> files;
+  const std::string kernel = options.templates_dir + "/kernel.hpp.in";
+  files.push_back(
+      {model.name + ".hpp", render_template(read_template(kernel), values, "kernel.hpp.in")});
   std::map<std::string, std::string> entry_values{
-      {"model", values["model"]},
-      {"source", values["source"]},
-      {"command", values["command"]},
-      {"driver_count", std::to_string(model.drivers.size())},
-      {"driven_inputs", driven_inputs}};
+      {"model", values["model"]},       {"source", values["source"]},
+      {"command", values["command"]},   {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven_inputs}, {"forward_dynamics_entry", dynamics.entry}};
   const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
   files.push_back({model.name + "_entry.cpp",
                    render_template(read_template(entry), entry_values, "kernel_entry.cpp.in")});

@@ -18,7 +18,10 @@ std::uint64_t kernel_fingerprint(const Model& model, const std::string& template
   const std::vector<const char*> planar{"kernel.hpp.in", "kernel_entry.cpp.in"};
   const std::vector<const char*> spatial_templates{"spatial_kernel.hpp.in",
                                                    "spatial_kernel_entry.cpp.in", "kernel.hpp.in"};
-  for (const char* name : spatial ? spatial_templates : planar) {
+  std::vector<const char*> names = spatial ? spatial_templates : planar;
+  names.push_back("forward_dynamics.hpp.in");
+  names.push_back("forward_dynamics_entry.cpp.in");
+  for (const char* name : names) {
     hash.add_field(name);
     hash.add_field(read_template(templates_dir + "/" + name));
   }

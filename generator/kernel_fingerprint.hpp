@@ -2,7 +2,8 @@
 // `fingerprint`): everything its code depends on. That is the description (its canonical parsed
 // form, Model::description_hash), whether defaults are baked in, the text of the templates it is
 // rendered from (planar: kernel.hpp.in and kernel_entry.cpp.in; spatial: spatial_kernel.hpp.in,
-// spatial_kernel_entry.cpp.in and kernel.hpp.in, whose math functions it shares), and
+// spatial_kernel_entry.cpp.in and kernel.hpp.in, whose math functions it shares; both:
+// forward_dynamics.hpp.in and forward_dynamics_entry.cpp.in), and
 // kEmissionVersion for the generator's own part of the emitted code. mechgen evaluates a kernel
 // only for a description whose fingerprint is the kernel's.
 //
@@ -20,7 +21,7 @@
 
 namespace mechgen::gen {
 
-inline constexpr int kEmissionVersion = 1;
+inline constexpr int kEmissionVersion = 2;
 
 // Which emitter (and so which templates) a kernel comes from: a planar model's or a spatial one's
 // (`dimension: spatial`, generator/spatial_emitter.hpp; never baked).

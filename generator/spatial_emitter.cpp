@@ -12,6 +12,7 @@
 
 #include "code_block.hpp"
 #include "finite_sentinels.hpp"
+#include "forward_dynamics_emit.hpp"
 #include "kernel_fingerprint.hpp"
 #include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
@@ -607,23 +608,34 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
   const std::map<std::string, std::string> values =
       SpatialEmitter(model, derivation).values(options);
   std::vector<EmittedFile> files;
-  std::map<std::string, std::string> header = values;
-  for (const char* key :
-       {"entry_state", "start_block", "start_count", "start_columns", "seed_start"})
-    header.erase(key);  // the entry's
-  files.push_back({model.common.name + ".hpp",
-                   render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
-                                   header, "spatial_kernel.hpp.in")});
   std::string driven;
+  std::vector<std::string> coordinates;
   const std::vector<SpatialPrimaryInput> inputs =
       spatial_primary_inputs(model, build_spatial_graph(model));
-  for (size_t i = 0; i < inputs.size(); ++i)
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    coordinates.push_back(inputs[i].name);
     for (size_t k = 0; k < 3; ++k)
       driven += std::string(driven.empty() ? "" : "\n") + "in." + inputs[i].name +
                 (k == 0   ? ""
                  : k == 1 ? "_d"
                           : "_dd") +
                 " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
+  }
+  // A closed chain's forward dynamics starts from the warm start the last row left on this
+  // thread (a copy: it neither moves nor restarts the sweep's).
+  const ForwardDynamicsText dynamics = emit_forward_dynamics(
+      options.templates_dir, coordinates, driven,
+      values.at("start_count") == "0"
+          ? "State<T> s;"
+          : "State<T> s = carried<T>().s;  // the last row's warm start, copied");
+  std::map<std::string, std::string> header = values;
+  for (const char* key :
+       {"entry_state", "start_block", "start_count", "start_columns", "seed_start"})
+    header.erase(key);  // the entry's
+  header["forward_dynamics"] = dynamics.header;
+  files.push_back({model.common.name + ".hpp",
+                   render_template(read_text(options.templates_dir + "/spatial_kernel.hpp.in"),
+                                   header, "spatial_kernel.hpp.in")});
   // The positions-only batch: driver k's coordinate of sample i at q[k * n + i]; point c's axis
   // a to out[(3 c + a) n + i].
   std::string batch_inputs, batch_points, point_names;
@@ -645,6 +657,7 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       {"command", values.at("command")},
       {"driver_count", std::to_string(inputs.size())},
       {"driven_inputs", driven},
+      {"forward_dynamics_entry", dynamics.entry},
       {"entry_state", values.at("entry_state")},
       {"start_block", values.at("start_block")},
       {"start_count", values.at("start_count")},

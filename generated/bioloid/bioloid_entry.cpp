@@ -309,13 +309,143 @@ static void point_positions_batch(const double* parameters, const double* q, lon
 
 static const char* const point_names[] = { "W", "head", "RH", "RK", "RA", "RF", "r_toe_out", "r_toe_in", "r_heel_in", "r_heel_out", "LH", "LK", "LA", "LF", "l_toe_out", "l_toe_in", "l_heel_in", "l_heel_out", "RS", "RE", "RP", "LS", "LE", "LP" };
 
+// Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
+// generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
+// in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
+// is null.
+static Inputs<double> dynamics_inputs(const Params<double>& p, double t, const double* drivers) {
+  using T = double;
+  Inputs<T> in;
+  if (drivers == nullptr) {
+    driver_inputs(p, t, in);
+    return in;
+  }
+  in.t = t;
+  in.vFB_x = static_cast<T>(drivers[0]);
+  in.vFB_x_d = static_cast<T>(drivers[1]);
+  in.vFB_x_dd = static_cast<T>(drivers[2]);
+  in.vFB_y = static_cast<T>(drivers[3]);
+  in.vFB_y_d = static_cast<T>(drivers[4]);
+  in.vFB_y_dd = static_cast<T>(drivers[5]);
+  in.vFB_z = static_cast<T>(drivers[6]);
+  in.vFB_z_d = static_cast<T>(drivers[7]);
+  in.vFB_z_dd = static_cast<T>(drivers[8]);
+  in.vFB_rz = static_cast<T>(drivers[9]);
+  in.vFB_rz_d = static_cast<T>(drivers[10]);
+  in.vFB_rz_dd = static_cast<T>(drivers[11]);
+  in.vFB_ry = static_cast<T>(drivers[12]);
+  in.vFB_ry_d = static_cast<T>(drivers[13]);
+  in.vFB_ry_dd = static_cast<T>(drivers[14]);
+  in.vFB_rx = static_cast<T>(drivers[15]);
+  in.vFB_rx_d = static_cast<T>(drivers[16]);
+  in.vFB_rx_dd = static_cast<T>(drivers[17]);
+  in.vRL_x = static_cast<T>(drivers[18]);
+  in.vRL_x_d = static_cast<T>(drivers[19]);
+  in.vRL_x_dd = static_cast<T>(drivers[20]);
+  in.vRL_y = static_cast<T>(drivers[21]);
+  in.vRL_y_d = static_cast<T>(drivers[22]);
+  in.vRL_y_dd = static_cast<T>(drivers[23]);
+  in.vRL_z = static_cast<T>(drivers[24]);
+  in.vRL_z_d = static_cast<T>(drivers[25]);
+  in.vRL_z_dd = static_cast<T>(drivers[26]);
+  in.vRL_rz = static_cast<T>(drivers[27]);
+  in.vRL_rz_d = static_cast<T>(drivers[28]);
+  in.vRL_rz_dd = static_cast<T>(drivers[29]);
+  in.vRL_ry = static_cast<T>(drivers[30]);
+  in.vRL_ry_d = static_cast<T>(drivers[31]);
+  in.vRL_ry_dd = static_cast<T>(drivers[32]);
+  in.vRL_rx = static_cast<T>(drivers[33]);
+  in.vRL_rx_d = static_cast<T>(drivers[34]);
+  in.vRL_rx_dd = static_cast<T>(drivers[35]);
+  in.vLL_x = static_cast<T>(drivers[36]);
+  in.vLL_x_d = static_cast<T>(drivers[37]);
+  in.vLL_x_dd = static_cast<T>(drivers[38]);
+  in.vLL_y = static_cast<T>(drivers[39]);
+  in.vLL_y_d = static_cast<T>(drivers[40]);
+  in.vLL_y_dd = static_cast<T>(drivers[41]);
+  in.vLL_z = static_cast<T>(drivers[42]);
+  in.vLL_z_d = static_cast<T>(drivers[43]);
+  in.vLL_z_dd = static_cast<T>(drivers[44]);
+  in.vLL_rz = static_cast<T>(drivers[45]);
+  in.vLL_rz_d = static_cast<T>(drivers[46]);
+  in.vLL_rz_dd = static_cast<T>(drivers[47]);
+  in.vLL_ry = static_cast<T>(drivers[48]);
+  in.vLL_ry_d = static_cast<T>(drivers[49]);
+  in.vLL_ry_dd = static_cast<T>(drivers[50]);
+  in.vLL_rx = static_cast<T>(drivers[51]);
+  in.vLL_rx_d = static_cast<T>(drivers[52]);
+  in.vLL_rx_dd = static_cast<T>(drivers[53]);
+  in.vRA_x = static_cast<T>(drivers[54]);
+  in.vRA_x_d = static_cast<T>(drivers[55]);
+  in.vRA_x_dd = static_cast<T>(drivers[56]);
+  in.vRA_y = static_cast<T>(drivers[57]);
+  in.vRA_y_d = static_cast<T>(drivers[58]);
+  in.vRA_y_dd = static_cast<T>(drivers[59]);
+  in.vRA_z = static_cast<T>(drivers[60]);
+  in.vRA_z_d = static_cast<T>(drivers[61]);
+  in.vRA_z_dd = static_cast<T>(drivers[62]);
+  in.vRA_rz = static_cast<T>(drivers[63]);
+  in.vRA_rz_d = static_cast<T>(drivers[64]);
+  in.vRA_rz_dd = static_cast<T>(drivers[65]);
+  in.vRA_ry = static_cast<T>(drivers[66]);
+  in.vRA_ry_d = static_cast<T>(drivers[67]);
+  in.vRA_ry_dd = static_cast<T>(drivers[68]);
+  in.vRA_rx = static_cast<T>(drivers[69]);
+  in.vRA_rx_d = static_cast<T>(drivers[70]);
+  in.vRA_rx_dd = static_cast<T>(drivers[71]);
+  in.vLA_x = static_cast<T>(drivers[72]);
+  in.vLA_x_d = static_cast<T>(drivers[73]);
+  in.vLA_x_dd = static_cast<T>(drivers[74]);
+  in.vLA_y = static_cast<T>(drivers[75]);
+  in.vLA_y_d = static_cast<T>(drivers[76]);
+  in.vLA_y_dd = static_cast<T>(drivers[77]);
+  in.vLA_z = static_cast<T>(drivers[78]);
+  in.vLA_z_d = static_cast<T>(drivers[79]);
+  in.vLA_z_dd = static_cast<T>(drivers[80]);
+  in.vLA_rz = static_cast<T>(drivers[81]);
+  in.vLA_rz_d = static_cast<T>(drivers[82]);
+  in.vLA_rz_dd = static_cast<T>(drivers[83]);
+  in.vLA_ry = static_cast<T>(drivers[84]);
+  in.vLA_ry_d = static_cast<T>(drivers[85]);
+  in.vLA_ry_dd = static_cast<T>(drivers[86]);
+  in.vLA_rx = static_cast<T>(drivers[87]);
+  in.vLA_rx_d = static_cast<T>(drivers[88]);
+  in.vLA_rx_dd = static_cast<T>(drivers[89]);
+  return in;
+}
+
+static int mass_bias_row(const double* parameters, double t, const double* drivers, double* M,
+                         double* h, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = mass_bias(p, in, s, M, h);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+static int forward_dynamics_row(const double* parameters, double t, const double* drivers,
+                                const double* effort, double* qdd, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = forward_dynamics(p, in, effort, s, qdd);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"bioloid",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 30,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint,     24,
+                                     fingerprint,     &mass_bias_row,
+                                     &forward_dynamics_row,     24,
                                      point_names,     &point_positions_batch,
                                      24, start_columns,
                                      &seed_start};

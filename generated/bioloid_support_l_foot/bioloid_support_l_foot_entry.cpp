@@ -244,13 +244,125 @@ static void point_positions_batch(const double* parameters, const double* q, lon
 
 static const char* const point_names[] = { "W", "head", "RH", "RK", "RA", "RF", "r_toe_out", "r_toe_in", "r_heel_in", "r_heel_out", "LH", "LK", "LA", "LF", "l_toe_out", "l_toe_in", "l_heel_in", "l_heel_out", "RS", "RE", "RP", "LS", "LE", "LP" };
 
+// Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
+// generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
+// in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
+// is null.
+static Inputs<double> dynamics_inputs(const Params<double>& p, double t, const double* drivers) {
+  using T = double;
+  Inputs<T> in;
+  if (drivers == nullptr) {
+    driver_inputs(p, t, in);
+    return in;
+  }
+  in.t = t;
+  in.RL1_drive = static_cast<T>(drivers[0]);
+  in.RL1_drive_d = static_cast<T>(drivers[1]);
+  in.RL1_drive_dd = static_cast<T>(drivers[2]);
+  in.RL2_drive = static_cast<T>(drivers[3]);
+  in.RL2_drive_d = static_cast<T>(drivers[4]);
+  in.RL2_drive_dd = static_cast<T>(drivers[5]);
+  in.RL3_drive = static_cast<T>(drivers[6]);
+  in.RL3_drive_d = static_cast<T>(drivers[7]);
+  in.RL3_drive_dd = static_cast<T>(drivers[8]);
+  in.RL4_drive = static_cast<T>(drivers[9]);
+  in.RL4_drive_d = static_cast<T>(drivers[10]);
+  in.RL4_drive_dd = static_cast<T>(drivers[11]);
+  in.RL5_drive = static_cast<T>(drivers[12]);
+  in.RL5_drive_d = static_cast<T>(drivers[13]);
+  in.RL5_drive_dd = static_cast<T>(drivers[14]);
+  in.RL6_drive = static_cast<T>(drivers[15]);
+  in.RL6_drive_d = static_cast<T>(drivers[16]);
+  in.RL6_drive_dd = static_cast<T>(drivers[17]);
+  in.LL1_drive = static_cast<T>(drivers[18]);
+  in.LL1_drive_d = static_cast<T>(drivers[19]);
+  in.LL1_drive_dd = static_cast<T>(drivers[20]);
+  in.LL2_drive = static_cast<T>(drivers[21]);
+  in.LL2_drive_d = static_cast<T>(drivers[22]);
+  in.LL2_drive_dd = static_cast<T>(drivers[23]);
+  in.LL3_drive = static_cast<T>(drivers[24]);
+  in.LL3_drive_d = static_cast<T>(drivers[25]);
+  in.LL3_drive_dd = static_cast<T>(drivers[26]);
+  in.LL4_drive = static_cast<T>(drivers[27]);
+  in.LL4_drive_d = static_cast<T>(drivers[28]);
+  in.LL4_drive_dd = static_cast<T>(drivers[29]);
+  in.LL5_drive = static_cast<T>(drivers[30]);
+  in.LL5_drive_d = static_cast<T>(drivers[31]);
+  in.LL5_drive_dd = static_cast<T>(drivers[32]);
+  in.LL6_drive = static_cast<T>(drivers[33]);
+  in.LL6_drive_d = static_cast<T>(drivers[34]);
+  in.LL6_drive_dd = static_cast<T>(drivers[35]);
+  in.RA1_drive = static_cast<T>(drivers[36]);
+  in.RA1_drive_d = static_cast<T>(drivers[37]);
+  in.RA1_drive_dd = static_cast<T>(drivers[38]);
+  in.RA2_drive = static_cast<T>(drivers[39]);
+  in.RA2_drive_d = static_cast<T>(drivers[40]);
+  in.RA2_drive_dd = static_cast<T>(drivers[41]);
+  in.RA3_drive = static_cast<T>(drivers[42]);
+  in.RA3_drive_d = static_cast<T>(drivers[43]);
+  in.RA3_drive_dd = static_cast<T>(drivers[44]);
+  in.RA4_drive = static_cast<T>(drivers[45]);
+  in.RA4_drive_d = static_cast<T>(drivers[46]);
+  in.RA4_drive_dd = static_cast<T>(drivers[47]);
+  in.RA5_drive = static_cast<T>(drivers[48]);
+  in.RA5_drive_d = static_cast<T>(drivers[49]);
+  in.RA5_drive_dd = static_cast<T>(drivers[50]);
+  in.RA6_drive = static_cast<T>(drivers[51]);
+  in.RA6_drive_d = static_cast<T>(drivers[52]);
+  in.RA6_drive_dd = static_cast<T>(drivers[53]);
+  in.LA1_drive = static_cast<T>(drivers[54]);
+  in.LA1_drive_d = static_cast<T>(drivers[55]);
+  in.LA1_drive_dd = static_cast<T>(drivers[56]);
+  in.LA2_drive = static_cast<T>(drivers[57]);
+  in.LA2_drive_d = static_cast<T>(drivers[58]);
+  in.LA2_drive_dd = static_cast<T>(drivers[59]);
+  in.LA3_drive = static_cast<T>(drivers[60]);
+  in.LA3_drive_d = static_cast<T>(drivers[61]);
+  in.LA3_drive_dd = static_cast<T>(drivers[62]);
+  in.LA4_drive = static_cast<T>(drivers[63]);
+  in.LA4_drive_d = static_cast<T>(drivers[64]);
+  in.LA4_drive_dd = static_cast<T>(drivers[65]);
+  in.LA5_drive = static_cast<T>(drivers[66]);
+  in.LA5_drive_d = static_cast<T>(drivers[67]);
+  in.LA5_drive_dd = static_cast<T>(drivers[68]);
+  in.LA6_drive = static_cast<T>(drivers[69]);
+  in.LA6_drive_d = static_cast<T>(drivers[70]);
+  in.LA6_drive_dd = static_cast<T>(drivers[71]);
+  return in;
+}
+
+static int mass_bias_row(const double* parameters, double t, const double* drivers, double* M,
+                         double* h, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s;
+  const Status status = mass_bias(p, in, s, M, h);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+static int forward_dynamics_row(const double* parameters, double t, const double* drivers,
+                                const double* effort, double* qdd, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s;
+  const Status status = forward_dynamics(p, in, effort, s, qdd);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"bioloid_support_l_foot",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 24,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint,     24,
+                                     fingerprint,     &mass_bias_row,
+                                     &forward_dynamics_row,     24,
                                      point_names,     &point_positions_batch,
                                      0, nullptr,
                                      nullptr};

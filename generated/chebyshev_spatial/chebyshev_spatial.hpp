@@ -2002,7 +2002,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x889b3e86394a6052ULL;
+inline constexpr unsigned long long fingerprint = 0x3e48d32849cccffbULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;
@@ -2137,6 +2137,90 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[110] = s.joints.B_ground_rocker.mx;
   row[111] = s.joints.B_ground_rocker.my;
   row[112] = s.joints.B_ground_rocker.mz;
+}
+
+// Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.
+// M and h come from this kernel's own inverse dynamics (evaluate), which is linear in the driver
+// accelerations: h is the efforts at q'' = 0, column b of M the efforts at q'' = e_b minus h, at
+// the q, q' and t of `in` (its accelerations are not used): exact to rounding, one evaluate() per
+// coordinate and one more. M is row-major, coordinate_count x coordinate_count, symmetric (each
+// pair a <= b computed once, from column b, and mirrored); h has coordinate_count entries. `s` is
+// workspace: after `ok` it holds the evaluation at q'' = 0 (positions, rates, reactions of the
+// bias). A failed evaluation returns its status (s.failed_group names the group).
+// Generated through templates/forward_dynamics.hpp.in.
+inline constexpr int coordinate_count = 1;
+inline constexpr const char* coordinate_names[] = { "crank_angle" };
+
+template <class T>
+Status mass_bias(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* M, T* h) noexcept {
+  Inputs<T> at = in;
+  Status status = Status::ok;
+  at.crank_angle_dd = T(0);
+  // Efforts at a unit acceleration of crank_angle.
+  at.crank_angle_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[0] = s.drivers.crank_angle.effort;
+  at.crank_angle_dd = T(0);
+  // h: the efforts at zero driver acceleration.
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  h[0] = s.drivers.crank_angle.effort;
+  // Columns minus h; M[b][a] = M[a][b].
+  M[0] -= h[0];
+  return Status::ok;
+}
+
+// M alone (it needs h: the same evaluations as mass_bias).
+template <class T>
+Status mass_matrix(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* M) noexcept {
+  T h[coordinate_count];
+  return mass_bias(p, in, s, M, h);
+}
+
+// h alone: the driver efforts at zero driver acceleration (gravity, velocity terms, applied loads,
+// springs and dampers), one evaluate().
+template <class T>
+Status bias(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* h) noexcept {
+  Inputs<T> at = in;
+  at.crank_angle_dd = T(0);
+  const Status status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  h[0] = s.drivers.crank_angle.effort;
+  return Status::ok;
+}
+
+// q'' = M^-1 (effort - h) for a given M and h (e.g. with a motor's reflected inertia added to M):
+// LDL^T in fixed order, no pivoting. `singular` when a pivot is not above
+// max(1e-12, 64 eps) times M's largest diagonal entry (M not positive definite: a singular
+// configuration of the loop), `non_finite` when q'' overflows; qdd is written only on `ok`.
+template <class T>
+Status mass_solve(const T* M, const T* h, const T* effort, T* qdd) noexcept {
+  using std::abs;
+  using std::isfinite;
+  // The largest diagonal entry sets the scale of the pivots' tolerance.
+  T scale = abs(M[0]);
+  const T relative = T(64) * std::numeric_limits<T>::epsilon();
+  const T tolerance = (relative > T(1e-12) ? relative : T(1e-12)) * scale;
+  const T d_0 = M[0];
+  if (!(d_0 > tolerance)) return Status::singular;
+  // L z = effort - h, then D y = z and L^T x = y.
+  const T z_0 = effort[0] - h[0];
+  const T x_0 = z_0 / d_0;
+  if (!(isfinite(x_0))) return Status::non_finite;
+  qdd[0] = x_0;
+  return Status::ok;
+}
+
+// The drivers' accelerations under the given efforts (coordinate_count, model order) at the q, q'
+// and t of `in`: mass_bias, then mass_solve.
+template <class T>
+Status forward_dynamics(const Params<T>& p, const Inputs<T>& in, const T* effort, State<T>& s,
+                        T* qdd) noexcept {
+  T M[coordinate_count * coordinate_count], h[coordinate_count];
+  const Status status = mass_bias(p, in, s, M, h);
+  if (status != Status::ok) return status;
+  return mass_solve(M, h, effort, qdd);
 }
 
 }  // namespace mechgen::gen::chebyshev_spatial

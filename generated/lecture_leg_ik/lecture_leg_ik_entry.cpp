@@ -141,13 +141,62 @@ static void point_positions_batch(const double* parameters, const double* q, lon
 
 static const char* const point_names[] = { "hip", "knee", "ankle", "toe" };
 
+// Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
+// generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
+// in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
+// is null.
+static Inputs<double> dynamics_inputs(const Params<double>& p, double t, const double* drivers) {
+  using T = double;
+  Inputs<T> in;
+  if (drivers == nullptr) {
+    driver_inputs(p, t, in);
+    return in;
+  }
+  in.t = t;
+  in.foot_pose_x = static_cast<T>(drivers[0]);
+  in.foot_pose_x_d = static_cast<T>(drivers[1]);
+  in.foot_pose_x_dd = static_cast<T>(drivers[2]);
+  in.foot_pose_y = static_cast<T>(drivers[3]);
+  in.foot_pose_y_d = static_cast<T>(drivers[4]);
+  in.foot_pose_y_dd = static_cast<T>(drivers[5]);
+  in.foot_pose_rz = static_cast<T>(drivers[6]);
+  in.foot_pose_rz_d = static_cast<T>(drivers[7]);
+  in.foot_pose_rz_dd = static_cast<T>(drivers[8]);
+  return in;
+}
+
+static int mass_bias_row(const double* parameters, double t, const double* drivers, double* M,
+                         double* h, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = mass_bias(p, in, s, M, h);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+static int forward_dynamics_row(const double* parameters, double t, const double* drivers,
+                                const double* effort, double* qdd, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = forward_dynamics(p, in, effort, s, qdd);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"lecture_leg_ik",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 3,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint,     4,
+                                     fingerprint,     &mass_bias_row,
+                                     &forward_dynamics_row,     4,
                                      point_names,     &point_positions_batch,
                                      3, start_columns,
                                      &seed_start};

@@ -3336,7 +3336,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd67a5d136d7efc94ULL;
+inline constexpr unsigned long long fingerprint = 0xe042d6adb51a4175ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;
@@ -3571,6 +3571,250 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[205] = s.joints.ankle_roll.mx;
   row[206] = s.joints.ankle_roll.my;
   row[207] = s.joints.ankle_roll.mz;
+}
+
+// Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.
+// M and h come from this kernel's own inverse dynamics (evaluate), which is linear in the driver
+// accelerations: h is the efforts at q'' = 0, column b of M the efforts at q'' = e_b minus h, at
+// the q, q' and t of `in` (its accelerations are not used): exact to rounding, one evaluate() per
+// coordinate and one more. M is row-major, coordinate_count x coordinate_count, symmetric (each
+// pair a <= b computed once, from column b, and mirrored); h has coordinate_count entries. `s` is
+// workspace: after `ok` it holds the evaluation at q'' = 0 (positions, rates, reactions of the
+// bias). A failed evaluation returns its status (s.failed_group names the group).
+// Generated through templates/forward_dynamics.hpp.in.
+inline constexpr int coordinate_count = 6;
+inline constexpr const char* coordinate_names[] = { "q1", "q2", "q3", "q4", "q5", "q6" };
+
+template <class T>
+Status mass_bias(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* M, T* h) noexcept {
+  Inputs<T> at = in;
+  Status status = Status::ok;
+  at.q1_dd = T(0);
+  at.q2_dd = T(0);
+  at.q3_dd = T(0);
+  at.q4_dd = T(0);
+  at.q5_dd = T(0);
+  at.q6_dd = T(0);
+  // Efforts at a unit acceleration of q1.
+  at.q1_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[0] = s.drivers.q1.effort;
+  at.q1_dd = T(0);
+  // Efforts at a unit acceleration of q2.
+  at.q2_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[1] = s.drivers.q1.effort;
+  M[7] = s.drivers.q2.effort;
+  at.q2_dd = T(0);
+  // Efforts at a unit acceleration of q3.
+  at.q3_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[2] = s.drivers.q1.effort;
+  M[8] = s.drivers.q2.effort;
+  M[14] = s.drivers.q3.effort;
+  at.q3_dd = T(0);
+  // Efforts at a unit acceleration of q4.
+  at.q4_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[3] = s.drivers.q1.effort;
+  M[9] = s.drivers.q2.effort;
+  M[15] = s.drivers.q3.effort;
+  M[21] = s.drivers.q4.effort;
+  at.q4_dd = T(0);
+  // Efforts at a unit acceleration of q5.
+  at.q5_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[4] = s.drivers.q1.effort;
+  M[10] = s.drivers.q2.effort;
+  M[16] = s.drivers.q3.effort;
+  M[22] = s.drivers.q4.effort;
+  M[28] = s.drivers.q5.effort;
+  at.q5_dd = T(0);
+  // Efforts at a unit acceleration of q6.
+  at.q6_dd = T(1);
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  M[5] = s.drivers.q1.effort;
+  M[11] = s.drivers.q2.effort;
+  M[17] = s.drivers.q3.effort;
+  M[23] = s.drivers.q4.effort;
+  M[29] = s.drivers.q5.effort;
+  M[35] = s.drivers.q6.effort;
+  at.q6_dd = T(0);
+  // h: the efforts at zero driver acceleration.
+  status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  h[0] = s.drivers.q1.effort;
+  h[1] = s.drivers.q2.effort;
+  h[2] = s.drivers.q3.effort;
+  h[3] = s.drivers.q4.effort;
+  h[4] = s.drivers.q5.effort;
+  h[5] = s.drivers.q6.effort;
+  // Columns minus h; M[b][a] = M[a][b].
+  M[0] -= h[0];
+  M[1] -= h[0];
+  M[6] = M[1];
+  M[7] -= h[1];
+  M[2] -= h[0];
+  M[12] = M[2];
+  M[8] -= h[1];
+  M[13] = M[8];
+  M[14] -= h[2];
+  M[3] -= h[0];
+  M[18] = M[3];
+  M[9] -= h[1];
+  M[19] = M[9];
+  M[15] -= h[2];
+  M[20] = M[15];
+  M[21] -= h[3];
+  M[4] -= h[0];
+  M[24] = M[4];
+  M[10] -= h[1];
+  M[25] = M[10];
+  M[16] -= h[2];
+  M[26] = M[16];
+  M[22] -= h[3];
+  M[27] = M[22];
+  M[28] -= h[4];
+  M[5] -= h[0];
+  M[30] = M[5];
+  M[11] -= h[1];
+  M[31] = M[11];
+  M[17] -= h[2];
+  M[32] = M[17];
+  M[23] -= h[3];
+  M[33] = M[23];
+  M[29] -= h[4];
+  M[34] = M[29];
+  M[35] -= h[5];
+  return Status::ok;
+}
+
+// M alone (it needs h: the same evaluations as mass_bias).
+template <class T>
+Status mass_matrix(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* M) noexcept {
+  T h[coordinate_count];
+  return mass_bias(p, in, s, M, h);
+}
+
+// h alone: the driver efforts at zero driver acceleration (gravity, velocity terms, applied loads,
+// springs and dampers), one evaluate().
+template <class T>
+Status bias(const Params<T>& p, const Inputs<T>& in, State<T>& s, T* h) noexcept {
+  Inputs<T> at = in;
+  at.q1_dd = T(0);
+  at.q2_dd = T(0);
+  at.q3_dd = T(0);
+  at.q4_dd = T(0);
+  at.q5_dd = T(0);
+  at.q6_dd = T(0);
+  const Status status = evaluate(p, at, s);
+  if (status != Status::ok) return status;
+  h[0] = s.drivers.q1.effort;
+  h[1] = s.drivers.q2.effort;
+  h[2] = s.drivers.q3.effort;
+  h[3] = s.drivers.q4.effort;
+  h[4] = s.drivers.q5.effort;
+  h[5] = s.drivers.q6.effort;
+  return Status::ok;
+}
+
+// q'' = M^-1 (effort - h) for a given M and h (e.g. with a motor's reflected inertia added to M):
+// LDL^T in fixed order, no pivoting. `singular` when a pivot is not above
+// max(1e-12, 64 eps) times M's largest diagonal entry (M not positive definite: a singular
+// configuration of the loop), `non_finite` when q'' overflows; qdd is written only on `ok`.
+template <class T>
+Status mass_solve(const T* M, const T* h, const T* effort, T* qdd) noexcept {
+  using std::abs;
+  using std::isfinite;
+  // The largest diagonal entry sets the scale of the pivots' tolerance.
+  T scale = abs(M[0]);
+  scale = abs(M[7]) > scale ? abs(M[7]) : scale;
+  scale = abs(M[14]) > scale ? abs(M[14]) : scale;
+  scale = abs(M[21]) > scale ? abs(M[21]) : scale;
+  scale = abs(M[28]) > scale ? abs(M[28]) : scale;
+  scale = abs(M[35]) > scale ? abs(M[35]) : scale;
+  const T relative = T(64) * std::numeric_limits<T>::epsilon();
+  const T tolerance = (relative > T(1e-12) ? relative : T(1e-12)) * scale;
+  const T d_0 = M[0];
+  if (!(d_0 > tolerance)) return Status::singular;
+  const T e_1_0 = M[6];
+  const T l_1_0 = e_1_0 / d_0;
+  const T e_2_0 = M[12];
+  const T l_2_0 = e_2_0 / d_0;
+  const T e_3_0 = M[18];
+  const T l_3_0 = e_3_0 / d_0;
+  const T e_4_0 = M[24];
+  const T l_4_0 = e_4_0 / d_0;
+  const T e_5_0 = M[30];
+  const T l_5_0 = e_5_0 / d_0;
+  const T d_1 = M[7] - e_1_0 * l_1_0;
+  if (!(d_1 > tolerance)) return Status::singular;
+  const T e_2_1 = M[13] - e_2_0 * l_1_0;
+  const T l_2_1 = e_2_1 / d_1;
+  const T e_3_1 = M[19] - e_3_0 * l_1_0;
+  const T l_3_1 = e_3_1 / d_1;
+  const T e_4_1 = M[25] - e_4_0 * l_1_0;
+  const T l_4_1 = e_4_1 / d_1;
+  const T e_5_1 = M[31] - e_5_0 * l_1_0;
+  const T l_5_1 = e_5_1 / d_1;
+  const T d_2 = M[14] - e_2_0 * l_2_0 - e_2_1 * l_2_1;
+  if (!(d_2 > tolerance)) return Status::singular;
+  const T e_3_2 = M[20] - e_3_0 * l_2_0 - e_3_1 * l_2_1;
+  const T l_3_2 = e_3_2 / d_2;
+  const T e_4_2 = M[26] - e_4_0 * l_2_0 - e_4_1 * l_2_1;
+  const T l_4_2 = e_4_2 / d_2;
+  const T e_5_2 = M[32] - e_5_0 * l_2_0 - e_5_1 * l_2_1;
+  const T l_5_2 = e_5_2 / d_2;
+  const T d_3 = M[21] - e_3_0 * l_3_0 - e_3_1 * l_3_1 - e_3_2 * l_3_2;
+  if (!(d_3 > tolerance)) return Status::singular;
+  const T e_4_3 = M[27] - e_4_0 * l_3_0 - e_4_1 * l_3_1 - e_4_2 * l_3_2;
+  const T l_4_3 = e_4_3 / d_3;
+  const T e_5_3 = M[33] - e_5_0 * l_3_0 - e_5_1 * l_3_1 - e_5_2 * l_3_2;
+  const T l_5_3 = e_5_3 / d_3;
+  const T d_4 = M[28] - e_4_0 * l_4_0 - e_4_1 * l_4_1 - e_4_2 * l_4_2 - e_4_3 * l_4_3;
+  if (!(d_4 > tolerance)) return Status::singular;
+  const T e_5_4 = M[34] - e_5_0 * l_4_0 - e_5_1 * l_4_1 - e_5_2 * l_4_2 - e_5_3 * l_4_3;
+  const T l_5_4 = e_5_4 / d_4;
+  const T d_5 = M[35] - e_5_0 * l_5_0 - e_5_1 * l_5_1 - e_5_2 * l_5_2 - e_5_3 * l_5_3 - e_5_4 * l_5_4;
+  if (!(d_5 > tolerance)) return Status::singular;
+  // L z = effort - h, then D y = z and L^T x = y.
+  const T z_0 = effort[0] - h[0];
+  const T z_1 = effort[1] - h[1] - l_1_0 * z_0;
+  const T z_2 = effort[2] - h[2] - l_2_0 * z_0 - l_2_1 * z_1;
+  const T z_3 = effort[3] - h[3] - l_3_0 * z_0 - l_3_1 * z_1 - l_3_2 * z_2;
+  const T z_4 = effort[4] - h[4] - l_4_0 * z_0 - l_4_1 * z_1 - l_4_2 * z_2 - l_4_3 * z_3;
+  const T z_5 = effort[5] - h[5] - l_5_0 * z_0 - l_5_1 * z_1 - l_5_2 * z_2 - l_5_3 * z_3 - l_5_4 * z_4;
+  const T x_5 = z_5 / d_5;
+  const T x_4 = z_4 / d_4 - l_5_4 * x_5;
+  const T x_3 = z_3 / d_3 - l_4_3 * x_4 - l_5_3 * x_5;
+  const T x_2 = z_2 / d_2 - l_3_2 * x_3 - l_4_2 * x_4 - l_5_2 * x_5;
+  const T x_1 = z_1 / d_1 - l_2_1 * x_2 - l_3_1 * x_3 - l_4_1 * x_4 - l_5_1 * x_5;
+  const T x_0 = z_0 / d_0 - l_1_0 * x_1 - l_2_0 * x_2 - l_3_0 * x_3 - l_4_0 * x_4 - l_5_0 * x_5;
+  if (!(isfinite(x_0) && isfinite(x_1) && isfinite(x_2) && isfinite(x_3) && isfinite(x_4) && isfinite(x_5))) return Status::non_finite;
+  qdd[0] = x_0;
+  qdd[1] = x_1;
+  qdd[2] = x_2;
+  qdd[3] = x_3;
+  qdd[4] = x_4;
+  qdd[5] = x_5;
+  return Status::ok;
+}
+
+// The drivers' accelerations under the given efforts (coordinate_count, model order) at the q, q'
+// and t of `in`: mass_bias, then mass_solve.
+template <class T>
+Status forward_dynamics(const Params<T>& p, const Inputs<T>& in, const T* effort, State<T>& s,
+                        T* qdd) noexcept {
+  T M[coordinate_count * coordinate_count], h[coordinate_count];
+  const Status status = mass_bias(p, in, s, M, h);
+  if (status != Status::ok) return status;
+  return mass_solve(M, h, effort, qdd);
 }
 
 }  // namespace mechgen::gen::leg6

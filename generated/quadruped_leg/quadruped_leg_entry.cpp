@@ -162,13 +162,62 @@ static void point_positions_batch(const double* parameters, const double* q, lon
 
 static const char* const point_names[] = { "O", "M", "Q", "H", "F", "N", "A", "G", "C", "B", "D" };
 
+// Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
+// generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
+// in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
+// is null.
+static Inputs<double> dynamics_inputs(const Params<double>& p, double t, const double* drivers) {
+  using T = double;
+  Inputs<T> in;
+  if (drivers == nullptr) {
+    driver_inputs(p, t, in);
+    return in;
+  }
+  in.t = t;
+  in.l1 = static_cast<T>(drivers[0]);
+  in.l1_d = static_cast<T>(drivers[1]);
+  in.l1_dd = static_cast<T>(drivers[2]);
+  in.l2 = static_cast<T>(drivers[3]);
+  in.l2_d = static_cast<T>(drivers[4]);
+  in.l2_dd = static_cast<T>(drivers[5]);
+  in.l3 = static_cast<T>(drivers[6]);
+  in.l3_d = static_cast<T>(drivers[7]);
+  in.l3_dd = static_cast<T>(drivers[8]);
+  return in;
+}
+
+static int mass_bias_row(const double* parameters, double t, const double* drivers, double* M,
+                         double* h, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = mass_bias(p, in, s, M, h);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+static int forward_dynamics_row(const double* parameters, double t, const double* drivers,
+                                const double* effort, double* qdd, int* failed_group) {
+  using T = double;
+  Params<T> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  State<T> s = carried<T>().s;  // the last row's warm start, copied
+  const Status status = forward_dynamics(p, in, effort, s, qdd);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"quadruped_leg",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
                                      group_names,     &evaluate_row<double>,
                                      &evaluate_row<float>, 3,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
-                                     fingerprint,     11,
+                                     fingerprint,     &mass_bias_row,
+                                     &forward_dynamics_row,     11,
                                      point_names,     &point_positions_batch,
                                      24, start_columns,
                                      &seed_start};

@@ -266,8 +266,6 @@ int run_spatial_sweep(const Args& args) {
   const Shard shard = shard_option(args);
   if (!shard.whole() && (!args.has("--out") || args.has("--summary")))
     throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
-  if (args.has("--mass-matrix") && generated)
-    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   const SpatialModel model = load_spatial(path);
   // The current compiled-in kernel, else one built on demand (never one of another description).
   const CompiledKernel* kernel = generated ? &ondemand::kernel_for(model) : nullptr;

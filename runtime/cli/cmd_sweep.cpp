@@ -39,8 +39,8 @@ the model's step, evaluated with the --set values), one CSV row per sample (the 
                       `mechgen merge --out FILE PART...`, give this run's file byte for byte
   --mass-matrix       adds the mass matrix and bias in the drivers' coordinates (effort =
                       M qdd + h): columns M.<a>.<b> (a before b in model order, diagonal
-                      included) and h.<a>; numeric solver only (--solver numeric: the
-                      generated kernels have no mass_matrix entry yet)
+                      included) and h.<a>, from either solver (the generated kernel's
+                      mass_bias entry, or the numeric solver's unit accelerations)
 A progress line (samples, rate, time left) is drawn on stderr when it is a terminal.
 A sample the solver cannot evaluate (unreachable, singular, diverged) is an error naming t.
 )";
@@ -58,8 +58,6 @@ int run_sweep_command(const Args& args) {
   if (options.threads < 0) throw UsageError("--threads must be at least 0");
   options.shard = shard_option(args);
   options.mass_matrix = args.has("--mass-matrix");
-  if (options.mass_matrix && options.solver != "numeric")
-    throw UsageError(std::string("--mass-matrix: ") + kMassMatrixNumericOnly);
   if (!options.shard.whole() && (!args.has("--out") || args.has("--summary")))
     throw UsageError("--shard writes a part with --out FILE.csv (and no --summary)");
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "numeric/mass_bias.hpp"
 #include "spatial/spatial_solver.hpp"
 
 namespace mechgen::spatial {
@@ -108,11 +109,33 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
   bool newton_closure = false;
   for (int g = 0; g < kernel.group_count; ++g)
     newton_closure = newton_closure || std::string(kernel.group_names[g]) == "closure";
+  // --mass-matrix: the kernel's mass_bias entry at each row's motion, in the drivers' column
+  // order (their `<a>.effort` columns, which is the kernel's coordinate order).
+  std::vector<std::string> drivers;
+  const std::string effort = ".effort";
+  for (const std::string& c : result.columns)
+    if (c.size() > effort.size() && c.compare(c.size() - effort.size(), effort.size(), effort) == 0)
+      drivers.push_back(c.substr(0, c.size() - effort.size()));
+  const size_t n = drivers.size();
+  if (options.mass_matrix) {
+    if (static_cast<int>(n) != kernel.driver_count || kernel.mass_bias_double == nullptr)
+      throw ModelError(file, "the generated kernel of '" + model.common.name +
+                                 "' has no mass matrix of its drivers (rebuild to regenerate it)");
+    for (std::string& c : numeric::mass_bias_columns(drivers)) result.columns.push_back(c);
+  }
+  std::vector<double> M(n * n), h(n);
   for (int i = 0; i < options.samples; ++i) {
     const double t = spatial_sample_time(options, i);
     std::vector<double> row(static_cast<size_t>(kernel.column_count));
     int group = -1;
-    const int status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
+    int status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
+    if (status == 0 && options.mass_matrix) {
+      status = kernel.mass_bias_double(options.parameters.data(), t, nullptr, M.data(), h.data(),
+                                       &group);
+      for (size_t a = 0; a < n; ++a)
+        for (size_t b = a; b < n; ++b) row.push_back(M[a * n + b]);
+      for (size_t a = 0; a < n; ++a) row.push_back(h[a]);
+    }
     if (status != 0) {
       // As the planar sweep words it (runtime/sweep/sweep.cpp): sample, time, status, group.
       char time[32];

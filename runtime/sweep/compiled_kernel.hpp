@@ -10,7 +10,7 @@ namespace mechgen {
 // The layout below; a kernel built on demand (a shared library) is used only when its entry
 // `extern "C" const CompiledKernel* mechgen_kernel_entry(int abi)` accepts this value. Bump it with
 // any change of CompiledKernel.
-inline constexpr int kCompiledKernelAbi = 3;
+inline constexpr int kCompiledKernelAbi = 4;
 
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
@@ -41,6 +41,18 @@ struct CompiledKernel {
   // What the kernel was generated from (generator/kernel_fingerprint.hpp): run it only for a
   // description with this fingerprint.
   unsigned long long fingerprint;
+  // Forward dynamics in the drivers' coordinates (issue 22), effort = M qdd + h, at the drivers'
+  // (q, qd) given as (q, qd, qdd) per driver in model order (`drivers`, qdd not used), or at the
+  // model's own driver motion at t when `drivers` is null. mass_bias: M (driver_count^2,
+  // row-major, symmetric) and h (driver_count); forward_dynamics: qdd (driver_count) under
+  // `effort` (driver_count); 2 (singular) also for an M that is not positive definite. Return
+  // values and failed_group as RowFunction's; qdd is written only on 0.
+  using MassBiasFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                   double* M, double* h, int* failed_group);
+  using ForwardDynamicsFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                          const double* effort, double* qdd, int* failed_group);
+  MassBiasFunction mass_bias_double = nullptr;
+  ForwardDynamicsFunction forward_dynamics_double = nullptr;
   // Spatial kernels: the named points' positions alone (point_positions: no rates, Jacobians or
   // forces) for n samples of the drivers' coordinates, driver k of sample i at q[k * n + i];
   // point c's axis a to out[(3 c + a) n + i]; status[i] as RowFunction returns it. Null in planar

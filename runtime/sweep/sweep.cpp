@@ -20,10 +20,6 @@
 
 namespace mechgen {
 
-const char* const kMassMatrixNumericOnly =
-    "the mass matrix comes from the numeric solver only (the generated kernels have no "
-    "mass_matrix entry yet, issue 22): use --solver numeric";
-
 namespace {
 
 SourceLoc model_loc(const Model& model) {
@@ -124,6 +120,25 @@ KernelFailure evaluate_range(const CompiledKernel& kernel, const std::vector<dou
                          });
 }
 
+// Appends the kernel's M (a before b) and h at each sample of [begin, end) to its row, in
+// numeric::mass_bias_columns order; stops at the first failure and returns it.
+KernelFailure append_mass_bias(const CompiledKernel& kernel, const std::vector<double>& parameters,
+                               const SampleTimes& times, size_t begin, size_t end,
+                               std::vector<std::vector<double>>& rows) {
+  const size_t n = static_cast<size_t>(kernel.driver_count);
+  std::vector<double> M(n * n), h(n);
+  for (size_t i = begin; i < end; ++i) {
+    int group = -1;
+    const int status =
+        kernel.mass_bias_double(parameters.data(), times[i], nullptr, M.data(), h.data(), &group);
+    if (status != 0) return {i, status, group};
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = a; b < n; ++b) rows[i].push_back(M[a * n + b]);
+    for (size_t a = 0; a < n; ++a) rows[i].push_back(h[a]);
+  }
+  return {};
+}
+
 // The threads a generated sweep of n samples uses.
 int sweep_threads(const SweepOptions& options, size_t n) {
   int threads = options.threads;
@@ -179,6 +194,8 @@ void sweep_generated(const Model& model, const SweepOptions& options, const Samp
   in_parallel(threads, n, [&](size_t k, size_t begin, size_t end) {
     failures[k] = evaluate_range(kernel, options.parameters, times, begin, end, options.progress,
                                  result.rows);
+    if (options.mass_matrix && failures[k].status == 0)
+      failures[k] = append_mass_bias(kernel, options.parameters, times, begin, end, result.rows);
   });
   // The earliest failing sample, as a sequential sweep would report it.
   for (const KernelFailure& failure : failures)
@@ -277,8 +294,6 @@ SweepOptions checked(const Model& model, const SweepOptions& options_in) {
   if (options.solver != "generated" && options.solver != "numeric")
     throw ModelError(
         where, "sweep: unknown solver '" + options.solver + "' (expected generated or numeric)");
-  if (options.mass_matrix && options.solver != "numeric")
-    throw ModelError(where, std::string("sweep: ") + kMassMatrixNumericOnly);
   return options;
 }
 
@@ -326,7 +341,8 @@ ColumnRanges sweep_ranges(const Model& model, const SweepOptions& options_in) {
   const SweepOptions options = checked(model, options_in);
   if (!options.shard.whole())
     throw ModelError(model_loc(model), "sweep: the ranges of a shard are not those of the run");
-  if (options.solver != "generated") return column_ranges(run_sweep(model, options));
+  if (options.solver != "generated" || options.mass_matrix)
+    return column_ranges(run_sweep(model, options));
   const CompiledKernel& kernel = generated_kernel(model);
   const SampleTimes times{options.t0, options.t1, static_cast<size_t>(options.samples)};
   const size_t n = times.size(), columns = static_cast<size_t>(kernel.column_count);

@@ -28,12 +28,11 @@ struct SweepOptions {
   // Only this shard's samples (sweep/shard.hpp); sweep_ranges takes whole runs only.
   Shard shard;
   // Issue 22: append the mass matrix and bias in the drivers' coordinates
-  // (numeric::mass_bias_columns) to every row. Numeric solver only (run_sweep, not sweep_ranges):
-  // the generated kernels have no mass_matrix entry yet, so "generated" is a ModelError.
+  // (numeric::mass_bias_columns) to every row: the numeric solver's mass_matrix_bias, or the
+  // generated kernel's mass_bias entry (CompiledKernel::mass_bias_double). sweep_ranges then
+  // keeps the table (run_sweep).
   bool mass_matrix = false;
 };
-// Why a mass matrix is refused with the generated solver (for the commands' messages).
-extern const char* const kMassMatrixNumericOnly;
 
 struct SweepResult {
   std::vector<std::string> columns;       // column_names(model) (+ mass_bias_columns)

@@ -37,17 +37,12 @@ std::string read_text(const std::string& path) {
 }
 
 // `scalar`(value): T in functions, Real in the structs that hold the model's names.
-// The shortest text that reads back as `value`, as a double literal.
-std::string decimal(double value) {
+std::string number_literal(double value, const std::string& scalar = "T") {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   std::string text(buffer, result.ptr);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
-
-std::string number_literal(double value, const std::string& scalar = "T") {
-  return scalar + "(" + decimal(value) + ")";
+  return scalar + "(" + text + ")";
 }
 
 std::string lines(const std::vector<std::string>& items) {

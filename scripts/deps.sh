@@ -15,6 +15,8 @@ mechgen_deps() {
     libjs-three                                                # mechgen view: three.js, inlined into each page
     chromium libpng-dev nlohmann-json3-dev                     # view_test: headless browser, PNG, JSON
     liburdfdom-dev libmujoco-dev                               # mechgen import: URDF, MJCF (MuJoCo)
+    pybind11-dev python3-dev python3-numpy python3-pytest      # the Python module and its tests
+    python3-scipy python3-matplotlib                           # examples/python
     "$@"
   )
   if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -5,6 +5,11 @@
 #include <string>
 
 #include "model/model.hpp"
+#include "model/spatial_model.hpp"
+
+namespace mechgen::spatial {
+class SpatialSolver;
+}
 
 namespace mechgen::cli {
 
@@ -13,6 +18,11 @@ namespace mechgen::cli {
 // (name, joint, kind)}, one body, joint or driver per line. Throws ModelError when a mass or the
 // gravity does not evaluate.
 std::string model_info_json(const Model& model);
+
+// The same for a spatial model (DESIGN.md's "Spatial models"): name, dimension, gravity,
+// parameters, reference_points, bodies, joints and drivers at the solver's parameters.
+std::string spatial_model_info_json(const SpatialModel& model,
+                                    const spatial::SpatialSolver& solver);
 
 // The shortest decimal that reads back as the same double (at most 17 significant digits, "%.17g"
 // style); "nan", "inf", "-inf" for non-finite values (never written to JSON: masses are finite).

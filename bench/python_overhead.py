@@ -33,7 +33,7 @@ def main():
     args = parser.parse_args()
 
     print(f"{'model':<10} {'batch N':>9} {'C++ ns/sample':>14} {'Python ns/sample':>17} "
-          f"{'overhead':>9} {'per call us':>12}")
+          f"{'overhead':>9} {'call us (dict)':>15} {'call us (array)':>16}")
     for name in args.models:
         kernel = mechgen.Model(str(ROOT / "models" / f"{name}.yaml")).kernel()
         for n in (10_000, args.samples):
@@ -41,10 +41,11 @@ def main():
             cpp = kernel.batch_entry_seconds(t, repeats=args.repeats)
             python = best_of(args.repeats, lambda: kernel.evaluate(t=t))
             one = t[:1]
-            per_call = best_of(args.repeats,
-                               lambda: [kernel.evaluate(t=one) for _ in range(args.calls)])
+            per_call = [best_of(args.repeats, lambda: [
+                kernel.evaluate(t=one, as_array=as_array) for _ in range(args.calls)])
+                / args.calls * 1e6 for as_array in (False, True)]
             print(f"{name:<10} {n:>9} {cpp / n * 1e9:>14.1f} {python / n * 1e9:>17.1f} "
-                  f"{(python - cpp) / cpp * 100:>8.1f}% {per_call / args.calls * 1e6:>12.2f}")
+                  f"{(python - cpp) / cpp * 100:>8.1f}% {per_call[0]:>15.2f} {per_call[1]:>16.2f}")
 
 
 if __name__ == "__main__":

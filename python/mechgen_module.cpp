@@ -44,12 +44,14 @@ struct Description {
   Model planar;
   SpatialModel space;
   std::vector<std::string> drivers;  // the kernels' driver order (model order)
+  std::vector<double> defaults;      // checked when the description was read
 
   const Model& common() const { return spatial ? space.common : planar; }
 
   // The parameters in model order: the defaults with `params` applied as `--set NAME=VALUE`
   // (the same checks, derived parameters following).
   std::vector<double> parameters(const std::map<std::string, double>& params) const {
+    if (params.empty()) return defaults;  // the checks cost far more than a kernel call
     std::vector<std::string> overrides;
     for (const auto& [name, value] : params) {
       char text[40];
@@ -83,14 +85,23 @@ std::shared_ptr<Description> read_description(const std::string& path) {
   } catch (const YAML::Exception& error) {
     throw ModelError(SourceLoc{path, error.mark.line + 1, error.mark.column + 1}, error.msg);
   }
+  d->defaults = d->common().default_parameters();
   return d;
 }
 
-// Columns c of a (columns x n) block as a dict of 1-D views sharing the block.
-py::dict column_views(const std::vector<std::string>& names, py::array_t<double>& block) {
+// Columns c of a (columns x n) block as a dict of 1-D views sharing the block (made directly, not
+// by indexing: a kernel has hundreds of columns).
+template <class Names>
+py::dict column_views(const Names& names, py::array_t<double>& block) {
   py::dict out;
-  for (size_t c = 0; c < names.size(); ++c)
-    out[py::str(names[c])] = block[py::make_tuple(static_cast<py::ssize_t>(c), py::ellipsis())];
+  const py::ssize_t n = block.shape(1);
+  double* data = block.mutable_data();
+  py::ssize_t c = 0;
+  for (const auto& name : names) {
+    out[py::str(name)] =
+        py::array_t<double>({n}, {static_cast<py::ssize_t>(sizeof(double))}, data + c * n, block);
+    ++c;
+  }
   return out;
 }
 
@@ -198,7 +209,8 @@ void each_sample(const double* q, const double* qd, const double* qdd, py::ssize
 
 class Kernel {
  public:
-  Kernel(std::shared_ptr<const Description> d, const CompiledKernel& k) : d_(std::move(d)), k_(k) {}
+  Kernel(std::shared_ptr<const Description> d, const CompiledKernel& k)
+      : d_(std::move(d)), k_(k), names_(k.column_names, k.column_names + k.column_count) {}
 
   std::vector<std::string> columns() const {
     return {k_.column_names, k_.column_names + k_.column_count};
@@ -216,7 +228,7 @@ class Kernel {
   // at times t through its vectorised batch entry (q absent); status per sample.
   py::tuple evaluate(const std::optional<Array>& q, const std::optional<Array>& qd,
                      const std::optional<Array>& qdd, const py::object& t,
-                     const std::map<std::string, double>& params) const {
+                     const std::map<std::string, double>& params, bool as_array) const {
     const std::vector<double> p = d_->parameters(params);
     const auto m = static_cast<py::ssize_t>(k_.column_count);
     if (!q) {
@@ -232,7 +244,7 @@ class Kernel {
         k_.evaluate_batch_double(p.data(), times.data(), static_cast<long>(n), block.mutable_data(),
                                  status.mutable_data(), group.mutable_data());
       }
-      return py::make_tuple(column_views(columns(), block), status);
+      return py::make_tuple(as_array ? py::object(block) : column_views(names_, block), status);
     }
     const auto w = static_cast<py::ssize_t>(k_.driver_count);
     const py::ssize_t n = rows_of(*q, w);
@@ -249,10 +261,14 @@ class Kernel {
         int failed = -1;
         s[i] = k_.evaluate_driven_double(p.data(), times[static_cast<size_t>(i)], drivers,
                                          row.data(), &failed);
+        // A closed chain carries its Newton iterate to the next call: after a failed sample
+        // that iterate is no assembly, so the next sample starts from the kernel's own start
+        // instead (continuing from it can land on another branch).
+        if (s[i] != 0 && k_.seed_start) k_.seed_start(nullptr);
         for (py::ssize_t col = 0; col < m; ++col) out[col * n + i] = row[static_cast<size_t>(col)];
       });
     }
-    return py::make_tuple(column_views(columns(), block), status);
+    return py::make_tuple(as_array ? py::object(block) : column_views(names_, block), status);
   }
 
   // Seconds the batch entry itself takes for the model's motion at `times`, into buffers allocated
@@ -357,6 +373,7 @@ class Kernel {
  private:
   std::shared_ptr<const Description> d_;
   const CompiledKernel& k_;
+  std::vector<std::string> names_;  // column_names
 };
 
 class Solver {
@@ -487,9 +504,10 @@ PYBIND11_MODULE(mechgen, m) {
                              })
       .def("evaluate", &Kernel::evaluate, py::arg("q") = py::none(), py::arg("qd") = py::none(),
            py::arg("qdd") = py::none(), py::arg("t") = py::none(),
-           py::arg("params") = std::map<std::string, double>{},
+           py::arg("params") = std::map<std::string, double>{}, py::arg("as_array") = false,
            "rows at N driver motions (q, qd, qdd: N x drivers), or at the model's motion at "
-           "times t; returns (dict column -> array, status array)")
+           "times t; returns (dict column -> array, status array), or with as_array the "
+           "(columns x N) array itself (cheaper for a few samples)")
       .def("batch_entry_seconds", &Kernel::batch_entry_seconds, py::arg("t"),
            py::arg("repeats") = 3, py::arg("params") = std::map<std::string, double>{},
            "seconds of the C++ batch entry alone at times t (best of repeats), for benchmarks")

@@ -150,16 +150,23 @@ TEST(Simulate, RoundTripQuadrupedLeg) {
   EXPECT_LT(error, 1e-8);
 }
 
+// The first quarter of a spatial model's step at a fixed step dt.
+SimulationOptions quarter_step(const spatial::SpatialSweepOptions& step, double dt) {
+  SimulationOptions options;
+  options.t0 = step.t0;
+  options.t1 = step.t0 + (step.t1 - step.t0) / 4;
+  options.dt = dt;
+  return options;
+}
+
 // Computed torque with M and h from a second plant holds the quadruped leg's own cylinder motion
 // to the integration error (an exact model: the servo terms stay at round-off), from the model's
 // own initial state.
 TEST(Simulate, ComputedTorqueHoldsTheQuadrupedLegsMotion) {
   const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/quadruped_leg.yaml");
   const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model);
-  SimulationOptions options;
-  options.t0 = step.t0;
-  options.t1 = step.t0 + (step.t1 - step.t0) / 4;
-  options.dt = 2e-3;  // 4 ms leave 6.6e-10, 2 ms 4e-11: the RK4 error, falling as dt^4
+  // 4 ms leave 6.6e-10, 2 ms 4e-11: the RK4 error, falling as dt^4.
+  const SimulationOptions options = quarter_step(step, 2e-3);
   std::vector<SimulationResult> runs;
   for (const bool generated : {false, true}) {
     // The controller's M and h from a second plant of the same solver.
@@ -202,10 +209,7 @@ TEST(Simulate, ComputedTorqueHoldsTheQuadrupedLegsMotion) {
 TEST(Simulate, GeneratedEqualsNumericOnLeg6) {
   const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
   const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model);
-  SimulationOptions options;
-  options.t0 = step.t0;
-  options.t1 = step.t0 + (step.t1 - step.t0) / 4;
-  options.dt = (options.t1 - options.t0) / 100;
+  SimulationOptions options = quarter_step(step, (step.t1 - step.t0) / 400);
   options.every = 10;
   // PD scaled by the diagonal of M at the start (as `simulate --track pd`): 10 rad/s, damped.
   VectorXd inertia;

@@ -80,6 +80,18 @@ int run_import(const Args& args) {
            << (report.restarts ? " (trapped there: restarted from other configurations, the "
                                  "assembly nearest the source's kept)"
                                : "");
+    if (report.others > 0) {
+      std::ostringstream other;
+      other.precision(3);
+      other << report.others << " other assembl" << (report.others == 1 ? "y" : "ies")
+            << " at these motor positions (found from " << report.starts
+            << " deterministic starts; the nearest " << report.other_distance
+            << " from the source's coordinates): kept the one reached from the source's "
+               "configuration ("
+            << report.kept_distance << " from them)";
+      std::cout << "  " << other.str() << "\n";
+      closed << "; " << other.str();
+    }
     tree.notes.push_back(closed.str());
     import::hold_free_joints(tree, pose);
     const import::Description d = import::describe(tree, pose, args.has("--floating"));

@@ -717,6 +717,8 @@ class Builder {
         Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
         col.qd = named("qd_" + col.name, qd[i]);
       }
+      backward_error("rate", rhs,
+                     [&](size_t i) { return cols_[static_cast<size_t>(g_.secondary[i])].qd; });
       // The closed forms' warm starts move along these rates to the next call's time.
       for (size_t k = 0; k < out_.angle_columns.size(); ++k)
         output(out_.kinematics, "s.closure.wdnext[" + std::to_string(k) + "]",
@@ -750,9 +752,35 @@ class Builder {
       Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
       col.qdd = named("qdd_" + col.name, qdd[i]);
     }
+    backward_error("acc", rhs,
+                   [&](size_t i) { return cols_[static_cast<size_t>(g_.secondary[i])].qdd; });
     for (size_t k = 0; k < out_.angle_columns.size(); ++k)
       output(out_.kinematics, "s.closure.wddnext[" + std::to_string(k) + "]",
              cols_[static_cast<size_t>(out_.angle_columns[k])].qdd);
+  }
+
+  // The backward error of a solve through lu_ (N_s x = b over the pivot rows): the squared
+  // residual and the squared size of its terms, as s.closure.<name>_residual and _scale. The
+  // pivot order is fixed at generation time, and one of its pivots can pass near zero at a
+  // regular pose the samples did not see (lecture_leg_ik with py = 0: the ankle level with the
+  // hip); the elimination then returns finite rates that are wrong, which the entries refuse.
+  template <class Solution>
+  void backward_error(const std::string& name, const std::vector<ex>& b, Solution x) {
+    ex residual = 0, scale = 0;
+    for (size_t k = 0; k < pivot_.rows.size(); ++k) {
+      const ex rhs = named(name + "_rhs" + std::to_string(k), b[k]);
+      ex sum = -rhs;
+      scale += rhs * rhs;
+      for (size_t i = 0; i < g_.secondary.size(); ++i) {
+        const ex term = network_[pivot_.rows[k]][static_cast<size_t>(g_.secondary[i])] * x(i);
+        sum += term;
+        scale += term * term;
+      }
+      const ex row = named(name + "_residual" + std::to_string(k), sum);
+      residual += row * row;
+    }
+    output(out_.kinematics, "s.closure." + name + "_residual", named(name + "_residual", residual));
+    output(out_.kinematics, "s.closure." + name + "_scale", named(name + "_scale", scale));
   }
 
   // Body twists, each screw's rate (the Lie bracket of the twist of the frame carrying it with

@@ -367,7 +367,8 @@ class SpatialEmitter {
     for (const SpatialOutput& o : d_.kinematics)
       if ((o.target.rfind("s.points.", 0) == 0 && o.target[o.target.size() - 2] == '.') ||
           (!d_.closure_start.empty() && o.target.rfind("s.closure.", 0) == 0 &&
-           o.target.rfind("s.closure.wd", 0) != 0))
+           o.target.rfind("s.closure.wd", 0) != 0 && o.target.rfind("s.closure.rate_", 0) != 0 &&
+           o.target.rfind("s.closure.acc_", 0) != 0))
         placed.push_back(o);
     hoisted_positions(placed, v);
     v["positions_body"] += spatial_output_checks(placed, definition_, stage_check);
@@ -375,7 +376,8 @@ class SpatialEmitter {
     // velocities); no accelerations, Jacobians or forces.
     std::vector<SpatialOutput> velocity;
     for (const SpatialOutput& o : d_.kinematics)
-      if (!is_acceleration_target(o.target) && o.target.rfind("s.closure.wddnext", 0) != 0)
+      if (!is_acceleration_target(o.target) && o.target.rfind("s.closure.wddnext", 0) != 0 &&
+          o.target.rfind("s.closure.acc_", 0) != 0)
         velocity.push_back(o);
     const CodeBlock vel = block(velocity);
     v["velocities_using"] = using_std(vel);
@@ -446,8 +448,8 @@ class SpatialEmitter {
                    "follow\n    // the warm start; 0 (fresh): the assembly's roots.\n"
                    "    Real follow = Real(0);\n"
              : "") +
-        "    Real residual, pivot[" + std::to_string(d_.closure_pivots.size()) +
-        "];\n  } closure;\n";
+        "    Real residual, rate_residual, rate_scale, acc_residual, acc_scale, pivot[" +
+        std::to_string(d_.closure_pivots.size()) + "];\n  } closure;\n";
     // After a call that closed the circuits: the Newton coordinates and the angles' warm starts
     // carried to the next call, with the rates and accelerations the entry computed (zero where
     // it does not: the velocities' entry has no accelerations, the positions' no rates).
@@ -485,13 +487,28 @@ class SpatialEmitter {
         "  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *\n"
         "                                   std::numeric_limits<T>::epsilon()))\n"
         "    return s.failed_group = " +
-        closure_group + ", Status::unreachable;\n" + singular_checks +
-        (newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n"
-                : "");
-    v["closure_check"] = checks + carried(true, true);
-    v["velocities_closure_check"] = checks + carried(true, false);
+        closure_group + ", Status::unreachable;\n" + singular_checks;
+    // The rates' and accelerations' solves through N_s in the pivot order fixed at generation:
+    // a backward error above 1e5 eps of their terms is a pivot that lost its precision at this
+    // pose, refused as singular (the numeric solver pivots at run time).
+    const auto backward_check = [&](const std::string& name) {
+      return "  // singular also: the " +
+             std::string(name == "rate" ? "rates'" : "accelerations'") +
+             " solve through N_s lost its precision (backward error above 1e5 eps).\n"
+             "  if (!(s.closure." +
+             name + "_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *\n" +
+             "                                   std::numeric_limits<T>::epsilon() * s.closure." +
+             name + "_scale))\n    return s.failed_group = " + closure_group +
+             ", Status::singular;\n";
+    };
+    const std::string newton_next =
+        newton ? "  for (int i = 0; i < " + n + "; ++i) s.closure.q[i] = s.closure.next[i];\n" : "";
+    v["closure_check"] =
+        checks + backward_check("rate") + backward_check("acc") + newton_next + carried(true, true);
+    v["velocities_closure_check"] =
+        checks + backward_check("rate") + newton_next + carried(true, false);
     // The positions-only entry: the closed forms' reach checked inline; the Newton closure's.
-    if (newton) v["positions_check"] = checks + carried(false, false);
+    if (newton) v["positions_check"] = checks + newton_next + carried(false, false);
     if (newton || angles)
       v["entry_state"] =
           "// A closed chain's warm start carries over from one call to the next (per thread and "

@@ -81,6 +81,19 @@ std::string temp_file(const std::string& name, const std::string& text) {
   return path;
 }
 
+// `read` throws an error that starts with `prefix` (FILE:LINE: error: ...); its text returned.
+template <class Read>
+std::string expect_error(Read read, const std::string& prefix) {
+  try {
+    read();
+  } catch (const import::ImportError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(prefix, 0), 0u) << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "no error, expected " << prefix;
+  return "";
+}
+
 class SharedRobot : public testing::TestWithParam<const char*> {};
 
 // Import, then the reference solver along the drivers' motion: every body frame equals the
@@ -282,7 +295,13 @@ TEST(ImportRetyping, SphericalAndUniversalJointsMoveAsTheirRevolutes) {
       temp_file("cross.yaml", base +
                                   "joint_name: ['part_4_part_6_rev0', 'part_4_part_6_rev1']\n"
                                   "joint_type: ['UJOINT_AB', 'FIXED']\n");
-  for (const std::string& closures : {ball, cross}) {
+  // The collection's UJOINT_<axes> (battobot's UJOINT_ZY, UJOINT_YZ): the second and third
+  // revolutes (y, then z) as one universal joint about those axes.
+  const std::string yz =
+      temp_file("yz.yaml", base +
+                               "joint_name: ['part_4_part_6_rev1', 'part_4_part_6_rev2']\n"
+                               "joint_type: ['UJOINT_YZ', 'FIXED']\n");
+  for (const std::string& closures : {ball, cross, yz}) {
     const Imported r = import_file(dir + "/robot.urdf", closures);
     const spatial::SpatialSolver s1(*original.model, {}), s2(*r.model, {});
     spatial::SpatialState a, b;
@@ -298,6 +317,65 @@ TEST(ImportRetyping, SphericalAndUniversalJointsMoveAsTheirRevolutes) {
               << closures << " " << original.model->bodies[i].name << " t = " << t;
           for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
         }
+      }
+    }
+  }
+}
+
+// A universal joint names two different axes.
+TEST(ImportRetyping, AUniversalJointOfOneAxisTwiceIsLocated) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso6d";
+  const std::string closures =
+      temp_file("xx.yaml",
+                "closed_loop: [['closedloop6D_1B', 'closedloop6D_1A']]\ntype: ['6d']\n"
+                "name_mot: ['mot2', 'mot1']\njoint_name: ['part_4_part_6_rev0']\n"
+                "joint_type: ['UJOINT_XX']\n");
+  expect_error([&] { import::read_urdf(dir + "/robot.urdf", closures); },
+               closures + ":5: error: joint_type 'UJOINT_XX': ");
+}
+
+// Two assemblies at the same motor position (tests/data/urdf_fourbar.urdf, a planar four-bar whose
+// source pose leaves the coupler's tip 5 cm from the rocker's end): the import keeps the one
+// Newton-Raphson reaches from the source's coordinates, the nearer, and finds the other from its
+// deterministic starts. Closed by a ball, or by a weld to a pinned tip (an over-constrained
+// planar loop: 6 rows, 3 redundant), it is the same assembly and the same motion.
+TEST(ImportAssemblies, TheOneNearestTheSourceIsKeptAndTheOtherIsFound) {
+  const std::string data = std::string(MECHGEN_SOURCE_DIR) + "/tests/data/urdf_fourbar";
+  const Imported ball = import_file(data + ".urdf", data + "_ball.yaml");
+  const Imported weld = import_file(data + ".urdf", data + "_weld.yaml");
+  // The coupler's tip by the circles about the crank pin (0.1, 0), radius 0.3, and the rocker
+  // pivot (0.35, -0.2), radius |(0.05, 0.25)|: the intersection on the source's side (y > 0).
+  const Eigen::Vector2d pin(0.1, 0), pivot(0.35, -0.2);
+  const double r1 = 0.3, r2 = std::hypot(0.05, 0.25), d = (pivot - pin).norm();
+  const double a = (r1 * r1 - r2 * r2 + d * d) / (2 * d), h = std::sqrt(r1 * r1 - a * a);
+  const Eigen::Vector2d u = (pivot - pin) / d, n(-u.y(), u.x());
+  const Eigen::Vector2d near = pin + a * u + h * n, far = pin + a * u - h * n;
+  ASSERT_GT(near.y(), 0);
+  for (const Imported* r : {&ball, &weld}) {
+    EXPECT_EQ(r->report.others, 1);
+    EXPECT_EQ(r->report.starts, 16);
+    EXPECT_LT(r->report.kept_distance, r->report.other_distance);
+    const import::Vec3 tip =
+        r->pose.link[static_cast<size_t>(link_index(r->tree, "coupler_tip"))].translation();
+    EXPECT_NEAR(tip.x(), near.x(), 1e-12);
+    EXPECT_NEAR(tip.y(), near.y(), 1e-12);
+    EXPECT_NEAR(tip.z(), 0, 1e-12);
+    EXPECT_GT((tip.head<2>() - far).norm(), 0.1);
+  }
+  const spatial::SpatialSolver s1(*ball.model, {}), s2(*weld.model, {});
+  spatial::SpatialState x, y;
+  for (const double t : {0.0, 0.1, 0.2, 0.3}) {
+    s1.solve(t, x);
+    s2.solve(t, y);
+    for (const char* body : {"crank", "coupler", "rocker"}) {
+      const int i = ball.model->body_index(body), j = weld.model->body_index(body);
+      ASSERT_GE(i, 0) << body;
+      ASSERT_GE(j, 0) << body;
+      const spatial::Pose p1 = s1.body_pose(x, i), p2 = s2.body_pose(y, j);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(p1.p[static_cast<size_t>(k)], p2.p[static_cast<size_t>(k)], 1e-12)
+            << body << " t = " << t;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(p1.R(k, c), p2.R(k, c), 1e-12);
       }
     }
   }
@@ -349,6 +427,17 @@ TEST(ImportErrors, ALoopThatCannotCloseNamesTheClosureAndTheDistanceLeft) {
   }
 }
 
+// The four-bar welded where it has no pin: three revolutes, one driven, cannot close it.
+TEST(ImportErrors, AnUnclosableWeldNamesItsClosureAndWhatItLeaves) {
+  const std::string data = std::string(MECHGEN_SOURCE_DIR) + "/tests/data/urdf_fourbar";
+  const std::string what = expect_error(
+      [&] { import_file(data + ".urdf", data + "_unclosable.yaml"); },
+      data +
+          "_unclosable.yaml:3: error: closure coupler_tip - rocker_end cannot close with the "
+          "actuated joints at their source values: distance left 0.0");
+  EXPECT_NE(what.find("angle left 0.0"), std::string::npos) << what;
+}
+
 TEST(ImportErrors, BadFilesAreLocated) {
   const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/5bar_linkage_iso3d";
   const std::string closures =
@@ -369,6 +458,13 @@ TEST(ImportErrors, BadFilesAreLocated) {
       import::ImportError);
   const std::string urdf = temp_file("bad.urdf", "<robot name='r'><link name='a'/>\n<joint");
   EXPECT_THROW(import::read_urdf(urdf, ""), import::ImportError);
+  // A link named twice (as one of the collection's robots has it): at the second one.
+  const std::string twice =
+      temp_file("twice.urdf",
+                "<robot name='r'>\n<link name='a'/>\n<link name='foot'/>\n<link name='b'/>\n"
+                "<link name='foot'/>\n<joint name='j' type='fixed'><parent link='a'/>"
+                "<child link='foot'/></joint>\n</robot>\n");
+  expect_error([&] { import::read_urdf(twice, ""); }, twice + ":5: error: not a valid URDF");
   const std::string mjcf = temp_file("bad.xml",
                                      "<mujoco>\n<worldbody>\n<body><joint type='x'/>"
                                      "</body></worldbody></mujoco>");

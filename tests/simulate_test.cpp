@@ -7,7 +7,11 @@
 //  - `sweep --mass-matrix` columns: 1/2 qd^T M qd equals the kinetic energy summed over bodies
 //    from the same row's body columns;
 //  - the loop's contract on a one-coordinate plant whose M vanishes: the error names t and the
-//    rows before it are kept; effort laws of q and qd read from a description.
+//    rows before it are kept; effort laws of q and qd read from a description;
+//  - the generated kernel's plant (M and h from its mass_bias entry) against the numeric
+//    solver's, row by row: PASIBOT on its motor from rest across support exchanges, the
+//    quadruped leg (a closed chain: the kernel's warm start follows the state) under computed
+//    torque, leg6 (an open spatial chain) under PD.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -24,6 +28,7 @@
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
+#include "sweep/compiled_kernel.hpp"
 #include "sweep/sweep.hpp"
 
 namespace mechgen::sim {
@@ -51,6 +56,27 @@ double position_error(const SimulationResult& sim, const std::vector<std::string
       worst = std::max(worst, std::abs(sim.rows[i][c] - reference[i][c]));
   }
   return worst;
+}
+
+// The largest difference of two runs' rows over every column, each relative to max(1, that
+// column's largest magnitude in `reference`).
+double row_difference(const SimulationResult& run, const SimulationResult& reference) {
+  EXPECT_EQ(run.columns, reference.columns);
+  EXPECT_EQ(run.rows.size(), reference.rows.size());
+  double worst = 0;
+  for (size_t c = 0; c < reference.columns.size(); ++c) {
+    double scale = 1;
+    for (const std::vector<double>& row : reference.rows) scale = std::max(scale, std::abs(row[c]));
+    for (size_t i = 0; i < std::min(run.rows.size(), reference.rows.size()); ++i)
+      worst = std::max(worst, std::abs(run.rows[i][c] - reference.rows[i][c]) / scale);
+  }
+  return worst;
+}
+
+const CompiledKernel& compiled(const std::string& model) {
+  const CompiledKernel* kernel = find_compiled_kernel(model);
+  if (kernel == nullptr) throw std::runtime_error("no compiled kernel " + model);
+  return *kernel;
 }
 
 TEST(Simulate, RoundTripPasibot) {
@@ -124,35 +150,92 @@ TEST(Simulate, RoundTripQuadrupedLeg) {
   EXPECT_LT(error, 1e-8);
 }
 
+// The first quarter of a spatial model's step at a fixed step dt.
+SimulationOptions quarter_step(const spatial::SpatialSweepOptions& step, double dt) {
+  SimulationOptions options;
+  options.t0 = step.t0;
+  options.t1 = step.t0 + (step.t1 - step.t0) / 4;
+  options.dt = dt;
+  return options;
+}
+
 // Computed torque with M and h from a second plant holds the quadruped leg's own cylinder motion
 // to the integration error (an exact model: the servo terms stay at round-off), from the model's
 // own initial state.
 TEST(Simulate, ComputedTorqueHoldsTheQuadrupedLegsMotion) {
   const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/quadruped_leg.yaml");
   const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model);
-  const std::shared_ptr<Plant> controller = spatial_plant(model, step.parameters);
-  const std::unique_ptr<Plant> plant = spatial_plant(model, step.parameters);
-  SimulationOptions options;
-  options.t0 = step.t0;
-  options.t1 = step.t0 + (step.t1 - step.t0) / 4;
-  options.dt = 2e-3;  // 4 ms leave 6.6e-10, 2 ms 4e-11: the RK4 error, falling as dt^4
-  const auto n = static_cast<Eigen::Index>(plant->drivers().size());
-  const SimulationResult result = simulate(
-      *plant, tracking_controller(controller, Control::computed_torque, 400, 40, VectorXd::Ones(n)),
-      options);
-  ASSERT_TRUE(result.error.empty()) << result.error;
-  double worst = 0;
-  for (const std::vector<double>& row : result.rows) {
-    VectorXd qr, qdr;
-    plant->motion(row[0], qr, qdr);
-    for (Eigen::Index d = 0; d < n; ++d)
-      worst = std::max(
-          worst,
-          std::abs(qr[d] -
-                   row[column(result.columns, plant->drivers()[static_cast<size_t>(d)] + ".q")]));
+  // 4 ms leave 6.6e-10, 2 ms 4e-11: the RK4 error, falling as dt^4.
+  const SimulationOptions options = quarter_step(step, 2e-3);
+  std::vector<SimulationResult> runs;
+  for (const bool generated : {false, true}) {
+    // The controller's M and h from a second plant of the same solver.
+    const CompiledKernel& kernel = compiled("quadruped_leg");
+    const std::shared_ptr<Plant> controller =
+        generated ? spatial_kernel_plant(model, step.parameters, kernel)
+                  : spatial_plant(model, step.parameters);
+    const std::unique_ptr<Plant> plant = generated
+                                             ? spatial_kernel_plant(model, step.parameters, kernel)
+                                             : spatial_plant(model, step.parameters);
+    const auto n = static_cast<Eigen::Index>(plant->drivers().size());
+    const SimulationResult result = simulate(
+        *plant,
+        tracking_controller(controller, Control::computed_torque, 400, 40, VectorXd::Ones(n)),
+        options);
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    double worst = 0;
+    for (const std::vector<double>& row : result.rows) {
+      VectorXd qr, qdr;
+      plant->motion(row[0], qr, qdr);
+      for (Eigen::Index d = 0; d < n; ++d)
+        worst = std::max(
+            worst,
+            std::abs(qr[d] -
+                     row[column(result.columns, plant->drivers()[static_cast<size_t>(d)] + ".q")]));
+    }
+    std::cout << "quadruped leg, computed torque (" << (generated ? "generated" : "numeric")
+              << "): largest tracking error " << worst << " m\n";
+    EXPECT_LT(worst, 1e-9);
+    runs.push_back(result);
   }
-  std::cout << "quadruped leg, computed torque: largest tracking error " << worst << " m\n";
-  EXPECT_LT(worst, 1e-9);
+  const double difference = row_difference(runs[1], runs[0]);
+  std::cout << "quadruped leg, computed torque: generated - numeric, every column " << difference
+            << "\n";
+  EXPECT_LT(difference, 1e-9);
+}
+
+// leg6 (an open spatial chain, no warm start) from its own initial state under PD about its own
+// motion: every column of the generated kernel's run equals the numeric solver's.
+TEST(Simulate, GeneratedEqualsNumericOnLeg6) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/leg6.yaml");
+  const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model);
+  SimulationOptions options = quarter_step(step, (step.t1 - step.t0) / 400);
+  options.every = 10;
+  // PD scaled by the diagonal of M at the start (as `simulate --track pd`): 10 rad/s, damped.
+  VectorXd inertia;
+  {
+    const std::unique_ptr<Plant> start = spatial_plant(model, step.parameters);
+    VectorXd q, qd;
+    start->motion(options.t0, q, qd);
+    numeric::MassBias mb;
+    std::string why;
+    ASSERT_TRUE(start->place(options.t0, q, qd, mb, why)) << why;
+    inertia = mb.M.diagonal();
+  }
+  std::vector<SimulationResult> runs;
+  for (const bool generated : {false, true}) {
+    const std::shared_ptr<Plant> plant =
+        generated ? spatial_kernel_plant(model, step.parameters, compiled("leg6"))
+                  : spatial_plant(model, step.parameters);
+    runs.push_back(
+        simulate(*plant, tracking_controller(plant, Control::pd, 100, 20, inertia), options));
+    ASSERT_TRUE(runs.back().error.empty())
+        << (generated ? "generated: " : "numeric: ") << runs.back().error;
+  }
+  const double difference = row_difference(runs[1], runs[0]);
+  std::cout << "leg6 under PD, " << runs[0].steps
+            << " RK4 steps: generated - numeric, every column " << difference << "\n";
+  EXPECT_LT(difference, 1e-9);
 }
 
 // The largest |E.balance - E.balance(t0)| of a run, relative to its largest kinetic energy.
@@ -187,12 +270,24 @@ TEST(Simulate, ConservativeModelFromRestKeepsItsEnergy) {
     const SimulationResult result = simulate(*plant, none, options);
     ASSERT_TRUE(result.error.empty()) << result.error;
     rk4[dt] = energy_drift(result);
+    // The generated kernel's plant gives the same rows, under either integrator (dt 1 ms).
+    const auto same_through_kernel = [&](const SimulationResult& numeric) {
+      if (dt != 1e-3) return;
+      const std::unique_ptr<Plant> kernel =
+          planar_kernel_plant(model, parameters, compiled("chebyshev"));
+      const double difference = row_difference(simulate(*kernel, none, options), numeric);
+      std::cout << "chebyshev, " << to_string(options.integrator)
+                << ": generated - numeric, every column " << difference << "\n";
+      EXPECT_LT(difference, 1e-9);
+    };
+    same_through_kernel(result);
     if (dt == 2.5e-4) continue;
     options.integrator = Integrator::implicit_midpoint;
     const std::unique_ptr<Plant> plant2 = planar_plant(model, parameters);
     const SimulationResult implicit = simulate(*plant2, none, options);
     ASSERT_TRUE(implicit.error.empty()) << implicit.error;
     midpoint[dt] = energy_drift(implicit);
+    same_through_kernel(implicit);
   }
   const double order = std::log2(rk4[5e-4] / rk4[2.5e-4]);
   const double order_midpoint = std::log2(midpoint[1e-3] / midpoint[5e-4]);
@@ -392,25 +487,35 @@ TEST(Simulate, PasibotOnItsMotorKeepsTheEnergyBalanceAcrossSteps) {
   options.extra_inertia = VectorXd::Constant(1, drive->reflected_inertia());
   options.periodic_driver = 0;
   options.period = M_PI;
-  const std::unique_ptr<Plant> plant = planar_plant(model, parameters);
-  const SimulationResult result = simulate(
-      *plant,
-      [&](double, const VectorXd&, const VectorXd& qd, VectorXd& e) {
-        e = VectorXd::Constant(1, drive->output_torque(qd[0]));
-      },
-      options);
-  ASSERT_TRUE(result.error.empty()) << result.error;
-  EXPECT_GE(result.periods, 2);
-  const size_t balance = column(result.columns, "E.balance");
-  double drift = 0;
-  for (const std::vector<double>& row : result.rows)
-    drift = std::max(drift, std::abs(row[balance] - result.rows.front()[balance]));
-  const size_t work = column(result.columns, "W.efforts");
-  std::cout << "PASIBOT on GM25-150 from rest, " << result.periods
-            << " support exchanges in 1.5 s: motor work " << result.rows.back()[work]
-            << " J, energy balance drift " << drift << " J\n";
-  EXPECT_GT(result.rows.back()[work], 0.1);  // the balance is not trivially zero work
-  EXPECT_LT(drift, 1e-6);
+  std::vector<SimulationResult> runs;
+  for (const bool generated : {false, true}) {
+    const std::unique_ptr<Plant> plant =
+        generated ? planar_kernel_plant(model, parameters, compiled("pasibot"))
+                  : planar_plant(model, parameters);
+    const SimulationResult result = simulate(
+        *plant,
+        [&](double, const VectorXd&, const VectorXd& qd, VectorXd& e) {
+          e = VectorXd::Constant(1, drive->output_torque(qd[0]));
+        },
+        options);
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    EXPECT_GE(result.periods, 2);
+    const size_t balance = column(result.columns, "E.balance");
+    double drift = 0;
+    for (const std::vector<double>& row : result.rows)
+      drift = std::max(drift, std::abs(row[balance] - result.rows.front()[balance]));
+    const size_t work = column(result.columns, "W.efforts");
+    std::cout << "PASIBOT on GM25-150 from rest (" << (generated ? "generated" : "numeric") << "), "
+              << result.periods << " support exchanges in 1.5 s: motor work "
+              << result.rows.back()[work] << " J, energy balance drift " << drift << " J\n";
+    EXPECT_GT(result.rows.back()[work], 0.1);  // the balance is not trivially zero work
+    EXPECT_LT(drift, 1e-6);
+    runs.push_back(result);
+  }
+  // The two solvers' runs, every column (positions, rates, efforts, energies) row by row.
+  const double difference = row_difference(runs[1], runs[0]);
+  std::cout << "PASIBOT on its motor: generated - numeric, every column " << difference << "\n";
+  EXPECT_LT(difference, 1e-9);
 }
 
 // A stiff spring on a pendulum (omega = sqrt(k / I) = 950 rad/s) stepped at dt = 10 ms

@@ -257,7 +257,7 @@ struct State {
     // 1 once a call was accepted or the start seeded: the closed forms' roots follow
     // the warm start; 0 (fresh): the assembly's roots.
     Real follow = Real(0);
-    Real residual, pivot[6];
+    Real residual, rate_residual, rate_scale, acc_residual, acc_scale, pivot[6];
   } closure;
   int failed_group = -1;  // group_names[] entry that failed, when the status is not ok
 };
@@ -306,7 +306,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 626
+  // Total ops: 692
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -412,12 +412,31 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
-  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T _tmp19 = in.foot_pose_rz_d*sv_foot_pose_rz_x + in.foot_pose_x_d;
+  const T vel_b2_4 = -_tmp19;
+  const T _tmp20 = in.foot_pose_rz_d*sv_foot_pose_rz_y + in.foot_pose_y_d;
+  const T vel_b2_5 = -_tmp20;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
   const T vel_x5 = lu_ipiv5*vel_b4_5;
   const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
   const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T rate_residual0 = in.foot_pose_rz_d - vel_x0 - vel_x4 - vel_x5;
+  const T rate_rhs4 = -_tmp19;
+  const T _tmp21 = sv_j2_x*vel_x5;
+  const T _tmp22 = sv_j3_x*vel_x4;
+  const T rate_residual4 = -rate_rhs4 - _tmp21 - _tmp22;
+  const T rate_rhs5 = -_tmp20;
+  const T _tmp23 = sv_j2_y*vel_x5;
+  const T _tmp24 = sv_j3_y*vel_x4;
+  const T rate_residual5 = -rate_rhs5 - _tmp23 - _tmp24;
+  const T rate_residual = rate_residual0*rate_residual0 + rate_residual4*rate_residual4 + rate_residual5*rate_residual5;
+  const T _tmp25 = sv_j2_x*sv_j2_x;
+  const T _tmp26 = vel_x5*vel_x5;
+  const T _tmp27 = sv_j2_y*sv_j2_y;
+  const T _tmp28 = sv_j3_x*sv_j3_x;
+  const T _tmp29 = vel_x4*vel_x4;
+  const T _tmp30 = sv_j3_y*sv_j3_y;
+  const T rate_scale = _tmp25*_tmp26 + _tmp27*_tmp26 + _tmp28*_tmp29 + _tmp30*_tmp29 + in.foot_pose_rz_d*in.foot_pose_rz_d + rate_rhs4*rate_rhs4 + rate_rhs5*rate_rhs5 + vel_x0*vel_x0 + _tmp29 + _tmp26;
   const T sen0_x5 = lu_f5_4*lu_ipiv5;
   const T sen0_x4 = lu_ipiv4*sen0_x5*sv_j2_x - lu_ipiv4;
   const T sen0_x0 = lu_ipiv0*sen0_x4 + lu_ipiv0*sen0_x5;
@@ -428,31 +447,42 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T sen2_x4 = lu_ipiv4*sen2_x5*sv_j2_x - lu_ipiv4*sv_foot_pose_rz_x;
   const T sen2_x0 = lu_ipiv0*sen2_x4 + lu_ipiv0*sen2_x5 - lu_ipiv0;
   const T w_shank_z = vel_x0 + vel_x5;
-  const T v_shank_x = sv_j2_x*vel_x5;
-  const T v_shank_y = sv_j2_y*vel_x5;
+  const T v_shank_x = _tmp21;
+  const T v_shank_y = _tmp23;
   const T dsv_j2_x = -sv_j2_y*vel_x0;
   const T dsv_j2_y = sv_j2_x*vel_x0;
   const T w_foot_z = vel_x4 + w_shank_z;
-  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
-  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T v_foot_x = _tmp22 + v_shank_x;
+  const T v_foot_y = _tmp24 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp19 = dsv_j2_x*vel_x5;
-  const T _tmp20 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp21 = dsv_j2_y*vel_x5;
-  const T _tmp22 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp31 = dsv_j2_x*vel_x5;
+  const T _tmp32 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp31 + _tmp32 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp33 = dsv_j2_y*vel_x5;
+  const T _tmp34 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp33 + _tmp34 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
+  const T acc_residual0 = in.foot_pose_rz_dd - acc_x0 - acc_x4 - acc_x5;
+  const T _tmp35 = acc_x4*sv_j3_x;
+  const T _tmp36 = acc_x5*sv_j2_x;
+  const T acc_residual4 = -acc_rhs3 - _tmp35 - _tmp36;
+  const T _tmp37 = acc_x4*sv_j3_y;
+  const T _tmp38 = acc_x5*sv_j2_y;
+  const T acc_residual5 = -acc_rhs4 - _tmp37 - _tmp38;
+  const T acc_residual = acc_residual0*acc_residual0 + acc_residual4*acc_residual4 + acc_residual5*acc_residual5;
+  const T _tmp39 = acc_x4*acc_x4;
+  const T _tmp40 = acc_x5*acc_x5;
+  const T acc_scale = _tmp39*_tmp28 + _tmp39*_tmp30 + _tmp40*_tmp25 + _tmp40*_tmp27 + acc_rhs3*acc_rhs3 + acc_rhs4*acc_rhs4 + acc_x0*acc_x0 + _tmp39 + _tmp40 + in.foot_pose_rz_dd*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
+  const T dv_shank_x = _tmp36 + _tmp31;
+  const T dv_shank_y = _tmp38 + _tmp33;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
+  const T dv_foot_x = _tmp35 + _tmp32 + dv_shank_x;
+  const T dv_foot_y = _tmp37 + _tmp34 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -465,10 +495,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp23 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T _tmp24 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T _tmp41 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T _tmp42 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp42;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
@@ -481,18 +511,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp42;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp25 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp25;
-  const T _tmp26 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp26;
+  const T _tmp43 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp43;
+  const T _tmp44 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp44;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -500,8 +530,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp43;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp44;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
@@ -515,9 +545,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.pivot[3] = lu_a2_3_3;
   s.closure.pivot[4] = -sv_j3_x;
   s.closure.pivot[5] = lu_a4_5_5;
+  s.closure.rate_residual = rate_residual;
+  s.closure.rate_scale = rate_scale;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
+  s.closure.acc_residual = acc_residual;
+  s.closure.acc_scale = acc_scale;
   s.closure.wddnext[0] = acc_x4;
   s.closure.wddnext[1] = acc_x5;
   s.closure.wddnext[2] = acc_x0;
@@ -692,9 +726,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
-  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.closure.rate_residual)) + ((s.closure.rate_scale + s.closure.acc_residual) + (s.closure.acc_scale + s.bodies.thigh.ax));
+  const T _sum_rates_1 = ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax)) + ((s.bodies.foot.ay + s.points.knee.ax) + (s.points.knee.ay + s.points.ankle.ax));
+  const T _sum_rates_2 = s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -705,6 +740,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the rates' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.rate_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.rate_scale))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the accelerations' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.acc_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.acc_scale))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -728,7 +771,7 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 456
+  // Total ops: 491
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -834,18 +877,33 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
-  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T _tmp19 = in.foot_pose_rz_d*sv_foot_pose_rz_x + in.foot_pose_x_d;
+  const T vel_b2_4 = -_tmp19;
+  const T _tmp20 = in.foot_pose_rz_d*sv_foot_pose_rz_y + in.foot_pose_y_d;
+  const T vel_b2_5 = -_tmp20;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
   const T vel_x5 = lu_ipiv5*vel_b4_5;
   const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
   const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T rate_residual0 = in.foot_pose_rz_d - vel_x0 - vel_x4 - vel_x5;
+  const T rate_rhs4 = -_tmp19;
+  const T _tmp21 = sv_j2_x*vel_x5;
+  const T _tmp22 = sv_j3_x*vel_x4;
+  const T rate_residual4 = -rate_rhs4 - _tmp21 - _tmp22;
+  const T rate_rhs5 = -_tmp20;
+  const T _tmp23 = sv_j2_y*vel_x5;
+  const T _tmp24 = sv_j3_y*vel_x4;
+  const T rate_residual5 = -rate_rhs5 - _tmp23 - _tmp24;
+  const T rate_residual = rate_residual0*rate_residual0 + rate_residual4*rate_residual4 + rate_residual5*rate_residual5;
+  const T _tmp25 = vel_x5*vel_x5;
+  const T _tmp26 = vel_x4*vel_x4;
+  const T rate_scale = (sv_j2_x*sv_j2_x)*_tmp25 + (sv_j2_y*sv_j2_y)*_tmp25 + (sv_j3_x*sv_j3_x)*_tmp26 + (sv_j3_y*sv_j3_y)*_tmp26 + in.foot_pose_rz_d*in.foot_pose_rz_d + rate_rhs4*rate_rhs4 + rate_rhs5*rate_rhs5 + vel_x0*vel_x0 + _tmp26 + _tmp25;
   const T w_shank_z = vel_x0 + vel_x5;
-  const T v_shank_x = sv_j2_x*vel_x5;
-  const T v_shank_y = sv_j2_y*vel_x5;
+  const T v_shank_x = _tmp21;
+  const T v_shank_y = _tmp23;
   const T w_foot_z = vel_x4 + w_shank_z;
-  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
-  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T v_foot_x = _tmp22 + v_shank_x;
+  const T v_foot_y = _tmp24 + v_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -854,10 +912,10 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T com_shank_y = p_shank_y - T(1.5)*p.l*R_shank_11;
   const T vc_shank_x = v_shank_x - com_shank_y*w_shank_z;
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
-  const T _tmp19 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp19;
-  const T _tmp20 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp20;
+  const T _tmp27 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp27;
+  const T _tmp28 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp28;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T pt_knee_x = _tmp13;
@@ -868,8 +926,8 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp19;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp20;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp27;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp28;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   s.closure.wnext[0] = q_j3;
@@ -882,6 +940,8 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.closure.pivot[3] = lu_a2_3_3;
   s.closure.pivot[4] = -sv_j3_x;
   s.closure.pivot[5] = lu_a4_5_5;
+  s.closure.rate_residual = rate_residual;
+  s.closure.rate_scale = rate_scale;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
@@ -979,9 +1039,10 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_positions_1 = (s.bodies.foot.y + (s.points.knee.x + s.points.knee.y)) + ((s.points.ankle.x + s.points.ankle.y) + (s.points.toe.x + s.points.toe.y));
   const T _sum_positions = _sum_positions_0 + _sum_positions_1;
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.vx)) + ((s.bodies.thigh.vy + s.bodies.shank.vx) + (s.bodies.shank.vy + s.bodies.foot.vx));
-  const T _sum_rates_1 = (s.bodies.foot.vy + (s.points.knee.vx + s.points.knee.vy)) + ((s.points.ankle.vx + s.points.ankle.vy) + (s.points.toe.vx + s.points.toe.vy));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.closure.rate_residual)) + ((s.closure.rate_scale + s.bodies.thigh.vx) + (s.bodies.thigh.vy + s.bodies.shank.vx));
+  const T _sum_rates_1 = ((s.bodies.shank.vy + s.bodies.foot.vx) + (s.bodies.foot.vy + s.points.knee.vx)) + ((s.points.knee.vy + s.points.ankle.vx) + (s.points.ankle.vy + s.points.toe.vx));
+  const T _sum_rates_2 = s.points.toe.vy;
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
 
   // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is (nearly)
@@ -992,6 +1053,10 @@ Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the rates' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.rate_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.rate_scale))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1013,7 +1078,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 801
+  // Total ops: 867
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1130,12 +1195,31 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
-  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T _tmp19 = in.foot_pose_rz_d*sv_foot_pose_rz_x + in.foot_pose_x_d;
+  const T vel_b2_4 = -_tmp19;
+  const T _tmp20 = in.foot_pose_rz_d*sv_foot_pose_rz_y + in.foot_pose_y_d;
+  const T vel_b2_5 = -_tmp20;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
   const T vel_x5 = lu_ipiv5*vel_b4_5;
   const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
   const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T rate_residual0 = in.foot_pose_rz_d - vel_x0 - vel_x4 - vel_x5;
+  const T rate_rhs4 = -_tmp19;
+  const T _tmp21 = sv_j2_x*vel_x5;
+  const T _tmp22 = sv_j3_x*vel_x4;
+  const T rate_residual4 = -rate_rhs4 - _tmp21 - _tmp22;
+  const T rate_rhs5 = -_tmp20;
+  const T _tmp23 = sv_j2_y*vel_x5;
+  const T _tmp24 = sv_j3_y*vel_x4;
+  const T rate_residual5 = -rate_rhs5 - _tmp23 - _tmp24;
+  const T rate_residual = rate_residual0*rate_residual0 + rate_residual4*rate_residual4 + rate_residual5*rate_residual5;
+  const T _tmp25 = sv_j2_x*sv_j2_x;
+  const T _tmp26 = vel_x5*vel_x5;
+  const T _tmp27 = sv_j2_y*sv_j2_y;
+  const T _tmp28 = sv_j3_x*sv_j3_x;
+  const T _tmp29 = vel_x4*vel_x4;
+  const T _tmp30 = sv_j3_y*sv_j3_y;
+  const T rate_scale = _tmp25*_tmp26 + _tmp27*_tmp26 + _tmp28*_tmp29 + _tmp30*_tmp29 + in.foot_pose_rz_d*in.foot_pose_rz_d + rate_rhs4*rate_rhs4 + rate_rhs5*rate_rhs5 + vel_x0*vel_x0 + _tmp29 + _tmp26;
   const T sen0_x5 = lu_f5_4*lu_ipiv5;
   const T sen0_x4 = lu_ipiv4*sen0_x5*sv_j2_x - lu_ipiv4;
   const T sen0_x0 = lu_ipiv0*sen0_x4 + lu_ipiv0*sen0_x5;
@@ -1146,31 +1230,42 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T sen2_x4 = lu_ipiv4*sen2_x5*sv_j2_x - lu_ipiv4*sv_foot_pose_rz_x;
   const T sen2_x0 = lu_ipiv0*sen2_x4 + lu_ipiv0*sen2_x5 - lu_ipiv0;
   const T w_shank_z = vel_x0 + vel_x5;
-  const T v_shank_x = sv_j2_x*vel_x5;
-  const T v_shank_y = sv_j2_y*vel_x5;
+  const T v_shank_x = _tmp21;
+  const T v_shank_y = _tmp23;
   const T dsv_j2_x = -sv_j2_y*vel_x0;
   const T dsv_j2_y = sv_j2_x*vel_x0;
   const T w_foot_z = vel_x4 + w_shank_z;
-  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
-  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T v_foot_x = _tmp22 + v_shank_x;
+  const T v_foot_y = _tmp24 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp19 = dsv_j2_x*vel_x5;
-  const T _tmp20 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp21 = dsv_j2_y*vel_x5;
-  const T _tmp22 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp31 = dsv_j2_x*vel_x5;
+  const T _tmp32 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp31 + _tmp32 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp33 = dsv_j2_y*vel_x5;
+  const T _tmp34 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp33 + _tmp34 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
+  const T acc_residual0 = in.foot_pose_rz_dd - acc_x0 - acc_x4 - acc_x5;
+  const T _tmp35 = acc_x4*sv_j3_x;
+  const T _tmp36 = acc_x5*sv_j2_x;
+  const T acc_residual4 = -acc_rhs3 - _tmp35 - _tmp36;
+  const T _tmp37 = acc_x4*sv_j3_y;
+  const T _tmp38 = acc_x5*sv_j2_y;
+  const T acc_residual5 = -acc_rhs4 - _tmp37 - _tmp38;
+  const T acc_residual = acc_residual0*acc_residual0 + acc_residual4*acc_residual4 + acc_residual5*acc_residual5;
+  const T _tmp39 = acc_x4*acc_x4;
+  const T _tmp40 = acc_x5*acc_x5;
+  const T acc_scale = _tmp39*_tmp28 + _tmp39*_tmp30 + _tmp40*_tmp25 + _tmp40*_tmp27 + acc_rhs3*acc_rhs3 + acc_rhs4*acc_rhs4 + acc_x0*acc_x0 + _tmp39 + _tmp40 + in.foot_pose_rz_dd*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
+  const T dv_shank_x = _tmp36 + _tmp31;
+  const T dv_shank_y = _tmp38 + _tmp33;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
+  const T dv_foot_x = _tmp35 + _tmp32 + dv_shank_x;
+  const T dv_foot_y = _tmp37 + _tmp34 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -1183,10 +1278,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp23 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T _tmp24 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T _tmp41 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T _tmp42 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp42;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
@@ -1199,18 +1294,18 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T pt_ankle_y = p_shank_y - _tmp16;
   const T vp_ankle_x = v_shank_x - pt_ankle_y*w_shank_z;
   const T vp_ankle_y = pt_ankle_x*w_shank_z + v_shank_y;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp42;
   const T vp_toe_x = v_foot_x - pt_toe_y*w_foot_z;
   const T vp_toe_y = pt_toe_x*w_foot_z + v_foot_y;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp25 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp25;
-  const T _tmp26 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp26;
+  const T _tmp43 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp43;
+  const T _tmp44 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp44;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1218,17 +1313,17 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp43;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp44;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp27 = p.r*p.r;
-  const T _tmp28 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp27*p.rho*_tmp28;
-  const T _tmp29 = _tmp27*_tmp27;
-  const T _tmp30 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp28 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp27*p.rho*_tmp28*_tmp30;
+  const T _tmp45 = p.r*p.r;
+  const T _tmp46 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp45*p.rho*_tmp46;
+  const T _tmp47 = _tmp45*_tmp45;
+  const T _tmp48 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp47*p.rho*_tmp46 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp45*p.rho*_tmp46*_tmp48;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1239,10 +1334,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp31 = p.f*p.f;
-  const T _tmp32 = sqrt(_tmp31);
-  const T m_foot = T(3.14159265358979323846)*_tmp27*p.rho*_tmp32;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp32 + T(3.14159265358979323846)*_tmp31*_tmp27*p.rho*_tmp32*_tmp30;
+  const T _tmp49 = p.f*p.f;
+  const T _tmp50 = sqrt(_tmp49);
+  const T m_foot = T(3.14159265358979323846)*_tmp45*p.rho*_tmp50;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp47*p.rho*_tmp50 + T(3.14159265358979323846)*_tmp49*_tmp45*p.rho*_tmp50*_tmp48;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1258,8 +1353,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T tm_thigh_z = M_thigh_z + tm_shank_z;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T P_j3_x = p_foot_x - _tmp23;
-  const T P_j3_y = p_foot_y - _tmp24;
+  const T P_j3_x = p_foot_x - _tmp41;
+  const T P_j3_y = p_foot_y - _tmp42;
   const T rct_z0 = -lu_ipiv0*tm_thigh_z;
   const T rct_z4 = lu_ipiv4*rct_z0 - F_foot_x*lu_ipiv4*sv_j3_x - F_foot_y*lu_ipiv4*sv_j3_y - M_foot_z*lu_ipiv4;
   const T rct_z5 = lu_ipiv5*rct_z0 + lu_ipiv5*rct_z4*sv_j2_x - lu_ipiv5*sv_j2_x*tf_shank_x - lu_ipiv5*sv_j2_y*tf_shank_y - lu_ipiv5*tm_shank_z;
@@ -1285,9 +1380,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.closure.pivot[3] = lu_a2_3_3;
   s.closure.pivot[4] = -sv_j3_x;
   s.closure.pivot[5] = lu_a4_5_5;
+  s.closure.rate_residual = rate_residual;
+  s.closure.rate_scale = rate_scale;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
+  s.closure.acc_residual = acc_residual;
+  s.closure.acc_scale = acc_scale;
   s.closure.wddnext[0] = acc_x4;
   s.closure.wddnext[1] = acc_x5;
   s.closure.wddnext[2] = acc_x0;
@@ -1483,9 +1582,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_positions_3 = s.point_jacobians.toe[1][1] + (s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2]);
   const T _sum_positions = (_sum_positions_0 + _sum_positions_1) + (_sum_positions_2 + _sum_positions_3);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.bodies.thigh.ax)) + ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax));
-  const T _sum_rates_1 = (s.bodies.foot.ay + (s.points.knee.ax + s.points.knee.ay)) + ((s.points.ankle.ax + s.points.ankle.ay) + (s.points.toe.ax + s.points.toe.ay));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_0 = ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.closure.rate_residual)) + ((s.closure.rate_scale + s.closure.acc_residual) + (s.closure.acc_scale + s.bodies.thigh.ax));
+  const T _sum_rates_1 = ((s.bodies.thigh.ay + s.bodies.shank.ax) + (s.bodies.shank.ay + s.bodies.foot.ax)) + ((s.bodies.foot.ay + s.points.knee.ax) + (s.points.knee.ay + s.points.ankle.ax));
+  const T _sum_rates_2 = s.points.ankle.ay + (s.points.toe.ax + s.points.toe.ay);
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces_0 = ((s.drivers.foot_pose_x.effort + s.drivers.foot_pose_y.effort) + (s.drivers.foot_pose_rz.effort + s.joints.j1.fx)) + ((s.joints.j1.fy + s.joints.j1.mx) + (s.joints.j1.mz + s.joints.j2.mz));
   const T _sum_forces_1 = s.joints.j3.mz;
@@ -1500,6 +1600,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the rates' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.rate_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.rate_scale))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the accelerations' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.acc_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.acc_scale))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1521,7 +1629,7 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 691
+  // Total ops: 757
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -1627,12 +1735,31 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
-  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T _tmp19 = in.foot_pose_rz_d*sv_foot_pose_rz_x + in.foot_pose_x_d;
+  const T vel_b2_4 = -_tmp19;
+  const T _tmp20 = in.foot_pose_rz_d*sv_foot_pose_rz_y + in.foot_pose_y_d;
+  const T vel_b2_5 = -_tmp20;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
   const T vel_x5 = lu_ipiv5*vel_b4_5;
   const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
   const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T rate_residual0 = in.foot_pose_rz_d - vel_x0 - vel_x4 - vel_x5;
+  const T rate_rhs4 = -_tmp19;
+  const T _tmp21 = sv_j2_x*vel_x5;
+  const T _tmp22 = sv_j3_x*vel_x4;
+  const T rate_residual4 = -rate_rhs4 - _tmp21 - _tmp22;
+  const T rate_rhs5 = -_tmp20;
+  const T _tmp23 = sv_j2_y*vel_x5;
+  const T _tmp24 = sv_j3_y*vel_x4;
+  const T rate_residual5 = -rate_rhs5 - _tmp23 - _tmp24;
+  const T rate_residual = rate_residual0*rate_residual0 + rate_residual4*rate_residual4 + rate_residual5*rate_residual5;
+  const T _tmp25 = sv_j2_x*sv_j2_x;
+  const T _tmp26 = vel_x5*vel_x5;
+  const T _tmp27 = sv_j2_y*sv_j2_y;
+  const T _tmp28 = sv_j3_x*sv_j3_x;
+  const T _tmp29 = vel_x4*vel_x4;
+  const T _tmp30 = sv_j3_y*sv_j3_y;
+  const T rate_scale = _tmp25*_tmp26 + _tmp27*_tmp26 + _tmp28*_tmp29 + _tmp30*_tmp29 + in.foot_pose_rz_d*in.foot_pose_rz_d + rate_rhs4*rate_rhs4 + rate_rhs5*rate_rhs5 + vel_x0*vel_x0 + _tmp29 + _tmp26;
   const T sen0_x5 = lu_f5_4*lu_ipiv5;
   const T sen0_x4 = lu_ipiv4*sen0_x5*sv_j2_x - lu_ipiv4;
   const T sen0_x0 = lu_ipiv0*sen0_x4 + lu_ipiv0*sen0_x5;
@@ -1643,31 +1770,42 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T sen2_x4 = lu_ipiv4*sen2_x5*sv_j2_x - lu_ipiv4*sv_foot_pose_rz_x;
   const T sen2_x0 = lu_ipiv0*sen2_x4 + lu_ipiv0*sen2_x5 - lu_ipiv0;
   const T w_shank_z = vel_x0 + vel_x5;
-  const T v_shank_x = sv_j2_x*vel_x5;
-  const T v_shank_y = sv_j2_y*vel_x5;
+  const T v_shank_x = _tmp21;
+  const T v_shank_y = _tmp23;
   const T dsv_j2_x = -sv_j2_y*vel_x0;
   const T dsv_j2_y = sv_j2_x*vel_x0;
   const T w_foot_z = vel_x4 + w_shank_z;
-  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
-  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T v_foot_x = _tmp22 + v_shank_x;
+  const T v_foot_y = _tmp24 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp19 = dsv_j2_x*vel_x5;
-  const T _tmp20 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp19 + _tmp20 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp21 = dsv_j2_y*vel_x5;
-  const T _tmp22 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp21 + _tmp22 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp31 = dsv_j2_x*vel_x5;
+  const T _tmp32 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp31 + _tmp32 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp33 = dsv_j2_y*vel_x5;
+  const T _tmp34 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp33 + _tmp34 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
+  const T acc_residual0 = in.foot_pose_rz_dd - acc_x0 - acc_x4 - acc_x5;
+  const T _tmp35 = acc_x4*sv_j3_x;
+  const T _tmp36 = acc_x5*sv_j2_x;
+  const T acc_residual4 = -acc_rhs3 - _tmp35 - _tmp36;
+  const T _tmp37 = acc_x4*sv_j3_y;
+  const T _tmp38 = acc_x5*sv_j2_y;
+  const T acc_residual5 = -acc_rhs4 - _tmp37 - _tmp38;
+  const T acc_residual = acc_residual0*acc_residual0 + acc_residual4*acc_residual4 + acc_residual5*acc_residual5;
+  const T _tmp39 = acc_x4*acc_x4;
+  const T _tmp40 = acc_x5*acc_x5;
+  const T acc_scale = _tmp39*_tmp28 + _tmp39*_tmp30 + _tmp40*_tmp25 + _tmp40*_tmp27 + acc_rhs3*acc_rhs3 + acc_rhs4*acc_rhs4 + acc_x0*acc_x0 + _tmp39 + _tmp40 + in.foot_pose_rz_dd*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp19;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp21;
+  const T dv_shank_x = _tmp36 + _tmp31;
+  const T dv_shank_y = _tmp38 + _tmp33;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp20 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp22 + dv_shank_y;
+  const T dv_foot_x = _tmp35 + _tmp32 + dv_shank_x;
+  const T dv_foot_y = _tmp37 + _tmp34 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -1680,10 +1818,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp23 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T _tmp24 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T _tmp41 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T _tmp42 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp42;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
@@ -1692,16 +1830,16 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T pt_knee_y = -_tmp14;
   const T pt_ankle_x = p_shank_x - _tmp15;
   const T pt_ankle_y = p_shank_y - _tmp16;
-  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp23;
-  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp24;
+  const T pt_toe_x = p.f*R_foot_00 + p_foot_x - _tmp41;
+  const T pt_toe_y = p.f*R_foot_10 + p_foot_y - _tmp42;
   const T jw_shank_0_z = sen0_x0 + sen0_x5;
   const T jv_shank_0_x = sen0_x5*sv_j2_x;
   const T jv_shank_0_y = sen0_x5*sv_j2_y;
   const T jw_shank_1_z = sen1_x0 - lu_ipiv5;
-  const T _tmp25 = lu_ipiv5*sv_j2_x;
-  const T jv_shank_1_x = -_tmp25;
-  const T _tmp26 = lu_ipiv5*sv_j2_y;
-  const T jv_shank_1_y = -_tmp26;
+  const T _tmp43 = lu_ipiv5*sv_j2_x;
+  const T jv_shank_1_x = -_tmp43;
+  const T _tmp44 = lu_ipiv5*sv_j2_y;
+  const T jv_shank_1_y = -_tmp44;
   const T jw_shank_2_z = sen2_x0 + sen2_x5;
   const T jv_shank_2_x = sen2_x5*sv_j2_x;
   const T jv_shank_2_y = sen2_x5*sv_j2_y;
@@ -1709,17 +1847,17 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T jv_foot_0_x = sen0_x4*sv_j3_x + jv_shank_0_x;
   const T jv_foot_0_y = sen0_x4*sv_j3_y + jv_shank_0_y;
   const T jw_foot_1_z = sen1_x0 + sen1_x4 - lu_ipiv5;
-  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp25;
-  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp26;
+  const T jv_foot_1_x = sen1_x4*sv_j3_x - _tmp43;
+  const T jv_foot_1_y = sen1_x4*sv_j3_y - _tmp44;
   const T jw_foot_2_z = sen2_x0 + sen2_x4 + sen2_x5;
   const T jv_foot_2_x = sen2_x4*sv_j3_x + jv_shank_2_x;
   const T jv_foot_2_y = sen2_x4*sv_j3_y + jv_shank_2_y;
-  const T _tmp27 = p.r*p.r;
-  const T _tmp28 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp27*p.rho*_tmp28;
-  const T _tmp29 = _tmp27*_tmp27;
-  const T _tmp30 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp28 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp27*p.rho*_tmp28*_tmp30;
+  const T _tmp45 = p.r*p.r;
+  const T _tmp46 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp45*p.rho*_tmp46;
+  const T _tmp47 = _tmp45*_tmp45;
+  const T _tmp48 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp47*p.rho*_tmp46 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp45*p.rho*_tmp46*_tmp48;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -1730,10 +1868,10 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp31 = p.f*p.f;
-  const T _tmp32 = sqrt(_tmp31);
-  const T m_foot = T(3.14159265358979323846)*_tmp27*p.rho*_tmp32;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp29*p.rho*_tmp32 + T(3.14159265358979323846)*_tmp31*_tmp27*p.rho*_tmp32*_tmp30;
+  const T _tmp49 = p.f*p.f;
+  const T _tmp50 = sqrt(_tmp49);
+  const T m_foot = T(3.14159265358979323846)*_tmp45*p.rho*_tmp50;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp47*p.rho*_tmp50 + T(3.14159265358979323846)*_tmp49*_tmp45*p.rho*_tmp50*_tmp48;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
@@ -1751,9 +1889,13 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.pivot[3] = lu_a2_3_3;
   s.closure.pivot[4] = -sv_j3_x;
   s.closure.pivot[5] = lu_a4_5_5;
+  s.closure.rate_residual = rate_residual;
+  s.closure.rate_scale = rate_scale;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
+  s.closure.acc_residual = acc_residual;
+  s.closure.acc_scale = acc_scale;
   s.closure.wddnext[0] = acc_x4;
   s.closure.wddnext[1] = acc_x5;
   s.closure.wddnext[2] = acc_x0;
@@ -1816,7 +1958,9 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T _sum_positions_2 = s.point_jacobians.toe[0][2] + s.point_jacobians.toe[1][2];
   const T _sum_positions = _sum_positions_0 + (_sum_positions_1 + _sum_positions_2);
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 11, Status::non_finite);
-  const T _sum_rates = (s.closure.wnext[0] + (s.closure.wnext[1] + s.closure.wnext[2])) + ((s.closure.residual + s.closure.pivot[3]) + (s.closure.pivot[5] + s.closure.wddnext[2]));
+  const T _sum_rates_0 = ((s.closure.wnext[0] + s.closure.wnext[1]) + (s.closure.wnext[2] + s.closure.residual)) + ((s.closure.pivot[3] + s.closure.pivot[5]) + (s.closure.rate_residual + s.closure.rate_scale));
+  const T _sum_rates_1 = s.closure.acc_residual + s.closure.acc_scale;
+  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 12, Status::non_finite);
   const T _sum_forces = s.drivers.foot_pose_x.effort + (s.drivers.foot_pose_y.effort + s.drivers.foot_pose_rz.effort);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
@@ -1829,6 +1973,14 @@ Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the rates' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.rate_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.rate_scale))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the accelerations' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.acc_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.acc_scale))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];
@@ -1980,7 +2132,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 10, Status::unreachable);
-  // Total ops: 622
+  // Total ops: 688
   const T q_foot_pose_x = in.foot_pose_x - p.f;
   const T _tmp0 = T(2)*p.l;
   const T q_foot_pose_y = _tmp0 + in.foot_pose_y;
@@ -2095,38 +2247,68 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T lu_f5_4 = -lu_ipiv4*sv_j3_y;
   const T lu_a4_5_5 = lu_f5_4*sv_j2_x - sv_j2_y;
   const T lu_ipiv5 = T(1)/lu_a4_5_5;
-  const T vel_b2_4 = -in.foot_pose_rz_d*sv_foot_pose_rz_x - in.foot_pose_x_d;
-  const T vel_b2_5 = -in.foot_pose_rz_d*sv_foot_pose_rz_y - in.foot_pose_y_d;
+  const T _tmp22 = in.foot_pose_rz_d*sv_foot_pose_rz_x + in.foot_pose_x_d;
+  const T vel_b2_4 = -_tmp22;
+  const T _tmp23 = in.foot_pose_rz_d*sv_foot_pose_rz_y + in.foot_pose_y_d;
+  const T vel_b2_5 = -_tmp23;
   const T vel_b4_5 = vel_b2_5 - lu_f5_4*vel_b2_4;
   const T vel_x5 = lu_ipiv5*vel_b4_5;
   const T vel_x4 = lu_ipiv4*sv_j2_x*vel_x5 + lu_ipiv4*vel_b2_4;
   const T vel_x0 = lu_ipiv0*vel_x4 + lu_ipiv0*vel_x5 - lu_ipiv0*in.foot_pose_rz_d;
+  const T rate_residual0 = in.foot_pose_rz_d - vel_x0 - vel_x4 - vel_x5;
+  const T rate_rhs4 = -_tmp22;
+  const T _tmp24 = sv_j2_x*vel_x5;
+  const T _tmp25 = sv_j3_x*vel_x4;
+  const T rate_residual4 = -rate_rhs4 - _tmp24 - _tmp25;
+  const T rate_rhs5 = -_tmp23;
+  const T _tmp26 = sv_j2_y*vel_x5;
+  const T _tmp27 = sv_j3_y*vel_x4;
+  const T rate_residual5 = -rate_rhs5 - _tmp26 - _tmp27;
+  const T rate_residual = rate_residual0*rate_residual0 + rate_residual4*rate_residual4 + rate_residual5*rate_residual5;
+  const T _tmp28 = sv_j2_x*sv_j2_x;
+  const T _tmp29 = vel_x5*vel_x5;
+  const T _tmp30 = sv_j2_y*sv_j2_y;
+  const T _tmp31 = sv_j3_x*sv_j3_x;
+  const T _tmp32 = vel_x4*vel_x4;
+  const T _tmp33 = sv_j3_y*sv_j3_y;
+  const T rate_scale = _tmp28*_tmp29 + _tmp30*_tmp29 + _tmp31*_tmp32 + _tmp33*_tmp32 + in.foot_pose_rz_d*in.foot_pose_rz_d + rate_rhs4*rate_rhs4 + rate_rhs5*rate_rhs5 + vel_x0*vel_x0 + _tmp32 + _tmp29;
   const T w_shank_z = vel_x0 + vel_x5;
-  const T v_shank_x = sv_j2_x*vel_x5;
-  const T v_shank_y = sv_j2_y*vel_x5;
+  const T v_shank_x = _tmp24;
+  const T v_shank_y = _tmp26;
   const T dsv_j2_x = -sv_j2_y*vel_x0;
   const T dsv_j2_y = sv_j2_x*vel_x0;
   const T w_foot_z = vel_x4 + w_shank_z;
-  const T v_foot_x = sv_j3_x*vel_x4 + v_shank_x;
-  const T v_foot_y = sv_j3_y*vel_x4 + v_shank_y;
+  const T v_foot_x = _tmp25 + v_shank_x;
+  const T v_foot_y = _tmp27 + v_shank_y;
   const T dsv_j3_x = v_shank_y - sv_j3_y*w_shank_z;
   const T dsv_j3_y = sv_j3_x*w_shank_z - v_shank_x;
-  const T _tmp22 = dsv_j2_x*vel_x5;
-  const T _tmp23 = dsv_j3_x*vel_x4;
-  const T acc_rhs3 = _tmp22 + _tmp23 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
-  const T _tmp24 = dsv_j2_y*vel_x5;
-  const T _tmp25 = dsv_j3_y*vel_x4;
-  const T acc_rhs4 = _tmp24 + _tmp25 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
+  const T _tmp34 = dsv_j2_x*vel_x5;
+  const T _tmp35 = dsv_j3_x*vel_x4;
+  const T acc_rhs3 = _tmp34 + _tmp35 - in.foot_pose_rz_d*in.foot_pose_y_d - in.foot_pose_rz_dd*sv_foot_pose_rz_x - in.foot_pose_x_dd;
+  const T _tmp36 = dsv_j2_y*vel_x5;
+  const T _tmp37 = dsv_j3_y*vel_x4;
+  const T acc_rhs4 = _tmp36 + _tmp37 + in.foot_pose_rz_d*in.foot_pose_x_d - in.foot_pose_rz_dd*sv_foot_pose_rz_y - in.foot_pose_y_dd;
   const T acc_b4_5 = acc_rhs4 - acc_rhs3*lu_f5_4;
   const T acc_x5 = acc_b4_5*lu_ipiv5;
   const T acc_x4 = acc_rhs3*lu_ipiv4 + acc_x5*lu_ipiv4*sv_j2_x;
   const T acc_x0 = lu_ipiv0*acc_x4 + lu_ipiv0*acc_x5 - lu_ipiv0*in.foot_pose_rz_dd;
+  const T acc_residual0 = in.foot_pose_rz_dd - acc_x0 - acc_x4 - acc_x5;
+  const T _tmp38 = acc_x4*sv_j3_x;
+  const T _tmp39 = acc_x5*sv_j2_x;
+  const T acc_residual4 = -acc_rhs3 - _tmp38 - _tmp39;
+  const T _tmp40 = acc_x4*sv_j3_y;
+  const T _tmp41 = acc_x5*sv_j2_y;
+  const T acc_residual5 = -acc_rhs4 - _tmp40 - _tmp41;
+  const T acc_residual = acc_residual0*acc_residual0 + acc_residual4*acc_residual4 + acc_residual5*acc_residual5;
+  const T _tmp42 = acc_x4*acc_x4;
+  const T _tmp43 = acc_x5*acc_x5;
+  const T acc_scale = _tmp42*_tmp31 + _tmp42*_tmp33 + _tmp43*_tmp28 + _tmp43*_tmp30 + acc_rhs3*acc_rhs3 + acc_rhs4*acc_rhs4 + acc_x0*acc_x0 + _tmp42 + _tmp43 + in.foot_pose_rz_dd*in.foot_pose_rz_dd;
   const T dw_shank_z = acc_x0 + acc_x5;
-  const T dv_shank_x = acc_x5*sv_j2_x + _tmp22;
-  const T dv_shank_y = acc_x5*sv_j2_y + _tmp24;
+  const T dv_shank_x = _tmp39 + _tmp34;
+  const T dv_shank_y = _tmp41 + _tmp36;
   const T dw_foot_z = acc_x4 + dw_shank_z;
-  const T dv_foot_x = acc_x4*sv_j3_x + _tmp23 + dv_shank_x;
-  const T dv_foot_y = acc_x4*sv_j3_y + _tmp25 + dv_shank_y;
+  const T dv_foot_x = _tmp38 + _tmp35 + dv_shank_x;
+  const T dv_foot_y = _tmp40 + _tmp37 + dv_shank_y;
   const T com_thigh_x = T(0.5)*p.l*sin_j1;
   const T com_thigh_y = -T(0.5)*p.l*cos_j1;
   const T vc_thigh_x = -com_thigh_y*vel_x0;
@@ -2139,20 +2321,20 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T vc_shank_y = com_shank_x*w_shank_z + v_shank_y;
   const T ac_shank_x = dv_shank_x - com_shank_y*dw_shank_z - vc_shank_y*w_shank_z;
   const T ac_shank_y = com_shank_x*dw_shank_z + dv_shank_y + vc_shank_x*w_shank_z;
-  const T _tmp26 = T(2)*p.l*R_foot_01;
-  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp26;
-  const T _tmp27 = T(2)*p.l*R_foot_11;
-  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp27;
+  const T _tmp44 = T(2)*p.l*R_foot_01;
+  const T com_foot_x = T(0.5)*p.f*R_foot_00 + p_foot_x - _tmp44;
+  const T _tmp45 = T(2)*p.l*R_foot_11;
+  const T com_foot_y = T(0.5)*p.f*R_foot_10 + p_foot_y - _tmp45;
   const T vc_foot_x = v_foot_x - com_foot_y*w_foot_z;
   const T vc_foot_y = com_foot_x*w_foot_z + v_foot_y;
   const T ac_foot_x = dv_foot_x - com_foot_y*dw_foot_z - vc_foot_y*w_foot_z;
   const T ac_foot_y = com_foot_x*dw_foot_z + dv_foot_y + vc_foot_x*w_foot_z;
-  const T _tmp28 = p.r*p.r;
-  const T _tmp29 = sqrt(ik_foot_pose_link_dot);
-  const T m_thigh = T(3.14159265358979323846)*_tmp28*p.rho*_tmp29;
-  const T _tmp30 = _tmp28*_tmp28;
-  const T _tmp31 = T(1)/T(12);
-  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp30*p.rho*_tmp29 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp28*p.rho*_tmp29*_tmp31;
+  const T _tmp46 = p.r*p.r;
+  const T _tmp47 = sqrt(ik_foot_pose_link_dot);
+  const T m_thigh = T(3.14159265358979323846)*_tmp46*p.rho*_tmp47;
+  const T _tmp48 = _tmp46*_tmp46;
+  const T _tmp49 = T(1)/T(12);
+  const T I_thigh_22 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.rho*_tmp47 + T(3.14159265358979323846)*ik_foot_pose_link_dot*_tmp46*p.rho*_tmp47*_tmp49;
   const T Ialb_thigh_z = I_thigh_22*acc_x0;
   const T F_thigh_x = m_thigh*ac_thigh_x;
   const T F_thigh_y = T(9.81)*m_thigh + m_thigh*ac_thigh_y;
@@ -2163,18 +2345,18 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T F_shank_x = m_shank*ac_shank_x;
   const T F_shank_y = T(9.81)*m_shank + m_shank*ac_shank_y;
   const T M_shank_z = F_shank_y*com_shank_x + Ialb_shank_z - F_shank_x*com_shank_y;
-  const T _tmp32 = p.f*p.f;
-  const T _tmp33 = sqrt(_tmp32);
-  const T m_foot = T(3.14159265358979323846)*_tmp28*p.rho*_tmp33;
-  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp30*p.rho*_tmp33 + T(3.14159265358979323846)*_tmp32*_tmp28*p.rho*_tmp33*_tmp31;
+  const T _tmp50 = p.f*p.f;
+  const T _tmp51 = sqrt(_tmp50);
+  const T m_foot = T(3.14159265358979323846)*_tmp46*p.rho*_tmp51;
+  const T I_foot_22 = T(0.25)*T(3.14159265358979323846)*_tmp48*p.rho*_tmp51 + T(3.14159265358979323846)*_tmp50*_tmp46*p.rho*_tmp51*_tmp49;
   const T Ialb_foot_z = I_foot_22*dw_foot_z;
   const T F_foot_x = m_foot*ac_foot_x;
   const T F_foot_y = T(9.81)*m_foot + m_foot*ac_foot_y;
   const T M_foot_z = F_foot_y*com_foot_x + Ialb_foot_z - F_foot_x*com_foot_y;
   const T P_j2_x = p_shank_x - p.l*R_shank_01;
   const T P_j2_y = p_shank_y - p.l*R_shank_11;
-  const T P_j3_x = p_foot_x - _tmp26;
-  const T P_j3_y = p_foot_y - _tmp27;
+  const T P_j3_x = p_foot_x - _tmp44;
+  const T P_j3_y = p_foot_y - _tmp45;
   const T P_foot_pose_x_x = _tmp7;
   const T P_foot_pose_y_x = _tmp7;
   const T P_foot_pose_y_y = -_tmp6;
@@ -2182,11 +2364,11 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   const T P_foot_pose_z_y = -_tmp6;
   const T P_foot_pose_rz_x = _tmp1 + _tmp2 + p_foot_pose_b4_x;
   const T P_foot_pose_rz_y = _tmp5 + p_foot_pose_b4_y - _tmp4;
-  const T P_foot_pose_rx_x = p.f*R_foot_pose_b5_00 + p_foot_pose_b5_x - _tmp26;
-  const T P_foot_pose_rx_y = p.f*R_foot_pose_b5_10 + p_foot_pose_b5_y - _tmp27;
+  const T P_foot_pose_rx_x = p.f*R_foot_pose_b5_00 + p_foot_pose_b5_x - _tmp44;
+  const T P_foot_pose_rx_y = p.f*R_foot_pose_b5_10 + p_foot_pose_b5_y - _tmp45;
   const T P_foot_pose_rx_z = _tmp21 + p_foot_pose_b5_z;
-  const T P_foot_pose_ry_x = p.f*R_foot_00 + p_foot_x - _tmp26;
-  const T P_foot_pose_ry_y = p.f*R_foot_10 + p_foot_y - _tmp27;
+  const T P_foot_pose_ry_x = p.f*R_foot_00 + p_foot_x - _tmp44;
+  const T P_foot_pose_ry_y = p.f*R_foot_10 + p_foot_y - _tmp45;
   A[0] = T(1);
   A[6] = -T(1);
   A[58] = T(1);
@@ -2405,16 +2587,20 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   s.closure.pivot[3] = lu_a2_3_3;
   s.closure.pivot[4] = -sv_j3_x;
   s.closure.pivot[5] = lu_a4_5_5;
+  s.closure.rate_residual = rate_residual;
+  s.closure.rate_scale = rate_scale;
   s.closure.wdnext[0] = vel_x4;
   s.closure.wdnext[1] = vel_x5;
   s.closure.wdnext[2] = vel_x0;
+  s.closure.acc_residual = acc_residual;
+  s.closure.acc_scale = acc_scale;
   s.closure.wddnext[0] = acc_x4;
   s.closure.wddnext[1] = acc_x5;
   s.closure.wddnext[2] = acc_x0;
   const T _sum_forces_0 = ((A[1217] + A[1223]) + (A[1274] + A[1280])) + ((A[1571] + A[1628]) + (A[2799] + A[2800]));
   const T _sum_forces_1 = ((A[2862] + A[2863]) + (A[3114] + A[3115])) + ((A[3177] + A[3178]) + (A[3179] + A[3240]));
   const T _sum_forces_2 = ((A[3241] + A[3242]) + (b[5] + b[11])) + ((b[17] + s.closure.wnext[0]) + (s.closure.wnext[1] + s.closure.wnext[2]));
-  const T _sum_forces_3 = s.closure.residual + (s.closure.pivot[3] + s.closure.pivot[5]);
+  const T _sum_forces_3 = (s.closure.residual + (s.closure.pivot[3] + s.closure.pivot[5])) + ((s.closure.rate_residual + s.closure.rate_scale) + (s.closure.acc_residual + s.closure.acc_scale));
   const T _sum_forces = (_sum_forces_0 + _sum_forces_1) + (_sum_forces_2 + _sum_forces_3);
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 13, Status::non_finite);
 
@@ -2426,6 +2612,14 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
                                    std::numeric_limits<T>::epsilon()))
     return s.failed_group = 9, Status::unreachable;
   if (!(abs(s.closure.pivot[0] * s.closure.pivot[1] * s.closure.pivot[2] * s.closure.pivot[3] * s.closure.pivot[4] * s.closure.pivot[5]) > T(3.572114219898901e-11)))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the rates' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.rate_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.rate_scale))
+    return s.failed_group = 9, Status::singular;
+  // singular also: the accelerations' solve through N_s lost its precision (backward error above 1e5 eps).
+  if (!(s.closure.acc_residual <= T(1e10) * std::numeric_limits<T>::epsilon() *
+                                   std::numeric_limits<T>::epsilon() * s.closure.acc_scale))
     return s.failed_group = 9, Status::singular;
   for (int i = 0; i < 3; ++i) {
     s.closure.w[i] = s.closure.wnext[i];

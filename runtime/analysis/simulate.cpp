@@ -34,7 +34,19 @@ int walk_pieces(const VectorXd& from, const VectorXd& to) {
   return std::max(1, static_cast<int>(std::ceil(span / 0.02)));
 }
 
-class PlanarPlant : public Plant {
+// A plant on a numeric solver, with what a kernel plant (below) takes from it: placing the
+// solver without M and h (for the loads' power and a closed chain's first assembly), the body
+// weights for the potential energy, the warm start of a spatial closed chain.
+class NumericPlant : public Plant {
+ public:
+  virtual bool follow(double t, const VectorXd& q, const VectorXd& qd, std::string& why) = 0;
+  // m g per massive body, with the name of its centre of mass' position columns (`<body>.x`...).
+  virtual std::vector<std::pair<std::string, Eigen::Vector3d>> weights() const = 0;
+  // After follow(): the solver's coordinates at the kernel's warm-start columns.
+  virtual std::vector<double> start_values(const CompiledKernel&) const { return {}; }
+};
+
+class PlanarPlant : public NumericPlant {
  public:
   PlanarPlant(const Model& model, const std::vector<double>& parameters)
       : model_(model),
@@ -73,6 +85,18 @@ class PlanarPlant : public Plant {
   }
 
   double load_power(double t) const override { return solver_.applied_power(t); }
+  bool follow(double t, const VectorXd& q, const VectorXd& qd, std::string& why) override {
+    return solve(t, q, qd, VectorXd::Zero(q.size()), why);
+  }
+  std::vector<std::pair<std::string, Eigen::Vector3d>> weights() const override {
+    const Eigen::Vector3d g(model_.evaluate(model_.gravity.x, subs_),
+                            model_.evaluate(model_.gravity.y, subs_), 0);
+    std::vector<std::pair<std::string, Eigen::Vector3d>> out;
+    for (const Body& body : model_.bodies)
+      if (!body.ground && body.mass.source != MassProperties::Source::none)
+        out.emplace_back(body.name, model_.evaluate(body.mass.mass, subs_) * g);
+    return out;
+  }
   void restart() override {
     assembled_ = false;
     solver_.clear_driver_motion();
@@ -119,7 +143,7 @@ class PlanarPlant : public Plant {
   bool assembled_ = false;
 };
 
-class SpatialPlant : public Plant {
+class SpatialPlant : public NumericPlant {
  public:
   SpatialPlant(const SpatialModel& model, const std::vector<double>& parameters)
       : solver_(model, parameters),
@@ -168,6 +192,25 @@ class SpatialPlant : public Plant {
 
   double load_power(double) const override { return solver_.applied_power(state_); }
   void restart() override { state_.assembled = false; }
+  bool follow(double t, const VectorXd& q, const VectorXd& qd, std::string& why) override {
+    return solve(t, q, qd, VectorXd::Zero(q.size()), why);
+  }
+  std::vector<std::pair<std::string, Eigen::Vector3d>> weights() const override {
+    const SpatialModel& model = solver_.model();
+    const spatial::SpatialInstance& in = solver_.instance();
+    const Eigen::Vector3d g(in.gravity[0], in.gravity[1], in.gravity[2]);
+    std::vector<std::pair<std::string, Eigen::Vector3d>> out;
+    for (size_t b = 0; b < model.bodies.size(); ++b)
+      if (!model.bodies[b].ground && !model.bodies[b].is_virtual)
+        out.emplace_back(model.bodies[b].name, in.mass[b] * g);
+    return out;
+  }
+  std::vector<double> start_values(const CompiledKernel& kernel) const override {
+    std::vector<double> values;
+    for (int k = 0; k < kernel.start_count; ++k)
+      values.push_back(state_.q[kernel.start_columns[k]]);
+    return values;
+  }
 
   bool row(double t, const VectorXd& q, const VectorXd& qd, const VectorXd& qdd,
            std::vector<double>& out, double& kinetic, double& potential,
@@ -224,6 +267,169 @@ class SpatialPlant : public Plant {
   double t0_ = 0;
 };
 
+// The drivers free through a generated kernel: M and h from its mass_bias entry at every stage,
+// the rows from its driven evaluation (the sweep's columns), the kinetic energy 1/2 qd^T M qd
+// (tested equal to the bodies' sum), the potential from the rows' centre-of-mass columns. The
+// numeric plant beside it places its solver only where the kernel has nothing to say: a spatial
+// closed chain's first assembly (and after restart()), whose coordinates seed the kernel's warm
+// start so that its closed forms take the numeric solver's branch and then follow the state
+// (every stage first evaluates the row, which carries the warm start: the mass_bias entry only
+// copies it), and the applied loads' power of a model that has loads.
+class KernelPlant : public Plant {
+ public:
+  KernelPlant(std::unique_ptr<NumericPlant> numeric, const CompiledKernel& kernel,
+              std::vector<double> parameters, bool loads)
+      : numeric_(std::move(numeric)),
+        kernel_(kernel),
+        parameters_(std::move(parameters)),
+        loads_(loads),
+        closed_(kernel.seed_start != nullptr && kernel.start_count > 0) {
+    const std::vector<std::string>& columns = numeric_->columns();
+    const std::vector<std::string>& drivers = numeric_->drivers();
+    // The kernel's coordinates are its drivers in the order of their effort columns.
+    std::vector<std::string> efforts;
+    bool same = static_cast<int>(columns.size()) == kernel.column_count &&
+                static_cast<int>(parameters_.size()) == kernel.parameter_count &&
+                static_cast<int>(drivers.size()) == kernel.driver_count &&
+                kernel.mass_bias_double != nullptr && kernel.evaluate_driven_double != nullptr;
+    for (int c = 0; same && c < kernel.column_count; ++c) {
+      const std::string name = kernel.column_names[c];
+      same = columns[static_cast<size_t>(c)] == name;
+      if (name.ends_with(".effort")) efforts.push_back(name.substr(0, name.size() - 7));
+    }
+    if (!same || efforts != drivers)
+      throw std::runtime_error(std::string("the generated kernel of '") + kernel.model +
+                               "' does not match the description (rebuild to regenerate it)");
+    for (const auto& [body, weight] : numeric_->weights()) {
+      Weight w{{}, weight};
+      for (int a = 0; a < 3; ++a) {
+        const std::string name = body + "." + "xyz"[a];
+        const auto it = std::find(columns.begin(), columns.end(), name);
+        w.column[a] = it == columns.end() ? -1 : static_cast<int>(it - columns.begin());
+      }
+      weights_.push_back(w);
+    }
+    const size_t n = drivers.size();
+    M_.resize(n * n);
+    h_.resize(n);
+    drivers_in_.resize(3 * n);
+    row_.resize(columns.size());
+  }
+  ~KernelPlant() override {
+    if (seeded_) kernel_.seed_start(nullptr);  // the kernel's own start for whoever comes next
+  }
+  KernelPlant(const KernelPlant&) = delete;
+  KernelPlant& operator=(const KernelPlant&) = delete;
+
+  const std::vector<std::string>& drivers() const override { return numeric_->drivers(); }
+  const std::vector<std::string>& columns() const override { return numeric_->columns(); }
+  void motion(double t, VectorXd& q, VectorXd& qd, VectorXd* qdd) const override {
+    numeric_->motion(t, q, qd, qdd);
+  }
+
+  bool place(double t, const VectorXd& q, const VectorXd& qd, numeric::MassBias& mb,
+             std::string& why) override {
+    if (!mass_bias(t, q, qd, why)) return false;
+    const auto n = q.size();
+    mb.M = Eigen::Map<const Eigen::MatrixXd>(M_.data(), n, n);  // symmetric: layout immaterial
+    mb.h = Eigen::Map<const VectorXd>(h_.data(), n);
+    if (loads_ && !numeric_->follow(t, q, qd, why)) return false;
+    return true;
+  }
+
+  double load_power(double t) const override { return loads_ ? numeric_->load_power(t) : 0; }
+
+  bool row(double t, const VectorXd& q, const VectorXd& qd, const VectorXd& qdd,
+           std::vector<double>& out, double& kinetic, double& potential,
+           std::string& why) override {
+    // M at (t, q, qd): the last placement's when it was there (simulate places before a row).
+    if (!(placed_ && t == at_t_ && q == at_q_ && qd == at_qd_) && !mass_bias(t, q, qd, why))
+      return false;
+    const auto n = q.size();
+    kinetic = 0.5 * qd.dot(Eigen::Map<const Eigen::MatrixXd>(M_.data(), n, n) * qd);
+    out.resize(row_.size());
+    if (!evaluate(t, q, qd, &qdd, out.data(), why)) return false;
+    potential = 0;
+    for (const Weight& w : weights_)
+      for (int a = 0; a < 3; ++a)
+        if (w.column[a] >= 0) potential -= w.mg[a] * out[static_cast<size_t>(w.column[a])];
+    return true;
+  }
+
+  void restart() override {
+    numeric_->restart();
+    if (seeded_) kernel_.seed_start(nullptr);
+    seeded_ = false;
+    placed_ = false;
+  }
+
+ private:
+  struct Weight {
+    int column[3];       // the centre of mass' x, y, z columns (-1: none, planar z)
+    Eigen::Vector3d mg;  // mass times gravity
+  };
+
+  // The kernel's drivers input (q, qd, qdd per driver); a closed chain's warm start seeded from
+  // the numeric solver's assembly at the first call (and after restart()).
+  bool prepare(double t, const VectorXd& q, const VectorXd& qd, const VectorXd* qdd,
+               std::string& why) {
+    for (Eigen::Index d = 0; d < q.size(); ++d) {
+      drivers_in_[static_cast<size_t>(3 * d)] = q[d];
+      drivers_in_[static_cast<size_t>(3 * d + 1)] = qd[d];
+      drivers_in_[static_cast<size_t>(3 * d + 2)] = qdd ? (*qdd)[d] : 0;
+    }
+    if (!closed_ || seeded_) return true;
+    if (!numeric_->follow(t, q, qd, why)) return false;
+    const std::vector<double> values = numeric_->start_values(kernel_);
+    kernel_.seed_start(values.data());
+    seeded_ = true;
+    return true;
+  }
+  bool evaluate(double t, const VectorXd& q, const VectorXd& qd, const VectorXd* qdd, double* out,
+                std::string& why) {
+    if (!prepare(t, q, qd, qdd, why)) return false;
+    int group = -1;
+    return check(
+        kernel_.evaluate_driven_double(parameters_.data(), t, drivers_in_.data(), out, &group),
+        group, why);
+  }
+  bool mass_bias(double t, const VectorXd& q, const VectorXd& qd, std::string& why) {
+    placed_ = false;
+    // A closed chain: the row first, which moves the warm start to this state.
+    if (closed_ && !evaluate(t, q, qd, nullptr, row_.data(), why)) return false;
+    if (!prepare(t, q, qd, nullptr, why)) return false;
+    int group = -1;
+    if (!check(kernel_.mass_bias_double(parameters_.data(), t, drivers_in_.data(), M_.data(),
+                                        h_.data(), &group),
+               group, why))
+      return false;
+    placed_ = true;
+    at_t_ = t;
+    at_q_ = q;
+    at_qd_ = qd;
+    return true;
+  }
+  bool check(int status, int group, std::string& why) const {
+    if (status == 0) return true;
+    why = std::string("generated kernel: ") +
+          (status == 1   ? "unreachable"
+           : status == 2 ? "singular (or a mass matrix not positive definite)"
+                         : "non-finite result");
+    if (group >= 0 && group < kernel_.group_count)
+      why += std::string(" in group ") + kernel_.group_names[group];
+    return false;
+  }
+
+  std::unique_ptr<NumericPlant> numeric_;
+  const CompiledKernel& kernel_;
+  std::vector<double> parameters_;
+  bool loads_, closed_, seeded_ = false, placed_ = false;
+  std::vector<Weight> weights_;
+  std::vector<double> M_, h_, drivers_in_, row_;
+  double at_t_ = 0;
+  VectorXd at_q_, at_qd_;
+};
+
 // One driver's effort law with the parameters substituted: a function of t, q, qd.
 struct Law {
   GiNaC::ex ex;
@@ -276,6 +482,20 @@ std::unique_ptr<Plant> planar_plant(const Model& model, const std::vector<double
 std::unique_ptr<Plant> spatial_plant(const SpatialModel& model,
                                      const std::vector<double>& parameters) {
   return std::make_unique<SpatialPlant>(model, parameters);
+}
+
+std::unique_ptr<Plant> planar_kernel_plant(const Model& model,
+                                           const std::vector<double>& parameters,
+                                           const CompiledKernel& kernel) {
+  return std::make_unique<KernelPlant>(std::make_unique<PlanarPlant>(model, parameters), kernel,
+                                       parameters, !model.forces.empty());
+}
+
+std::unique_ptr<Plant> spatial_kernel_plant(const SpatialModel& model,
+                                            const std::vector<double>& parameters,
+                                            const CompiledKernel& kernel) {
+  return std::make_unique<KernelPlant>(std::make_unique<SpatialPlant>(model, parameters), kernel,
+                                       parameters, !model.loads.empty());
 }
 
 EffortFunction model_effort_laws(const Model& model, const std::vector<double>& parameters,

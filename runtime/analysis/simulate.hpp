@@ -1,7 +1,8 @@
 // Forward dynamics over time (issue 22, `mechgen simulate`): the drivers become free coordinates
-// under given efforts. At every stage the numeric reference solver is placed at the drivers'
-// (q, qd) and gives the mass matrix and bias of effort = M qdd + h (planar
-// ReferenceSolver::mass_matrix_bias, spatial::mass_matrix_bias); qdd = (M + J)^-1 (effort - h),
+// under given efforts. At every stage a plant is placed at the drivers' (q, qd) and gives the mass
+// matrix and bias of effort = M qdd + h: the numeric reference solver's (planar
+// ReferenceSolver::mass_matrix_bias, spatial::mass_matrix_bias) or a generated kernel's
+// (CompiledKernel::mass_bias_double); qdd = (M + J)^-1 (effort - h),
 // J the inertia the drivers carry outside the mechanism (a motor's rotor reflected through its
 // gearbox). Fixed step: classical RK4, or the implicit midpoint rule (symplectic and A-stable,
 // second order; Newton iterations with a finite-difference Jacobian) for stiff efforts.
@@ -18,10 +19,11 @@
 #include "model/model.hpp"
 #include "model/spatial_model.hpp"
 #include "numeric/mass_bias.hpp"
+#include "sweep/compiled_kernel.hpp"
 
 namespace mechgen::sim {
 
-// A mechanism whose drivers are free coordinates, seen through its numeric solver. Driver vectors
+// A mechanism whose drivers are free coordinates, seen through a solver. Driver vectors
 // are in the sweep's driver column order.
 class Plant {
  public:
@@ -56,6 +58,19 @@ std::unique_ptr<Plant> planar_plant(const Model& model, const std::vector<double
 // Joint drivers and pose drivers' prescribed coordinates, in the spatial sweep's order.
 std::unique_ptr<Plant> spatial_plant(const SpatialModel& model,
                                      const std::vector<double>& parameters);
+// The same through the model's generated kernel (which must outlive the plant): M and h from its
+// mass_bias entry, rows from its driven evaluation, the kinetic energy 1/2 qd^T M qd, the
+// potential from the rows' centre-of-mass columns. A spatial closed chain's warm start (per
+// thread) is seeded from the numeric solver's assembly at the first placement and then follows
+// the placements. The numeric solver is placed at every stage only when the model has applied
+// loads (their power). Throws std::runtime_error when the kernel's columns, parameters or
+// drivers are not the description's.
+std::unique_ptr<Plant> planar_kernel_plant(const Model& model,
+                                           const std::vector<double>& parameters,
+                                           const CompiledKernel& kernel);
+std::unique_ptr<Plant> spatial_kernel_plant(const SpatialModel& model,
+                                            const std::vector<double>& parameters,
+                                            const CompiledKernel& kernel);
 
 // The efforts on the drivers at (t, q, qd): one per driver.
 using EffortFunction = std::function<void(double t, const Eigen::VectorXd& q,

@@ -25,7 +25,8 @@ Writes a spatial description (docs/model_format.md) of a robot written for ROS o
   FILE.urdf   a URDF tree (urdfdom), with the loop closures of the Extended URDF convention of
               LAAS-CNRS in --closures FILE.yaml: closed_loop (pairs of frames, a link or a joint,
               that must coincide), type (6d: a weld, 3d: a ball), name_mot (the actuated joints),
-              joint_name / joint_type (joints re-typed SPHERICAL, UJOINT_AB or FIXED);
+              joint_name / joint_type (joints re-typed SPHERICAL, UJOINT_AB = about the joint
+              frame's x then y, UJOINT_ZY and the like = about those two axes, or FIXED);
   FILE.xml    an MJCF model (MuJoCo's compiler): connect and weld equality constraints as
               closures, actuators on joints as drivers.
 The root link is the ground (an MJCF free joint's body too); --floating: the base floats, held
@@ -37,9 +38,11 @@ spherical joints gets a universal joint at one end (its spin about the rod would
 between two coaxial revolutes is welded to one neighbour. The loops are closed by Newton-Raphson
 from the source's configuration with the actuated joints held (initial and final residual
 printed; a loop that cannot close is an error naming the closure and the distance left), and that
-assembled pose is the model's reference pose: every coordinate 0 there. Each actuated joint is a
-driver, `amplitude*sin(w*t)` about that pose (parameters amplitude = 0.05 rad, w = 2 pi rad/s).
-The file starts with a comment naming the source and every conversion made. The written model is
+assembled pose is the model's reference pose: every coordinate 0 there. Other assemblies at the
+same motor positions are looked for from 16 deterministic starts; how many were found is printed
+and written in the header (the one reached from the source's configuration is kept). Each
+actuated joint is a driver, `amplitude*sin(w*t)` about that pose (parameters amplitude = 0.05
+rad, w = 2 pi rad/s). The file starts with a comment naming the source and every conversion made. The written model is
 then assembled by the numeric solver (as `mechgen check` does) before the command succeeds.
 
 Errors: FILE:LINE: error: MESSAGE, exit code 1.
@@ -80,6 +83,18 @@ int run_import(const Args& args) {
            << (report.restarts ? " (trapped there: restarted from other configurations, the "
                                  "assembly nearest the source's kept)"
                                : "");
+    if (report.others > 0) {
+      std::ostringstream other;
+      other.precision(3);
+      other << report.others << " other assembl" << (report.others == 1 ? "y" : "ies")
+            << " at these motor positions (found from " << report.starts
+            << " deterministic starts; the nearest " << report.other_distance
+            << " from the source's coordinates): kept the one reached from the source's "
+               "configuration ("
+            << report.kept_distance << " from them)";
+      std::cout << "  " << other.str() << "\n";
+      closed << "; " << other.str();
+    }
     tree.notes.push_back(closed.str());
     import::hold_free_joints(tree, pose);
     const import::Description d = import::describe(tree, pose, args.has("--floating"));

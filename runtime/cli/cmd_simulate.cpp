@@ -14,6 +14,7 @@
 #include "cli/model_info.hpp"
 #include "model/spatial_model.hpp"
 #include "model/spatial_value_checks.hpp"
+#include "ondemand/kernel_resolver.hpp"
 #include "sweep/sweep.hpp"
 
 namespace mechgen::cli {
@@ -22,17 +23,21 @@ namespace {
 
 const char* const kSimulateHelp =
     R"(usage: mechgen simulate MODEL.yaml --out FILE.csv [--t1 T] [--dt DT] [--set NAME=VALUE]...
-                         [--from-rest] [--integrator rk4|implicit-midpoint] [--every K]
+                         [--solver generated|numeric] [--from-rest]
+                         [--integrator rk4|implicit-midpoint] [--every K]
                          [--motor NAME --catalogue CSV [--driver NAME] [--voltage V]]
                          [--track computed-torque|pd [--kp KP] [--kd KD]]
 
 Forward dynamics: the drivers become free coordinates under given efforts, q'' = M^-1 (effort -
-h) with M and h from the numeric solver at every stage (planar and spatial models). Each driver's
+h) with M and h from the model's generated kernel or the numeric solver at every stage (planar and
+spatial models). Each driver's
 effort is its `effort:` law in the model (of t, the parameters and its own q and qd:
 docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
   --out FILE.csv      the sweep's columns (efforts: those the mechanism receives, M q'' + h) and
                       E.kinetic, E.potential (gravity), W.efforts, W.loads (work since t0) and
                       E.balance = kinetic + potential - works (constant up to the integration error)
+  --solver S          generated (default: the kernel's mass_bias entry and rows; a kernel not
+                      compiled in is built on demand and cached, as for sweep) or numeric
   --t1 T              end time (default: the model's step end); starts at the step's t0
   --dt DT             fixed step (default 1e-3 s)
   --from-rest         start at the step's t0 position with zero rates (default: the model's own
@@ -53,8 +58,8 @@ docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
                       torque and no-load speed scale with it
   --track CONTROL     the drivers as force-controlled actuators holding the model's own motion
                       (their `value:`) as the reference instead of their effort laws:
-                      computed-torque (M (q_r'' + kd e' + kp e) + h, M and h from the numeric
-                      solver at the current state) or pd (J (kp e + kd e'), J the diagonal of M at
+                      computed-torque (M (q_r'' + kd e' + kp e) + h, M and h from --solver at
+                      the current state) or pd (J (kp e + kd e'), J the diagonal of M at
                       the start); prints the largest tracking error of each driver
   --kp KP, --kd KD    the tracking gains (default 400 1/s^2 and 40 1/s: 20 rad/s, critically
                       damped)
@@ -113,8 +118,19 @@ int run_simulate(const Args& args) {
   options.t1 = args.number("--t1", t1);
   if (!(options.t1 > options.t0)) throw UsageError("--t1 must be after the step's t0");
 
-  std::unique_ptr<sim::Plant> plant = spatial ? sim::spatial_plant(*spatial_model, parameters)
-                                              : sim::planar_plant(*planar_model, parameters);
+  // The kernel is resolved once (built on demand if need be); every plant shares it.
+  const bool generated = solver_option(args) == "generated";
+  const CompiledKernel* kernel = !generated ? nullptr
+                                 : spatial  ? &ondemand::kernel_for(*spatial_model)
+                                            : &ondemand::kernel_for(*planar_model);
+  auto make_plant = [&]() -> std::unique_ptr<sim::Plant> {
+    if (spatial)
+      return kernel ? sim::spatial_kernel_plant(*spatial_model, parameters, *kernel)
+                    : sim::spatial_plant(*spatial_model, parameters);
+    return kernel ? sim::planar_kernel_plant(*planar_model, parameters, *kernel)
+                  : sim::planar_plant(*planar_model, parameters);
+  };
+  std::unique_ptr<sim::Plant> plant = make_plant();
   const std::vector<std::string>& drivers = plant->drivers();
   std::vector<std::string> free;
   std::optional<sim::MotorDrive> motor;
@@ -158,8 +174,7 @@ int run_simulate(const Args& args) {
     if (kind != "computed-torque" && kind != "pd")
       throw UsageError("--track: '" + kind + "' is not computed-torque or pd");
     for (size_t d = 0; d < drivers.size(); ++d) free.push_back(drivers[d]);
-    control_plant = spatial ? sim::spatial_plant(*spatial_model, parameters)
-                            : sim::planar_plant(*planar_model, parameters);
+    control_plant = make_plant();
   }
   const sim::EffortFunction laws = spatial
                                        ? sim::model_effort_laws(*spatial_model, parameters, free)
@@ -191,9 +206,9 @@ int run_simulate(const Args& args) {
   const std::string out = args.get("--out");
   g_current_file = out;
   write_csv(out, SweepResult{result.columns, result.rows});
-  std::cout << "simulate " << name << ": " << sim::to_string(options.integrator) << ", dt "
-            << fixed(options.dt, 6) << " s, " << result.steps
-            << " steps, t = " << number_text(options.t0) << " .. "
+  std::cout << "simulate " << name << " (" << (generated ? "generated" : "numeric")
+            << " solver): " << sim::to_string(options.integrator) << ", dt " << fixed(options.dt, 6)
+            << " s, " << result.steps << " steps, t = " << number_text(options.t0) << " .. "
             << number_text(result.rows.empty() ? options.t0 : result.rows.back().front()) << " s, "
             << result.rows.size() << " rows, " << fixed(elapsed, 4) << " s";
   if (motor)
@@ -245,6 +260,7 @@ Command simulate_command() {
            {"--dt", "", true},
            {"--set", "", true, true},
            {"--from-rest", "", false},
+           {"--solver", "", true},
            {"--integrator", "", true},
            {"--every", "", true},
            {"--periodic", "", false},

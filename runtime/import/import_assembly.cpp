@@ -165,6 +165,59 @@ TreePose assemble(const Tree& tree, AssemblyReport& report) {
   }
   report.iterations = it;
   report.final = r.size() ? r.cwiseAbs().maxCoeff() : 0;
+  auto distance_from_source = [&](const std::vector<Eigen::VectorXd>& x) {
+    double d = 0;
+    for (auto [jnt, dof] : unknowns) {
+      const double e = tree.joints[jnt].type == JointType::prismatic
+                           ? x[jnt][dof] - q0[jnt][dof]
+                           : std::remainder(x[jnt][dof] - q0[jnt][dof], 2 * M_PI);
+      d += e * e;
+    }
+    return std::sqrt(d);
+  };
+  if (report.final <= 1e-10 && !tree.closures.empty() && !unknowns.empty()) {
+    // Other assemblies at these motor positions, so the choice can be told: the loops closed
+    // from deterministic pseudo-random starts, told apart by where the moving joints and the
+    // balls of 3d closures are (an idle spin, of a rod about the line through its balls, moves
+    // none of them; it may move a fixed frame or a weld's frame off that line).
+    auto anchors = [&](const std::vector<Eigen::VectorXd>& x) {
+      const TreePose p = place(tree, x);
+      std::vector<Vec3> a;
+      for (const TreeJoint& j : tree.joints)
+        if (j.dofs() > 0)
+          a.push_back((p.link[static_cast<size_t>(j.parent)] * j.origin).translation());
+      for (const Closure& c : tree.closures)
+        if (!c.weld) a.push_back((p.link[static_cast<size_t>(c.link_a)] * c.in_a).translation());
+      return a;
+    };
+    auto apart = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+      for (size_t k = 0; k < a.size(); ++k)
+        if ((a[k] - b[k]).norm() > 1e-6) return true;
+      return false;
+    };
+    const Eigen::VectorXd kept_r = r;
+    const int kept_it = it;
+    std::vector<std::vector<Vec3>> found{anchors(q)};
+    report.kept_distance = distance_from_source(q);
+    report.other_distance = INFINITY;
+    std::mt19937 random(2121);
+    std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+    report.starts = 16;
+    for (int start = 0; start < report.starts; ++start) {
+      std::vector<Eigen::VectorXd> x = q0;
+      for (auto [jnt, dof] : unknowns)
+        if (tree.joints[jnt].type != JointType::prismatic) x[jnt][dof] = angle(random);
+      if (!close(x)) continue;
+      const std::vector<Vec3> a = anchors(x);
+      bool known = false;
+      for (const auto& f : found) known = known || !apart(a, f);
+      if (known) continue;
+      found.push_back(a);
+      ++report.others;
+      report.other_distance = std::min(report.other_distance, distance_from_source(x));
+    }
+    r = kept_r, it = kept_it;
+  }
   if (report.final > 1e-10) {
     // Which closure cannot close: the loops closed one more at a time, in the file's order; the
     // first that fails is named with what it leaves open.

@@ -123,6 +123,10 @@ struct AssemblyReport {
   double initial = 0, final = 0;  // largest closure residual (m, rad)
   int iterations = 0;
   bool restarts = false;  // trapped from the source's configuration: closed from other starts
+  // Other assemblies at the same motor positions, found from `starts` deterministic starts; the
+  // kept one's distance from the source's coordinates and the nearest other's (rad, m).
+  int starts = 0, others = 0;
+  double kept_distance = 0, other_distance = 0;
 };
 // Closes the loops by Newton-Raphson (minimum-norm steps) from the source's coordinates, the
 // actuated joints held; throws ImportError naming the closure that stays open and its distance.

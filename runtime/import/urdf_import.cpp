@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "import/import_tree.hpp"
@@ -49,6 +50,40 @@ std::vector<std::string> string_list(const YAML::Node& n, const std::string& fil
   return out;
 }
 
+// UJOINT_ZY and the like (the collection's re-typing): the two axes of the joint frame, in order.
+std::optional<std::pair<std::optional<Vec3>, std::optional<Vec3>>> ujoint_axes(
+    const std::string& type) {
+  if (type.size() != 9 || type.rfind("UJOINT_", 0) != 0) return std::nullopt;
+  auto axis = [](char c) -> std::optional<Vec3> {
+    if (c < 'X' || c > 'Z') return std::nullopt;
+    return Vec3(Vec3::Unit(c - 'X'));
+  };
+  const auto a = axis(type[7]), b = axis(type[8]);
+  if (!a || !b || type[7] == type[8]) return std::nullopt;
+  return std::make_pair(a, b);
+}
+
+// urdfdom's "link 'X' is not unique." and the like: the line of the second `<TAG name="X"`.
+int duplicate_line(const std::string& text, const std::string& message) {
+  for (const std::string tag : {"link", "joint"}) {
+    const std::string key = tag + " '";
+    const size_t at = message.find(key);
+    if (at == std::string::npos || message.find("' is not unique", at) == std::string::npos)
+      continue;
+    const size_t end = message.find('\'', at + key.size());
+    const std::string name = message.substr(at + key.size(), end - at - key.size());
+    const int first = line_of(text, tag, name);
+    if (first == 0) continue;
+    size_t from = 0;  // past the first one's line
+    for (int l = 1; l < first && from != std::string::npos; ++l) from = text.find('\n', from) + 1;
+    from = text.find('\n', from);
+    if (from == std::string::npos) continue;
+    const int second = line_of(text.substr(from), tag, name);
+    return second ? first + second - 1 : first;
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::string closure_name(const std::string& a, const std::string& b) {
@@ -89,7 +124,7 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
   console_bridge::restorePreviousOutputHandler();
   if (!model)
     throw ImportError(
-        urdf_path, 0,
+        urdf_path, duplicate_line(text, collect.messages),
         "not a valid URDF (urdfdom: " +
             (collect.messages.empty() ? std::string("no message") : collect.messages) + ")");
   Tree tree;
@@ -305,13 +340,22 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
         j.type = JointType::spherical;
       else if (t == "UJOINT_AB" || t == "UJOINT")
         j.type = JointType::universal;
-      else if (t == "FIXED")
+      else if (const auto axes = ujoint_axes(t)) {
+        // Our universal turns about the joint frame's x then y: the frame is turned so that
+        // they are the named axes (the child's frame is unchanged at 0).
+        Mat3 r;
+        r << *axes->first, *axes->second, axes->first->cross(*axes->second);
+        j.origin = j.origin * Frame(r);
+        j.after = Frame(r.transpose()) * j.after;
+        j.type = JointType::universal;
+      } else if (t == "FIXED")
         j.type = JointType::fixed;
       else if (t == "REVOLUTE" || t == "PRISMATIC")
         continue;
       else
         throw ImportError(closures_path, yaml_line(y["joint_type"][i]),
-                          "joint_type '" + retype_types[i] + "': SPHERICAL, UJOINT_AB or FIXED");
+                          "joint_type '" + retype_types[i] +
+                              "': SPHERICAL, UJOINT_AB, UJOINT_<two of X, Y, Z> or FIXED");
       tree.notes.push_back("joint " + j.name + " re-typed " + t + " (" + closures_path + ")");
     }
     for (const Actuator& a : tree.actuators)

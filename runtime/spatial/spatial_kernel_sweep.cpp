@@ -1,13 +1,16 @@
 // The spatial sweep through a generated kernel (spatial_kernel_sweep.hpp).
 #include "spatial/spatial_kernel_sweep.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "numeric/mass_bias.hpp"
+#include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
 
 namespace mechgen::spatial {
@@ -20,6 +23,13 @@ double spatial_sample_time(const SpatialSweepOptions& o, int i) {
 
 namespace {
 
+// A joint coordinate's column: `<joint>.q`, or `<joint>.q1`... of a multi-axis joint.
+bool is_coordinate_column(const std::string& name) {
+  const std::string field = name.substr(name.rfind('.') + 1);
+  return field == "q" ||
+         (field.size() == 2 && field[0] == 'q' && field[1] >= '1' && field[1] <= '9');
+}
+
 // Seeds the kernel's warm start on this thread for one sweep, and restores its defaults after.
 class StartSeed {
  public:
@@ -28,9 +38,10 @@ class StartSeed {
       : kernel_(kernel) {
     if (kernel.seed_start == nullptr || kernel.start_count == 0) return;
     SpatialState state;
+    std::optional<SpatialSolver> solver;
     try {
-      const SpatialSolver solver(model, options.parameters);
-      solver.solve(spatial_sample_time(options, 0), state);
+      solver.emplace(model, options.parameters);
+      solver->solve(spatial_sample_time(options, 0), state);
     } catch (const std::exception&) {
       kernel.seed_start(nullptr);  // no assembly at t0: the kernel's own start and report
       return;
@@ -39,6 +50,7 @@ class StartSeed {
     for (int k = 0; k < kernel.start_count; ++k) values.push_back(state.q[kernel.start_columns[k]]);
     name_branch_changes(options, values);
     kernel.seed_start(values.data());
+    refuse_another_start(model, options, *solver, state);
   }
   const std::string& warning() const { return warning_; }
   ~StartSeed() {
@@ -67,10 +79,9 @@ class StartSeed {
     for (size_t c = 0; c < n; ++c) {
       const std::string name = kernel_.column_names[c];
       const size_t dot = name.rfind('.');
-      const std::string field = name.substr(dot + 1);
-      const bool coordinate = field == "q" || (field.size() == 2 && field[0] == 'q' &&
-                                               field[1] >= '1' && field[1] <= '9');
-      if (!coordinate || !(std::abs(std::remainder(own[c] - run[c], 2 * M_PI)) > 1e-6)) continue;
+      if (!is_coordinate_column(name) ||
+          !(std::abs(std::remainder(own[c] - run[c], 2 * M_PI)) > 1e-6))
+        continue;
       const std::string joint = "'" + name.substr(0, dot) + "'";
       if (joints.find(joint) == std::string::npos) joints += (joints.empty() ? "" : ", ") + joint;
     }
@@ -79,6 +90,47 @@ class StartSeed {
           "with these parameters the assembly at t0 is on another branch than the "
           "generated kernel's own start (the assembly at the default parameters) for " +
           joints + ": both solvers start from the numeric assembly and follow it";
+  }
+
+  // A closed form has one root fewer than the numeric solver's Newton-Raphson can reach (a
+  // cylinder whose rod passes back through its barrel, at negative length: quadruped_leg_swing
+  // with b < 0): seeded with that assembly, the kernel still lands elsewhere. Both would run and
+  // disagree, so the kernel refuses, naming the joints and both values (issue 28).
+  void refuse_another_start(const SpatialModel& model, const SpatialSweepOptions& options,
+                            const SpatialSolver& solver, const SpatialState& state) const {
+    std::vector<double> numeric;
+    try {
+      numeric = spatial_sweep_row(solver, spatial_driver_groups(solver), state,
+                                  inverse_dynamics(solver, state));
+    } catch (const std::exception&) {
+      return;  // the sweep's first sample reports it
+    }
+    const auto n = static_cast<size_t>(kernel_.column_count);
+    std::vector<double> generated(n);
+    int group = -1;
+    if (numeric.size() < n ||
+        kernel_.evaluate_double(options.parameters.data(), spatial_sample_time(options, 0),
+                                generated.data(), &group) != 0)
+      return;
+    std::string joints;
+    for (size_t c = 0; c < n; ++c) {
+      const std::string name = kernel_.column_names[c];
+      if (!is_coordinate_column(name) ||
+          !(std::abs(generated[c] - numeric[c]) > 1e-6 * std::max(1.0, std::abs(numeric[c]))))
+        continue;
+      char values[96];
+      std::snprintf(values, sizeof values, " (%.6g against %.6g)", generated[c], numeric[c]);
+      joints += (joints.empty() ? "'" : ", '") + name + "'" + values;
+    }
+    if (joints.empty()) return;
+    kernel_.seed_start(nullptr);  // the destructor of an unfinished constructor does not run
+    throw ModelError(
+        {model.common.file, 0, 0},
+        "with these parameters the generated kernel cannot start on the numeric solver's "
+        "assembly at t0: its closed forms reach " +
+            joints +
+            ": the assembly is on a branch the kernel does not have (e.g. a cylinder at "
+            "negative length); use --solver numeric, or assembly hints on another branch");
   }
 
   const CompiledKernel& kernel_;
@@ -167,7 +219,12 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
             : status == 3 ? " (a singular geometry divides by zero, e.g. a length or offset set "
                             "to 0 or two axes made parallel; or the parameters or the motion are "
                             "too large for double precision)"
-                          : " (the configuration is singular there)");
+            : group >= 0 && group < kernel.group_count &&
+                    std::string(kernel.group_names[group]) == "closure"
+                ? " (the configuration is singular there, or the elimination order the kernel "
+                  "fixed at generation loses its precision there; --solver numeric pivots at run "
+                  "time)"
+                : " (the configuration is singular there)");
       // A Newton closure starts from the previous sample: samples far apart fail there too.
       if (status != 2 && i > 0 && newton_closure)
         m << "; or the samples are too far apart for the closure's Newton steps from the "

@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -129,15 +130,18 @@ py::dict run(const Description& d, const CompiledKernel* kernel, const SweepRequ
   const std::vector<double> parameters = d.parameters(r.params);
   if (r.samples && *r.samples < 1) throw py::value_error("samples must be at least 1");
   if (r.threads < 0) throw py::value_error("threads must be at least 0");
+  // A sweep keeps the GIL: it evaluates the model's GiNaC expressions (its step, the numeric
+  // solver, the numeric assembly a spatial kernel starts from), whose reference counts are not
+  // atomic: sweeps that released it from several Python threads crashed (the threads test
+  // segfaulted), so they run one at a time. evaluate() and the other batch entries release it.
   if (d.spatial) {
-    spatial::SpatialSweepOptions o = spatial::default_spatial_sweep(d.space, parameters);
-    o.samples = r.samples.value_or(o.samples);
-    o.t0 = r.t0.value_or(o.t0);
-    o.t1 = r.t1.value_or(o.t1);
-    o.mass_matrix = r.mass_matrix;
     spatial::SpatialSweepResult result;
     {
-      py::gil_scoped_release release;
+      spatial::SpatialSweepOptions o = spatial::default_spatial_sweep(d.space, parameters);
+      o.samples = r.samples.value_or(o.samples);
+      o.t0 = r.t0.value_or(o.t0);
+      o.t1 = r.t1.value_or(o.t1);
+      o.mass_matrix = r.mass_matrix;
       result = kernel ? spatial::run_spatial_kernel_sweep(d.space, o, *kernel)
                       : spatial::run_spatial_sweep(d.space, o);
     }
@@ -145,16 +149,15 @@ py::dict run(const Description& d, const CompiledKernel* kernel, const SweepRequ
       PyErr_WarnEx(PyExc_RuntimeWarning, (d.path + ": " + warning).c_str(), 1);
     return sweep_dict(result.columns, result.rows);
   }
-  SweepOptions o = default_sweep(d.planar, parameters);
-  o.solver = kernel ? "generated" : "numeric";
-  o.samples = r.samples.value_or(o.samples);
-  o.t0 = r.t0.value_or(o.t0);
-  o.t1 = r.t1.value_or(o.t1);
-  o.threads = r.threads;
-  o.mass_matrix = r.mass_matrix;
   SweepResult result;
   {
-    py::gil_scoped_release release;
+    SweepOptions o = default_sweep(d.planar, parameters);
+    o.solver = kernel ? "generated" : "numeric";
+    o.samples = r.samples.value_or(o.samples);
+    o.t0 = r.t0.value_or(o.t0);
+    o.t1 = r.t1.value_or(o.t1);
+    o.threads = r.threads;
+    o.mass_matrix = r.mass_matrix;
     result = run_sweep(d.planar, o);
   }
   return sweep_dict(result.columns, result.rows);

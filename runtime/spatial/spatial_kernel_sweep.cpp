@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "model/symbolic_lock.hpp"
 #include "numeric/mass_bias.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
@@ -37,6 +39,9 @@ class StartSeed {
             const CompiledKernel& kernel)
       : kernel_(kernel) {
     if (kernel.seed_start == nullptr || kernel.start_count == 0) return;
+    // The numeric assembly reads the shared model's GiNaC expressions: one thread at a time
+    // (Python threads, a grid's runs); the sweep's own kernel calls after it run unlocked.
+    const std::lock_guard<std::recursive_mutex> hold(symbolic_lock());
     SpatialState state;
     std::optional<SpatialSolver> solver;
     try {
@@ -179,7 +184,11 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
   // Samples farther apart than the model's own step: the kernel is also called between them, at
   // most that step apart, so that its warm start follows the motion as the numeric solver's
   // halved steps do (3 samples over quadruped_leg's step took the other root at t1 before).
-  const SpatialSweepOptions own = default_spatial_sweep(model, options.parameters);
+  SpatialSweepOptions own;
+  {
+    const std::lock_guard<std::recursive_mutex> hold(symbolic_lock());  // the step's expressions
+    own = default_spatial_sweep(model, options.parameters);
+  }
   const double own_step =
       own.samples > 1 ? std::abs(own.t1 - own.t0) / (own.samples - 1) : std::abs(own.t1 - own.t0);
   std::vector<double> between(static_cast<size_t>(kernel.column_count));

@@ -513,9 +513,12 @@ class SpatialEmitter {
       v["entry_state"] =
           "// A closed chain's warm start carries over from one call to the next (per thread and "
           "scalar):\n// from where a sweep starts when time does not advance (a new sweep) or "
-          "seed_start()\n// began one, whichever way its time runs then.\n"
+          "seed_start()\n// began one, whichever way its time runs then; and after a failed "
+          "call, whose State is no\n// assembly to continue from (the next call may lie far from "
+          "the last accepted one).\n"
           "Carried<T>& c = carried<T>();\n"
-          "if (c.restart || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;\n"
+          "if (c.restart || c.s.failed_group >= 0 || (!c.seeded && !(in.t > c.last_t))) c.s = "
+          "c.start;\n"
           "c.restart = false;\nc.last_t = in.t;\nState<T>& s = c.s;";
   }
 

@@ -127,9 +127,10 @@ const KernelRefusal kRefusals[] = {
     {"quadruped_leg_swing", "d", 0, "a closed form divides by the zero offset", "non-finite"},
     {"quadruped_leg_swing", "e", 0, "a closed form divides by the zero offset", "non-finite"},
     {"lecture_leg_ik", "py", 0,
-     "the ankle level with the hip at t0: a pivot of the rates' fixed elimination order passes "
-     "through zero at this regular pose (the backward-error check)",
-     "singular in group closure"},
+     "the ankle level with the hip at t0: a pivot of the rates' fixed elimination order is "
+     "exactly zero at this regular pose, so the kernel divides by it (near zero, the "
+     "backward-error check refuses it as singular in group closure)",
+     "non-finite result in group positions"},
 };
 const KernelRefusal* kernel_refusal(const std::string& model, const std::string& parameter,
                                     double factor) {

@@ -4,6 +4,10 @@
 #include <ginac/ginac.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
 #include "geometry/screw.hpp"
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
@@ -294,9 +298,46 @@ TEST(SpatialKinematics, OutOfPhaseCranksAssembleByContinuationFromTheHints) {
   for (int i = 0; i < kCopies; ++i) {
     SpatialState loop;
     for (int f = 0; f <= 32 * i; ++f) single.solve(2 * M_PI / kCopies / w * f / 32, loop);
-    const Eigen::Index offset = 7 * i;  // seven coordinates a copy, in model order
-    EXPECT_LT((s.q.segment(offset, 7) - loop.q).cwiseAbs().maxCoeff(), 1e-9) << "copy " << i;
+    // Seven coordinates a copy, in model order, all angles: the assembly puts its free angles
+    // in (-pi, pi] (EquivalentAssemblyHintsGiveTheSameCoordinates), the single loop followed
+    // there is unwound: equal modulo 2 pi.
+    const Eigen::Index offset = 7 * i;
+    for (Eigen::Index k = 0; k < 7; ++k)
+      EXPECT_LT(std::abs(std::remainder(s.q[offset + k] - loop.q[k], 2 * M_PI)), 1e-9)
+          << "copy " << i << ", coordinate " << k;
   }
+}
+
+// Joint coordinates defined once (issue 28 item 3): rsur hinted at the other angle set of its
+// spherical joint ((a + pi, pi - b, c + pi): the same orientation) and at its universal and
+// rocker angles plus 2 pi assembles on the same configuration, and reports the same columns as
+// the unhinted model: free angles in (-pi, pi] at the assembly, a spherical middle angle in
+// [-pi/2, pi/2], continuous after.
+TEST(SpatialKinematics, EquivalentAssemblyHintsGiveTheSameCoordinates) {
+  const std::string path = MECHGEN_SOURCE_DIR "/models/rsur.yaml";
+  std::ifstream file(path);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto hint = [&](const std::string& joint, const std::string& values) {
+    const std::string key = "{name: " + joint + ",";
+    const size_t at = text.find(key);
+    ASSERT_NE(at, std::string::npos) << joint;
+    text.insert(at + key.size(), " assembly: " + values + ",");
+  };
+  hint("jB", "[pi, pi, pi]");
+  hint("jC", "[2*pi, -2*pi]");
+  hint("jD", "[2*pi]");
+  const SpatialModel hinted = read_spatial_model_text(text, "rsur_hinted.yaml");
+  const SpatialModel plain = read_spatial_model(path);
+  SpatialSweepOptions options = default_spatial_sweep(plain, plain.common.default_parameters());
+  options.samples = 19;
+  const SpatialSweepResult expected = run_spatial_sweep(plain, options);
+  const SpatialSweepResult got = run_spatial_sweep(hinted, options);
+  ASSERT_EQ(expected.columns, got.columns);
+  ASSERT_EQ(expected.rows.size(), got.rows.size());
+  for (size_t r = 0; r < got.rows.size(); ++r)
+    for (size_t c = 0; c < got.columns.size(); ++c)
+      EXPECT_NEAR(got.rows[r][c], expected.rows[r][c], 1e-9 * (1 + std::abs(expected.rows[r][c])))
+          << got.columns[c] << " at sample " << r;
 }
 
 }  // namespace

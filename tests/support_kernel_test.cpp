@@ -15,6 +15,7 @@
 #include "ondemand/kernel_resolver.hpp"
 #include "spatial/floating_base.hpp"
 #include "spatial/humanoid_gait.hpp"
+#include "spatial/spatial_mass_matrix.hpp"
 #include "spatial/support_kernel.hpp"
 
 namespace mechgen::spatial {
@@ -210,6 +211,73 @@ TEST(SupportKernel, TheHeadingTurnsTheFloorWrenchAndLeavesTheTorques) {
   // The placement puts the foot's point where it says.
   EXPECT_NEAR(b.at("RF.x"), 0.5, 1e-12);
   EXPECT_NEAR(b.at("RF.y"), 0.25, 1e-12);
+}
+
+// Issue 22 item 3: the welded-foot models' mass matrix and bias from the kernels' mass_bias entry
+// equal the reference solver's on the same welded tree (its own way: unit accelerations through
+// its Newton-Euler solve), at gait states of both supports, placed and turned on the floor.
+TEST(SupportKernel, MassMatrixAndBiasEqualTheNumericTreeAlongTheGait) {
+  const Walk w;
+  double worst_m = 0, worst_h = 0, largest_m = 0, largest_h = 0;
+  for (int side = 0; side < 2; ++side) {
+    const SpatialModel welded = weld_support(w.model, w.name(side));
+    const CompiledKernel& kernel = ondemand::kernel_for(welded, w.name(side));
+    ASSERT_NE(kernel.mass_bias_double, nullptr);
+    const double placement[4] = {0.3, -0.2, 0.0, 0.7};
+    std::vector<double> params = w.solver.parameters();
+    params.insert(params.end(), placement, placement + 4);
+    const SpatialSolver tree(welded, params);
+    const SpatialGraph& g = tree.graph();
+    const size_t n = welded.drivers.size();
+    ASSERT_EQ(g.primary.size(), n);
+    for (const double t : w.times(3)) {
+      SpatialState s;
+      w.gait.solve(t, s);
+      // The real joints' motion, per kernel driver (model order) and per tree primary column.
+      std::vector<double> drivers;
+      Eigen::VectorXd q(static_cast<Eigen::Index>(n)), qd(q.size()), qdd(q.size());
+      std::vector<size_t> driver_of(n);
+      for (size_t k = 0; k < n; ++k) {
+        const SpatialColumn& column = g.columns[static_cast<size_t>(g.primary[k])];
+        driver_of[k] = static_cast<size_t>(column.driver);
+      }
+      for (size_t d = 0; d < n; ++d) {
+        const SpatialDriver& driver = welded.drivers[d];
+        const int j = w.model.joint_index(welded.joints[static_cast<size_t>(driver.joint)].name);
+        const int c = w.solver.graph().joint_column[static_cast<size_t>(j)] + driver.column;
+        drivers.insert(drivers.end(), {s.q[c], s.qd[c], s.qdd[c]});
+      }
+      for (size_t k = 0; k < n; ++k) {
+        const auto e = static_cast<Eigen::Index>(k);
+        q[e] = drivers[3 * driver_of[k]], qd[e] = drivers[3 * driver_of[k] + 1];
+        qdd[e] = drivers[3 * driver_of[k] + 2];
+      }
+      SpatialState placed;
+      tree.solve(t, q, qd, qdd, placed);
+      const MassBias numeric = mass_matrix_bias(tree, placed, qd);
+      std::vector<double> M(n * n), h(n);
+      int group = -1;
+      ASSERT_EQ(
+          kernel.mass_bias_double(params.data(), t, drivers.data(), M.data(), h.data(), &group), 0)
+          << w.name(side) << " at t = " << t;
+      for (size_t a = 0; a < n; ++a) {
+        const auto ea = static_cast<Eigen::Index>(a);
+        largest_h = std::max(largest_h, std::abs(numeric.h[ea]));
+        worst_h = std::max(worst_h, std::abs(h[driver_of[a]] - numeric.h[ea]));
+        for (size_t b = 0; b < n; ++b) {
+          const double expected = numeric.M(ea, static_cast<Eigen::Index>(b));
+          largest_m = std::max(largest_m, std::abs(expected));
+          worst_m = std::max(worst_m, std::abs(M[driver_of[a] * n + driver_of[b]] - expected));
+        }
+      }
+    }
+  }
+  std::cout << "support kernels' M " << worst_m << " of " << largest_m << " kg m^2, h " << worst_h
+            << " of " << largest_h << " N m\n";
+  EXPECT_GT(largest_m, 1e-4);
+  EXPECT_GT(largest_h, 1e-2);
+  EXPECT_LT(worst_m, 1e-11 * largest_m);
+  EXPECT_LT(worst_h, 1e-11 * largest_h);
 }
 
 std::string bioloid_text() {

@@ -48,9 +48,10 @@ static int evaluate_inputs(const Params<T>& p, const Inputs<T>& in, double* row,
                            int* failed_group) {
   // A closed chain's warm start carries over from one call to the next (per thread and scalar):
   // from where a sweep starts when time does not advance (a new sweep) or seed_start()
-  // began one, whichever way its time runs then.
+  // began one, whichever way its time runs then; and after a failed call, whose State is no
+  // assembly to continue from (the next call may lie far from the last accepted one).
   Carried<T>& c = carried<T>();
-  if (c.restart || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;
+  if (c.restart || c.s.failed_group >= 0 || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;
   c.restart = false;
   c.last_t = in.t;
   State<T>& s = c.s;

@@ -264,10 +264,8 @@ class Kernel {
         int failed = -1;
         s[i] = k_.evaluate_driven_double(p.data(), times[static_cast<size_t>(i)], drivers,
                                          row.data(), &failed);
-        // A closed chain carries its Newton iterate to the next call: after a failed sample
-        // that iterate is no assembly, so the next sample starts from the kernel's own start
-        // instead (continuing from it can land on another branch).
-        if (s[i] != 0 && k_.seed_start) k_.seed_start(nullptr);
+        // After a failed sample a closed chain's next call starts from the kernel's start (the
+        // entry's rule: a failed call's State is no assembly to continue from).
         for (py::ssize_t col = 0; col < m; ++col) out[col * n + i] = row[static_cast<size_t>(col)];
       });
     }

@@ -193,19 +193,24 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
       own.samples > 1 ? std::abs(own.t1 - own.t0) / (own.samples - 1) : std::abs(own.t1 - own.t0);
   std::vector<double> between(static_cast<size_t>(kernel.column_count));
   for (int i = 0; i < options.samples; ++i) {
-    const double t = spatial_sample_time(options, i);
+    double t = spatial_sample_time(options, i);
+    int status = 0, group = -1;
+    bool between_samples = false;
     if (i > 0 && own_step > 0) {
+      // A call between the samples that fails is reported at its own time: the kernel's next
+      // call would start afresh from the assembly at t0, not from the motion followed so far.
       const double from = spatial_sample_time(options, i - 1);
       const int steps = static_cast<int>(std::ceil(std::abs(t - from) / own_step - 1e-9));
-      int between_group = -1;
-      for (int k = 1; k < steps; ++k)
-        if (kernel.evaluate_double(options.parameters.data(), from + (t - from) * k / steps,
-                                   between.data(), &between_group) != 0)
-          break;  // the sample itself reports what fails
+      for (int k = 1; k < steps && status == 0; ++k) {
+        const double between_t = from + (t - from) * k / steps;
+        status =
+            kernel.evaluate_double(options.parameters.data(), between_t, between.data(), &group);
+        if (status != 0) t = between_t, between_samples = true;
+      }
     }
     std::vector<double> row(static_cast<size_t>(kernel.column_count));
-    int group = -1;
-    int status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
+    if (status == 0)
+      status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
     if (status == 0 && options.mass_matrix) {
       status = kernel.mass_bias_double(options.parameters.data(), t, nullptr, M.data(), h.data(),
                                        &group);
@@ -218,8 +223,8 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
       char time[32];
       std::snprintf(time, sizeof time, "%.17g", t);
       std::ostringstream m;
-      m << "generated kernel: sample " << i + 1 << " of " << options.samples << ", t = " << time
-        << ": "
+      m << "generated kernel: " << (between_samples ? "on the way to sample " : "sample ") << i + 1
+        << " of " << options.samples << ", t = " << time << ": "
         << (status == 1   ? "unreachable"
             : status == 2 ? "singular"
                           : "non-finite result");

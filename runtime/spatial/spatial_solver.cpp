@@ -492,6 +492,41 @@ void SpatialSolver::assemble(const Eigen::VectorXd& qp, SpatialState& s) const {
   }
 }
 
+// Joint coordinates defined once (issue 28): the first assembly's free angles of real joints in
+// (-pi, pi], a spherical joint's three in the set whose middle angle lies in [-pi/2, pi/2]
+// (rotations about x, y, z: (a, b, c) and (a + pi, pi - b, c + pi) are one orientation). From
+// there every coordinate follows the motion continuously, never wrapped (a column jumping by
+// 2 pi within a sweep would break its plots and its rates), and a generated kernel, seeded with
+// this assembly, follows it the same way: equal configurations, equal columns.
+void SpatialSolver::canonical_angles(SpatialState& s) const {
+  const auto wrapped = [](double a) {
+    const double w = std::remainder(a, 2 * M_PI);
+    return w == -M_PI ? M_PI : w;
+  };
+  bool changed = false;
+  for (size_t j = 0; j < model_.joints.size(); ++j) {
+    const SpatialJoint& joint = model_.joints[j];
+    if (joint.is_virtual) continue;
+    const auto c0 = static_cast<size_t>(graph_.joint_column[j]);
+    const auto free = [&](size_t k) { return !graph_.columns[c0 + k].primary; };
+    const auto q = [&](size_t k) -> double& { return s.q[static_cast<Eigen::Index>(c0 + k)]; };
+    if (joint.type == SpatialJointType::spherical && free(0) && free(1) && free(2) &&
+        std::abs(wrapped(q(1))) > M_PI / 2) {
+      const double b = wrapped(q(1));
+      q(0) += M_PI;
+      q(1) = (b > 0 ? M_PI : -M_PI) - b;
+      q(2) += M_PI;
+      changed = true;
+    }
+    for (size_t k = 0; k < joint.columns.size(); ++k)
+      if (free(k) && joint.columns[k].kind == ScrewColumnKind::rotation && wrapped(q(k)) != q(k)) {
+        q(k) = wrapped(q(k));
+        changed = true;
+      }
+  }
+  if (changed) place(s);
+}
+
 void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::VectorXd& qpd,
                           const Eigen::VectorXd& qpdd, SpatialState& s) const {
   const auto np = static_cast<Eigen::Index>(graph_.primary.size());
@@ -502,6 +537,7 @@ void SpatialSolver::solve(double t, const Eigen::VectorXd& qp, const Eigen::Vect
   if (first) {
     s.t = t;
     assemble(qp, s);
+    canonical_angles(s);
   } else {
     // Continue from the previous sample, extrapolated along its rates.
     const double dt = t - s.t;

@@ -112,6 +112,7 @@ class SpatialSolver {
   Eigen::MatrixXd secondary_map(const SpatialState& state) const;  // q_s' = S q_p'
   void close_circuits(SpatialState& state, bool first) const;
   void assemble(const Eigen::VectorXd& qp, SpatialState& state) const;
+  void canonical_angles(SpatialState& state) const;
   void advance(double t, SpatialState& state, int halvings) const;
   void check_mobility(const Eigen::MatrixXd& N) const;
   Eigen::VectorXd closure_error(const SpatialState& state) const;

@@ -396,6 +396,18 @@ TEST(QuadrupedWorkspace, MonteCarloExtentsMatchTheSeedFormulasAndDoNotDependOnTh
   const WorkspaceResult plane = run_workspace(model, o);
   EXPECT_LT(std::max(std::abs(plane.lo[1]), std::abs(plane.hi[1])), 1e-15);
   EXPECT_NE(density_svg(one.sagittal, "t").find("<svg"), std::string::npos);
+  // That plane seen from the front is a line: the image keeps a fifth of its height as width and
+  // the canvas fits the title (before: 103 x 660 px, the title clipped), with a viewBox.
+  EXPECT_GE(plane.frontal.nh * 5, plane.frontal.nv);
+  const std::string title = "quadruped_leg: point foot, frontal projection (Y-Z), 4000 samples";
+  const std::string svg = density_svg(plane.frontal, title);
+  const double width = std::stod(svg.substr(svg.find("width=\"") + 7));
+  const double height = std::stod(svg.substr(svg.find("height=\"") + 8));
+  EXPECT_GE(width, 70 + 8.0 * static_cast<double>(title.size()));
+  EXPECT_GE(width, 0.2 * height);
+  std::ostringstream box;
+  box << "viewBox=\"0 0 " << width << " " << height << "\"";
+  EXPECT_NE(svg.find(box.str()), std::string::npos) << svg.substr(0, 200);
 }
 
 TEST(QuadrupedWorkspace, CylinderForcesAlongTheSwingAreJTransposeOfTheFootForce) {

@@ -73,8 +73,17 @@ Projection image(const std::vector<std::array<float, 3>>& pts, int h, int v,
                  double chord_cell) {
   const double span = std::max({hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)],
                                 hi[static_cast<size_t>(v)] - lo[static_cast<size_t>(v)], 1e-9});
-  Projection p = project(pts, h, v, lo, hi, span / bins);
-  const Projection c = project(pts, h, v, lo, hi, chord_cell);
+  // Each axis spans at least a fifth of the other, centred on the samples: a leg moving in its
+  // own plane (5.5e-17 m across in the frontal view) is a thin band, not a 1-cell-wide image.
+  std::array<double, 3> low = lo, high = hi;
+  for (const int k : {h, v}) {
+    const size_t a = static_cast<size_t>(k);
+    if (high[a] - low[a] >= 0.2 * span) continue;
+    const double middle = 0.5 * (low[a] + high[a]);
+    low[a] = middle - 0.1 * span, high[a] = middle + 0.1 * span;
+  }
+  Projection p = project(pts, h, v, low, high, span / bins);
+  const Projection c = project(pts, h, v, low, high, chord_cell);
   const Run rh = longest_run(c, true), rv = longest_run(c, false);
   p.chord_cell = chord_cell;
   p.h_chord = rh.length * c.cell, p.h_chord_at = c.v_min + (rh.line + 0.5) * c.cell;
@@ -231,9 +240,13 @@ WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions&
 std::string density_svg(const Projection& p, const std::string& title) {
   const double scale = 560.0 / std::max(p.nh, p.nv);  // pixels per cell
   const double left = 70, top = 40, w = p.nh * scale, hgt = p.nv * scale;
+  // Wide enough for the title (about 8 px a character at 14 px).
+  const double width = std::max(left + w + 30, left + 8.0 * static_cast<double>(title.size()));
+  const double height = top + hgt + 60;
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + w + 30 << "\" height=\""
-    << top + hgt + 60 << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+    << "\" viewBox=\"0 0 " << width << " " << height
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << left << "\" y=\"22\" font-size=\"14\">" << report::xml_escape(title)
     << "</text>\n";

@@ -55,13 +55,7 @@ int run_draw(const Args& args) {
   const Model model = load_model(path);
   std::vector<double> parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
-  for (const std::string& list : args.all("--trace"))
-    for (size_t begin = 0; begin <= list.size();) {
-      const size_t end = std::min(list.find(',', begin), list.size());
-      if (end == begin) throw UsageError("--trace: an empty point name in '" + list + "'");
-      drawing.trace.push_back(list.substr(begin, end - begin));
-      begin = end + 1;
-    }
+  drawing.trace = comma_list(args, "--trace");
 
   report::MechanismFrames frames;
   std::string what;

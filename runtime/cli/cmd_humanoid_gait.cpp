@@ -124,8 +124,9 @@ std::string animated_drawing(const std::string& title,
                front_w = (hi[1] - lo[1]) * scale + 2 * pad;
   const double h = (hi[2] - lo[2]) * scale + 2 * pad + 30;
   std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-                    fixed(side_w + front_w, 6) + "\" height=\"" + fixed(h, 6) + "\">\n<title>" +
-                    report::xml_escape(title) +
+                    fixed(side_w + front_w, 6) + "\" height=\"" + fixed(h, 6) +
+                    "\" viewBox=\"0 0 " + fixed(side_w + front_w, 6) + " " + fixed(h, 6) +
+                    "\">\n<title>" + report::xml_escape(title) +
                     "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   out += "<text x=\"" + fixed(pad, 4) + "\" y=\"18\" font-size=\"14\">" +
          report::xml_escape(title) + " (side view | front view)</text>\n";

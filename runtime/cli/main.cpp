@@ -37,6 +37,9 @@
 #include "sweep/summary.hpp"
 #include "sweep/sweep.hpp"
 
+#ifndef MECHGEN_VERSION
+#error "MECHGEN_VERSION must be the project's version (set by runtime/cli/CMakeLists.txt)"
+#endif
 #ifndef MECHGEN_SOURCE_DIR
 #error "MECHGEN_SOURCE_DIR must name the source tree (set by runtime/cli/CMakeLists.txt)"
 #endif
@@ -471,7 +474,9 @@ const std::vector<Command>& commands() {
 std::string main_help() {
   std::string text =
       "usage: mechgen COMMAND [ARGS...]    (mechgen COMMAND --help for each)\n\n"
-      "Planar mechanisms from a YAML description to kinematics and dynamics kernels.\n\n"
+      "Planar and spatial mechanisms (open chains, closed loops) from a YAML description to\n"
+      "kinematics and dynamics kernels, sweeps, loads, drawings and 3D views.\n"
+      "mechgen --version prints the version.\n\n"
       "commands:\n";
   std::vector<std::vector<std::string>> rows;
   for (const Command& c : commands()) rows.push_back({c.name, c.summary});
@@ -528,6 +533,10 @@ int dispatch(int argc, char** argv) {
     return 1;
   }
   const std::string name = words.front();
+  if (name == "--version" || name == "version") {
+    std::cout << "mechgen " << MECHGEN_VERSION << "\n";
+    return 0;
+  }
   if (name == "--help" || name == "-h" || name == "help") {
     if (words.size() > 1)
       for (const Command& c : commands())
@@ -557,7 +566,11 @@ int dispatch(int argc, char** argv) {
       return 1;
     }
   }
-  std::cerr << "mechgen: error: unknown command '" << name << "' (see mechgen --help)\n";
+  std::vector<std::string> names{"--help", "--version", "help", "version"};
+  for (const Command& c : commands()) names.push_back(c.name);
+  std::cerr << "mechgen: error: "
+            << unknown_word(name.rfind('-', 0) == 0 ? "option" : "command", name, names)
+            << " (see mechgen --help)\n";
   return 1;
 }
 

@@ -53,6 +53,8 @@ unknown="^mechgen draw: error: --trace: model 'rsur' has no point 'NOSUCH' \(poi
   fail "draw --trace NOSUCH: $err"
 [[ ! -e $dir/x.svg ]] || fail "draw --trace NOSUCH wrote its file"
 point=${BASH_REMATCH[1]:-none}
+fails "^mechgen draw: error: --solver: a spatial model is drawn by the numeric solver" \
+  draw models/rsur.yaml --at 0 --solver generated --out "$dir/x.svg"
 "$mechgen" draw models/rsur.yaml --at 0.1 --trace "$point" --labels --out "$dir/rsur.svg" >/dev/null ||
   fail "spatial draw --trace $point --labels exits $?"
 vertices=$(grep -o "id=\"side-trace-$point\"[^>]*" "$dir/rsur.svg" | sed 's/.* points="\([^"]*\)".*/\1/' | wc -w)

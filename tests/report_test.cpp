@@ -176,6 +176,53 @@ TEST(Render, LegendTitleAndLabels) {
   EXPECT_EQ(count(svg, "<g"), count(svg, "</g>"));
 }
 
+// Issue 24: a series exactly under another stayed invisible; 20 series on one axis were
+// unreadable.
+TEST(Render, ASeriesOverAnotherIsDashed) {
+  PlotSpec spec;
+  spec.series.push_back({"a", {0, 1, 2}, {0, 1, 0}});
+  spec.series.push_back({"b", {0, 1, 2}, {0, 1, 0}});  // the same values
+  spec.series.push_back({"c", {0, 1, 2}, {1, 0, 1}});
+  const std::string svg = render_svg(spec);
+  ASSERT_EQ(path_of(svg, 0), path_of(svg, 1));
+  const auto dash = [&](int k) {
+    const auto p = svg.find("<path class=\"series-" + std::to_string(k) + "\"");
+    const auto end = svg.find(" d=\"", p);
+    const auto at = svg.find("stroke-dasharray=\"", p);
+    return at < end ? svg.substr(at + 18, svg.find('"', at + 18) - at - 18) : std::string();
+  };
+  EXPECT_EQ(dash(0), "");
+  EXPECT_EQ(dash(1), "5 7");
+  EXPECT_EQ(dash(2), "");
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"5 7\""), 2);  // the path and its legend entry
+}
+
+TEST(Render, MoreThanEightSeriesAreSplitIntoPanels) {
+  PlotSpec spec;
+  spec.title = "twenty";
+  for (int k = 0; k < 20; ++k)
+    spec.series.push_back({"s" + std::to_string(k), {0, 1, 2}, {0, 1.0 * k, 2.0 * k}});
+  const std::string svg = render_svg(spec);
+  EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"1500\" "
+                      "viewBox=\"0 0 800 1500\">",
+                      0),
+            0u);
+  EXPECT_EQ(count(svg, "<svg class=\"panel\""), 3);
+  EXPECT_EQ(count(svg, "class=\"legend-entry\""), 20);
+  // At most 8 series a panel (7, 7, 6), each panel clipped to its own plot area.
+  std::vector<int> per_panel;
+  for (auto at = svg.find("<svg class=\"panel\""); at != std::string::npos;
+       at = svg.find("<svg class=\"panel\"", at + 1))
+    per_panel.push_back(
+        count(svg.substr(at, svg.find("</svg>", at) - at), "class=\"legend-entry\""));
+  EXPECT_EQ(per_panel, (std::vector<int>{7, 7, 6}));
+  for (const char* id : {"plot-area-1", "plot-area-2", "plot-area-3"})
+    EXPECT_EQ(count(svg, id), 2) << id;  // defined once, used once
+  EXPECT_NE(svg.find("twenty (2 of 3)"), std::string::npos);
+  EXPECT_NE(svg.find("y=\"1000\""), std::string::npos);
+  EXPECT_EQ(count(svg, "<svg"), count(svg, "</svg>"));
+}
+
 TEST(Render, LongLegendLabelsAreShortenedNotSqueezingThePlot) {
   PlotSpec spec;
   const std::string long_label(60, 'a');

@@ -21,7 +21,10 @@ const char* const kDrawHelp =
                     [--trace POINT[,POINT...]]... [--title TEXT] [--width PIXELS] --out FILE.svg
 
 Draws the mechanism: bodies as bars or plates between their points, joints as circles, the
-ground body on a hatched floor (model ground frame).
+ground body on a hatched floor (model ground frame). A spatial model (dimension: spatial) is drawn
+by the numeric solver in two orthographic views side by side, chosen from its extent: sagittal
+(x-z) and frontal (y-z) unless one is edge-on, then top (x-y); one view alone when it lies in a
+plane; the figure says which views it left out.
   --at T              a still at time T (s)
   --animate           an animated SVG (SMIL, looping in real time) of the model's step; its
                       first frame is the still at the step's start

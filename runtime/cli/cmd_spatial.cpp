@@ -241,6 +241,8 @@ int run_spatial_draw(const Args& args) {
   if (args.has("--at") == args.has("--animate"))
     throw UsageError("give either --at T or --animate");
   if (args.has("--steps")) throw UsageError("--steps: walking is for planar bipeds");
+  if (solver_option(args) != "numeric" && args.has("--solver"))
+    throw UsageError("--solver: a spatial model is drawn by the numeric solver");
   const SpatialModel model = load_spatial(path);
   std::vector<double> parameters = model.common.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);

@@ -3,6 +3,7 @@
 // to the plot area. Non-finite values break a line; empty or constant data still give a valid plot.
 #pragma once
 
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
@@ -28,7 +29,13 @@ struct PlotSpec {
   bool equal_scale = false;
 };
 
-// The whole plot as an SVG document. Throws std::invalid_argument when a series' x and y differ
+// Series on one axis at the most; render_svg splits more into panels.
+inline constexpr std::size_t kMostSeriesPerPanel = 8;
+
+// The whole plot as an SVG document (with a viewBox). More than kMostSeriesPerPanel series are
+// split into panels (nested <svg class="panel">, titled "TITLE (i of n)") stacked one above the
+// other, each spec.height tall, on the data's common x range. A series that lies exactly over an
+// earlier one is dashed, so both show. Throws std::invalid_argument when a series' x and y differ
 // in length (a caller's bug, not a data problem).
 std::string render_svg(const PlotSpec& spec);
 

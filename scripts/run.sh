@@ -100,10 +100,10 @@ step_walk() {
 
 step_draw() {
   "$mechgen" draw "$model" --at 0.5 --labels --out "$out/pasibot.svg" \
-    --title "PASIBOT at t = 0.5 s (support foot l1 on the floor; flying leg blue)"
-  "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT: one step"
-  "$mechgen" draw "$model" --animate --steps 4 --ramp 1.5 --out "$out/pasibot_walk.svg" \
-    --title "PASIBOT: 4 steps from rest, world frame"
+    --title "PASIBOT, support foot l1 on the floor, flying leg blue"
+  "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT"
+  "$mechgen" draw "$model" --animate --steps 6 --ramp 1.5 --out "$out/pasibot_walk.svg" \
+    --title "PASIBOT walking from rest"
 }
 
 step_loads() {

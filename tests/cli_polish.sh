@@ -75,6 +75,14 @@ grep -Eq 'id="(side|front)-' "$dir/lecture_leg.svg" && fail "lecture_leg: an edg
 grep -q "sagittal and frontal view left out: the mechanism is edge-on there" "$dir/lecture_leg.svg" ||
   fail "lecture_leg: the drawing does not say which views"
 
+# A drawing's title says what was drawn (it said "4 steps" over a 6-step walk).
+"$mechgen" draw models/pasibot.yaml --animate --steps 2 --title "PASIBOT walking" \
+  --out "$dir/walk.svg" >/dev/null || fail "draw --steps 2"
+grep -q ">PASIBOT walking (2 steps walking, world frame)</text>" "$dir/walk.svg" ||
+  fail "draw --steps 2: the title does not say what was drawn"
+"$mechgen" draw models/rsur.yaml --at 0.25 --title "RSUR" --out "$dir/rsur_titled.svg" >/dev/null &&
+  grep -q ">RSUR (t = 0.25 s)</text>" "$dir/rsur_titled.svg" || fail "spatial draw: the title does not say the time"
+
 # Every SVG figure has a viewBox the size of its canvas.
 "$mechgen" draw models/chebyshev.yaml --at 0 --out "$dir/chebyshev.svg" >/dev/null || fail "planar draw"
 "$mechgen" sweep models/slider_crank.yaml --samples 11 --out "$dir/crank.csv" >/dev/null || fail "sweep"

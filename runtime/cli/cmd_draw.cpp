@@ -36,6 +36,8 @@ plane; the figure says which views it left out.
   --trace POINTS      the paths of these named points (comma separated, repeatable), dashed:
                       over the model's step on a still, over the animation on --animate (a dot
                       follows each point)
+  --title TEXT        a title, followed by what is drawn, e.g. (t = 0.5 s), (one step, 1.2 s)
+                      or (6 steps walking, world frame)
   --width PIXELS      drawing width (default 900)
 )";
 
@@ -104,6 +106,8 @@ int run_draw(const Args& args) {
       what = "one step, " + fixed(sweep.t1 - sweep.t0, 4) + " s";
     }
   }
+  // The title says what was drawn, so it cannot claim another run ("4 steps" over 6).
+  if (!drawing.title.empty()) drawing.title += " (" + what + ")";
   const std::string out = args.get("--out");
   g_current_file = out;
   report::write_file_atomically(out, report::draw_mechanism(model, frames, drawing));

@@ -280,6 +280,9 @@ int run_spatial_draw(const Args& args) {
   options.width = args.integer("--width", options.width);
   if (options.width < 200) throw UsageError("--width must be at least 200");
   options.title = args.get("--title", "");
+  if (!options.title.empty())  // what is drawn, as the planar drawing says it
+    options.title += args.has("--at") ? " (t = " + fixed(frames.times.back(), 6) + " s)"
+                                      : " (one step, " + fixed(step.t1 - step.t0, 4) + " s)";
   options.labels = args.has("--labels");
   const std::string out = args.get("--out");
   g_current_file = out;

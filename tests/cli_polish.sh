@@ -36,6 +36,7 @@ fails "^mechgen: error: unknown command 'swep'; did you mean 'sweep'\?" swep
 fails "^mechgen: error: unknown command 'darw'; did you mean 'draw'\?" darw
 fails "^mechgen: error: unknown option '--verison'; did you mean '--version'\?" --verison
 fails "^mechgen: error: unknown command 'frobnicate' \(see mechgen --help\)$" frobnicate
+fails "^mechgen: error: unknown command 'swep'; did you mean 'sweep'\?" help swep
 fails "^mechgen sweep: error: unknown option '--sumary'; did you mean '--summary'\? \(see mechgen sweep --help\)$" \
   sweep models/slider_crank.yaml --sumary
 fails "^mechgen draw: error: unknown option '--trcae'; did you mean '--trace'\?" \

@@ -537,13 +537,19 @@ int dispatch(int argc, char** argv) {
     std::cout << "mechgen " << MECHGEN_VERSION << "\n";
     return 0;
   }
+  std::vector<std::string> names{"--help", "--version", "help", "version"};
+  for (const Command& c : commands()) names.push_back(c.name);
   if (name == "--help" || name == "-h" || name == "help") {
-    if (words.size() > 1)
+    if (words.size() > 1) {
       for (const Command& c : commands())
         if (words[1] == c.name) {
           std::cout << c.help;
           return 0;
         }
+      std::cerr << "mechgen: error: " << unknown_word("command", words[1], names)
+                << " (see mechgen --help)\n";
+      return 1;
+    }
     std::cout << main_help();
     return 0;
   }
@@ -566,8 +572,6 @@ int dispatch(int argc, char** argv) {
       return 1;
     }
   }
-  std::vector<std::string> names{"--help", "--version", "help", "version"};
-  for (const Command& c : commands()) names.push_back(c.name);
   std::cerr << "mechgen: error: "
             << unknown_word(name.rfind('-', 0) == 0 ? "option" : "command", name, names)
             << " (see mechgen --help)\n";

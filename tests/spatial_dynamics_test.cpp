@@ -200,6 +200,33 @@ std::vector<double> numbers(const std::string& svg, const std::string& id) {
   return out;
 }
 
+// Bioloid's waist (hips, shoulders, neck) was drawn as a self-crossing zig-zag (issue 24): now an
+// outline about its centroid, closed, whose edges cross nowhere in the frontal view.
+TEST(SpatialDrawing, ATrunkIsAnOutlineThatDoesNotCrossItself) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
+  const SpatialSolver solver(model, {});
+  const SpatialFrames frames = spatial_frames(solver, {0.0});
+  const auto waist = std::find(frames.body_names.begin(), frames.body_names.end(), "waist");
+  ASSERT_NE(waist, frames.body_names.end());
+  const std::vector<V3>& at =
+      frames.bodies[0][static_cast<size_t>(waist - frames.body_names.begin())];
+  ASSERT_GE(at.size(), 5u);  // four or more locations, closed
+  EXPECT_EQ(at.front(), at.back());
+  // Proper crossings of two edges that share no end, in the frontal (y, z) projection.
+  auto side = [](const V3& a, const V3& b, const V3& c) {
+    return (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+  };
+  int crossings = 0;
+  for (size_t i = 0; i + 1 < at.size(); ++i)
+    for (size_t j = i + 2; j + 1 < at.size(); ++j) {
+      if (i == 0 && j + 2 == at.size()) continue;  // neighbours across the closing point
+      const double d1 = side(at[i], at[i + 1], at[j]), d2 = side(at[i], at[i + 1], at[j + 1]);
+      const double d3 = side(at[j], at[j + 1], at[i]), d4 = side(at[j], at[j + 1], at[i + 1]);
+      crossings += (d1 * d2 < -1e-12 && d3 * d4 < -1e-12) ? 1 : 0;
+    }
+  EXPECT_EQ(crossings, 0);
+}
+
 // lecture_leg lies in the x-y plane: its sagittal and frontal views would be lines (issue 24), so
 // the drawing shows the top view alone and says why; the canvas keeps a sane shape, with a
 // viewBox. A named point's path is drawn (one vertex a time), labels name the bodies, and an

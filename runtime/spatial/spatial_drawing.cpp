@@ -2,9 +2,11 @@
 #include "spatial/spatial_drawing.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 namespace mechgen::spatial {
@@ -67,6 +69,38 @@ std::vector<int> chosen_views(const Extent& e) {
   return views;
 }
 
+// The order in which a body's locations make an outline that does not cross itself: by angle
+// about their centroid in the plane of their largest spread, closed back to the first (a trunk's
+// hips, shoulders and neck as a polygon, not a zig-zag); collinear ones along their line.
+std::vector<size_t> outline(const std::vector<V3>& at) {
+  std::vector<size_t> order(at.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  if (at.size() < 3) return order;
+  V3 c{0, 0, 0};
+  for (const V3& x : at) c = c + x;
+  c = (1.0 / static_cast<double>(at.size())) * c;
+  V3 u{0, 0, 0}, v{0, 0, 0};  // the farthest direction, then the farthest across it
+  for (const V3& x : at)
+    if (geometry::dot(x - c, x - c) > geometry::dot(u, u)) u = x - c;
+  const double farthest = geometry::dot(u, u);
+  if (farthest < 1e-24) return order;
+  u = (1.0 / std::sqrt(farthest)) * u;
+  for (const V3& x : at) {
+    const V3 w = (x - c) - geometry::dot(x - c, u) * u;
+    if (geometry::dot(w, w) > geometry::dot(v, v)) v = w;
+  }
+  auto along = [&](size_t k) { return geometry::dot(at[k] - c, u); };
+  if (geometry::dot(v, v) < 1e-12 * farthest) {
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return along(a) < along(b); });
+    return order;
+  }
+  v = (1.0 / std::sqrt(geometry::dot(v, v))) * v;
+  auto angle = [&](size_t k) { return std::atan2(geometry::dot(at[k] - c, v), along(k)); };
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return angle(a) < angle(b); });
+  order.push_back(order.front());
+  return order;
+}
+
 }  // namespace
 
 SpatialFrames spatial_frames(const SpatialSolver& solver, const std::vector<double>& times,
@@ -107,6 +141,7 @@ SpatialFrames spatial_frames(const SpatialSolver& solver, const std::vector<doub
     f.body_names.push_back(m.bodies[b].name);
   }
   SpatialState s;
+  std::vector<std::vector<size_t>> order;  // per drawn body: its locations in outline order
   for (const double t : times) {
     solver.solve(t, s);
     std::vector<V3> joints;
@@ -130,6 +165,13 @@ SpatialFrames spatial_frames(const SpatialSolver& solver, const std::vector<doub
         if (!seen) at.push_back(x);
       }
       bodies.push_back(at);
+    }
+    if (f.bodies.empty())  // each body's outline, from the first frame
+      for (const auto& at : bodies) order.push_back(outline(at));
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      std::vector<V3> ordered;
+      for (const size_t i : order[k]) ordered.push_back(bodies[k][i]);
+      bodies[k] = ordered;
     }
     f.bodies.push_back(bodies);
     f.joints.push_back(joints);
@@ -177,9 +219,13 @@ std::string draw_spatial(const SpatialFrames& f, const SpatialDrawingOptions& op
                        : left_out + " view left out: the mechanism is edge-on there (views " +
                              "chosen from its extent)";
   const double top = margin + title + 20;
-  const double width =
-      std::max({right - gap + margin, 2 * margin + 7.0 * static_cast<double>(note.size()),
-                2 * margin + 9.0 * static_cast<double>(options.title.size())});
+  double longest_name = 0;  // labels stand right of their body: room for the last view's
+  if (options.labels)
+    for (const std::string& name : f.body_names)
+      longest_name = std::max(longest_name, 7.0 * static_cast<double>(name.size()));
+  const double width = std::max({right - gap + margin + longest_name,
+                                 2 * margin + 7.0 * static_cast<double>(note.size()),
+                                 2 * margin + 9.0 * static_cast<double>(options.title.size())});
   const double height = top + tallest * s + margin + (note.empty() ? 0 : 20);
 
   auto px = [&](size_t view, const V3& x) {
@@ -262,9 +308,11 @@ std::string draw_spatial(const SpatialFrames& f, const SpatialDrawingOptions& op
                                  "\" class=\"tracer\" r=\"3\" fill=\"#7f8c8d\"");
     if (options.labels)
       for (size_t b = 0; b < f.body_names.size(); ++b) {
+        const std::vector<V3>& at = f.bodies[0][b];
+        const size_t n = at.size() > 2 && at.front() == at.back() ? at.size() - 1 : at.size();
         V3 mean{0, 0, 0};
-        for (const V3& x : f.bodies[0][b]) mean = mean + x;
-        mean = (1.0 / static_cast<double>(f.bodies[0][b].size())) * mean;
+        for (size_t k = 0; k < n; ++k) mean = mean + at[k];
+        mean = (1.0 / static_cast<double>(n)) * mean;
         svg += "<text class=\"label\" x=\"" + num(px(view, mean) + 6) + "\" y=\"" +
                num(py(view, mean) - 6) +
                "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#333\">" + f.body_names[b] +

@@ -18,11 +18,13 @@ namespace mechgen::spatial {
 
 struct SpatialFrames {
   std::vector<double> times;
-  std::vector<std::string> body_names;               // drawn bodies (two or more locations)
-  std::vector<std::vector<std::vector<V3>>> bodies;  // [frame][drawn body][location]
-  std::vector<std::vector<V3>> joints;               // [frame][real joint]: joint point
-  std::vector<std::string> trace_names;              // traced named points
-  std::vector<std::vector<V3>> traces;               // [traced point][sample]: its path
+  std::vector<std::string> body_names;  // drawn bodies (two or more locations)
+  // [frame][drawn body][location]: a body of three or more locations as an outline that does not
+  // cross itself (ordered about their centroid, the first repeated at the end to close it).
+  std::vector<std::vector<std::vector<V3>>> bodies;
+  std::vector<std::vector<V3>> joints;   // [frame][real joint]: joint point
+  std::vector<std::string> trace_names;  // traced named points
+  std::vector<std::vector<V3>> traces;   // [traced point][sample]: its path
 };
 
 // Solves the model at each time (in order, continuing from one to the next), with the paths of the

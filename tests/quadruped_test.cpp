@@ -408,6 +408,32 @@ TEST(QuadrupedWorkspace, MonteCarloExtentsMatchTheSeedFormulasAndDoNotDependOnTh
   std::ostringstream box;
   box << "viewBox=\"0 0 " << width << " " << height << "\"";
   EXPECT_NE(svg.find(box.str()), std::string::npos) << svg.substr(0, 200);
+
+  // A colour scale from 1 sample to the densest cell's count, and the mechanism over the image
+  // where its points are: (h, v) at left + (h - h_min) / cell * scale, top + height - ...
+  const Projection& p = one.sagittal;
+  long most = 0;
+  for (const long k : p.counts) most = std::max(most, k);
+  const Outline outline{{{{p.h_min + 10 * p.cell, 0.0, p.v_min + 20 * p.cell},
+                          {p.h_min + 30 * p.cell, 0.0, p.v_min + 5 * p.cell}}},
+                        "at its reference pose, t = 0 s"};
+  const std::string drawn = density_svg(p, "t", outline);
+  const size_t bar = drawn.find("<g class=\"colour-scale\">");
+  ASSERT_NE(bar, std::string::npos);
+  EXPECT_NE(drawn.find(">" + std::to_string(most) + "</text>", bar), std::string::npos);
+  EXPECT_NE(drawn.find(">1</text>", bar), std::string::npos);
+  EXPECT_NE(drawn.find("grey: the mechanism at its reference pose, t = 0 s"), std::string::npos);
+  const size_t at = drawn.find("points=\"", drawn.find("<g class=\"outline\""));
+  ASSERT_NE(at, std::string::npos);
+  std::istringstream points(drawn.substr(at + 8, drawn.find('"', at + 8) - at - 8));
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  char comma = 0;
+  points >> x0 >> comma >> y0 >> x1 >> comma >> y1;
+  const double scale = 560.0 / std::max(p.nh, p.nv), left = 70, top = 40;
+  EXPECT_NEAR(x0, left + 10 * scale, 1e-6);
+  EXPECT_NEAR(y0, top + (p.nv - 20) * scale, 1e-6);
+  EXPECT_NEAR(x1, left + 30 * scale, 1e-6);
+  EXPECT_NEAR(y1, top + (p.nv - 5) * scale, 1e-6);
 }
 
 TEST(QuadrupedWorkspace, CylinderForcesAlongTheSwingAreJTransposeOfTheFootForce) {

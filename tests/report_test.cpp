@@ -223,6 +223,30 @@ TEST(Render, MoreThanEightSeriesAreSplitIntoPanels) {
   EXPECT_EQ(count(svg, "<svg"), count(svg, "</svg>"));
 }
 
+// Issue 24: a walking plot did not show where the support foot changes.
+TEST(ColumnPlot, SupportChangesOfAWalkAreMarked) {
+  CsvTable table;
+  table.header = {"t", "step", "support", "theta8.effort"};
+  table.rows = {{0, 0, 0, 1},   {0.5, 0, 0, 2}, {1, 0, 0, 3}, {1, 1, 1, 3},
+                {1.5, 1, 1, 2}, {2, 1, 1, 1},   {2, 2, 0, 1}, {2.5, 2, 0, 0}};
+  ColumnPlotOptions options;
+  options.x = "t";
+  options.y = {"theta8.effort"};
+  const PlotSpec spec = column_plot(table, options);
+  EXPECT_EQ(spec.x_marks, (std::vector<double>{1, 2}));
+  const std::string svg = render_svg(spec);
+  EXPECT_EQ(count(svg, "class=\"x-mark\""), 2);
+  EXPECT_NE(svg.find(">support change</text>"), std::string::npos);
+  const PlotLayout L = compute_layout(spec);
+  const size_t at = svg.find("class=\"x-mark\"");
+  const size_t x1 = svg.rfind("x1=\"", at) + 4;
+  EXPECT_NEAR(std::stod(svg.substr(x1)), L.x.to_px(1.0), 0.01);
+  // Against another column, or without a support column: no marks.
+  options.x = "theta8.effort";
+  options.y = {"t"};
+  EXPECT_TRUE(column_plot(table, options).x_marks.empty());
+}
+
 TEST(Render, LongLegendLabelsAreShortenedNotSqueezingThePlot) {
   PlotSpec spec;
   const std::string long_label(60, 'a');

@@ -320,6 +320,9 @@ const char* const kPlotHelp =
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
 unless given. --equal: one scale on both axes, so an x-y path (--x C.x --y C.y) keeps its shape.
+More than 8 series are split into panels stacked one above the other (at most 8 each); a series
+lying exactly over another is dashed so both show; a walk's CSV (mechgen walk: its support
+column) plotted against t has each change of support foot as a dashed vertical line.
 )";
 
 int run_plot(const Args& args) {

@@ -49,6 +49,13 @@ PlotSpec column_plot(const CsvTable& table, const ColumnPlotOptions& options) {
       !options.y_label.empty() ? options.y_label : with_unit(names, same_unit ? common_unit : "");
   spec.title = !options.title.empty() ? options.title : names + " over " + options.x;
   spec.equal_scale = options.equal_scale;
+  // A walk (mechgen walk's `support` column) against time: each change of support foot marked.
+  if (const int support = table.column("support"); support >= 0 && options.x == "t") {
+    const std::vector<double> s = table.values(support);
+    for (std::size_t i = 1; i < s.size(); ++i)
+      if (s[i] != s[i - 1]) spec.x_marks.push_back(x[i]);
+    spec.x_marks_label = "support change";
+  }
   return spec;
 }
 

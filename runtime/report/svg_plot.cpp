@@ -330,6 +330,12 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
     line(L.left, L.y.to_px(0), L.right, L.y.to_px(0), " stroke=\"#a8a8a8\" stroke-width=\"1\"");
   }
 
+  // Events along x, under the data.
+  for (const double x : spec.x_marks)
+    if (std::isfinite(x) && x >= L.x.lo && x <= L.x.hi)
+      line(L.x.to_px(x), L.top, L.x.to_px(x), L.bottom,
+           " class=\"x-mark\" stroke=\"#888888\" stroke-width=\"1\" stroke-dasharray=\"4 3\"");
+
   // Data: one path per series, a new sub-path after every non-finite value, a dot for a point
   // that has no finite neighbour.
   o += "<g class=\"series\" clip-path=\"url(#" + clip +
@@ -403,7 +409,8 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
   }
 
   // Legend, right of the plot area, one row per labelled series.
-  bool any_label = false;
+  const bool marks_row = !spec.x_marks.empty() && !spec.x_marks_label.empty();
+  bool any_label = marks_row;
   for (const Series& s : spec.series) any_label = any_label || !s.label.empty();
   if (any_label) {
     const double x0 = L.right + 12;
@@ -414,6 +421,11 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
       if (s.label.empty()) continue;
       rows += 1;
       widest = std::max(widest, kLegendCharWidth * legend_text(s.label, max_chars).size());
+    }
+    if (marks_row) {
+      rows += 1;
+      widest =
+          std::max(widest, kLegendCharWidth * legend_text(spec.x_marks_label, max_chars).size());
     }
     o += "<g class=\"legend\" font-size=\"" + fixed(kLegendFont, 0) + "\">\n";
     o += "<rect x=\"" + px(x0) + "\" y=\"" + px(y) + "\" width=\"" + px(28 + 8 + widest + 14) +
@@ -430,6 +442,12 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
       text(x0 + 7 + 26 + 8, y + 14, " class=\"legend-entry\"",
            xml_escape(legend_text(s.label, max_chars)));
       y += 20;
+    }
+    if (marks_row) {
+      line(x0 + 20, y + 2, x0 + 20, y + 18,
+           " stroke=\"#888888\" stroke-width=\"1\" stroke-dasharray=\"4 3\"");
+      text(x0 + 7 + 26 + 8, y + 14, " class=\"legend-entry\"",
+           xml_escape(legend_text(spec.x_marks_label, max_chars)));
     }
     o += "</g>\n";
   }

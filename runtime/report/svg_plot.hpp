@@ -27,6 +27,10 @@ struct PlotSpec {
   // One scale on both axes (an x-y path keeps its shape): the axis with more pixels per unit
   // gets a wider range, centred on its data.
   bool equal_scale = false;
+  // Events along x (a walk's support changes): dashed vertical lines, `x_marks_label` in the
+  // legend.
+  std::vector<double> x_marks;
+  std::string x_marks_label;
 };
 
 // Series on one axis at the most; render_svg splits more into panels.

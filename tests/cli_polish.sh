@@ -84,6 +84,15 @@ grep -q ">PASIBOT walking (2 steps walking, world frame)</text>" "$dir/walk.svg"
 "$mechgen" draw models/rsur.yaml --at 0.25 --title "RSUR" --out "$dir/rsur_titled.svg" >/dev/null &&
   grep -q ">RSUR (t = 0.25 s)</text>" "$dir/rsur_titled.svg" || fail "spatial draw: the title does not say the time"
 
+# Stresses in MPa as loads prints them, with the yield as a limit line.
+"$mechgen" loads models/pasibot.yaml --samples 21 --over-time "$dir/loads_t.csv" >/dev/null || fail "loads"
+"$mechgen" plot "$dir/loads_t.csv" --x t --y l7.sigma --limit "276,yield 276 MPa" --out "$dir/stress.svg" >/dev/null ||
+  fail "plot --limit"
+grep -q ">l7.sigma \[MPa\]</text>" "$dir/stress.svg" && grep -q 'class="limit"' "$dir/stress.svg" &&
+  grep -q ">yield 276 MPa</text>" "$dir/stress.svg" || fail "stress plot: not in MPa or no yield line"
+fails "^mechgen plot: error: --limit: 'abc' is not a number" plot "$dir/loads_t.csv" --x t --y l7.sigma \
+  --limit abc --out "$dir/y.svg"
+
 # Every SVG figure has a viewBox the size of its canvas.
 "$mechgen" draw models/chebyshev.yaml --at 0 --out "$dir/chebyshev.svg" >/dev/null || fail "planar draw"
 "$mechgen" sweep models/slider_crank.yaml --samples 11 --out "$dir/crank.csv" >/dev/null || fail "sweep"

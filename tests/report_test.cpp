@@ -247,6 +247,30 @@ TEST(ColumnPlot, SupportChangesOfAWalkAreMarked) {
   EXPECT_TRUE(column_plot(table, options).x_marks.empty());
 }
 
+// Issue 24: the stress plot was in Pa while loads prints MPa, and its yield was nowhere.
+TEST(ColumnPlot, StressesInMegapascalsWithTheYieldAsALimit) {
+  EXPECT_EQ(column_unit("l7.sigma"), "[Pa]");
+  const CsvTable t = parse_csv("t,l7.sigma,l2.sigma\n0,1e6,2e6\n1,3.5e7,4e6\n", "loads.csv");
+  ColumnPlotOptions options{"t", {"l7.sigma", "l2.sigma"}, "", "", ""};
+  options.limits = {{276, "yield 276 MPa"}};
+  const PlotSpec spec = column_plot(t, options);
+  EXPECT_EQ(spec.y_label, "l7.sigma, l2.sigma [MPa]");
+  EXPECT_EQ(spec.series[0].y, (std::vector<double>{1, 35}));
+  const PlotLayout L = compute_layout(spec);
+  EXPECT_GE(L.y.hi, 276);  // the limit is inside the range
+  const std::string svg = render_svg(spec);
+  ASSERT_EQ(count(svg, "class=\"limit\""), 1);
+  const size_t at = svg.find("class=\"limit\"");
+  const size_t y1 = svg.rfind("y1=\"", at) + 4;
+  EXPECT_NEAR(std::stod(svg.substr(y1)), L.y.to_px(276), 0.01);
+  EXPECT_NE(svg.find(">yield 276 MPa</text>"), std::string::npos);
+  // Above the data: the band from the line up to the top of the plot is shaded.
+  const size_t band = svg.find("class=\"beyond-limit\"");
+  ASSERT_NE(band, std::string::npos);
+  EXPECT_NEAR(std::stod(svg.substr(svg.find("y=\"", band) + 3)), L.top, 0.01);
+  EXPECT_NEAR(std::stod(svg.substr(svg.find("height=\"", band) + 8)), L.y.to_px(276) - L.top, 0.01);
+}
+
 TEST(Render, LongLegendLabelsAreShortenedNotSqueezingThePlot) {
   PlotSpec spec;
   const std::string long_label(60, 'a');

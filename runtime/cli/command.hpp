@@ -142,10 +142,9 @@ class Args {
     if (positional_.size() > 1) throw UsageError("unexpected argument '" + positional_[1] + "'");
     return positional_.front();
   }
-  // An option's value as a number (plain decimal or scientific notation).
-  double number(const std::string& name, double fallback) const {
-    if (!has(name)) return fallback;
-    const std::string text = get(name);
+  // A finite number in plain decimal or scientific notation, the whole of `text`; else a
+  // UsageError "OPTION: 'TEXT' is not a number".
+  static double parse_number(const std::string& text, const std::string& option) {
     size_t used = 0;
     double value = 0;
     try {
@@ -154,8 +153,12 @@ class Args {
       used = 0;
     }
     if (used == 0 || used != text.size() || !std::isfinite(value))
-      throw UsageError(name + ": '" + text + "' is not a number");
+      throw UsageError(option + ": '" + text + "' is not a number");
     return value;
+  }
+  // An option's value as a number (parse_number).
+  double number(const std::string& name, double fallback) const {
+    return has(name) ? parse_number(get(name), name) : fallback;
   }
   int integer(const std::string& name, int fallback) const {
     const double value = number(name, fallback);

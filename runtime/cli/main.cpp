@@ -316,13 +316,17 @@ int run_generate(const Args& args) {
 const char* const kPlotHelp =
     R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
                    [--title TEXT] [--xlabel TEXT] [--ylabel TEXT] [--equal]
+                   [--limit VALUE[,LABEL]]...
 
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
 unless given. --equal: one scale on both axes, so an x-y path (--x C.x --y C.y) keeps its shape.
 More than 8 series are split into panels stacked one above the other (at most 8 each); a series
 lying exactly over another is dashed so both show; a walk's CSV (mechgen walk: its support
-column) plotted against t has each change of support foot as a dashed vertical line.
+column) plotted against t has each change of support foot as a dashed vertical line. Stress
+columns ([Pa] in mechgen loads --over-time) are plotted in MPa, as loads prints them.
+  --limit VALUE,LABEL  a limit (a yield stress, the end of a stroke) in the plot's y units: a
+                       dashed line, the side beyond it shaded; repeatable
 )";
 
 int run_plot(const Args& args) {
@@ -332,15 +336,11 @@ int run_plot(const Args& args) {
   if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
   report::ColumnPlotOptions options;
   options.x = args.get("--x");
-  for (const std::string& list : args.all("--y")) {
-    size_t begin = 0;
-    while (begin <= list.size()) {
-      const size_t comma = std::min(list.find(',', begin), list.size());
-      const std::string name = list.substr(begin, comma - begin);
-      if (name.empty()) throw UsageError("--y: empty column name in '" + list + "'");
-      options.y.push_back(name);
-      begin = comma + 1;
-    }
+  options.y = comma_list(args, "--y");
+  for (const std::string& limit : args.all("--limit")) {
+    const size_t comma = limit.find(',');
+    options.limits.push_back({Args::parse_number(limit.substr(0, comma), "--limit"),
+                              comma == std::string::npos ? "" : limit.substr(comma + 1)});
   }
   options.title = args.get("--title");
   options.x_label = args.get("--xlabel");
@@ -449,7 +449,8 @@ const std::vector<Command>& commands() {
         {"--title", "", true},
         {"--xlabel", "", true},
         {"--ylabel", "", true},
-        {"--equal", "", false}},
+        {"--equal", "", false},
+        {"--limit", "", true, true}},
        &run_plot},
       {"summary",
        "motor torque, power and gait figures of a sweep CSV",

@@ -248,6 +248,9 @@ PlotLayout free_layout(const PlotSpec& spec) {
 
   double xlo = L.has_data ? e.xlo : 0, xhi = L.has_data ? e.xhi : 1;
   double ylo = L.has_data ? e.ylo : 0, yhi = L.has_data ? e.yhi : 1;
+  for (const PlotSpec::Limit& limit : spec.y_limits)
+    if (std::isfinite(limit.y) && L.has_data)
+      ylo = std::min(ylo, limit.y), yhi = std::max(yhi, limit.y);
   if (L.has_data) {
     const double pad = 0.05 * (yhi - ylo);
     ylo -= pad;
@@ -328,6 +331,21 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
   o += "</g>\n";
   if (L.y.lo < 0 && L.y.hi > 0) {
     line(L.left, L.y.to_px(0), L.right, L.y.to_px(0), " stroke=\"#a8a8a8\" stroke-width=\"1\"");
+  }
+
+  // Limits along y, under the data: beyond each (away from the data's middle) shaded.
+  const Extent data = data_extent(spec);
+  for (const PlotSpec::Limit& limit : spec.y_limits) {
+    if (!std::isfinite(limit.y) || limit.y < L.y.lo || limit.y > L.y.hi) continue;
+    const bool above = !data.any() || limit.y >= 0.5 * (data.ylo + data.yhi);
+    const double y = L.y.to_px(limit.y), edge = above ? L.top : L.bottom;
+    o += "<rect class=\"beyond-limit\" x=\"" + px(L.left) + "\" y=\"" + px(std::min(y, edge)) +
+         "\" width=\"" + px(L.right - L.left) + "\" height=\"" + px(std::abs(edge - y)) +
+         "\" fill=\"#b8202f\" fill-opacity=\"0.08\"/>\n";
+    line(L.left, y, L.right, y,
+         " class=\"limit\" stroke=\"#b8202f\" stroke-width=\"1.2\" stroke-dasharray=\"7 4\"");
+    text(L.right - 6, above ? y - 5 : y + 14, " text-anchor=\"end\" fill=\"#b8202f\"",
+         xml_escape(limit.label));
   }
 
   // Events along x, under the data.

@@ -31,6 +31,13 @@ struct PlotSpec {
   // legend.
   std::vector<double> x_marks;
   std::string x_marks_label;
+  // Limits along y (a yield stress, the end of a stroke): dashed horizontal lines with their
+  // labels, the beyond side shaded; the y range includes them.
+  struct Limit {
+    double y;
+    std::string label;
+  };
+  std::vector<Limit> y_limits;
 };
 
 // Series on one axis at the most; render_svg splits more into panels.

@@ -115,7 +115,7 @@ step_loads() {
                    $1 == "l7" { print $c / 1e6 }' "$out/pasibot_link_loads.csv")
   "$mechgen" plot "$out/pasibot_link_loads_t.csv" --x t --y l7.sigma,l2.sigma,l3.sigma,l8.sigma \
     --out "$out/pasibot_link_stress.svg" --title "PASIBOT: largest stress along the most loaded bars" \
-    --ylabel "sigma = |N|/A + |M|c/I [MPa]" --limit "$yield,yield strength $yield MPa"
+    --ylabel "sigma = |N|/A + |M|c/I [MPa]" --limit "max:$yield,yield strength $yield MPa"
   # The bending moment along the critical link at its most stressed sample.
   local critical
   critical=$(sed -n 's/^critical link: \([A-Za-z0-9_]*\),.*/\1/p' "$out/pasibot_link_loads.txt")

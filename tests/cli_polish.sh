@@ -86,10 +86,10 @@ grep -q ">PASIBOT walking (2 steps walking, world frame)</text>" "$dir/walk.svg"
 
 # Stresses in MPa as loads prints them, with the yield as a limit line.
 "$mechgen" loads models/pasibot.yaml --samples 21 --over-time "$dir/loads_t.csv" >/dev/null || fail "loads"
-"$mechgen" plot "$dir/loads_t.csv" --x t --y l7.sigma --limit "276,yield 276 MPa" --out "$dir/stress.svg" >/dev/null ||
+"$mechgen" plot "$dir/loads_t.csv" --x t --y l7.sigma --limit "max:276,yield 276 MPa" --out "$dir/stress.svg" >/dev/null ||
   fail "plot --limit"
 grep -q ">l7.sigma \[MPa\]</text>" "$dir/stress.svg" && grep -q 'class="limit"' "$dir/stress.svg" &&
-  grep -q ">yield 276 MPa</text>" "$dir/stress.svg" || fail "stress plot: not in MPa or no yield line"
+  grep -q ">yield 276 MPa</text>" "$dir/stress.svg" && grep -q 'class="beyond-limit"' "$dir/stress.svg" || fail "stress plot: not in MPa or no yield line"
 fails "^mechgen plot: error: --limit: 'abc' is not a number" plot "$dir/loads_t.csv" --x t --y l7.sigma \
   --limit abc --out "$dir/y.svg"
 

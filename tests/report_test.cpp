@@ -252,14 +252,16 @@ TEST(ColumnPlot, StressesInMegapascalsWithTheYieldAsALimit) {
   EXPECT_EQ(column_unit("l7.sigma"), "[Pa]");
   const CsvTable t = parse_csv("t,l7.sigma,l2.sigma\n0,1e6,2e6\n1,3.5e7,4e6\n", "loads.csv");
   ColumnPlotOptions options{"t", {"l7.sigma", "l2.sigma"}, "", "", ""};
-  options.limits = {{276, "yield 276 MPa"}};
+  options.limits = {{276, "yield 276 MPa", PlotSpec::Limit::Side::max},
+                    {10, "a line", PlotSpec::Limit::Side::line}};
   const PlotSpec spec = column_plot(t, options);
   EXPECT_EQ(spec.y_label, "l7.sigma, l2.sigma [MPa]");
   EXPECT_EQ(spec.series[0].y, (std::vector<double>{1, 35}));
   const PlotLayout L = compute_layout(spec);
   EXPECT_GE(L.y.hi, 276);  // the limit is inside the range
   const std::string svg = render_svg(spec);
-  ASSERT_EQ(count(svg, "class=\"limit\""), 1);
+  ASSERT_EQ(count(svg, "class=\"limit\""), 2);
+  EXPECT_EQ(count(svg, "class=\"beyond-limit\""), 1);  // a line limit shades nothing
   const size_t at = svg.find("class=\"limit\"");
   const size_t y1 = svg.rfind("y1=\"", at) + 4;
   EXPECT_NEAR(std::stod(svg.substr(y1)), L.y.to_px(276), 0.01);

@@ -316,7 +316,7 @@ int run_generate(const Args& args) {
 const char* const kPlotHelp =
     R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
                    [--title TEXT] [--xlabel TEXT] [--ylabel TEXT] [--equal]
-                   [--limit VALUE[,LABEL]]...
+                   [--limit [max:|min:]VALUE[,LABEL]]...
 
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
@@ -325,8 +325,10 @@ More than 8 series are split into panels stacked one above the other (at most 8 
 lying exactly over another is dashed so both show; a walk's CSV (mechgen walk: its support
 column) plotted against t has each change of support foot as a dashed vertical line. Stress
 columns ([Pa] in mechgen loads --over-time) are plotted in MPa, as loads prints them.
-  --limit VALUE,LABEL  a limit (a yield stress, the end of a stroke) in the plot's y units: a
-                       dashed line, the side beyond it shaded; repeatable
+  --limit [max:|min:]VALUE[,LABEL]
+                       a limit (a yield stress, the end of a stroke) in the plot's y units: a
+                       dashed line; the side beyond it shaded above a max:, below a min:;
+                       repeatable
 )";
 
 int run_plot(const Args& args) {
@@ -338,9 +340,13 @@ int run_plot(const Args& args) {
   options.x = args.get("--x");
   options.y = comma_list(args, "--y");
   for (const std::string& limit : args.all("--limit")) {
-    const size_t comma = limit.find(',');
-    options.limits.push_back({Args::parse_number(limit.substr(0, comma), "--limit"),
-                              comma == std::string::npos ? "" : limit.substr(comma + 1)});
+    using Side = report::PlotSpec::Limit::Side;
+    const Side side = limit.rfind("max:", 0) == 0   ? Side::max
+                      : limit.rfind("min:", 0) == 0 ? Side::min
+                                                    : Side::line;
+    const size_t start = side == Side::line ? 0 : 4, comma = limit.find(',');
+    options.limits.push_back({Args::parse_number(limit.substr(start, comma - start), "--limit"),
+                              comma == std::string::npos ? "" : limit.substr(comma + 1), side});
   }
   options.title = args.get("--title");
   options.x_label = args.get("--xlabel");

@@ -333,18 +333,24 @@ std::string render_panel(const PlotSpec& spec, const std::string& clip) {
     line(L.left, L.y.to_px(0), L.right, L.y.to_px(0), " stroke=\"#a8a8a8\" stroke-width=\"1\"");
   }
 
-  // Limits along y, under the data: beyond each (away from the data's middle) shaded.
-  const Extent data = data_extent(spec);
-  for (const PlotSpec::Limit& limit : spec.y_limits) {
+  // Limits along y, under the data: beyond a maximum or a minimum shaded. Labels alternate
+  // between the right and the left end (limits close together stay readable), above the line
+  // (below a minimum's, and a line's at the left).
+  for (std::size_t k = 0; k < spec.y_limits.size(); ++k) {
+    const PlotSpec::Limit& limit = spec.y_limits[k];
     if (!std::isfinite(limit.y) || limit.y < L.y.lo || limit.y > L.y.hi) continue;
-    const bool above = !data.any() || limit.y >= 0.5 * (data.ylo + data.yhi);
-    const double y = L.y.to_px(limit.y), edge = above ? L.top : L.bottom;
-    o += "<rect class=\"beyond-limit\" x=\"" + px(L.left) + "\" y=\"" + px(std::min(y, edge)) +
-         "\" width=\"" + px(L.right - L.left) + "\" height=\"" + px(std::abs(edge - y)) +
-         "\" fill=\"#b8202f\" fill-opacity=\"0.08\"/>\n";
+    using Side = PlotSpec::Limit::Side;
+    const bool right = k % 2 == 0;
+    const bool above = limit.side == Side::max || (limit.side == Side::line && right);
+    const double y = L.y.to_px(limit.y), edge = limit.side == Side::max ? L.top : L.bottom;
+    if (limit.side != PlotSpec::Limit::Side::line)
+      o += "<rect class=\"beyond-limit\" x=\"" + px(L.left) + "\" y=\"" + px(std::min(y, edge)) +
+           "\" width=\"" + px(L.right - L.left) + "\" height=\"" + px(std::abs(edge - y)) +
+           "\" fill=\"#b8202f\" fill-opacity=\"0.08\"/>\n";
     line(L.left, y, L.right, y,
          " class=\"limit\" stroke=\"#b8202f\" stroke-width=\"1.2\" stroke-dasharray=\"7 4\"");
-    text(L.right - 6, above ? y - 5 : y + 14, " text-anchor=\"end\" fill=\"#b8202f\"",
+    text(right ? L.right - 6 : L.left + 6, above ? y - 5 : y + 14,
+         std::string(" text-anchor=\"") + (right ? "end" : "start") + "\" fill=\"#b8202f\"",
          xml_escape(limit.label));
   }
 

@@ -32,10 +32,13 @@ struct PlotSpec {
   std::vector<double> x_marks;
   std::string x_marks_label;
   // Limits along y (a yield stress, the end of a stroke): dashed horizontal lines with their
-  // labels, the beyond side shaded; the y range includes them.
+  // labels, the side beyond shaded (above a maximum, below a minimum; `line`: no side shaded, as
+  // for one of several cylinders' strokes on one axis); the y range includes them.
   struct Limit {
+    enum class Side { line, max, min };
     double y;
     std::string label;
+    Side side = Side::line;
   };
   std::vector<Limit> y_limits;
 };

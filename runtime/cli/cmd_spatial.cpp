@@ -253,28 +253,29 @@ int run_spatial_draw(const Args& args) {
   const int n = std::min(step.samples, 120);
   for (int i = 0; i < n; ++i)
     whole.push_back(step.t0 + (step.t1 - step.t0) * i / std::max(1, n - 1));
-  spatial::SpatialFrames frames;
-  try {
-    if (args.has("--at")) {
-      // The solver continues along the step from t0, so the branch is the step's.
-      const double at = args.number("--at", step.t0);
-      std::vector<double> times;
-      for (int i = 0; i <= 20; ++i) times.push_back(step.t0 + (at - step.t0) * i / 20);
-      frames = spatial::spatial_frames(solver, times);
-      // The still: the last frame only, with the paths over the step.
-      frames.times = {frames.times.back()};
-      frames.bodies = {frames.bodies.back()};
-      frames.joints = {frames.joints.back()};
-      if (!trace.empty()) {
-        const spatial::SpatialFrames paths = spatial::spatial_frames(solver, whole, trace);
-        frames.trace_names = paths.trace_names;
-        frames.traces = paths.traces;
-      }
-    } else {
-      frames = spatial::spatial_frames(solver, whole, trace);
-    }
+  try {  // the traced names, checked before any solving (no times)
+    spatial::spatial_frames(solver, {}, trace);
   } catch (const std::invalid_argument& error) {
     throw UsageError(std::string("--trace: ") + error.what());
+  }
+  spatial::SpatialFrames frames;
+  if (args.has("--at")) {
+    // The solver continues along the step from t0, so the branch is the step's.
+    const double at = args.number("--at", step.t0);
+    std::vector<double> times;
+    for (int i = 0; i <= 20; ++i) times.push_back(step.t0 + (at - step.t0) * i / 20);
+    frames = spatial::spatial_frames(solver, times);
+    // The still: the last frame only, with the paths over the step.
+    frames.times = {frames.times.back()};
+    frames.bodies = {frames.bodies.back()};
+    frames.joints = {frames.joints.back()};
+    if (!trace.empty()) {
+      const spatial::SpatialFrames paths = spatial::spatial_frames(solver, whole, trace);
+      frames.trace_names = paths.trace_names;
+      frames.traces = paths.traces;
+    }
+  } else {
+    frames = spatial::spatial_frames(solver, whole, trace);
   }
   spatial::SpatialDrawingOptions options;
   options.width = args.integer("--width", options.width);

@@ -100,18 +100,22 @@ step_walk() {
 
 step_draw() {
   "$mechgen" draw "$model" --at 0.5 --labels --out "$out/pasibot.svg" \
-    --title "PASIBOT at t = 0.5 s (support foot l1 on the floor; flying leg blue)"
-  "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT: one step"
-  "$mechgen" draw "$model" --animate --steps 4 --ramp 1.5 --out "$out/pasibot_walk.svg" \
-    --title "PASIBOT: 4 steps from rest, world frame"
+    --title "PASIBOT, support foot l1 on the floor, flying leg blue"
+  "$mechgen" draw "$model" --animate --out "$out/pasibot_step.svg" --title "PASIBOT"
+  "$mechgen" draw "$model" --animate --steps 6 --ramp 1.5 --out "$out/pasibot_walk.svg" \
+    --title "PASIBOT walking from rest"
 }
 
 step_loads() {
   "$mechgen" loads "$model" --csv "$out/pasibot_step.csv" --out "$out/pasibot_link_loads.csv" \
     --over-time "$out/pasibot_link_loads_t.csv" | tee "$out/pasibot_link_loads.txt"
+  # In MPa as the table above; the bars' yield strength (the safety factor's numerator) as a limit.
+  local yield
+  yield=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "yield") c = i; next }
+                   $1 == "l7" { print $c / 1e6 }' "$out/pasibot_link_loads.csv")
   "$mechgen" plot "$out/pasibot_link_loads_t.csv" --x t --y l7.sigma,l2.sigma,l3.sigma,l8.sigma \
     --out "$out/pasibot_link_stress.svg" --title "PASIBOT: largest stress along the most loaded bars" \
-    --ylabel "sigma = |N|/A + |M|c/I [Pa]"
+    --ylabel "sigma = |N|/A + |M|c/I [MPa]" --limit "max:$yield,yield strength $yield MPa"
   # The bending moment along the critical link at its most stressed sample.
   local critical
   critical=$(sed -n 's/^critical link: \([A-Za-z0-9_]*\),.*/\1/p' "$out/pasibot_link_loads.txt")

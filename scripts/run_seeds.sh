@@ -62,9 +62,14 @@ swing_run() {
   shift 2
   "$mechgen" sweep "$swing" --solver "$solver" "$@" --out "$out/${name}_ik.csv"
   stroke_lengths "$out/${name}_ik.csv" >"$out/${name}_stroke.csv"
-  "$mechgen" plot "$out/${name}_stroke.csv" --x t --y l1,l2,l3,l12_min,l12_max,l3_min,l3_max \
+  # The strokes as limits (dashed): above 0.5 m and below 0.28 m every cylinder is out of stroke
+  # (shaded); 0.34 m (l3's end) and 0.35 m (l1's and l2's start) as lines only, since between
+  # them a shading would cover lengths in stroke for some cylinders.
+  "$mechgen" plot "$out/${name}_stroke.csv" --x t --y l1,l2,l3 \
     --out "$out/${name}_stroke.svg" --title "$title: cylinder lengths and strokes" \
-    --ylabel "cylinder length [m]"
+    --ylabel "cylinder length [m]" --limit "max:0.5,stroke end of l1, l2: 0.5 m" \
+    --limit "min:0.28,stroke start of l3: 0.28 m" --limit "0.35,stroke start of l1, l2: 0.35 m" \
+    --limit "0.34,stroke end of l3: 0.34 m"
   "$mechgen" follow "$swing" --twin "$leg" "$@" --out "$out/$name.csv"
   local what unit
   for what in q:length:m qd:rate:m/s qdd:acceleration:m/s^2 effort:force:N; do

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/command.hpp"
 #include "cli/model_info.hpp"
 #include "model/columns.hpp"
 #include "model/model.hpp"
@@ -307,6 +308,28 @@ TEST(Summary, TimeAverages) {
   EXPECT_DOUBLE_EQ(time_average({0, 1, 3}, {1, 3, 3}), (2.0 + 6.0) / 3.0);
   EXPECT_DOUBLE_EQ(time_average({2}, {7}), 7.0);
   EXPECT_DOUBLE_EQ(time_rms({0, 1}, {3, 3}), 3.0);
+}
+
+// Issue 24: a misspelled command or option suggests the nearest; a word far from every name
+// suggests nothing.
+TEST(Suggestions, NearestByEditDistance) {
+  const std::vector<std::string> commands{"check", "info", "sweep", "summary", "draw", "view"};
+  EXPECT_EQ(mechgen::cli::nearest_word("swep", commands), "sweep");      // a deletion
+  EXPECT_EQ(mechgen::cli::nearest_word("darw", commands), "draw");       // a transposition
+  EXPECT_EQ(mechgen::cli::nearest_word("sumary", commands), "summary");  // a deletion
+  EXPECT_EQ(mechgen::cli::nearest_word("chekc", commands), "check");
+  EXPECT_EQ(mechgen::cli::nearest_word("frobnicate", commands), "");
+  EXPECT_EQ(mechgen::cli::nearest_word("x", commands), "");  // one letter: nothing is near
+  EXPECT_EQ(mechgen::cli::unknown_word("command", "veiw", commands),
+            "unknown command 'veiw'; did you mean 'view'?");
+  EXPECT_EQ(mechgen::cli::unknown_word("option", "--zz", {"--out"}), "unknown option '--zz'");
+  // The option parser says it too.
+  try {
+    mechgen::cli::Args({"--outt", "x"}, {{"--out", "-o", true}, {"--samples", "", true}});
+    ADD_FAILURE() << "no error for --outt";
+  } catch (const mechgen::cli::UsageError& error) {
+    EXPECT_STREQ(error.what(), "unknown option '--outt'; did you mean '--out'?");
+  }
 }
 
 }  // namespace

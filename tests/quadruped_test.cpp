@@ -396,6 +396,44 @@ TEST(QuadrupedWorkspace, MonteCarloExtentsMatchTheSeedFormulasAndDoNotDependOnTh
   const WorkspaceResult plane = run_workspace(model, o);
   EXPECT_LT(std::max(std::abs(plane.lo[1]), std::abs(plane.hi[1])), 1e-15);
   EXPECT_NE(density_svg(one.sagittal, "t").find("<svg"), std::string::npos);
+  // That plane seen from the front is a line: the image keeps a fifth of its height as width and
+  // the canvas fits the title (before: 103 x 660 px, the title clipped), with a viewBox.
+  EXPECT_GE(plane.frontal.nh * 5, plane.frontal.nv);
+  const std::string title = "quadruped_leg: point foot, frontal projection (Y-Z), 4000 samples";
+  const std::string svg = density_svg(plane.frontal, title);
+  const double width = std::stod(svg.substr(svg.find("width=\"") + 7));
+  const double height = std::stod(svg.substr(svg.find("height=\"") + 8));
+  EXPECT_GE(width, 70 + 8.0 * static_cast<double>(title.size()));
+  EXPECT_GE(width, 0.2 * height);
+  std::ostringstream box;
+  box << "viewBox=\"0 0 " << width << " " << height << "\"";
+  EXPECT_NE(svg.find(box.str()), std::string::npos) << svg.substr(0, 200);
+
+  // A colour scale from 1 sample to the densest cell's count, and the mechanism over the image
+  // where its points are: (h, v) at left + (h - h_min) / cell * scale, top + height - ...
+  const Projection& p = one.sagittal;
+  long most = 0;
+  for (const long k : p.counts) most = std::max(most, k);
+  const Outline outline{{{{p.h_min + 10 * p.cell, 0.0, p.v_min + 20 * p.cell},
+                          {p.h_min + 30 * p.cell, 0.0, p.v_min + 5 * p.cell}}},
+                        "at its reference pose, t = 0 s"};
+  const std::string drawn = density_svg(p, "t", outline);
+  const size_t bar = drawn.find("<g class=\"colour-scale\">");
+  ASSERT_NE(bar, std::string::npos);
+  EXPECT_NE(drawn.find(">" + std::to_string(most) + "</text>", bar), std::string::npos);
+  EXPECT_NE(drawn.find(">1</text>", bar), std::string::npos);
+  EXPECT_NE(drawn.find("grey: the mechanism at its reference pose, t = 0 s"), std::string::npos);
+  const size_t at = drawn.find("points=\"", drawn.find("<g class=\"outline\""));
+  ASSERT_NE(at, std::string::npos);
+  std::istringstream points(drawn.substr(at + 8, drawn.find('"', at + 8) - at - 8));
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  char comma = 0;
+  points >> x0 >> comma >> y0 >> x1 >> comma >> y1;
+  const double scale = 560.0 / std::max(p.nh, p.nv), left = 70, top = 40;
+  EXPECT_NEAR(x0, left + 10 * scale, 1e-6);
+  EXPECT_NEAR(y0, top + (p.nv - 20) * scale, 1e-6);
+  EXPECT_NEAR(x1, left + 30 * scale, 1e-6);
+  EXPECT_NEAR(y1, top + (p.nv - 5) * scale, 1e-6);
 }
 
 TEST(QuadrupedWorkspace, CylinderForcesAlongTheSwingAreJTransposeOfTheFootForce) {

@@ -176,6 +176,103 @@ TEST(Render, LegendTitleAndLabels) {
   EXPECT_EQ(count(svg, "<g"), count(svg, "</g>"));
 }
 
+// Issue 24: a series exactly under another stayed invisible; 20 series on one axis were
+// unreadable.
+TEST(Render, ASeriesOverAnotherIsDashed) {
+  PlotSpec spec;
+  spec.series.push_back({"a", {0, 1, 2}, {0, 1, 0}});
+  spec.series.push_back({"b", {0, 1, 2}, {0, 1, 0}});  // the same values
+  spec.series.push_back({"c", {0, 1, 2}, {1, 0, 1}});
+  const std::string svg = render_svg(spec);
+  ASSERT_EQ(path_of(svg, 0), path_of(svg, 1));
+  const auto dash = [&](int k) {
+    const auto p = svg.find("<path class=\"series-" + std::to_string(k) + "\"");
+    const auto end = svg.find(" d=\"", p);
+    const auto at = svg.find("stroke-dasharray=\"", p);
+    return at < end ? svg.substr(at + 18, svg.find('"', at + 18) - at - 18) : std::string();
+  };
+  EXPECT_EQ(dash(0), "");
+  EXPECT_EQ(dash(1), "5 7");
+  EXPECT_EQ(dash(2), "");
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"5 7\""), 2);  // the path and its legend entry
+}
+
+TEST(Render, MoreThanEightSeriesAreSplitIntoPanels) {
+  PlotSpec spec;
+  spec.title = "twenty";
+  for (int k = 0; k < 20; ++k)
+    spec.series.push_back({"s" + std::to_string(k), {0, 1, 2}, {0, 1.0 * k, 2.0 * k}});
+  const std::string svg = render_svg(spec);
+  EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"1500\" "
+                      "viewBox=\"0 0 800 1500\">",
+                      0),
+            0u);
+  EXPECT_EQ(count(svg, "<svg class=\"panel\""), 3);
+  EXPECT_EQ(count(svg, "class=\"legend-entry\""), 20);
+  // At most 8 series a panel (7, 7, 6), each panel clipped to its own plot area.
+  std::vector<int> per_panel;
+  for (auto at = svg.find("<svg class=\"panel\""); at != std::string::npos;
+       at = svg.find("<svg class=\"panel\"", at + 1))
+    per_panel.push_back(
+        count(svg.substr(at, svg.find("</svg>", at) - at), "class=\"legend-entry\""));
+  EXPECT_EQ(per_panel, (std::vector<int>{7, 7, 6}));
+  for (const char* id : {"plot-area-1", "plot-area-2", "plot-area-3"})
+    EXPECT_EQ(count(svg, id), 2) << id;  // defined once, used once
+  EXPECT_NE(svg.find("twenty (2 of 3)"), std::string::npos);
+  EXPECT_NE(svg.find("y=\"1000\""), std::string::npos);
+  EXPECT_EQ(count(svg, "<svg"), count(svg, "</svg>"));
+}
+
+// Issue 24: a walking plot did not show where the support foot changes.
+TEST(ColumnPlot, SupportChangesOfAWalkAreMarked) {
+  CsvTable table;
+  table.header = {"t", "step", "support", "theta8.effort"};
+  table.rows = {{0, 0, 0, 1},   {0.5, 0, 0, 2}, {1, 0, 0, 3}, {1, 1, 1, 3},
+                {1.5, 1, 1, 2}, {2, 1, 1, 1},   {2, 2, 0, 1}, {2.5, 2, 0, 0}};
+  ColumnPlotOptions options;
+  options.x = "t";
+  options.y = {"theta8.effort"};
+  const PlotSpec spec = column_plot(table, options);
+  EXPECT_EQ(spec.x_marks, (std::vector<double>{1, 2}));
+  const std::string svg = render_svg(spec);
+  EXPECT_EQ(count(svg, "class=\"x-mark\""), 2);
+  EXPECT_NE(svg.find(">support change</text>"), std::string::npos);
+  const PlotLayout L = compute_layout(spec);
+  const size_t at = svg.find("class=\"x-mark\"");
+  const size_t x1 = svg.rfind("x1=\"", at) + 4;
+  EXPECT_NEAR(std::stod(svg.substr(x1)), L.x.to_px(1.0), 0.01);
+  // Against another column, or without a support column: no marks.
+  options.x = "theta8.effort";
+  options.y = {"t"};
+  EXPECT_TRUE(column_plot(table, options).x_marks.empty());
+}
+
+// Issue 24: the stress plot was in Pa while loads prints MPa, and its yield was nowhere.
+TEST(ColumnPlot, StressesInMegapascalsWithTheYieldAsALimit) {
+  EXPECT_EQ(column_unit("l7.sigma"), "[Pa]");
+  const CsvTable t = parse_csv("t,l7.sigma,l2.sigma\n0,1e6,2e6\n1,3.5e7,4e6\n", "loads.csv");
+  ColumnPlotOptions options{"t", {"l7.sigma", "l2.sigma"}, "", "", ""};
+  options.limits = {{276, "yield 276 MPa", PlotSpec::Limit::Side::max},
+                    {10, "a line", PlotSpec::Limit::Side::line}};
+  const PlotSpec spec = column_plot(t, options);
+  EXPECT_EQ(spec.y_label, "l7.sigma, l2.sigma [MPa]");
+  EXPECT_EQ(spec.series[0].y, (std::vector<double>{1, 35}));
+  const PlotLayout L = compute_layout(spec);
+  EXPECT_GE(L.y.hi, 276);  // the limit is inside the range
+  const std::string svg = render_svg(spec);
+  ASSERT_EQ(count(svg, "class=\"limit\""), 2);
+  EXPECT_EQ(count(svg, "class=\"beyond-limit\""), 1);  // a line limit shades nothing
+  const size_t at = svg.find("class=\"limit\"");
+  const size_t y1 = svg.rfind("y1=\"", at) + 4;
+  EXPECT_NEAR(std::stod(svg.substr(y1)), L.y.to_px(276), 0.01);
+  EXPECT_NE(svg.find(">yield 276 MPa</text>"), std::string::npos);
+  // Above the data: the band from the line up to the top of the plot is shaded.
+  const size_t band = svg.find("class=\"beyond-limit\"");
+  ASSERT_NE(band, std::string::npos);
+  EXPECT_NEAR(std::stod(svg.substr(svg.find("y=\"", band) + 3)), L.top, 0.01);
+  EXPECT_NEAR(std::stod(svg.substr(svg.find("height=\"", band) + 8)), L.y.to_px(276) - L.top, 0.01);
+}
+
 TEST(Render, LongLegendLabelsAreShortenedNotSqueezingThePlot) {
   PlotSpec spec;
   const std::string long_label(60, 'a');

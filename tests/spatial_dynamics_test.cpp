@@ -4,6 +4,7 @@
 // (efforts; reactions where unique), and its redundancy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -163,8 +164,10 @@ TEST(SpatialDrawing, SagittalAndFrontalViewsShareOneScale) {
   const SpatialSolver solver(model, {});
   const SpatialFrames frames = spatial_frames(solver, {0.0, 0.2, 0.4});
   ASSERT_EQ(frames.joints[2].size(), 6u);
-  const std::string svg = draw_spatial(
-      {{0.4}, frames.body_names, {frames.bodies[2]}, {frames.joints[2]}}, SpatialDrawingOptions{});
+  SpatialFrames still = frames;
+  still.times = {0.4}, still.bodies = {frames.bodies[2]}, still.joints = {frames.joints[2]};
+  EXPECT_EQ(spatial_views(still), (std::vector<std::string>{"side", "front"}));
+  const std::string svg = draw_spatial(still, SpatialDrawingOptions{});
   std::vector<std::pair<double, double>> circles;  // (cx, cy) in document order: side, then front
   for (size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1))
     circles.emplace_back(std::stod(svg.substr(svg.find("cx=\"", at) + 4)),
@@ -184,6 +187,93 @@ TEST(SpatialDrawing, SagittalAndFrontalViewsShareOneScale) {
   const auto values = animated.find("values=\"", animated.find("id=\"side-calf\""));
   const std::string list = animated.substr(values, animated.find('"', values + 8) - values);
   EXPECT_EQ(std::count(list.begin(), list.end(), ';'), 2);
+}
+
+// The numbers of an SVG attribute list "x1,y1 x2,y2 ..." (polyline points).
+std::vector<double> numbers(const std::string& svg, const std::string& id) {
+  const size_t at = svg.find("points=\"", svg.find("id=\"" + id + "\""));
+  std::string list = svg.substr(at + 8, svg.find('"', at + 8) - at - 8);
+  std::replace(list.begin(), list.end(), ',', ' ');
+  std::istringstream in(list);
+  std::vector<double> out;
+  for (double v; in >> v;) out.push_back(v);
+  return out;
+}
+
+// Bioloid's waist (hips, shoulders, neck) was drawn as a self-crossing zig-zag (issue 24): now an
+// outline about its centroid, closed, whose edges cross nowhere in the frontal view.
+TEST(SpatialDrawing, ATrunkIsAnOutlineThatDoesNotCrossItself) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
+  const SpatialSolver solver(model, {});
+  const SpatialFrames frames = spatial_frames(solver, {0.0});
+  const auto waist = std::find(frames.body_names.begin(), frames.body_names.end(), "waist");
+  ASSERT_NE(waist, frames.body_names.end());
+  const std::vector<V3>& at =
+      frames.bodies[0][static_cast<size_t>(waist - frames.body_names.begin())];
+  ASSERT_GE(at.size(), 5u);  // four or more locations, closed
+  EXPECT_EQ(at.front(), at.back());
+  // Proper crossings of two edges that share no end, in the frontal (y, z) projection.
+  auto side = [](const V3& a, const V3& b, const V3& c) {
+    return (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+  };
+  int crossings = 0;
+  for (size_t i = 0; i + 1 < at.size(); ++i)
+    for (size_t j = i + 2; j + 1 < at.size(); ++j) {
+      if (i == 0 && j + 2 == at.size()) continue;  // neighbours across the closing point
+      const double d1 = side(at[i], at[i + 1], at[j]), d2 = side(at[i], at[i + 1], at[j + 1]);
+      const double d3 = side(at[j], at[j + 1], at[i]), d4 = side(at[j], at[j + 1], at[i + 1]);
+      crossings += (d1 * d2 < -1e-12 && d3 * d4 < -1e-12) ? 1 : 0;
+    }
+  EXPECT_EQ(crossings, 0);
+}
+
+// lecture_leg lies in the x-y plane: its sagittal and frontal views would be lines (issue 24), so
+// the drawing shows the top view alone and says why; the canvas keeps a sane shape, with a
+// viewBox. A named point's path is drawn (one vertex a time), labels name the bodies, and an
+// unknown point is an error naming the points there are.
+TEST(SpatialDrawing, ViewsFromTheExtentTracesAndLabels) {
+  const SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/lecture_leg.yaml");
+  const SpatialSolver solver(model, {});
+  const auto points = model.named_points();
+  ASSERT_FALSE(points.empty());
+  const std::string point = points.back().first;
+  const SpatialFrames frames = spatial_frames(solver, {0.0, 0.1, 0.2, 0.3}, {point});
+  ASSERT_EQ(frames.traces.size(), 1u);
+  ASSERT_EQ(frames.traces[0].size(), 4u);
+  EXPECT_EQ(spatial_views(frames), std::vector<std::string>{"top"});
+  SpatialDrawingOptions options;
+  options.labels = true;
+  const std::string svg = draw_spatial(frames, options);
+  EXPECT_EQ(svg.find("id=\"side-"), std::string::npos);
+  EXPECT_EQ(svg.find("id=\"front-"), std::string::npos);
+  EXPECT_NE(svg.find("sagittal and frontal view left out: the mechanism is edge-on"),
+            std::string::npos);
+  const double width = std::stod(svg.substr(svg.find("width=\"") + 7));
+  const double height = std::stod(svg.substr(svg.find("height=\"") + 8));
+  EXPECT_GT(width, 300);
+  EXPECT_GT(height, 100);
+  EXPECT_NE(svg.find("viewBox=\"0 0 "), std::string::npos);
+  const std::vector<double> path = numbers(svg, "top-trace-" + point);
+  ASSERT_EQ(path.size(), 8u);
+  // The path in pixels follows the point: x right, y up, one scale.
+  const double dx = frames.traces[0][3][0] - frames.traces[0][0][0];
+  const double dy = frames.traces[0][3][1] - frames.traces[0][0][1];
+  ASSERT_GT(std::abs(dx), 1e-3);
+  ASSERT_GT(std::abs(dy), 1e-3);
+  const double scale = (path[6] - path[0]) / dx;
+  EXPECT_GT(scale, 0);
+  EXPECT_NEAR(-(path[7] - path[1]) / dy, scale, 0.01 * scale);
+  EXPECT_NE(svg.find("id=\"top-tracer-" + point + "\""), std::string::npos);  // animated
+  EXPECT_NE(svg.find("class=\"label\""), std::string::npos);
+  for (const std::string& body : frames.body_names)
+    EXPECT_NE(svg.find(">" + body + "</text>"), std::string::npos) << body;
+  try {
+    spatial_frames(solver, {0.0}, {"NOSUCH"});
+    ADD_FAILURE() << "no error for an unknown point";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("has no point 'NOSUCH' (points: "), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find(point), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -49,6 +49,7 @@ Projection project(const std::vector<std::array<float, 3>>& pts, int h, int v,
   const char* names[3] = {"X", "Y", "Z"};
   Projection p;
   p.h_name = names[h], p.v_name = names[v];
+  p.h_axis = h, p.v_axis = v;
   p.cell = cell;
   p.nh = std::max(1, static_cast<int>(std::ceil(
                          (hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)]) / p.cell)));
@@ -73,8 +74,17 @@ Projection image(const std::vector<std::array<float, 3>>& pts, int h, int v,
                  double chord_cell) {
   const double span = std::max({hi[static_cast<size_t>(h)] - lo[static_cast<size_t>(h)],
                                 hi[static_cast<size_t>(v)] - lo[static_cast<size_t>(v)], 1e-9});
-  Projection p = project(pts, h, v, lo, hi, span / bins);
-  const Projection c = project(pts, h, v, lo, hi, chord_cell);
+  // Each axis spans at least a fifth of the other, centred on the samples: a leg moving in its
+  // own plane (5.5e-17 m across in the frontal view) is a thin band, not a 1-cell-wide image.
+  std::array<double, 3> low = lo, high = hi;
+  for (const int k : {h, v}) {
+    const size_t a = static_cast<size_t>(k);
+    if (high[a] - low[a] >= 0.2 * span) continue;
+    const double middle = 0.5 * (low[a] + high[a]);
+    low[a] = middle - 0.1 * span, high[a] = middle + 0.1 * span;
+  }
+  Projection p = project(pts, h, v, low, high, span / bins);
+  const Projection c = project(pts, h, v, low, high, chord_cell);
   const Run rh = longest_run(c, true), rv = longest_run(c, false);
   p.chord_cell = chord_cell;
   p.h_chord = rh.length * c.cell, p.h_chord_at = c.v_min + (rh.line + 0.5) * c.cell;
@@ -228,28 +238,73 @@ WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions&
   return r;
 }
 
-std::string density_svg(const Projection& p, const std::string& title) {
+std::string density_svg(const Projection& p, const std::string& title, const Outline& outline) {
   const double scale = 560.0 / std::max(p.nh, p.nv);  // pixels per cell
   const double left = 70, top = 40, w = p.nh * scale, hgt = p.nv * scale;
+  // Room for the colour bar right of the image; wide enough for the title (about 8 px a
+  // character at 14 px) and the outline's caption.
+  const double bar_x = left + w + 20, bar_h = std::min(hgt, 240.0);
+  const std::string caption =
+      outline.bodies.empty() ? "" : "grey: the mechanism " + outline.pose + " (for scale)";
+  const double width = std::max({bar_x + 110, left + 8.0 * static_cast<double>(title.size()),
+                                 left + 7.0 * static_cast<double>(caption.size())});
+  const double height = top + hgt + 60 + (caption.empty() ? 0 : 20);
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + w + 30 << "\" height=\""
-    << top + hgt + 60 << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+    << "\" viewBox=\"0 0 " << width << " " << height
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << left << "\" y=\"22\" font-size=\"14\">" << report::xml_escape(title)
     << "</text>\n";
   long most = 1;
   for (const long c : p.counts) most = std::max(most, c);
+  // Shade by log count: light blue (one sample) to dark blue (the densest cell).
+  const auto shade = [&](double count) {
+    const double s = std::log1p(count) / std::log1p(static_cast<double>(most));
+    return "rgb(" + std::to_string(static_cast<int>(200 - 190 * s)) + "," +
+           std::to_string(static_cast<int>(220 - 160 * s)) + ",255)";
+  };
   for (int j = 0; j < p.nv; ++j)
     for (int i = 0; i < p.nh; ++i) {
       const long c = p.counts[static_cast<size_t>(j * p.nh + i)];
       if (c == 0) continue;
-      // Shade by log count: light blue (one sample) to dark blue (the densest cell).
-      const double s = std::log1p(static_cast<double>(c)) / std::log1p(static_cast<double>(most));
-      const int red = static_cast<int>(200 - 190 * s), green = static_cast<int>(220 - 160 * s);
       o << "<rect x=\"" << left + i * scale << "\" y=\"" << top + hgt - (j + 1) * scale
-        << "\" width=\"" << scale + 0.05 << "\" height=\"" << scale + 0.05 << "\" fill=\"rgb("
-        << red << "," << green << ",255)\"/>\n";
+        << "\" width=\"" << scale + 0.05 << "\" height=\"" << scale + 0.05 << "\" fill=\""
+        << shade(static_cast<double>(c)) << "\"/>\n";
     }
+  // The colour bar: 24 bands from 1 sample (bottom) to `most` (top), log scale as the cells.
+  o << "<g class=\"colour-scale\">\n";
+  for (int k = 0; k < 24; ++k) {
+    const double count =
+        std::expm1(std::log1p(1.0) +
+                   (std::log1p(static_cast<double>(most)) - std::log1p(1.0)) * (k + 0.5) / 24);
+    o << "<rect x=\"" << bar_x << "\" y=\"" << top + bar_h * (1 - (k + 1) / 24.0)
+      << "\" width=\"14\" height=\"" << bar_h / 24 + 0.05 << "\" fill=\"" << shade(count)
+      << "\"/>\n";
+  }
+  o << "<rect x=\"" << bar_x << "\" y=\"" << top << "\" width=\"14\" height=\"" << bar_h
+    << "\" fill=\"none\" stroke=\"black\"/>\n<text x=\"" << bar_x + 18 << "\" y=\"" << top + 10
+    << "\">" << most << "</text>\n<text x=\"" << bar_x + 18 << "\" y=\"" << top + bar_h
+    << "\">1</text>\n<text x=\"" << bar_x << "\" y=\"" << top + bar_h + 16
+    << "\">samples</text>\n<text x=\"" << bar_x << "\" y=\"" << top + bar_h + 30
+    << "\">per cell (log)</text>\n</g>\n";
+  // The mechanism, clipped to the image.
+  if (!outline.bodies.empty()) {
+    const size_t h = static_cast<size_t>(p.h_axis), v = static_cast<size_t>(p.v_axis);
+    o << "<defs><clipPath id=\"image\"><rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w
+      << "\" height=\"" << hgt << "\"/></clipPath></defs>\n<g class=\"outline\" "
+      << "clip-path=\"url(#image)\" fill=\"none\" stroke=\"#555\" stroke-width=\"2\" "
+      << "stroke-linejoin=\"round\">\n";
+    for (const auto& body : outline.bodies) {
+      o << "<polyline points=\"";
+      for (size_t k = 0; k < body.size(); ++k)
+        o << (k ? " " : "") << left + (body[k][h] - p.h_min) / p.cell * scale << ","
+          << top + hgt - (body[k][v] - p.v_min) / p.cell * scale;
+      o << "\"/>\n";
+    }
+    o << "</g>\n<text x=\"" << left << "\" y=\"" << top + hgt + 74 << "\" fill=\"#555\">"
+      << report::xml_escape(caption) << "</text>\n";
+  }
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << hgt
     << "\" fill=\"none\" stroke=\"black\"/>\n";
   const double h_max = p.h_min + p.nh * p.cell, v_max = p.v_min + p.nv * p.cell;

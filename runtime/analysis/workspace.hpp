@@ -37,6 +37,7 @@ struct WorkspaceOptions {
 // Occupancy of one projection: counts per cell, row-major from (h_min, v_min).
 struct Projection {
   std::string h_name, v_name;  // e.g. "X", "Z"
+  int h_axis = 0, v_axis = 2;  // the ground-frame axes they are (0 = X, 1 = Y, 2 = Z)
   double h_min = 0, v_min = 0, cell = 0;
   int nh = 0, nv = 0;
   std::vector<long> counts;
@@ -62,8 +63,17 @@ struct WorkspaceResult {
 // Throws ModelError (located) for a driver without a range, a pose driver or an unknown point.
 WorkspaceResult run_workspace(const SpatialModel& model, const WorkspaceOptions& options);
 
-// A density image as a self-contained SVG (cells shaded by their count, equal scales, metres).
-std::string density_svg(const Projection& p, const std::string& title);
+// The mechanism drawn over a density image: its bodies as polylines (ground frame), and the pose
+// they are at, for the caption ("at its reference pose, t = 0 s").
+struct Outline {
+  std::vector<std::vector<std::array<double, 3>>> bodies;
+  std::string pose;
+};
+
+// A density image as a self-contained SVG (cells shaded by their count on a log scale, shown by
+// a colour bar from 1 sample to the densest cell's count; equal scales, metres), with the
+// mechanism's outline over it (clipped to the image) when `outline` has bodies.
+std::string density_svg(const Projection& p, const std::string& title, const Outline& outline = {});
 
 // The summary as CSV rows "quantity,value,unit".
 std::string workspace_csv(const WorkspaceResult& r);

@@ -21,7 +21,10 @@ const char* const kDrawHelp =
                     [--trace POINT[,POINT...]]... [--title TEXT] [--width PIXELS] --out FILE.svg
 
 Draws the mechanism: bodies as bars or plates between their points, joints as circles, the
-ground body on a hatched floor (model ground frame).
+ground body on a hatched floor (model ground frame). A spatial model (dimension: spatial) is drawn
+by the numeric solver in two orthographic views side by side, chosen from its extent: sagittal
+(x-z) and frontal (y-z) unless one is edge-on, then top (x-y); one view alone when it lies in a
+plane; the figure says which views it left out.
   --at T              a still at time T (s)
   --animate           an animated SVG (SMIL, looping in real time) of the model's step; its
                       first frame is the still at the step's start
@@ -33,6 +36,8 @@ ground body on a hatched floor (model ground frame).
   --trace POINTS      the paths of these named points (comma separated, repeatable), dashed:
                       over the model's step on a still, over the animation on --animate (a dot
                       follows each point)
+  --title TEXT        a title, followed by what is drawn, e.g. (t = 0.5 s), (one step, 1.2 s)
+                      or (6 steps walking, world frame)
   --width PIXELS      drawing width (default 900)
 )";
 
@@ -55,13 +60,7 @@ int run_draw(const Args& args) {
   const Model model = load_model(path);
   std::vector<double> parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
-  for (const std::string& list : args.all("--trace"))
-    for (size_t begin = 0; begin <= list.size();) {
-      const size_t end = std::min(list.find(',', begin), list.size());
-      if (end == begin) throw UsageError("--trace: an empty point name in '" + list + "'");
-      drawing.trace.push_back(list.substr(begin, end - begin));
-      begin = end + 1;
-    }
+  drawing.trace = comma_list(args, "--trace");
 
   report::MechanismFrames frames;
   std::string what;
@@ -107,6 +106,8 @@ int run_draw(const Args& args) {
       what = "one step, " + fixed(sweep.t1 - sweep.t0, 4) + " s";
     }
   }
+  // The title says what was drawn, so it cannot claim another run ("4 steps" over 6).
+  if (!drawing.title.empty()) drawing.title += " (" + what + ")";
   const std::string out = args.get("--out");
   g_current_file = out;
   report::write_file_atomically(out, report::draw_mechanism(model, frames, drawing));

@@ -53,7 +53,8 @@ supplies the parameters step_length, step_time, swing_height and steps. Writes i
   zmp_x.svg, zmp_y.svg     planned, LIP-3D and exact ZMP over time
   zmp_difference.svg       exact minus LIP-3D, per axis
   zmp_path.svg             top view: both ZMPs and the footprints
-  walk.svg                 animated stick figure, side and front views (10 frames per step)
+  walk.svg                 animated stick figure, side and front views (10 frames per step):
+                           limbs coloured by side, joints marked, centre of mass and exact ZMP
 options:
   --samples-per-step N     samples in each step (default 50)
   --stall-torque T         servo stall torque in N m (default 1.5: Robotis AX-12)
@@ -75,9 +76,10 @@ report::Series series(const std::string& label, const std::vector<double>& x,
 
 // The stick figure of one solved state: per real body, lines from the joint point that carries it
 // (or, for the waist, its first named point) to the points of the joints it carries and to its own
-// named points. Each line as x1 y1 z1 x2 y2 z2.
+// named points. Each line as x1 y1 z1 x2 y2 z2; `body_of_line` gets the body of each.
 std::vector<std::array<double, 6>> stick_figure(const spatial::SpatialSolver& solver,
-                                                const spatial::SpatialState& s) {
+                                                const spatial::SpatialState& s,
+                                                std::vector<int>& body_of_line) {
   const SpatialModel& m = solver.model();
   const spatial::SpatialInstance& in = solver.instance();
   std::vector<std::array<double, 6>> lines;
@@ -103,60 +105,113 @@ std::vector<std::array<double, 6>> stick_figure(const spatial::SpatialSolver& so
     }
     for (const V3& e : ends)
       if (std::hypot(e[0] - from[0], e[1] - from[1], e[2] - from[2]) > 1e-6)
-        lines.push_back({from[0], from[1], from[2], e[0], e[1], e[2]});
+        lines.push_back({from[0], from[1], from[2], e[0], e[1], e[2]}), body_of_line.push_back(bi);
   }
   return lines;
 }
 
+// The colour of each line of a stick figure, from the body it belongs to: a body named r_... red,
+// l_... green, any other (the trunk) blue.
+std::vector<std::string> line_colours(const SpatialModel& m, const std::vector<int>& body_of_line) {
+  std::vector<std::string> colours;
+  for (const int b : body_of_line) {
+    const std::string& name = m.bodies[static_cast<size_t>(b)].name;
+    colours.push_back(name.rfind("r_", 0) == 0   ? "#c0392b"
+                      : name.rfind("l_", 0) == 0 ? "#27ae60"
+                                                 : "#1f4e99");
+  }
+  return colours;
+}
+
+// One frame of walk.svg: the stick figure's lines (x1 y1 z1 x2 y2 z2), the centre of mass and the
+// exact ZMP on the floor.
+struct StickFrame {
+  std::vector<std::array<double, 6>> lines;
+  std::vector<int> bodies;  // the body each line belongs to
+  V3 com, zmp;
+};
+
+// An SVG element whose attributes `names` take one value a frame, looping over `duration`; the
+// first frame's values are its own attributes (a viewer without SMIL shows the start pose).
+std::string animated_element(const std::string& tag, const std::string& style,
+                             const std::vector<std::string>& names,
+                             const std::vector<std::vector<double>>& values, double duration) {
+  std::string out = "<" + tag;
+  for (size_t i = 0; i < names.size(); ++i)
+    out += " " + names[i] + "=\"" + fixed(values[i].front(), 5) + "\"";
+  out += " " + style + ">";
+  for (size_t i = 0; i < names.size(); ++i) {
+    std::string list;
+    for (const double v : values[i]) list += (list.empty() ? "" : ";") + fixed(v, 5);
+    out += "<animate attributeName=\"" + names[i] + "\" dur=\"" + fixed(duration, 6) +
+           "s\" repeatCount=\"indefinite\" values=\"" + list + "\"/>";
+  }
+  return out + "</" + tag + ">\n";
+}
+
 // Two orthographic views side by side (side: x right, z up; front: y to the viewer's right),
-// animated over the frames with SMIL, looping.
-std::string animated_drawing(const std::string& title,
-                             const std::vector<std::vector<std::array<double, 6>>>& frames,
-                             double duration) {
+// animated over the frames with SMIL, looping: the bodies (each limb in its colour: the lines of
+// a body whose name starts with r_ or l_ in the right or left colour), the joints as small
+// circles, the centre of mass and the exact ZMP (on the floor).
+std::string animated_drawing(const std::string& title, const std::vector<StickFrame>& frames,
+                             const std::vector<std::string>& colours, double duration) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (const auto& f : frames)
-    for (const auto& l : f)
+  for (const StickFrame& f : frames)
+    for (const auto& l : f.lines)
       for (int i = 0; i < 6; ++i)
         lo[i % 3] = std::min(lo[i % 3], l[static_cast<size_t>(i)]),
                hi[i % 3] = std::max(hi[i % 3], l[static_cast<size_t>(i)]);
   const double scale = 1500, pad = 20;  // px per m
   const double side_w = (hi[0] - lo[0]) * scale + 2 * pad,
                front_w = (hi[1] - lo[1]) * scale + 2 * pad;
-  const double h = (hi[2] - lo[2]) * scale + 2 * pad + 30;
-  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-                    fixed(side_w + front_w, 6) + "\" height=\"" + fixed(h, 6) + "\">\n<title>" +
+  const double h = (hi[2] - lo[2]) * scale + 2 * pad + 50;
+  const std::string key =
+      "right limbs red, left limbs green; orange disc: centre of mass; black dot: exact ZMP on "
+      "the floor";
+  const std::string w = fixed(std::max(side_w + front_w, 2 * pad + 6.5 * key.size()), 6);
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + w + "\" height=\"" +
+                    fixed(h, 6) + "\" viewBox=\"0 0 " + w + " " + fixed(h, 6) + "\">\n<title>" +
                     report::xml_escape(title) +
                     "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   out += "<text x=\"" + fixed(pad, 4) + "\" y=\"18\" font-size=\"14\">" +
          report::xml_escape(title) + " (side view | front view)</text>\n";
+  out += "<text x=\"" + fixed(pad, 4) + "\" y=\"" + fixed(h - 8, 6) +
+         "\" font-size=\"12\" fill=\"#555\">" + key + "</text>\n";
   const double floor_y = 30 + pad + hi[2] * scale;
-  out += "<line x1=\"0\" y1=\"" + fixed(floor_y, 6) + "\" x2=\"" + fixed(side_w + front_w, 6) +
-         "\" y2=\"" + fixed(floor_y, 6) + "\" stroke=\"#999\"/>\n";
-  const size_t nl = frames.front().size();
+  out += "<line x1=\"0\" y1=\"" + fixed(floor_y, 6) + "\" x2=\"" + w + "\" y2=\"" +
+         fixed(floor_y, 6) + "\" stroke=\"#999\"/>\n";
+  const size_t nl = frames.front().lines.size();
   for (int view = 0; view < 2; ++view) {
-    const int axis = view == 0 ? 0 : 1;
+    const size_t axis = view == 0 ? 0 : 1;
     const double x0 = view == 0 ? pad - lo[0] * scale : side_w + pad - lo[1] * scale;
+    auto across = [&](double v) { return x0 + v * scale; };
+    auto up = [&](double z) { return floor_y - z * scale; };
     for (size_t k = 0; k < nl; ++k) {
-      std::string values[4], first[4];
-      for (const auto& f : frames) {
-        const auto& l = f[k];
-        const double v[4] = {x0 + l[static_cast<size_t>(axis)] * scale, floor_y - l[2] * scale,
-                             x0 + l[static_cast<size_t>(3 + axis)] * scale, floor_y - l[5] * scale};
-        for (int i = 0; i < 4; ++i) {
-          if (values[i].empty()) first[i] = fixed(v[i], 5);
-          values[i] += (values[i].empty() ? "" : ";") + fixed(v[i], 5);
-        }
+      std::vector<std::vector<double>> v(4);
+      for (const StickFrame& f : frames) {
+        const auto& l = f.lines[k];
+        v[0].push_back(across(l[axis])), v[1].push_back(up(l[2]));
+        v[2].push_back(across(l[3 + axis])), v[3].push_back(up(l[5]));
       }
-      // The first frame as the line's own attributes: a viewer without SMIL shows the start pose.
-      const char* attr[4] = {"x1", "y1", "x2", "y2"};
-      out += "<line";
-      for (int i = 0; i < 4; ++i) out += " " + std::string(attr[i]) + "=\"" + first[i] + "\"";
-      out += " stroke=\"#1f4e99\" stroke-width=\"3\" stroke-linecap=\"round\">";
-      for (int i = 0; i < 4; ++i)
-        out += "<animate attributeName=\"" + std::string(attr[i]) + "\" dur=\"" +
-               fixed(duration, 6) + "s\" repeatCount=\"indefinite\" values=\"" + values[i] + "\"/>";
-      out += "</line>\n";
+      out += animated_element(
+          "line", "stroke=\"" + colours[k] + "\" stroke-width=\"3\" stroke-linecap=\"round\"",
+          {"x1", "y1", "x2", "y2"}, v, duration);
+      out += animated_element("circle",
+                              "class=\"joint\" r=\"2.5\" fill=\"white\" stroke=\"#333\" "
+                              "stroke-width=\"1\"",
+                              {"cx", "cy"}, {v[2], v[3]}, duration);
     }
+    std::vector<std::vector<double>> com(2), zmp(2);
+    for (const StickFrame& f : frames) {
+      com[0].push_back(across(f.com[axis])), com[1].push_back(up(f.com[2]));
+      zmp[0].push_back(across(f.zmp[axis])), zmp[1].push_back(floor_y);
+    }
+    out += animated_element("circle",
+                            "class=\"com\" r=\"6\" fill=\"#e67e22\" stroke=\"black\" "
+                            "stroke-width=\"1\"",
+                            {"cx", "cy"}, com, duration);
+    out += animated_element("circle", "class=\"zmp\" r=\"4\" fill=\"black\"", {"cx", "cy"}, zmp,
+                            duration);
   }
   return out + "</svg>\n";
 }
@@ -229,7 +284,7 @@ int run_humanoid_gait(const Args& args) {
   double worst_diff = 0, worst_diff_t = 0, min_lip = INFINITY, min_exact = INFINITY;
   double min_lip_t = 0, min_exact_t = 0, worst_closure = 0;
   std::vector<std::vector<V3>> prints;
-  std::vector<std::vector<std::array<double, 6>>> frames;
+  std::vector<StickFrame> frames;
   for (int i = 0; i < n; ++i) {
     // Inside each step (a support switch is an instant with both feet down).
     const double t = T * (i / per_step) + T * ((i % per_step) + 0.5) / per_step;
@@ -246,10 +301,14 @@ int run_humanoid_gait(const Args& args) {
       sole.push_back(solver.point_position(s, foot, p));
     const std::vector<V3> polygon = spatial::convex_hull_xy(sole);
     if (i % per_step == 0) prints.push_back(polygon);
-    if (i % std::max(1, per_step / 10) == 0) frames.push_back(stick_figure(solver, s));
     const double floor_z = sole.empty() ? 0 : sole[0][2];
     const V3 lip = spatial::lip_zmp(c.p, c.a, gravity, floor_z);
     const V3 exact = spatial::zmp_of(loads.floor, floor_z);
+    if (i % std::max(1, per_step / 10) == 0) {
+      StickFrame frame{{}, {}, c.p, exact};
+      frame.lines = stick_figure(solver, s, frame.bodies);
+      frames.push_back(frame);
+    }
     const V3 planned = gait.planned_zmp(t);
     const double diff = std::hypot(exact[0] - lip[0], exact[1] - lip[1]);
     const double m_lip = spatial::polygon_margin(polygon, lip);
@@ -360,7 +419,7 @@ int run_humanoid_gait(const Args& args) {
   write_text(
       dir + "/walk.svg",
       animated_drawing(model.common.name + ": " + std::to_string(gait.settings().steps) + " steps",
-                       frames, gait.duration()));
+                       frames, line_colours(model, frames.front().bodies), gait.duration()));
   std::cout << "humanoid-gait " << model.common.name << ": " << gait.settings().steps
             << " steps of " << fixed(gait.settings().step_length, 4) << " m in " << fixed(T, 3)
             << " s (LIP: z_c " << fixed(gait.com_height(), 4) << " m, omega "

@@ -241,37 +241,60 @@ int run_spatial_draw(const Args& args) {
   if (args.has("--at") == args.has("--animate"))
     throw UsageError("give either --at T or --animate");
   if (args.has("--steps")) throw UsageError("--steps: walking is for planar bipeds");
+  if (solver_option(args) != "numeric" && args.has("--solver"))
+    throw UsageError("--solver: a spatial model is drawn by the numeric solver");
   const SpatialModel model = load_spatial(path);
   std::vector<double> parameters = model.common.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
   const spatial::SpatialSolver solver(model, parameters);
   const spatial::SpatialSweepOptions step = spatial::default_spatial_sweep(model, parameters);
-  std::vector<double> times;
+  const std::vector<std::string> trace = comma_list(args, "--trace");
+  std::vector<double> whole;  // the step: the animation's frames and the traced paths
+  const int n = std::min(step.samples, 120);
+  for (int i = 0; i < n; ++i)
+    whole.push_back(step.t0 + (step.t1 - step.t0) * i / std::max(1, n - 1));
+  try {  // the traced names, checked before any solving (no times)
+    spatial::spatial_frames(solver, {}, trace);
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(std::string("--trace: ") + error.what());
+  }
+  spatial::SpatialFrames frames;
   if (args.has("--at")) {
     // The solver continues along the step from t0, so the branch is the step's.
     const double at = args.number("--at", step.t0);
+    std::vector<double> times;
     for (int i = 0; i <= 20; ++i) times.push_back(step.t0 + (at - step.t0) * i / 20);
-  } else {
-    const int n = std::min(step.samples, 120);
-    for (int i = 0; i < n; ++i) times.push_back(step.t0 + (step.t1 - step.t0) * i / (n - 1));
-  }
-  spatial::SpatialFrames frames = spatial::spatial_frames(solver, times);
-  if (args.has("--at")) {  // the still: the last frame only
+    frames = spatial::spatial_frames(solver, times);
+    // The still: the last frame only, with the paths over the step.
     frames.times = {frames.times.back()};
     frames.bodies = {frames.bodies.back()};
     frames.joints = {frames.joints.back()};
+    if (!trace.empty()) {
+      const spatial::SpatialFrames paths = spatial::spatial_frames(solver, whole, trace);
+      frames.trace_names = paths.trace_names;
+      frames.traces = paths.traces;
+    }
+  } else {
+    frames = spatial::spatial_frames(solver, whole, trace);
   }
   spatial::SpatialDrawingOptions options;
   options.width = args.integer("--width", options.width);
   if (options.width < 200) throw UsageError("--width must be at least 200");
   options.title = args.get("--title", "");
+  if (!options.title.empty())  // what is drawn, as the planar drawing says it
+    options.title += args.has("--at") ? " (t = " + fixed(frames.times.back(), 6) + " s)"
+                                      : " (one step, " + fixed(step.t1 - step.t0, 4) + " s)";
+  options.labels = args.has("--labels");
   const std::string out = args.get("--out");
   g_current_file = out;
   std::ofstream file(out);
   file << spatial::draw_spatial(frames, options);
   if (!file) throw std::runtime_error(out + ": cannot write");
+  std::string views;
+  for (const std::string& id : spatial::spatial_views(frames))
+    views += (views.empty() ? "" : ", ") + id;
   std::cout << "drew " << model.common.name << " (" << frames.times.size()
-            << (frames.times.size() == 1 ? " frame" : " frames") << ", sagittal and frontal) -> "
+            << (frames.times.size() == 1 ? " frame" : " frames") << ", views: " << views << ") -> "
             << out << "\n";
   return 0;
 }

@@ -52,18 +52,6 @@ slider's time.
 At least one of --out and --gltf.
 )";
 
-std::vector<std::string> comma_list(const Args& args, const std::string& option) {
-  std::vector<std::string> names;
-  for (const std::string& list : args.all(option))
-    for (size_t begin = 0; begin <= list.size();) {
-      const size_t end = std::min(list.find(',', begin), list.size());
-      if (end == begin) throw UsageError(option + ": an empty name in '" + list + "'");
-      names.push_back(list.substr(begin, end - begin));
-      begin = end + 1;
-    }
-  return names;
-}
-
 report::CsvTable planar_table(const Model& model, const std::vector<double>& parameters,
                               const Args& args, std::string& what) {
   if (args.has("--steps")) {

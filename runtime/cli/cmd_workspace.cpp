@@ -10,6 +10,8 @@
 #include "cli/model_info.hpp"
 #include "model/spatial_value_checks.hpp"
 #include "ondemand/kernel_resolver.hpp"
+#include "spatial/spatial_drawing.hpp"
+#include "spatial/spatial_sweep.hpp"
 
 namespace mechgen::cli {
 
@@ -33,7 +35,9 @@ the mechanism placed at each draw, and the named point's position collected.
   --bins N      image cells along the longer side (default 160)
   --fix D=Q     hold driver D at coordinate Q instead of sampling it (e.g. the quadruped leg's
                 side-swing cylinder at l3=0: theta10 = 0, the leg's own plane)
-  --out PREFIX  writes PREFIX_sagittal.svg, PREFIX_frontal.svg, PREFIX.csv (default out/<model>)
+  --out PREFIX  writes PREFIX_sagittal.svg, PREFIX_frontal.svg (density images with a colour
+                scale, the mechanism at the step's t0 drawn over them), PREFIX.csv (default
+                out/<model>)
 Prints the extents, the longest horizontal and vertical chords of the sagittal image on 10 mm
 cells (a stride and a lift read the way the seed reads its point cloud: through cells that hold
 samples) and the CPU time per sample.
@@ -79,14 +83,20 @@ int run_workspace_command(const Args& args) {
     out << text;
     if (!out) throw UsageError("cannot write " + file);
   };
-  write(prefix + "_sagittal.svg",
-        analysis::density_svg(r.sagittal, model.common.name + ": point " + r.point +
-                                              ", sagittal projection (X-Z), " +
-                                              std::to_string(r.assembled) + " samples"));
-  write(prefix + "_frontal.svg",
-        analysis::density_svg(r.frontal, model.common.name + ": point " + r.point +
-                                             ", frontal projection (Y-Z), " +
-                                             std::to_string(r.assembled) + " samples"));
+  // The mechanism at its reference pose (the step's start), over both images for scale.
+  const spatial::SpatialSolver reference(model, o.parameters);
+  const double t0 = spatial::default_spatial_sweep(model, o.parameters).t0;
+  analysis::Outline outline{spatial::spatial_frames(reference, {t0}).bodies.front(),
+                            "at its reference pose, t = " + fixed(t0, 6) + " s"};
+  for (const auto& [view, projection] :
+       {std::pair{"sagittal", &r.sagittal}, std::pair{"frontal", &r.frontal}})
+    write(
+        prefix + "_" + view + ".svg",
+        analysis::density_svg(*projection,
+                              model.common.name + ": point " + r.point + ", " + view +
+                                  " projection (" + projection->h_name + "-" + projection->v_name +
+                                  "), " + std::to_string(r.assembled) + " samples",
+                              outline));
   write(prefix + ".csv", analysis::workspace_csv(r));
   const char* axis[3] = {"X", "Y", "Z"};
   std::vector<std::vector<std::string>> rows{{"axis", "min [m]", "max [m]", "extent [m]"}};

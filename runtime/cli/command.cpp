@@ -36,6 +36,18 @@ std::string fixed(double value, int digits) {
   return text;
 }
 
+std::vector<std::string> comma_list(const Args& args, const std::string& option) {
+  std::vector<std::string> names;
+  for (const std::string& list : args.all(option))
+    for (size_t begin = 0; begin <= list.size();) {
+      const size_t end = std::min(list.find(',', begin), list.size());
+      if (end == begin) throw UsageError(option + ": an empty name in '" + list + "'");
+      names.push_back(list.substr(begin, end - begin));
+      begin = end + 1;
+    }
+  return names;
+}
+
 double wrap_angle(double a) {
   return std::remainder(a, 2 * std::numbers::pi);
 }

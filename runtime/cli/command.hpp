@@ -4,6 +4,7 @@
 // commands().
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -26,6 +27,42 @@ class UsageError : public std::runtime_error {
 
 // The file a command is working on, for errors that carry no location of their own.
 extern std::string g_current_file;
+
+// ---- suggestions --------------------------------------------------------------------------------
+
+// The candidate nearest to `word` by edit distance (insertions, deletions, substitutions and
+// transpositions of neighbours), or "" when none is near enough to be a likely misspelling: at
+// most a third of the word's length, and at least one, edits away.
+inline std::string nearest_word(const std::string& word,
+                                const std::vector<std::string>& candidates) {
+  const auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i)
+      for (size_t j = 1; j <= b.size(); ++j) {
+        d[i][j] = std::min(
+            {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    return d[a.size()][b.size()];
+  };
+  std::string best;
+  size_t best_distance = std::max<size_t>(1, word.size() / 3) + 1;
+  for (const std::string& candidate : candidates)
+    if (const size_t dist = distance(word, candidate); dist < best_distance)
+      best = candidate, best_distance = dist;
+  return best;
+}
+
+// "unknown WHAT 'WORD'", with "; did you mean 'NEAREST'?" where one of `candidates` is near.
+inline std::string unknown_word(const std::string& what, const std::string& word,
+                                const std::vector<std::string>& candidates) {
+  const std::string nearest = nearest_word(word, candidates);
+  return "unknown " + what + " '" + word + "'" +
+         (nearest.empty() ? "" : "; did you mean '" + nearest + "'?");
+}
 
 // ---- the argument parser ------------------------------------------------------------------------
 
@@ -69,7 +106,11 @@ class Args {
         inline_value = true;
       }
       const OptionSpec* spec = find(name);
-      if (!spec) throw UsageError("unknown option '" + name + "'");
+      if (!spec) {
+        std::vector<std::string> names{"--help"};
+        for (const OptionSpec& known : specs_) names.push_back(known.name);
+        throw UsageError(unknown_word("option", name, names));
+      }
       if (spec->takes_value && !inline_value) {
         if (i + 1 >= words.size()) throw UsageError("option " + spec->name + " needs a value");
         value = words[++i];
@@ -101,10 +142,9 @@ class Args {
     if (positional_.size() > 1) throw UsageError("unexpected argument '" + positional_[1] + "'");
     return positional_.front();
   }
-  // An option's value as a number (plain decimal or scientific notation).
-  double number(const std::string& name, double fallback) const {
-    if (!has(name)) return fallback;
-    const std::string text = get(name);
+  // A finite number in plain decimal or scientific notation, the whole of `text`; else a
+  // UsageError "OPTION: 'TEXT' is not a number".
+  static double parse_number(const std::string& text, const std::string& option) {
     size_t used = 0;
     double value = 0;
     try {
@@ -113,8 +153,12 @@ class Args {
       used = 0;
     }
     if (used == 0 || used != text.size() || !std::isfinite(value))
-      throw UsageError(name + ": '" + text + "' is not a number");
+      throw UsageError(option + ": '" + text + "' is not a number");
     return value;
+  }
+  // An option's value as a number (parse_number).
+  double number(const std::string& name, double fallback) const {
+    return has(name) ? parse_number(get(name), name) : fallback;
   }
   int integer(const std::string& name, int fallback) const {
     const double value = number(name, fallback);
@@ -149,6 +193,9 @@ Model load_model(const std::string& path);
 double seconds_since(std::chrono::steady_clock::time_point start);
 // --solver's value: "generated" (the default) or "numeric"; anything else is a UsageError.
 std::string solver_option(const Args& args);
+// The names of every `option` (each a comma-separated list, as --trace A,B --trace C); an empty
+// name is a UsageError.
+std::vector<std::string> comma_list(const Args& args, const std::string& option);
 // --shard I/N (sweep/shard.hpp), the whole run when absent; a malformed one is a UsageError.
 Shard shard_option(const Args& args);
 // A fresh sweep of `model` at `parameters`: the model's step, overridden by --solver, --samples,

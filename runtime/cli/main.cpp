@@ -37,6 +37,9 @@
 #include "sweep/summary.hpp"
 #include "sweep/sweep.hpp"
 
+#ifndef MECHGEN_VERSION
+#error "MECHGEN_VERSION must be the project's version (set by runtime/cli/CMakeLists.txt)"
+#endif
 #ifndef MECHGEN_SOURCE_DIR
 #error "MECHGEN_SOURCE_DIR must name the source tree (set by runtime/cli/CMakeLists.txt)"
 #endif
@@ -313,10 +316,19 @@ int run_generate(const Args& args) {
 const char* const kPlotHelp =
     R"(usage: mechgen plot FILE.csv --x COLUMN --y COLUMN[,COLUMN...] --out FILE.svg
                    [--title TEXT] [--xlabel TEXT] [--ylabel TEXT] [--equal]
+                   [--limit [max:|min:]VALUE[,LABEL]]...
 
 Line plot of sweep columns against one column, as a self-contained SVG. --y may be repeated or
 list several columns separated by commas. Axis labels and units are derived from the column names
 unless given. --equal: one scale on both axes, so an x-y path (--x C.x --y C.y) keeps its shape.
+More than 8 series are split into panels stacked one above the other (at most 8 each); a series
+lying exactly over another is dashed so both show; a walk's CSV (mechgen walk: its support
+column) plotted against t has each change of support foot as a dashed vertical line. Stress
+columns ([Pa] in mechgen loads --over-time) are plotted in MPa, as loads prints them.
+  --limit [max:|min:]VALUE[,LABEL]
+                       a limit (a yield stress, the end of a stroke) in the plot's y units: a
+                       dashed line; the side beyond it shaded above a max:, below a min:;
+                       repeatable
 )";
 
 int run_plot(const Args& args) {
@@ -326,15 +338,15 @@ int run_plot(const Args& args) {
   if (!args.has("--out")) throw UsageError("missing --out FILE.svg");
   report::ColumnPlotOptions options;
   options.x = args.get("--x");
-  for (const std::string& list : args.all("--y")) {
-    size_t begin = 0;
-    while (begin <= list.size()) {
-      const size_t comma = std::min(list.find(',', begin), list.size());
-      const std::string name = list.substr(begin, comma - begin);
-      if (name.empty()) throw UsageError("--y: empty column name in '" + list + "'");
-      options.y.push_back(name);
-      begin = comma + 1;
-    }
+  options.y = comma_list(args, "--y");
+  for (const std::string& limit : args.all("--limit")) {
+    using Side = report::PlotSpec::Limit::Side;
+    const Side side = limit.rfind("max:", 0) == 0   ? Side::max
+                      : limit.rfind("min:", 0) == 0 ? Side::min
+                                                    : Side::line;
+    const size_t start = side == Side::line ? 0 : 4, comma = limit.find(',');
+    options.limits.push_back({Args::parse_number(limit.substr(start, comma - start), "--limit"),
+                              comma == std::string::npos ? "" : limit.substr(comma + 1), side});
   }
   options.title = args.get("--title");
   options.x_label = args.get("--xlabel");
@@ -443,7 +455,8 @@ const std::vector<Command>& commands() {
         {"--title", "", true},
         {"--xlabel", "", true},
         {"--ylabel", "", true},
-        {"--equal", "", false}},
+        {"--equal", "", false},
+        {"--limit", "", true, true}},
        &run_plot},
       {"summary",
        "motor torque, power and gait figures of a sweep CSV",
@@ -471,7 +484,9 @@ const std::vector<Command>& commands() {
 std::string main_help() {
   std::string text =
       "usage: mechgen COMMAND [ARGS...]    (mechgen COMMAND --help for each)\n\n"
-      "Planar mechanisms from a YAML description to kinematics and dynamics kernels.\n\n"
+      "Planar and spatial mechanisms (open chains, closed loops) from a YAML description to\n"
+      "kinematics and dynamics kernels, sweeps, loads, drawings and 3D views.\n"
+      "mechgen --version prints the version.\n\n"
       "commands:\n";
   std::vector<std::vector<std::string>> rows;
   for (const Command& c : commands()) rows.push_back({c.name, c.summary});
@@ -528,13 +543,23 @@ int dispatch(int argc, char** argv) {
     return 1;
   }
   const std::string name = words.front();
+  if (name == "--version" || name == "version") {
+    std::cout << "mechgen " << MECHGEN_VERSION << "\n";
+    return 0;
+  }
+  std::vector<std::string> names{"--help", "--version", "help", "version"};
+  for (const Command& c : commands()) names.push_back(c.name);
   if (name == "--help" || name == "-h" || name == "help") {
-    if (words.size() > 1)
+    if (words.size() > 1) {
       for (const Command& c : commands())
         if (words[1] == c.name) {
           std::cout << c.help;
           return 0;
         }
+      std::cerr << "mechgen: error: " << unknown_word("command", words[1], names)
+                << " (see mechgen --help)\n";
+      return 1;
+    }
     std::cout << main_help();
     return 0;
   }
@@ -557,7 +582,9 @@ int dispatch(int argc, char** argv) {
       return 1;
     }
   }
-  std::cerr << "mechgen: error: unknown command '" << name << "' (see mechgen --help)\n";
+  std::cerr << "mechgen: error: "
+            << unknown_word(name.rfind('-', 0) == 0 ? "option" : "command", name, names)
+            << " (see mechgen --help)\n";
   return 1;
 }
 

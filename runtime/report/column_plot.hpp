@@ -19,10 +19,13 @@ struct ColumnPlotOptions {
   std::vector<std::string> y;  // one series per column
   // Empty: derived. Axis labels name the columns and their units when known ("time t [s]").
   std::string title, x_label, y_label;
-  bool equal_scale = false;  // one scale on both axes (x-y paths)
+  bool equal_scale = false;                  // one scale on both axes (x-y paths)
+  std::vector<PlotSpec::Limit> limits = {};  // dashed lines at these y values (the plot's units)
 };
 
-// Throws CsvError naming a missing column and the columns that exist.
+// Stresses (every y column in [Pa], as mechgen loads --over-time writes them) are plotted in MPa,
+// as `loads` prints them; `limits` are then in MPa too. Throws CsvError naming a missing column
+// and the columns that exist.
 PlotSpec column_plot(const CsvTable& table, const ColumnPlotOptions& options);
 
 }  // namespace mechgen::report

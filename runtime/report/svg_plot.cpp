@@ -248,6 +248,9 @@ PlotLayout free_layout(const PlotSpec& spec) {
 
   double xlo = L.has_data ? e.xlo : 0, xhi = L.has_data ? e.xhi : 1;
   double ylo = L.has_data ? e.ylo : 0, yhi = L.has_data ? e.yhi : 1;
+  for (const PlotSpec::Limit& limit : spec.y_limits)
+    if (std::isfinite(limit.y) && L.has_data)
+      ylo = std::min(ylo, limit.y), yhi = std::max(yhi, limit.y);
   if (L.has_data) {
     const double pad = 0.05 * (yhi - ylo);
     ylo -= pad;
@@ -296,7 +299,10 @@ PlotLayout free_layout(const PlotSpec& spec) {
 }
 }  // namespace
 
-std::string render_svg(const PlotSpec& spec) {
+namespace {
+
+// One plot (render_svg's panel); `clip` is the id of its plot area's clip path.
+std::string render_panel(const PlotSpec& spec, const std::string& clip) {
   const PlotLayout L = compute_layout(spec);
   const int width = std::max(spec.width, 200), height = std::max(spec.height, 150);
   std::string o;
@@ -316,7 +322,7 @@ std::string render_svg(const PlotSpec& spec) {
   o += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   const std::string area = "x=\"" + px(L.left) + "\" y=\"" + px(L.top) + "\" width=\"" +
                            px(L.right - L.left) + "\" height=\"" + px(L.bottom - L.top) + "\"";
-  o += "<defs><clipPath id=\"plot-area\"><rect " + area + "/></clipPath></defs>\n";
+  o += "<defs><clipPath id=\"" + clip + "\"><rect " + area + "/></clipPath></defs>\n";
 
   // Grid, then a stronger line at zero when it lies inside the range.
   o += "<g class=\"grid\" stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
@@ -327,14 +333,42 @@ std::string render_svg(const PlotSpec& spec) {
     line(L.left, L.y.to_px(0), L.right, L.y.to_px(0), " stroke=\"#a8a8a8\" stroke-width=\"1\"");
   }
 
+  // Limits along y, under the data: beyond a maximum or a minimum shaded. Labels alternate
+  // between the right and the left end (limits close together stay readable), above the line
+  // (below a minimum's, and a line's at the left).
+  for (std::size_t k = 0; k < spec.y_limits.size(); ++k) {
+    const PlotSpec::Limit& limit = spec.y_limits[k];
+    if (!std::isfinite(limit.y) || limit.y < L.y.lo || limit.y > L.y.hi) continue;
+    using Side = PlotSpec::Limit::Side;
+    const bool right = k % 2 == 0;
+    const bool above = limit.side == Side::max || (limit.side == Side::line && right);
+    const double y = L.y.to_px(limit.y), edge = limit.side == Side::max ? L.top : L.bottom;
+    if (limit.side != PlotSpec::Limit::Side::line)
+      o += "<rect class=\"beyond-limit\" x=\"" + px(L.left) + "\" y=\"" + px(std::min(y, edge)) +
+           "\" width=\"" + px(L.right - L.left) + "\" height=\"" + px(std::abs(edge - y)) +
+           "\" fill=\"#b8202f\" fill-opacity=\"0.08\"/>\n";
+    line(L.left, y, L.right, y,
+         " class=\"limit\" stroke=\"#b8202f\" stroke-width=\"1.2\" stroke-dasharray=\"7 4\"");
+    text(right ? L.right - 6 : L.left + 6, above ? y - 5 : y + 14,
+         std::string(" text-anchor=\"") + (right ? "end" : "start") + "\" fill=\"#b8202f\"",
+         xml_escape(limit.label));
+  }
+
+  // Events along x, under the data.
+  for (const double x : spec.x_marks)
+    if (std::isfinite(x) && x >= L.x.lo && x <= L.x.hi)
+      line(L.x.to_px(x), L.top, L.x.to_px(x), L.bottom,
+           " class=\"x-mark\" stroke=\"#888888\" stroke-width=\"1\" stroke-dasharray=\"4 3\"");
+
   // Data: one path per series, a new sub-path after every non-finite value, a dot for a point
   // that has no finite neighbour.
-  o += "<g class=\"series\" clip-path=\"url(#plot-area)\" fill=\"none\" stroke-width=\"1.8\" "
-       "stroke-linejoin=\"round\" stroke-linecap=\"round\">\n";
+  o += "<g class=\"series\" clip-path=\"url(#" + clip +
+       ")\" fill=\"none\" stroke-width=\"1.8\" stroke-linejoin=\"round\" "
+       "stroke-linecap=\"round\">\n";
+  std::vector<std::string> paths, dashes;
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const Series& s = spec.series[k];
     const std::string colour = kColours[k % kColourCount];
-    const char* dash = kDashes[(k / kColourCount) % 4];
     std::string d, dots;
     const std::size_t n = s.x.size();
     auto finite = [&](std::size_t i) { return std::isfinite(s.x[i]) && std::isfinite(s.y[i]); };
@@ -348,9 +382,14 @@ std::string render_svg(const PlotSpec& spec) {
                 "\" r=\"2.5\" fill=\"" + colour + "\" stroke=\"none\"/>\n";
       }
     }
+    // A series drawn exactly over an earlier one (the same pixels) is dashed with long gaps, so
+    // that the one beneath still shows.
+    std::string dash = kDashes[(k / kColourCount) % 4];
+    if (!d.empty() && std::find(paths.begin(), paths.end(), d) != paths.end()) dash = "5 7";
+    paths.push_back(d), dashes.push_back(dash);
     if (!d.empty()) {
       o += "<path class=\"series-" + std::to_string(k) + "\" stroke=\"" + colour + "\"";
-      if (*dash) o += std::string(" stroke-dasharray=\"") + dash + "\"";
+      if (!dash.empty()) o += " stroke-dasharray=\"" + dash + "\"";
       o += " d=\"" + d + "\"/>\n";
     }
     o += dots;
@@ -394,7 +433,8 @@ std::string render_svg(const PlotSpec& spec) {
   }
 
   // Legend, right of the plot area, one row per labelled series.
-  bool any_label = false;
+  const bool marks_row = !spec.x_marks.empty() && !spec.x_marks_label.empty();
+  bool any_label = marks_row;
   for (const Series& s : spec.series) any_label = any_label || !s.label.empty();
   if (any_label) {
     const double x0 = L.right + 12;
@@ -406,6 +446,11 @@ std::string render_svg(const PlotSpec& spec) {
       rows += 1;
       widest = std::max(widest, kLegendCharWidth * legend_text(s.label, max_chars).size());
     }
+    if (marks_row) {
+      rows += 1;
+      widest =
+          std::max(widest, kLegendCharWidth * legend_text(spec.x_marks_label, max_chars).size());
+    }
     o += "<g class=\"legend\" font-size=\"" + fixed(kLegendFont, 0) + "\">\n";
     o += "<rect x=\"" + px(x0) + "\" y=\"" + px(y) + "\" width=\"" + px(28 + 8 + widest + 14) +
          "\" height=\"" + px(rows * 20 + 8) +
@@ -414,19 +459,58 @@ std::string render_svg(const PlotSpec& spec) {
     for (std::size_t k = 0; k < spec.series.size(); ++k) {
       const Series& s = spec.series[k];
       if (s.label.empty()) continue;
-      const char* dash = kDashes[(k / kColourCount) % 4];
       std::string attrs =
           std::string(" stroke=\"") + kColours[k % kColourCount] + "\" stroke-width=\"2.2\"";
-      if (*dash) attrs += std::string(" stroke-dasharray=\"") + dash + "\"";
+      if (!dashes[k].empty()) attrs += " stroke-dasharray=\"" + dashes[k] + "\"";
       line(x0 + 7, y + 10, x0 + 7 + 26, y + 10, attrs);
       text(x0 + 7 + 26 + 8, y + 14, " class=\"legend-entry\"",
            xml_escape(legend_text(s.label, max_chars)));
       y += 20;
     }
+    if (marks_row) {
+      line(x0 + 20, y + 2, x0 + 20, y + 18,
+           " stroke=\"#888888\" stroke-width=\"1\" stroke-dasharray=\"4 3\"");
+      text(x0 + 7 + 26 + 8, y + 14, " class=\"legend-entry\"",
+           xml_escape(legend_text(spec.x_marks_label, max_chars)));
+    }
     o += "</g>\n";
   }
   o += "</svg>\n";
   return o;
+}
+
+}  // namespace
+
+std::string render_svg(const PlotSpec& spec) {
+  if (spec.series.size() <= kMostSeriesPerPanel) return render_panel(spec, "plot-area");
+  // More series than one axis shows legibly: panels of at most kMostSeriesPerPanel, as equal as
+  // can be, stacked one above the other on the same x range, each `spec.height` tall.
+  const std::size_t n = spec.series.size();
+  const std::size_t panels = (n + kMostSeriesPerPanel - 1) / kMostSeriesPerPanel;
+  const std::size_t per = (n + panels - 1) / panels;
+  const int width = std::max(spec.width, 200), height = std::max(spec.height, 150);
+  const std::string w = std::to_string(width),
+                    h = std::to_string(height * static_cast<int>(panels));
+  std::string o = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + w + "\" height=\"" + h +
+                  "\" viewBox=\"0 0 " + w + " " + h + "\">\n";
+  if (!spec.title.empty()) o += "<title>" + xml_escape(spec.title) + "</title>\n";
+  for (std::size_t p = 0; p < panels; ++p) {
+    PlotSpec part = spec;
+    part.series.assign(
+        spec.series.begin() + static_cast<std::ptrdiff_t>(p * per),
+        spec.series.begin() + static_cast<std::ptrdiff_t>(std::min(n, (p + 1) * per)));
+    if (std::isnan(part.x_min) || std::isnan(part.x_max)) {  // one x range for every panel
+      const PlotLayout all = compute_layout(spec);
+      if (all.has_data) part.x_min = all.x.lo, part.x_max = all.x.hi;
+    }
+    if (!spec.title.empty())
+      part.title =
+          spec.title + " (" + std::to_string(p + 1) + " of " + std::to_string(panels) + ")";
+    std::string panel = render_panel(part, "plot-area-" + std::to_string(p + 1));
+    panel.insert(4, " class=\"panel\" y=\"" + std::to_string(height * static_cast<int>(p)) + "\"");
+    o += panel;
+  }
+  return o + "</svg>\n";
 }
 
 }  // namespace mechgen::report

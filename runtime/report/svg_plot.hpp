@@ -3,6 +3,7 @@
 // to the plot area. Non-finite values break a line; empty or constant data still give a valid plot.
 #pragma once
 
+#include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
@@ -26,9 +27,29 @@ struct PlotSpec {
   // One scale on both axes (an x-y path keeps its shape): the axis with more pixels per unit
   // gets a wider range, centred on its data.
   bool equal_scale = false;
+  // Events along x (a walk's support changes): dashed vertical lines, `x_marks_label` in the
+  // legend.
+  std::vector<double> x_marks;
+  std::string x_marks_label;
+  // Limits along y (a yield stress, the end of a stroke): dashed horizontal lines with their
+  // labels, the side beyond shaded (above a maximum, below a minimum; `line`: no side shaded, as
+  // for one of several cylinders' strokes on one axis); the y range includes them.
+  struct Limit {
+    enum class Side { line, max, min };
+    double y;
+    std::string label;
+    Side side = Side::line;
+  };
+  std::vector<Limit> y_limits;
 };
 
-// The whole plot as an SVG document. Throws std::invalid_argument when a series' x and y differ
+// Series on one axis at the most; render_svg splits more into panels.
+inline constexpr std::size_t kMostSeriesPerPanel = 8;
+
+// The whole plot as an SVG document (with a viewBox). More than kMostSeriesPerPanel series are
+// split into panels (nested <svg class="panel">, titled "TITLE (i of n)") stacked one above the
+// other, each spec.height tall, on the data's common x range. A series that lies exactly over an
+// earlier one is dashed, so both show. Throws std::invalid_argument when a series' x and y differ
 // in length (a caller's bug, not a data problem).
 std::string render_svg(const PlotSpec& spec);
 

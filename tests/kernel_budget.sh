@@ -6,14 +6,7 @@
 # model's expected cost; a terminal sees the compile's progress.
 # usage: kernel_budget.sh MECHGEN SOURCE_DIR   (copies of slider_crank and chebyshev_spatial)
 set -u
-M=$1
-SRC=$2
-W=$(mktemp -d)
-trap 'rm -rf "$W"' EXIT
-fail() {
-  echo "FAIL: $*"
-  exit 1
-}
+source "$(dirname "$0")/script_common.sh"
 sed "s/name: slider_crank/name: crank_b/" "$SRC/models/slider_crank.yaml" >"$W/crank_b.yaml"
 sed "s/name: chebyshev_spatial/name: cheb_b/" "$SRC/models/chebyshev_spatial.yaml" >"$W/cheb_b.yaml"
 grep -q "name: cheb_b" "$W/cheb_b.yaml" || fail "the spatial copy was not renamed"

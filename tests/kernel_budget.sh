@@ -118,6 +118,17 @@ no_build_left "$W/c3" "real compiler in 60 MB"
 grep -qE "^mechgen: compiling kernel for crank_b, first use: [0-9.]+ s \(cached in " "$W/err" ||
   fail "default limits: $(cat "$W/err")"
 
+# A compile expected to take more than 30 s (quadruped_leg, 1.53 MB: about 40 s) says so in one line
+# up front when stderr is no terminal (a compiler that fails at once: the line is what is tested).
+sed "s/name: quadruped_leg/name: quad_b/" "$SRC/models/quadruped_leg.yaml" >"$W/quad_b.yaml"
+printf '#!/bin/sh\nexit 1\n' >"$W/false_cxx"
+chmod 755 "$W/false_cxx"
+MECHGEN_CXX="$W/false_cxx" "$M" sweep "$W/quad_b.yaml" --cache "$W/c6" --out "$W/o.csv" 2>"$W/err" &&
+  fail "announce: accepted"
+[ "$(head -1 "$W/err")" = "mechgen: compiling kernel for quad_b, first use: 1.53 MB header: about 40 s and 443 MB to compile (expected)" ] ||
+  fail "announce: $(cat "$W/err")"
+grep -q "error: compiling the kernel of 'quad_b' failed (.*exit 1)" "$W/err" || fail "announce: $(cat "$W/err")"
+
 # 6. On a terminal: the phase, and the elapsed and expected seconds every 2 s while compiling.
 if command -v script >/dev/null; then
   cat >"$W/slow5" <<SH

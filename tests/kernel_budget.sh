@@ -62,6 +62,34 @@ MECHGEN_MAX_KERNEL_MB=lots "$M" sweep "$W/crank_b.yaml" --cache "$W/c1" --out "$
   fail "MECHGEN_MAX_KERNEL_MB=lots accepted"
 grep -q "MECHGEN_MAX_KERNEL_MB='lots' is not a number of MB" "$W/err" || fail "bad limit: $(cat "$W/err")"
 
+# The default limit (8 MB) refuses a Newton-sized kernel: a spatial serial chain of 96 revolutes,
+# a 14.86 MB header (about 6 min and 3.8 GB to compile), before any compiler starts.
+chain() {  # N: a spatial serial chain of N driven revolutes about z, x, y in turn
+  echo "name: chain$1"
+  printf 'dimension: spatial\ngravity: [0, 0, -9.81]\nparameters:\n  w: {value: 3}\nbodies:\n'
+  printf '  - {name: base, ground: true, points: {P0: [0, 0, 0]}}\n'
+  local i axes=("[0, 0, 1]" "[1, 0, 0]" "[0, 1, 0]")
+  for ((i = 1; i <= $1; i++)); do
+    echo "  - name: b$i"
+    echo "    points: {P$((i - 1)): [0, 0, -0.05*$((i - 1))], P$i: [0, 0, -0.05*$i]}"
+    echo "    mass: {mass: 0.1, com: [0.001, 0, -0.05*$i + 0.025], inertia: [[1e-4, 0, 0], [0, 1e-4, 0], [0, 0, 5e-5]]}"
+  done
+  echo "joints:"
+  for ((i = 1; i <= $1; i++)); do
+    echo "  - {name: j$i, type: revolute, first: $([ $i = 1 ] && echo base || echo b$((i - 1))), second: b$i, s: ${axes[$((i % 3))]}, s0: P$((i - 1))}"
+  done
+  echo "drivers:"
+  for ((i = 1; i <= $1; i++)); do echo "  - {name: q$i, joint: j$i, kind: angle, value: 0.1*sin(w*t + 0.1*$i)}"; done
+  echo "step: {t0: 0, t1: 2*pi/w, samples: 11}"
+}
+chain 96 >"$W/chain96.yaml"
+rm -f "$W/compiles"
+"$M" sweep "$W/chain96.yaml" --cache "$W/c1" --out "$W/o.csv" 2>"$W/err" && fail "chain96: accepted"
+grep -q "error: the kernel of 'chain96' is too large to compile: 14.8[0-9] MB header: about 6 min and 37[0-9][0-9] MB to compile .*over the limit of 8 MB" "$W/err" ||
+  fail "chain96: $(cat "$W/err")"
+[ ! -e "$W/compiles" ] || fail "chain96: the compiler ran"
+no_build_left "$W/c1" "chain96"
+
 # 3. A compiler past its time limit: killed with its children, an error naming the model, the size
 # and the limit; no build folder left, in about the limit's time.
 cat >"$W/slow" <<SH

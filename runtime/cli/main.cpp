@@ -60,8 +60,8 @@ that do not assemble); and the solve plan the generator follows: the reference b
 group in order, closed form (with the branch the generator picks) or iterative (Newton-Raphson in
 the kernel, for groups such as an Assur triad that have no closed form); and the kernel's size
 (its header generated in memory, as its first use would: exact) with the expected time and memory
-of its first-use compile (an estimate: time within a factor of 4 with the machine's load, memory
-within a factor of 2), and a warning when the header is over --max-kernel-mb
+of its first-use compile (an estimate: time within a factor of 4, more on a machine loaded past its
+cores; memory within a factor of 2), and a warning when the header is over --max-kernel-mb
 (MECHGEN_MAX_KERNEL_MB, default 8), whose first use is then refused.
 
 Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.

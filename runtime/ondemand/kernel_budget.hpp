@@ -30,7 +30,8 @@ inline constexpr double kDefaultMaxKernelMb = 8;
 
 // The estimate's stated accuracy (kernel_budget.cpp: the measured compiles against the model).
 inline constexpr const char* kCostAccuracy =
-    "estimate: time within a factor of 4 with the machine's load, memory within a factor of 2";
+    "estimate: time within a factor of 4, more on a machine loaded past its cores; memory within a "
+    "factor of 2";
 
 struct CompileCost {
   double header_mb = 0;  // 10^6 bytes

@@ -139,8 +139,8 @@ void remove_abandoned_builds(const fs::path& cache) {
 
 // What a first use says on stderr: "mechgen: compiling kernel for X, first use: " and then, on a
 // terminal, the phase (generating, compiling) with the compile's elapsed and expected seconds
-// redrawn every few seconds; elsewhere, when the compile
-// is expected to take more than kAnnounceSeconds, one line with its expected cost up front.
+// redrawn every kTickSeconds; elsewhere, when the compile is expected to take more than
+// kAnnounceSeconds, one line with its expected cost up front; at the end, the time it took.
 class FirstUseReport {
  public:
   static constexpr double kAnnounceSeconds = 30, kTickSeconds = 2;

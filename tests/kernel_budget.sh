@@ -117,7 +117,7 @@ no_build_left "$W/c2" "timeout"
 
 # 4. The memory limit reaches the compiler as its address-space limit (ulimit -v, KiB), and a
 # compiler out of memory is an error naming the model, the size and the limit: a compiler that says
-# so, then the real one under 60 MB.
+# so, then the real one under 60 and 20 MB.
 cat >"$W/oom" <<SH
 #!/bin/sh
 ulimit -v >"$W/ulimit"
@@ -132,12 +132,14 @@ grep -q "error: compiling the kernel of 'crank_b' failed (the compiler ran out o
   fail "memory: $(cat "$W/err")"
 no_build_left "$W/c3" "memory"
 rm -f "$W/compiles"
-"$M" sweep "$W/crank_b.yaml" --compile-memory-mb 60 --cache "$W/c3" --out "$W/o.csv" 2>"$W/err" &&
-  fail "real compiler in 60 MB: accepted"
-[ -s "$W/compiles" ] || fail "real compiler in 60 MB: never ran: $(cat "$W/err")"
-grep -q "the compiler ran out of memory (0.05 MB header, about 72 MB expected; limit 60 MB" "$W/err" ||
-  fail "real compiler in 60 MB: $(cat "$W/err")"
-no_build_left "$W/c3" "real compiler in 60 MB"
+for mb in 60 20; do  # GCC says it (60 MB), or crashes as its stack cannot grow (20 MB)
+  "$M" sweep "$W/crank_b.yaml" --compile-memory-mb $mb --cache "$W/c3" --out "$W/o.csv" 2>"$W/err" &&
+    fail "real compiler in $mb MB: accepted"
+  grep -qE "(the compiler ran out of memory|exit [0-9]+, a crash: out of memory\?) \(0.05 MB header, about 72 MB expected; limit $mb MB, --compile-memory-mb" "$W/err" ||
+    fail "real compiler in $mb MB: $(cat "$W/err")"
+  no_build_left "$W/c3" "real compiler in $mb MB"
+done
+[ "$(grep -c . "$W/compiles")" = 2 ] || fail "the real compiler did not run twice"
 
 # 5. Under the default limits the first use works and says how long it took (no tty, a short
 # compile: no announcement line).

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -175,13 +176,11 @@ class FirstUseReport {
   CompileCost cost_;
 };
 
-// Whether the compiler's log says it ran out of memory (GCC: "virtual memory exhausted", "out of
-// memory allocating"; Clang: std::bad_alloc).
-bool out_of_memory(const fs::path& log) {
+// Whether the compiler's log holds one of `signs`.
+bool log_says(const fs::path& log, std::initializer_list<const char*> signs) {
   std::ifstream in(log);
   for (std::string line; std::getline(in, line);)
-    for (const char* sign :
-         {"memory exhausted", "out of memory", "Cannot allocate memory", "bad_alloc"})
+    for (const char* sign : signs)
       if (line.find(sign) != std::string::npos) return true;
   return false;
 }
@@ -203,9 +202,17 @@ std::string compile_failure(const std::vector<std::string>& command, const RunRe
       " (" + size + printf_number(", about %.0f MB expected; ", cost.peak_mb) +
       (limits.memory_mb > 0 ? printf_number("limit %.0f MB", limits.memory_mb) : "no limit") +
       ", --compile-memory-mb, MECHGEN_COMPILE_MEMORY_MB)";
-  if (out_of_memory(log)) return "the compiler ran out of memory" + memory;
+  // GCC: "virtual memory exhausted", "out of memory allocating"; Clang: std::bad_alloc.
+  if (log_says(log, {"memory exhausted", "out of memory", "Cannot allocate memory", "bad_alloc"}))
+    return "the compiler ran out of memory" + memory;
   if (run.status == 128 + SIGKILL)
     return "the compiler was killed (SIGKILL: out of memory?)" + memory;
+  // A crash under an address-space limit is most often the limit (a stack or heap that cannot
+  // grow): "internal compiler error: Segmentation fault signal terminated program cc1plus".
+  if (limits.memory_mb > 0 &&
+      (run.status > 128 || log_says(log, {"internal compiler error", "terminated program"})))
+    return command.front() + " exit " + std::to_string(run.status) + ", a crash: out of memory?" +
+           memory;
   return command.front() + " exit " + std::to_string(run.status);
 }
 

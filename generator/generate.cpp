@@ -80,11 +80,13 @@ GenerateResult generate(const GenerateOptions& options) {
   return generate(read_model(options.model_path), options);
 }
 
-GenerateResult generate(const Model& model, const GenerateOptions& options) {
+std::vector<EmittedFile> emit_files(const Model& model, const GenerateOptions& options,
+                                    std::vector<std::string>* notes,
+                                    std::vector<BranchChoice>* branches) {
   const SolvePlan plan = make_solve_plan(model);
   const auto inputs = make_driver_inputs(model);
   StagedProgram program = make_program(model, inputs);
-  const Derivation derivation = derive(model, plan, assembled_pose(model), inputs, program);
+  Derivation derivation = derive(model, plan, assembled_pose(model), inputs, program);
 
   EmitOptions emit;
   emit.templates_dir = options.templates_dir;
@@ -92,9 +94,15 @@ GenerateResult generate(const Model& model, const GenerateOptions& options) {
   emit.command = "build/mechgen generate " + emit.source + (options.bake ? " --bake" : "");
   emit.bake = options.bake;
   emit.fingerprint = kernel_fingerprint(model, options.templates_dir, options.bake);
-  const std::vector<EmittedFile> files = emit_kernel(model, plan, derivation, program, emit);
+  std::vector<EmittedFile> files = emit_kernel(model, plan, derivation, program, emit);
+  if (notes) *notes = derivation.notes;
+  if (branches) *branches = std::move(derivation.branches);
+  return files;
+}
 
-  GenerateResult result{model.name, {}, derivation.notes};
+GenerateResult generate(const Model& model, const GenerateOptions& options) {
+  GenerateResult result{model.name, {}, {}};
+  const std::vector<EmittedFile> files = emit_files(model, options, &result.notes);
   std::filesystem::create_directories(options.output_dir);
   for (const EmittedFile& file : files) {
     const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();

@@ -31,6 +31,13 @@ GenerateResult generate(const GenerateOptions& options);
 // read is what is generated, even if the file changes meanwhile.
 GenerateResult generate(const Model& model, const GenerateOptions& options);
 
+// The files generate(model, options) writes, in memory (nothing written; options.output_dir
+// unused), with the notes and branches branch_notes() gives when asked: what `mechgen check`
+// measures. Same exceptions.
+std::vector<EmittedFile> emit_files(const Model& model, const GenerateOptions& options,
+                                    std::vector<std::string>* notes = nullptr,
+                                    std::vector<BranchChoice>* branches = nullptr);
+
 // The branch generate() picks for each group ("g2_l7_l9: branch -1"), derived the same way but
 // without emitting or writing anything: what `mechgen check` prints. Same exceptions.
 // With each closed-form group's branches (BranchChoice) in `branches` when given.

@@ -689,13 +689,9 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
   return files;
 }
 
-GenerateResult generate_spatial(const GenerateOptions& options) {
-  const SpatialModel model =
-      options.support.empty()
-          ? read_spatial_model(options.model_path)
-          : weld_support(read_spatial_model(options.model_path), options.support);
-  const SpatialGraph graph = build_spatial_graph(model);
-  const SpatialDerivation derivation = derive_spatial(model, graph);
+std::vector<EmittedFile> emit_spatial_files(const SpatialModel& model,
+                                            const SpatialDerivation& derivation,
+                                            const GenerateOptions& options) {
   EmitOptions emit;
   emit.templates_dir = options.templates_dir;
   emit.source = display_path(options.model_path);
@@ -703,9 +699,19 @@ GenerateResult generate_spatial(const GenerateOptions& options) {
                  (options.support.empty() ? "" : " --support " + options.support);
   emit.fingerprint =
       kernel_fingerprint(model.common, options.templates_dir, false, KernelKind::spatial);
+  return emit_spatial_kernel(model, derivation, emit);
+}
+
+GenerateResult generate_spatial(const GenerateOptions& options) {
+  const SpatialModel model =
+      options.support.empty()
+          ? read_spatial_model(options.model_path)
+          : weld_support(read_spatial_model(options.model_path), options.support);
+  const SpatialGraph graph = build_spatial_graph(model);
+  const SpatialDerivation derivation = derive_spatial(model, graph);
   GenerateResult result{model.common.name, {}, derivation.plan};
   std::filesystem::create_directories(options.output_dir);
-  for (const EmittedFile& file : emit_spatial_kernel(model, derivation, emit)) {
+  for (const EmittedFile& file : emit_spatial_files(model, derivation, options)) {
     const std::string path = (std::filesystem::path(options.output_dir) / file.name).string();
     std::ofstream out(path, std::ios::binary);
     out << file.text;

@@ -16,6 +16,12 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
                                              const SpatialDerivation& derivation,
                                              const EmitOptions& options);
 
+// The files generate_spatial(options) writes for `model` (read and, for options.support, welded as
+// it does) and its derivation, in memory: what `mechgen check` measures.
+std::vector<EmittedFile> emit_spatial_files(const SpatialModel& model,
+                                            const SpatialDerivation& derivation,
+                                            const GenerateOptions& options);
+
 // generate() for a `dimension: spatial` description (same options and result).
 GenerateResult generate_spatial(const GenerateOptions& options);
 

@@ -6,14 +6,7 @@
 # before computing; and the located messages of issue 29 item 6.
 # usage: outputs_hostile.sh MECHGEN SOURCE_DIR
 set -um  # job control: background runs get SIGINT as a terminal would send it
-M=$1
-SRC=$2
-W=$(mktemp -d)
-trap 'rm -rf "$W"' EXIT
-fail() {
-  echo "FAIL: $*"
-  exit 1
-}
+source "$(dirname "$0")/script_common.sh"
 crank=$SRC/models/slider_crank.yaml
 echo "previous" >"$W/out.csv"
 

@@ -3,6 +3,7 @@
 // assembly and redundancy, the info JSON of DESIGN.md's "Spatial models" and the numeric sweep.
 #include "cli/cmd_spatial.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -10,6 +11,8 @@
 #include "cli/model_info.hpp"
 #include "model/spatial_graph.hpp"
 #include "model/spatial_value_checks.hpp"
+#include "ondemand/data_paths.hpp"
+#include "ondemand/kernel_budget.hpp"
 #include "ondemand/kernel_resolver.hpp"
 #include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
@@ -19,6 +22,7 @@
 #include "spatial/spatial_solver.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_derivation.hpp"
+#include "spatial_emitter.hpp"
 #include "sweep/shard.hpp"
 #include "sweep/sweep.hpp"
 
@@ -153,6 +157,13 @@ int run_spatial_check(const Args& args) {
     for (const int k : d.closed_form_groups) out += "  " + d.plan[static_cast<size_t>(k)] + "\n";
     for (const std::string& line : d.plan)
       if (line.rfind("closure:", 0) == 0) out += "  " + line + "\n";
+    // The kernel as its first use generates it (the derivation above), in memory: its size.
+    const auto start = std::chrono::steady_clock::now();
+    const gen::GenerateOptions options{model.common.file, "", ondemand::templates_dir(), false, ""};
+    const std::vector<gen::EmittedFile> files = gen::emit_spatial_files(model, d, options);
+    out += ondemand::kernel_cost_report(
+        files, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+        !compiled.empty());
   } catch (const std::runtime_error& e) {
     const std::string why = e.what();
     out += "generated kernel: none (" + why.substr(why.find("error: ") + 7) + ")\n";

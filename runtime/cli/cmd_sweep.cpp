@@ -28,7 +28,9 @@ One run over time: every named quantity at N uniform samples from T0 to T1 inclu
 the model's step, evaluated with the --set values), one CSV row per sample (the columns of README.md's
 "Command line", 17 significant digits).
   --solver generated  the model's generated kernel (default): compiled into mechgen when it is
-                      current, else generated, compiled and cached on first use (--cache DIR)
+                      current, else generated, compiled and cached on first use (--cache DIR;
+                      --max-kernel-mb MB, --compile-timeout S, --compile-memory-mb MB: its
+                      compile budget, `mechgen --help`)
   --solver numeric    the reference solver
   --set NAME=VALUE    overrides a model parameter (repeatable); no regeneration needed
   --threads N         threads for the generated solver (default: all, for 20000 samples or more)

@@ -29,6 +29,8 @@
 #include "model/support_model.hpp"
 #include "numeric/reference_solver.hpp"
 #include "ondemand/data_paths.hpp"
+#include "ondemand/kernel_budget.hpp"
+#include "ondemand/kernel_resolver.hpp"
 #include "report/atomic_output.hpp"
 #include "report/column_plot.hpp"
 #include "report/csv_table.hpp"
@@ -59,7 +61,11 @@ by Gruebler's count against the drivers, independent loops, Newton-Euler unknown
 the assembly at t0 by the numeric solver (this catches redundant constraints and assembly hints
 that do not assemble); and the solve plan the generator follows: the reference body frame, each
 group in order, closed form (with the branch the generator picks) or iterative (Newton-Raphson in
-the kernel, for groups such as an Assur triad that have no closed form).
+the kernel, for groups such as an Assur triad that have no closed form); and the kernel's size
+(its header generated in memory, as its first use would: exact) with the expected time and memory
+of its first-use compile (an estimate: time within a factor of 4, more on a machine loaded past its
+cores; memory within a factor of 2), and a warning when the header is over --max-kernel-mb
+(MECHGEN_MAX_KERNEL_MB, default 8), whose first use is then refused.
 
 Problems are reported as FILE:LINE:COL: error: MESSAGE on stderr, exit code 1.
 )";
@@ -187,10 +193,17 @@ int run_check(const Args& args) {
                    model.bodies[static_cast<size_t>(model.ground)].name + ")\n";
   std::vector<std::string> notes;
   std::vector<gen::BranchChoice> branches;
-  std::string derivation_problem;
+  std::string derivation_problem, kernel_cost;
   if (plan.complete()) {
     try {
-      notes = gen::branch_notes(model, &branches);
+      // The kernel as its first use generates it, in memory: its notes, branches and size.
+      const auto start = std::chrono::steady_clock::now();
+      const gen::GenerateOptions options{model.file, "", ondemand::templates_dir(), false, ""};
+      const std::vector<gen::EmittedFile> files =
+          gen::emit_files(model, options, &notes, &branches);
+      kernel_cost = ondemand::kernel_cost_report(
+          files, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          ondemand::current_compiled_kernel(model) != nullptr);
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& error) {
@@ -223,6 +236,7 @@ int run_check(const Args& args) {
     out += "  closed form: no; no closed-form group reaches" + unsolved +
            " (sweep with --solver numeric)\n";
   }
+  out += kernel_cost;
   std::cout << out;
   if (!derivation_problem.empty()) {
     std::cout << "  branches: not derived\n" << std::flush;
@@ -498,8 +512,13 @@ std::string main_help() {
       "Any other model (or one edited since the build) gets its kernel generated, compiled and\n"
       "cached on first use; --cache DIR (any command) or MECHGEN_CACHE moves the cache from\n"
       "$XDG_CACHE_HOME/mechgen (~/.cache/mechgen). The compiler is MECHGEN_CXX, else CXX, else\n"
-      "c++ (a program and its arguments, separated by spaces). See README.md, \"The kernel "
-      "cache\".\n";
+      "c++ (a program and its arguments, separated by spaces). A kernel whose header is over\n"
+      "--max-kernel-mb MB (MECHGEN_MAX_KERNEL_MB, default 8; 0: none) is refused before the\n"
+      "compiler starts, with its expected compile time and memory (also in `mechgen check`);\n"
+      "the compiler is stopped after --compile-timeout S (MECHGEN_COMPILE_TIMEOUT, default 4x\n"
+      "the expected time, at least 600 s) and limited to --compile-memory-mb MB of address\n"
+      "space (MECHGEN_COMPILE_MEMORY_MB, default the machine's memory); 0 lifts either. See\n"
+      "README.md, \"The kernel cache\".\n";
   return text;
 }
 
@@ -509,31 +528,48 @@ void print_error(const std::string& message) {
             << "\n";
 }
 
-// `--cache DIR` (or --cache=DIR), accepted anywhere and by every command: the on-demand kernel
-// cache, passed on as MECHGEN_CACHE. Removes it from `words`.
-void take_cache_option(std::vector<std::string>& words) {
-  for (size_t i = 0; i < words.size(); ++i) {
-    std::string dir;
-    if (words[i] == "--cache") {
-      if (i + 1 == words.size()) throw UsageError("--cache needs a folder");
-      dir = words[i + 1];
-      words.erase(words.begin() + static_cast<long>(i), words.begin() + static_cast<long>(i) + 2);
-    } else if (words[i].rfind("--cache=", 0) == 0) {
-      dir = words[i].substr(8);
-      words.erase(words.begin() + static_cast<long>(i));
-    } else {
-      continue;
+// The options every command takes, anywhere on its line (--NAME VALUE or --NAME=VALUE), each
+// passed on as an environment variable: the on-demand kernel cache and its compile budget
+// (ondemand/kernel_budget.hpp).
+struct GlobalOption {
+  const char* name;
+  const char* variable;
+  const char* value;  // what the value is, for the error
+};
+constexpr GlobalOption kGlobalOptions[] = {
+    {"--cache", "MECHGEN_CACHE", "a folder"},
+    {"--max-kernel-mb", "MECHGEN_MAX_KERNEL_MB", "a size in MB"},
+    {"--compile-timeout", "MECHGEN_COMPILE_TIMEOUT", "a number of seconds"},
+    {"--compile-memory-mb", "MECHGEN_COMPILE_MEMORY_MB", "a size in MB"},
+};
+
+// Takes the global options out of `words`, setting their variables.
+void take_global_options(std::vector<std::string>& words) {
+  for (size_t i = 0; i < words.size(); ++i)
+    for (const GlobalOption& option : kGlobalOptions) {
+      const std::string name = option.name, joined = name + "=";
+      std::string value;
+      if (words[i] == name) {
+        if (i + 1 == words.size()) throw UsageError(name + " needs " + option.value);
+        value = words[i + 1];
+        words.erase(words.begin() + static_cast<long>(i), words.begin() + static_cast<long>(i) + 2);
+      } else if (words[i].rfind(joined, 0) == 0) {
+        value = words[i].substr(joined.size());
+        words.erase(words.begin() + static_cast<long>(i));
+      } else {
+        continue;
+      }
+      if (value.empty()) throw UsageError(name + " needs " + option.value);
+      ::setenv(option.variable, value.c_str(), 1);
+      --i;
+      break;
     }
-    if (dir.empty()) throw UsageError("--cache needs a folder");
-    ::setenv("MECHGEN_CACHE", dir.c_str(), 1);
-    --i;
-  }
 }
 
 int dispatch(int argc, char** argv) {
   std::vector<std::string> words(argv + 1, argv + argc);
   try {
-    take_cache_option(words);
+    take_global_options(words);
   } catch (const UsageError& error) {
     std::cerr << "mechgen: error: " << error.what() << "\n";
     return 1;

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "ondemand/cache_folder.hpp"
+#include "ondemand/kernel_budget.hpp"
 
 namespace mechgen::ondemand {
 
@@ -60,14 +61,7 @@ CacheLock::~CacheLock() {
 }
 
 double cache_lock_timeout() {
-  const char* text = std::getenv("MECHGEN_CACHE_LOCK_TIMEOUT");
-  if (!text || !*text) return 900;
-  char* end = nullptr;
-  const double seconds = std::strtod(text, &end);
-  if (*end != '\0' || !std::isfinite(seconds) || seconds < 0)
-    throw std::runtime_error("MECHGEN_CACHE_LOCK_TIMEOUT='" + std::string(text) +
-                             "' is not a number of seconds");
-  return seconds;
+  return environment_number("MECHGEN_CACHE_LOCK_TIMEOUT", 900, "seconds");
 }
 
 }  // namespace mechgen::ondemand

@@ -7,11 +7,13 @@
 
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -21,6 +23,7 @@
 #include "ondemand/cache_folder.hpp"
 #include "ondemand/cache_lock.hpp"
 #include "ondemand/data_paths.hpp"
+#include "ondemand/kernel_budget.hpp"
 #include "ondemand/process.hpp"
 #include "ondemand/verified_library.hpp"
 #include "report/temporary_files.hpp"
@@ -135,26 +138,108 @@ void remove_abandoned_builds(const fs::path& cache) {
   }
 }
 
-// The reason a compiler's exit status gives, for the error message.
-std::string compile_failure(const std::vector<std::string>& command, int status) {
-  if (status == 127)
-    return "cannot start the compiler '" + command.front() +
-           "' (not on PATH?): set MECHGEN_CXX or CXX to a C++17 compiler, or use --solver numeric";
-  return command.front() + " exit " + std::to_string(status);
+// What a first use says on stderr: "mechgen: compiling kernel for X, first use: " and then, on a
+// terminal, the phase (generating, compiling) with the compile's elapsed and expected seconds
+// redrawn every kTickSeconds; elsewhere, when the compile is expected to take more than
+// kAnnounceSeconds, one line with its expected cost up front; at the end, the time it took.
+class FirstUseReport {
+ public:
+  static constexpr double kAnnounceSeconds = 30, kTickSeconds = 2;
+  explicit FirstUseReport(std::string prefix)
+      : prefix_(std::move(prefix)), terminal_(::isatty(STDERR_FILENO) == 1) {
+    std::cerr << prefix_ << (terminal_ ? "generating" : "") << std::flush;
+  }
+  // The compiler starts on a kernel of `cost`.
+  void compiling(const CompileCost& cost) {
+    cost_ = cost;
+    if (terminal_) {
+      tick(0);
+    } else if (cost.seconds > kAnnounceSeconds) {
+      std::cerr << describe(cost) << " (expected)\n";
+      line_open_ = false;
+    }
+  }
+  void tick(double seconds) {
+    if (!terminal_) return;
+    std::cerr << "\r\033[K" << prefix_ << printf_number("%.0f s", seconds)
+              << printf_number(" of about %.0f s", cost_.seconds)
+              << printf_number(" (%.2f MB header, compiling)", cost_.header_mb) << std::flush;
+  }
+  void finish(const std::string& outcome) {
+    std::cerr << (terminal_ ? "\r\033[K" + prefix_ : line_open_ ? "" : prefix_) << outcome << "\n";
+  }
+
+ private:
+  std::string prefix_;
+  bool terminal_;
+  bool line_open_ = true;
+  CompileCost cost_;
+};
+
+// Whether the compiler's log holds one of `signs`.
+bool log_says(const fs::path& log, std::initializer_list<const char*> signs) {
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line);)
+    for (const char* sign : signs)
+      if (line.find(sign) != std::string::npos) return true;
+  return false;
 }
 
-// Generates and compiles the kernel into `library` with its hash record (kernel_cache.hpp).
+// The reason a compiler's run gives, for the error message.
+std::string compile_failure(const std::vector<std::string>& command, const RunResult& run,
+                            const CompileCost& cost, const CompileLimits& limits,
+                            const fs::path& log) {
+  if (run.status == 127)
+    return "cannot start the compiler '" + command.front() +
+           "' (not on PATH?): set MECHGEN_CXX or CXX to a C++17 compiler, or use --solver numeric";
+  const std::string size = printf_number("%.2f MB header", cost.header_mb);
+  if (run.timed_out)
+    return "stopped at the time limit of " + printf_number("%g s", limits.timeout_seconds) + " (" +
+           size +
+           printf_number(", about %.0f s expected; --compile-timeout, MECHGEN_COMPILE_TIMEOUT)",
+                         cost.seconds);
+  const std::string memory =
+      " (" + size + printf_number(", about %.0f MB expected; ", cost.peak_mb) +
+      (limits.memory_mb > 0 ? printf_number("limit %.0f MB", limits.memory_mb) : "no limit") +
+      ", --compile-memory-mb, MECHGEN_COMPILE_MEMORY_MB)";
+  // GCC: "virtual memory exhausted", "out of memory allocating"; Clang: std::bad_alloc.
+  if (log_says(log, {"memory exhausted", "out of memory", "Cannot allocate memory", "bad_alloc"}))
+    return "the compiler ran out of memory" + memory;
+  if (run.status == 128 + SIGKILL)
+    return "the compiler was killed (SIGKILL: out of memory?)" + memory;
+  // A crash under an address-space limit is most often the limit (a stack or heap that cannot
+  // grow): "internal compiler error: Segmentation fault signal terminated program cc1plus".
+  if (limits.memory_mb > 0 &&
+      (run.status > 128 || log_says(log, {"internal compiler error", "terminated program"})))
+    return command.front() + " exit " + std::to_string(run.status) + ", a crash: out of memory?" +
+           memory;
+  return command.front() + " exit " + std::to_string(run.status);
+}
+
+// The size of the kernel's header among the generated files.
+std::uintmax_t header_bytes(const std::vector<std::string>& written) {
+  std::uintmax_t bytes = 0;
+  std::error_code error;
+  for (const std::string& path : written)
+    if (fs::path(path).extension() == ".hpp") bytes += fs::file_size(path, error);
+  return bytes;
+}
+
+// Generates and compiles the kernel into `library` with its hash record (kernel_cache.hpp): the
+// header's size checked against the limit before the compiler starts, the compiler run under the
+// time and memory limits (kernel_budget.hpp).
 void build(const Model& model, gen::KernelKind kind, const std::string& support,
-           const fs::path& cache, const std::vector<std::string>& command,
-           const fs::path& library) {
+           const fs::path& cache, const std::vector<std::string>& command, const fs::path& library,
+           FirstUseReport& report) {
   const BuildFolder folder(cache, model.name);
   const fs::path& dir = folder.path();
+  gen::GenerateResult generated;
   try {
     const gen::GenerateOptions options{model.file, dir.string(), templates_dir(), false, support};
     if (kind == gen::KernelKind::spatial)
-      gen::generate_spatial(options);  // reads model.file again: load() checks the fingerprint
+      generated = gen::generate_spatial(options);  // reads model.file again: load() checks it
     else
-      gen::generate(model, options);
+      generated = gen::generate(model, options);
   } catch (const ModelError&) {
     throw;
   } catch (const std::exception& error) {
@@ -166,6 +251,9 @@ void build(const Model& model, gen::KernelKind kind, const std::string& support,
     if (why.find("--solver numeric") == std::string::npos) why += " (use --solver numeric)";
     throw std::runtime_error("cannot generate a kernel for '" + model.name + "': " + why);
   }
+  const CompileCost cost = expected_compile_cost(header_bytes(generated.written));
+  const CompileLimits limits = compile_limits(cost);
+  check_kernel_size(model.name, cost, limits);
   std::vector<std::string> argv = command;
   const fs::path built = dir / (model.name + ".so");
   for (const std::string& word :
@@ -173,15 +261,21 @@ void build(const Model& model, gen::KernelKind kind, const std::string& support,
         (dir / (model.name + "_entry.cpp")).string(), std::string("-o"), built.string()})
     argv.push_back(word);
   const fs::path log = dir / "compile.log";
-  const int status = run_to_file(argv, log.string());
+  RunLimits run_limits;
+  run_limits.timeout_seconds = limits.timeout_seconds;
+  run_limits.memory_bytes = static_cast<std::uint64_t>(limits.memory_mb * 1e6);
+  run_limits.tick = [&report](double seconds) { report.tick(seconds); };
+  run_limits.tick_seconds = FirstUseReport::kTickSeconds;
+  report.compiling(cost);
+  const RunResult run = run_to_file(argv, log.string(), run_limits);
   std::error_code error;
-  if (status != 0) {
+  if (run.status != 0) {
     fs::path kept = library;
     kept.replace_extension(".log");
     fs::rename(log, kept, error);
     throw std::runtime_error("compiling the kernel of '" + model.name + "' failed (" +
-                             compile_failure(command, status) + "); the compiler's output is in " +
-                             kept.string());
+                             compile_failure(command, run, cost, limits, kept) +
+                             "); the compiler's output is in " + kept.string());
   }
   // Readable by all (a shared read-only cache), writable by none but its owner whatever the umask.
   fs::permissions(built, fs::perms(0644), error);
@@ -254,19 +348,19 @@ const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprin
   // Another process may have built it while this one waited.
   if (fs::exists(fs::symlink_status(library, error)))
     if (const CompiledKernel* kernel = load(library, model, fingerprint, problem)) return *kernel;
-  std::cerr << "mechgen: compiling kernel for " << model.name << reason
-            << ", first use: " << std::flush;
+  FirstUseReport report("mechgen: compiling kernel for " + model.name + reason + ", first use: ");
   const auto start = std::chrono::steady_clock::now();
   try {
-    build(model, kind, support, cache.path, command, library);
+    build(model, kind, support, cache.path, command, library, report);
   } catch (...) {
-    std::cerr << "failed\n";
+    report.finish("failed");
     throw;
   }
-  char seconds[32];
-  std::snprintf(seconds, sizeof seconds, "%.1f s",
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  std::cerr << seconds << " (cached in " << cache.path << ")\n";
+  report.finish(
+      printf_number(
+          "%.1f s",
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) +
+      " (cached in " + cache.path + ")");
   if (const CompiledKernel* kernel = load(library, model, fingerprint, problem)) return *kernel;
   throw std::runtime_error("cannot load the kernel just compiled, " + library.string() + ": " +
                            problem);

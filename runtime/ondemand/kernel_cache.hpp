@@ -32,6 +32,11 @@
 //   c++ -std=c++17 -O2 -march=native -shared -fPIC -fvisibility=hidden -ffp-contract=off
 //       -fno-math-errno -fno-trapping-math -DMECHGEN_KERNEL_SHARED ...
 // (the build's own floating-point flags, never fast-math).
+//
+// Budget (kernel_budget.hpp): the generated header's size is checked against
+// $MECHGEN_MAX_KERNEL_MB before the compiler starts (a larger one is an error, no compiler run);
+// the compiler runs under a time limit and an address-space limit, and says its progress on a
+// terminal.
 #pragma once
 
 #include <cstdint>
@@ -53,7 +58,8 @@ std::vector<std::string> compile_command();
 
 // The kernel of `model` whose fingerprint is `fingerprint`: loaded from the cache, else generated,
 // compiled (saying so on stderr, with the time it took) and cached. Throws std::runtime_error when
-// it cannot be generated, compiled (the message names the compiler's log file) or loaded. A spatial
+// it cannot be generated, is over the size limit, cannot be compiled within the time and memory
+// limits (the message names the compiler's log file) or loaded. A spatial
 // kernel (`kind`) is generated from the description's file, model.file, by the spatial emitter,
 // standing on `support` when one is named (a single-support kernel, model/support_model.hpp).
 const CompiledKernel& cached_kernel(const Model& model, std::uint64_t fingerprint,

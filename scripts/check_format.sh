@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# clang-format over the project's own hand-written C++ (runtime/ generator/ tests/ bench/ fuzz/; generated/
+# clang-format over the project's own hand-written C++ (runtime/ generator/ tests/ bench/; generated/
 # keeps the layout the generator prints, so regeneration stays byte-identical).
 #   bash scripts/check_format.sh         fails listing every file that is not formatted
 #   bash scripts/check_format.sh --fix   formats them in place
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-mapfile -d '' files < <(find runtime generator tests bench fuzz -type f \
+mapfile -d '' files < <(find runtime generator tests bench -type f \
   \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.cc' \) -print0 2>/dev/null | sort -z)
 if [[ ${#files[@]} -eq 0 ]]; then
   echo "check_format.sh: no C++ files found" >&2

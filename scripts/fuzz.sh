@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (fuzz/, clang++-14 with -fsanitize=fuzzer,address,undefined) in
+# Builds the libFuzzer targets (tests/fuzz/, clang++-14 with -fsanitize=fuzzer,address,undefined) in
 # build-fuzz/ and runs each for a bounded time:
 #   scripts/fuzz.sh [SECONDS_PER_TARGET]     (default 60; CI runs scripts/fuzz.sh 10)
 # Seeds: models/*.yaml for the reader; the corpus grows in build-fuzz/corpus/. A finding (crash,
@@ -14,7 +14,7 @@ if command -v ccache >/dev/null 2>&1; then  # as scripts/test.sh: reruns rebuild
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
 fi
-cmake -S fuzz -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
+cmake -S tests/fuzz -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
   "${launcher[@]}" >/dev/null
 cmake --build build-fuzz -j "${MECHGEN_JOBS:-2}"
 mkdir -p build-fuzz/corpus/reader build-fuzz/corpus/kernel build-fuzz/corpus/spatial_kernel

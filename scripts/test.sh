@@ -3,7 +3,7 @@
 #   1. dependencies (scripts/deps.sh)
 #   2. Release build in build/ and every ctest test (unit, equivalence, regenerate-and-diff, format)
 #   3. AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/ and every test again
-#   4. the libFuzzer targets (fuzz/) for 10 s each (scripts/fuzz.sh)
+#   4. the libFuzzer targets (tests/fuzz/) for 10 s each (scripts/fuzz.sh)
 # Exits non-zero at the first failure. MECHGEN_JOBS sets the parallelism (default 2).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

@@ -193,6 +193,48 @@ TEST(ViewInBrowser, SpatialPosesInTheSceneAreTheSweepCsvs) {
   expect_scene_matches_csv(dir, page, csv, true, {0, 11, 30});
 }
 
+// The seed systems the issue names open and show their own tables: PASIBOT walking over several
+// steps (planar), the quadruped leg along its swing (spatial, the generated kernel's sweep) and
+// the Bioloid's gait (humanoid-gait's gait.csv, the body poses of the whole walk).
+TEST(ViewInBrowser, SeedSystemsShowTheirTables) {
+  const auto first_middle_last = [](const fs::path& csv) {
+    const size_t n = mechgen::report::read_csv(csv.string()).rows.size();
+    return std::vector<size_t>{0, n / 2, n - 1};
+  };
+  TempDir dir;
+  if (const std::string why = chromium_problem(dir); !why.empty()) GTEST_SKIP() << why;
+  const fs::path pasibot = dir / "pasibot.csv", leg = dir / "leg.csv", page = dir / "view.html";
+  ASSERT_EQ(run(kMechgen + " walk " + model("pasibot") + " --steps 3 --samples 40 --out " +
+                pasibot.string())
+                .status,
+            0);
+  ASSERT_EQ(run(kMechgen + " view " + model("pasibot") + " --csv " + pasibot.string() +
+                " --out " + page.string())
+                .status,
+            0);
+  expect_scene_matches_csv(dir, page, pasibot, false, first_middle_last(pasibot));
+  ASSERT_EQ(run(kMechgen + " sweep " + model("quadruped_leg_swing") + " --samples 41 --out " +
+                leg.string())
+                .status,
+            0);
+  ASSERT_EQ(run(kMechgen + " view " + model("quadruped_leg_swing") + " --csv " + leg.string() +
+                " --trace D --out " + page.string())
+                .status,
+            0);
+  expect_scene_matches_csv(dir, page, leg, true, first_middle_last(leg));
+  const fs::path gait = dir / "gait";
+  fs::create_directories(gait);
+  ASSERT_EQ(run(kMechgen + " humanoid-gait " + model("bioloid") + " --samples-per-step 8 --out " +
+                gait.string())
+                .status,
+            0);
+  ASSERT_EQ(run(kMechgen + " view " + model("bioloid") + " --csv " + (gait / "gait.csv").string() +
+                " --out " + page.string())
+                .status,
+            0);
+  expect_scene_matches_csv(dir, page, gait / "gait.csv", true, first_middle_last(gait / "gait.csv"));
+}
+
 // Pixels of the PNG (RGB) and its size.
 bool read_png(const fs::path& path, std::vector<unsigned char>& rgb, int& width, int& height) {
   png_image image{};

@@ -7,7 +7,7 @@ if(NOT clash EQUAL -1)
   message(FATAL_ERROR "${INPUT} contains the raw string's end marker )embedded_text\"")
 endif()
 file(WRITE "${OUTPUT}.tmp"
-     "// Generated at build time from ${INPUT} by cmake/embed_text.cmake: do not edit.\n"
+     "// Generated at build time from ${INPUT} by scripts/cmake/embed_text.cmake: do not edit.\n"
      "namespace ${NAMESPACE} {\n"
      "extern const char* const ${NAME};\n"
      "const char* const ${NAME} = R\"embedded_text(${text})embedded_text\";\n"

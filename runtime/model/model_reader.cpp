@@ -692,10 +692,13 @@ SpatialModel Reader::read_spatial(const YAML::Node& root) {
   if (root["assembly_tolerance"])
     fail(root["assembly_tolerance"],
          "assembly_tolerance is for planar models (spatial ones take per-joint `assembly:` hints)");
-  read_step(root);
-  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
-  if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
-    throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  // Without `step:` a model with table drivers takes the tables' span (spatial_reader.cpp).
+  if (root["step"]) {
+    read_step(root);
+    const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
+    if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
+      throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  }
   return read_spatial_elements(root, *this, model_);
 }
 

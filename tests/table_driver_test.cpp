@@ -5,8 +5,6 @@
 // both solvers (the generated one through a kernel built on demand).
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -28,11 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& what) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("mechgen_table_driver_" + std::to_string(::getpid()) + "_" + what);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("mechgen_table_driver", what);
 }
 
 // A CSV of columns t and theta: theta = f(t) at n equally spaced times over [t0, t1].

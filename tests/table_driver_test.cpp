@@ -183,6 +183,24 @@ TEST(TableDriver, EveryBadTableIsAnErrorAtTheTableKey) {
   }
 }
 
+// A planar model's driver takes a law only: the table is refused where it is written.
+TEST(TableDriver, APlanarModelRefusesATable) {
+  const fs::path dir = fresh_dir("planar");
+  const std::string text =
+      test::replaced(test::file_text(std::string(MECHGEN_SOURCE_DIR) + "/models/slider_crank.yaml"),
+                     "value: w*t}", "value: {table: motion.csv, column: theta}}");
+  std::ofstream(dir / "m.yaml") << text;
+  try {
+    read_model((dir / "m.yaml").string());
+    ADD_FAILURE() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "m.yaml").string() +
+                  ":58:68: error: driver 'crank_angle': a table driver is for spatial models "
+                  "only (planar ones take a law of t)");
+  }
+}
+
 TEST(TableDriver, AChangedTableChangesTheFingerprint) {
   const fs::path dir = fresh_dir("fingerprint");
   std::ofstream(dir / "m.yaml") << kModel;

@@ -528,7 +528,11 @@ void Reader::read_driver(const YAML::Node& node) {
   } else {
     fail(kind, "unknown driver kind '" + kind_name + "' (angle or length)");
   }
-  d.value = expression(required(node, "value", "driver '" + d.name + "'"), "driver value", true);
+  const YAML::Node value = required(node, "value", "driver '" + d.name + "'");
+  if (value.IsMap() && value["table"])
+    fail(value, "driver '" + d.name +
+                    "': a table driver is for spatial models only (planar ones take a law of t)");
+  d.value = expression(value, "driver value", true);
   d.value_d = d.value.ex.diff(model_.t);
   d.value_dd = d.value_d.diff(model_.t);
   if (node["effort"]) d.effort = effort_law(node["effort"], "driver '" + d.name + "' effort");

@@ -294,6 +294,35 @@ TEST(TableDriver, RsurAlongATableOfItsOwnLawSweepsAsTheLawWithBothSolvers) {
     std::cout << "generated against numeric, both on the table: " << worst << " (" << where
               << ")\n";
   }
+  // --mass-matrix: the kernel's mass_bias entry takes the same driven motion (M and h of theta,
+  // h through q' only: equal to the law's to the spline's q' error).
+  {
+    std::vector<report::CsvTable> runs;
+    for (const auto& [model, solver] : {std::pair{"law.yaml", "numeric"},
+                                        {"table.yaml", "numeric"},
+                                        {"table.yaml", "generated"}}) {
+      ASSERT_EQ(
+          test::run_mechgen("sweep " + (dir / model).string() +
+                                " --samples 21 --mass-matrix --solver " + solver + " --cache " +
+                                (dir / "cache").string() + " --out " + (dir / "mass.csv").string(),
+                            dir, err),
+          0)
+          << err;
+      runs.push_back(report::read_csv((dir / "mass.csv").string()));
+    }
+    const size_t columns = runs[0].header.size();
+    ASSERT_EQ(runs[0].header[columns - 2], "M.theta.theta");
+    ASSERT_EQ(runs[0].header[columns - 1], "h.theta");
+    for (size_t c = columns - 2; c < columns; ++c) {
+      double scale = 0;
+      for (const auto& row : runs[0].rows) scale = std::max(scale, std::abs(row[c]));
+      ASSERT_GT(scale, 0);
+      for (size_t r = 0; r < 21; ++r)
+        for (size_t k = 1; k < 3; ++k)
+          EXPECT_NEAR(runs[k].rows[r][c], runs[0].rows[r][c], 1e-9 * scale)
+              << runs[0].header[c] << " run " << k << " row " << r;
+    }
+  }
   // Outside the table's range: an error, with either solver.
   for (const char* solver : {"numeric", "generated"}) {
     EXPECT_NE(test::run_mechgen("sweep " + (dir / "table.yaml").string() + " --t1 4 --solver " +

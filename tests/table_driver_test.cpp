@@ -323,6 +323,16 @@ TEST(TableDriver, RsurAlongATableOfItsOwnLawSweepsAsTheLawWithBothSolvers) {
               << runs[0].header[c] << " run " << k << " row " << r;
     }
   }
+  // URDF and MJCF hold no trajectory: exporting the table model is an error at its table.
+  EXPECT_NE(test::run_mechgen("export " + (dir / "table.yaml").string() + " --urdf " +
+                                  (dir / "out.urdf").string(),
+                              dir, err),
+            0);
+  EXPECT_NE(err.find("table.yaml:43:50: error: "), std::string::npos) << err;  // the mapping
+  EXPECT_NE(err.find("driver 'theta': follows a table; the exported driver law is a number or a "
+                     "law of t: export the model with a law"),
+            std::string::npos)
+      << err;
   // Outside the table's range: an error, with either solver.
   for (const char* solver : {"numeric", "generated"}) {
     EXPECT_NE(test::run_mechgen("sweep " + (dir / "table.yaml").string() + " --t1 4 --solver " +

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -38,6 +39,15 @@ inline int run_mechgen(const std::string& arguments, const std::filesystem::path
   const int status = std::system(command.c_str());
   err = file_text(dir / "stderr.txt");
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// An empty folder of this process under the system's temporary one: <prefix>_<pid>_<what>.
+inline std::filesystem::path fresh_dir(const std::string& prefix, const std::string& what) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    (prefix + "_" + std::to_string(::getpid()) + "_" + what);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 }  // namespace mechgen::test

@@ -5,8 +5,6 @@
 // generator cannot handle (nothing driven) is a clear error, never a stale kernel nor a fallback.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -28,11 +26,7 @@ using test::file_text;
 using test::replaced;
 
 fs::path fresh_dir(const std::string& what) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("mechgen_spatial_ondemand_" + std::to_string(::getpid()) + "_" + what);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("mechgen_spatial_ondemand", what);
 }
 
 // Runs the mechgen binary; returns its exit code, with its stderr in `err`.

@@ -208,8 +208,8 @@ TEST(ViewInBrowser, SeedSystemsShowTheirTables) {
                 pasibot.string())
                 .status,
             0);
-  ASSERT_EQ(run(kMechgen + " view " + model("pasibot") + " --csv " + pasibot.string() +
-                " --out " + page.string())
+  ASSERT_EQ(run(kMechgen + " view " + model("pasibot") + " --csv " + pasibot.string() + " --out " +
+                page.string())
                 .status,
             0);
   expect_scene_matches_csv(dir, page, pasibot, false, first_middle_last(pasibot));
@@ -232,7 +232,8 @@ TEST(ViewInBrowser, SeedSystemsShowTheirTables) {
                 " --out " + page.string())
                 .status,
             0);
-  expect_scene_matches_csv(dir, page, gait / "gait.csv", true, first_middle_last(gait / "gait.csv"));
+  expect_scene_matches_csv(dir, page, gait / "gait.csv", true,
+                           first_middle_last(gait / "gait.csv"));
 }
 
 // Pixels of the PNG (RGB) and its size.

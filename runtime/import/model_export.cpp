@@ -77,6 +77,11 @@ struct Layout {
       if (j.type == SpatialJointType::helical)
         throw ModelError(j.loc, "joint '" + j.name + "': a helical joint has no URDF or MJCF form");
     for (const SpatialDriver& d : m.drivers)
+      if (d.table)
+        throw ModelError(d.value.loc, "driver '" + d.name +
+                                          "': follows a table; the exported driver law is a "
+                                          "number or a law of t: export the model with a law");
+    for (const SpatialDriver& d : m.drivers)
       if (m.joints[static_cast<size_t>(d.joint)].columns.size() != 1)
         throw ModelError(d.loc, "driver '" + d.name +
                                     "': drives one coordinate of a multi-coordinate joint; "

@@ -528,7 +528,11 @@ void Reader::read_driver(const YAML::Node& node) {
   } else {
     fail(kind, "unknown driver kind '" + kind_name + "' (angle or length)");
   }
-  d.value = expression(required(node, "value", "driver '" + d.name + "'"), "driver value", true);
+  const YAML::Node value = required(node, "value", "driver '" + d.name + "'");
+  if (value.IsMap() && value["table"])
+    fail(value, "driver '" + d.name +
+                    "': a table driver is for spatial models only (planar ones take a law of t)");
+  d.value = expression(value, "driver value", true);
   d.value_d = d.value.ex.diff(model_.t);
   d.value_dd = d.value_d.diff(model_.t);
   if (node["effort"]) d.effort = effort_law(node["effort"], "driver '" + d.name + "' effort");
@@ -692,10 +696,13 @@ SpatialModel Reader::read_spatial(const YAML::Node& root) {
   if (root["assembly_tolerance"])
     fail(root["assembly_tolerance"],
          "assembly_tolerance is for planar models (spatial ones take per-joint `assembly:` hints)");
-  read_step(root);
-  const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
-  if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
-    throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  // Without `step:` a model with table drivers takes the tables' span (spatial_reader.cpp).
+  if (root["step"]) {
+    read_step(root);
+    const GiNaC::exmap subs = model_.substitutions(model_.default_parameters());
+    if (!(model_.evaluate(model_.step.t1, subs) > model_.evaluate(model_.step.t0, subs)))
+      throw ModelError(model_.step.t1.loc, "step: t1 must be greater than t0");
+  }
   return read_spatial_elements(root, *this, model_);
 }
 

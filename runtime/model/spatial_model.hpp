@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "model/cubic_spline.hpp"
 #include "model/model.hpp"
 
 namespace mechgen {
@@ -90,8 +91,12 @@ struct SpatialDriver {
   int joint = -1;
   int column = 0;  // which coordinate of the joint (cylindrical: 0 translation, 1 rotation)
   DriverKind kind = DriverKind::angle;
+  // A law of t: value and its exact derivatives. For a table driver (`table` set), the table's
+  // first value as a constant: the placeholder the generated kernel's own driver motion and
+  // assembly take (the runtime passes the spline's motion through the kernel's driven entry).
   Expr value;
   GiNaC::ex value_d, value_dd;
+  std::optional<DriverTable> table;  // `value: {table: FILE.csv, column: NAME}`
   std::optional<std::array<Expr, 2>> range;
   std::optional<Expr> effort;  // `mechgen simulate`: a law of t, q, qd (as Driver::effort)
   SourceLoc loc;

@@ -4,11 +4,13 @@
 // (model_reader.cpp) through DescriptionSyntax, so both dimensions parse them identically.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
 #include "geometry/screw.hpp"
 #include "model/description_syntax.hpp"
+#include "model/fingerprint.hpp"
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
 #include "model/spatial_value_checks.hpp"
@@ -64,6 +66,8 @@ class SpatialReader {
   void read_joint(const YAML::Node& node);
   void read_driver(const YAML::Node& node);
   void read_pose_driver(const YAML::Node& node);
+  void read_driver_table(const YAML::Node& node, const std::string& what, SpatialDriver& d);
+  void default_step(const YAML::Node& root);
   void read_load(const YAML::Node& node);
   void read_kernel_options(const YAML::Node& node);
   // A list element's name (a mapping with `name`), checked and claimed; its location in `at`.
@@ -410,12 +414,64 @@ void SpatialReader::read_driver(const YAML::Node& node) {
     if (other.joint == d.joint && other.column == d.column)
       fail(jn, what + " drives the same coordinate as driver '" + other.name +
                    "': the motion is over-determined; remove one");
-  d.value = y_.expression(y_.required(node, "value", what), what + " value", true);
-  d.value_d = d.value.ex.diff(m_.common.t);
-  d.value_dd = d.value_d.diff(m_.common.t);
+  const YAML::Node value = y_.required(node, "value", what);
+  if (value.IsMap()) {
+    read_driver_table(value, what, d);
+  } else {
+    d.value = y_.expression(value, what + " value", true);
+    d.value_d = d.value.ex.diff(m_.common.t);
+    d.value_dd = d.value_d.diff(m_.common.t);
+  }
   d.range = range(node["range"], what);
   if (node["effort"]) d.effort = y_.effort_law(node["effort"], what + " effort");
   m_.drivers.push_back(d);
+}
+
+// `value: {table: FILE.csv, column: NAME, time: COLUMN}`: the driver follows the table's column
+// (the driver's SI unit) against its time column (s) through a not-a-knot cubic spline.
+void SpatialReader::read_driver_table(const YAML::Node& node, const std::string& what,
+                                      SpatialDriver& d) {
+  y_.expect_keys(node, what + " value table", {"table", "column", "time"});
+  const std::string written =
+      y_.scalar(y_.required(node, "table", what + " value"), what + " table");
+  const std::string column =
+      y_.scalar(y_.required(node, "column", what + " value table"), what + " table column");
+  const std::string time = node["time"] ? y_.scalar(node["time"], what + " table time") : "t";
+  std::filesystem::path file(written);
+  if (file.is_relative()) file = std::filesystem::path(m_.common.file).parent_path() / file;
+  d.table = mechgen::read_driver_table(file.string(), column, time, y_.loc(node["table"]));
+  const double first = d.table->spline->values().front();
+  d.value = {GiNaC::numeric(first), "table " + written + " column " + column, y_.loc(node)};
+  d.value_d = d.value_dd = 0;
+  // The kernel depends on the table (its placeholder law, the default step) and a sweep on all of
+  // it: the table's bytes are part of the description's fingerprint.
+  Fnv1a64 hash;
+  hash.add_field(hex64(m_.common.description_hash));
+  hash.add_field("driver table");
+  hash.add_field(written);
+  hash.add_field(d.table->content);
+  m_.common.description_hash = hash.value();
+}
+
+// A model whose drivers include tables may omit `step:`: t0 and t1 are then the span common to
+// its tables (the latest start, the earliest end), 101 samples.
+void SpatialReader::default_step(const YAML::Node& root) {
+  if (root["step"]) return;
+  double t0 = -INFINITY, t1 = INFINITY;
+  std::string names;
+  for (const SpatialDriver& d : m_.drivers)
+    if (d.table) {
+      t0 = std::max(t0, d.table->spline->front());
+      t1 = std::min(t1, d.table->spline->back());
+      names += (names.empty() ? "'" : ", '") + d.name + "'";
+    }
+  if (names.empty()) y_.required(root, "step", "the model");  // the usual error
+  if (!(t1 > t0))
+    fail(root,
+         "no step: and the time ranges of the tables of drivers " + names + " do not overlap");
+  const SourceLoc at = y_.loc(root);
+  m_.common.step.t0 = {GiNaC::numeric(t0), "the tables' first time", at};
+  m_.common.step.t1 = {GiNaC::numeric(t1), "the tables' last time", at};
 }
 
 void SpatialReader::read_pose_driver(const YAML::Node& node) {
@@ -621,6 +677,7 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
     if (m_.ground < 0) fail(list, "no ground body (mark one body 'ground: true')");
     if (key == std::string("bodies")) check_point_names();
   }
+  default_step(root);
   build_spatial_graph(m_);  // a body not connected to the ground, a rigid circuit: errors now
   if (root["kernel"]) read_kernel_options(root["kernel"]);
   return m_;

@@ -32,6 +32,12 @@ TimeExpression::TimeExpression(const GiNaC::ex& e, const GiNaC::symbol& t)
   if (!compiled_) program_.clear();
 }
 
+TimeExpression::TimeExpression(std::shared_ptr<const CubicSpline> spline, int derivative)
+    : compiled_(true),
+      depends_on_time_(true),
+      spline_(std::move(spline)),
+      derivative_(derivative) {}
+
 void TimeExpression::emit(Op op, int n, double c, int pops, int& depth) {
   program_.push_back({op, n, c});
   depth += 1 - pops;
@@ -106,6 +112,7 @@ bool TimeExpression::compile(const GiNaC::ex& e, int& depth) {
 
 double TimeExpression::operator()(double t) const {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  if (spline_) return (*spline_)(t, derivative_);
   if (!compiled_) {
     const GiNaC::ex v = ex_.subs(t_ == GiNaC::numeric(t)).evalf();
     if (!GiNaC::is_a<GiNaC::numeric>(v)) return nan;

@@ -7,7 +7,10 @@
 
 #include <ginac/ginac.h>
 
+#include <memory>
 #include <vector>
+
+#include "model/cubic_spline.hpp"
 
 namespace mechgen::numeric {
 
@@ -16,6 +19,9 @@ class TimeExpression {
   TimeExpression() = default;
   // `e` may contain no symbol but `t` (substitute the parameters first).
   TimeExpression(const GiNaC::ex& e, const GiNaC::symbol& t);
+  // A table driver's motion: the spline's value (derivative 0) or its first or second derivative;
+  // throws std::domain_error outside the table's time range (model/cubic_spline.hpp).
+  TimeExpression(std::shared_ptr<const CubicSpline> spline, int derivative);
 
   // The value at time t; NaN when it is not a finite real number. Throws what GiNaC throws on the
   // fallback path.
@@ -58,6 +64,8 @@ class TimeExpression {
   GiNaC::ex ex_;
   GiNaC::symbol t_;
   bool compiled_ = false, depends_on_time_ = false;
+  std::shared_ptr<const CubicSpline> spline_;
+  int derivative_ = 0;
   std::vector<Instruction> program_;
   int max_depth_ = 0;
 };

@@ -12,8 +12,10 @@
 
 #include "model/symbolic_lock.hpp"
 #include "numeric/mass_bias.hpp"
+#include "numeric/time_expression.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/spatial_solver.hpp"
+#include "spatial/spatial_sweep.hpp"
 
 namespace mechgen::spatial {
 
@@ -32,12 +34,80 @@ bool is_coordinate_column(const std::string& name) {
          (field.size() == 2 && field[0] == 'q' && field[1] >= '1' && field[1] <= '9');
 }
 
+// A model with table drivers: the kernel's own driver motion holds only their placeholders (the
+// tables' first values), so each row goes through the kernel's driven entry with the motion
+// computed here, (q, qd, qdd) per kernel input in the order of the generator's
+// spatial_primary_inputs: the tables' splines and the other drivers' laws. Inactive (the kernel's
+// own motion) for a model without tables.
+class DrivenMotion {
+ public:
+  DrivenMotion(const SpatialModel& model, const std::vector<double>& parameters) {
+    bool tables = false;
+    for (const SpatialDriver& d : model.drivers) tables = tables || d.table.has_value();
+    if (!tables) return;
+    const std::lock_guard<std::recursive_mutex> hold(symbolic_lock());
+    const GiNaC::exmap subs = model.common.substitutions(parameters);
+    auto law = [&](const GiNaC::ex& q, const GiNaC::ex& qd, const GiNaC::ex& qdd) {
+      for (const GiNaC::ex* e : {&q, &qd, &qdd}) {
+        motion_.emplace_back(e->subs(subs), model.common.t);
+        symbolic_ = symbolic_ || !motion_.back().compiled();
+      }
+    };
+    for (const SpatialDriver& d : model.drivers) {
+      if (!d.table) {
+        law(d.value.ex, d.value_d, d.value_dd);
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) motion_.emplace_back(d.table->spline, k);
+    }
+    for (const PoseDriver& pd : model.pose_drivers)
+      for (const PoseCoordinate& c : pd.coordinates)
+        if (c.value) law(c.value->ex, c.value_d, c.value_dd);
+    values_.resize(motion_.size());
+  }
+  bool active() const { return !motion_.empty(); }
+  size_t inputs() const { return motion_.size() / 3; }
+  const double* at(double t) {
+    std::unique_lock<std::recursive_mutex> hold(symbolic_lock(), std::defer_lock);
+    if (symbolic_) hold.lock();  // a law TimeExpression evaluates through GiNaC
+    for (size_t k = 0; k < motion_.size(); ++k) values_[k] = motion_[k](t);
+    return values_.data();
+  }
+
+ private:
+  std::vector<numeric::TimeExpression> motion_;
+  std::vector<double> values_;
+  bool symbolic_ = false;
+};
+
+// One row of the kernel at time t: its own driver motion, or the driven one of a model with
+// table drivers (DrivenMotion).
+class KernelRows {
+ public:
+  KernelRows(const CompiledKernel& kernel, const SpatialSweepOptions& options, DrivenMotion& motion)
+      : kernel_(kernel), parameters_(options.parameters.data()), motion_(motion) {}
+  int operator()(double t, double* row, int* group) const {
+    return motion_.active()
+               ? kernel_.evaluate_driven_double(parameters_, t, motion_.at(t), row, group)
+               : kernel_.evaluate_double(parameters_, t, row, group);
+  }
+  int mass_bias(double t, double* M, double* h, int* group) const {
+    return kernel_.mass_bias_double(parameters_, t, motion_.active() ? motion_.at(t) : nullptr, M,
+                                    h, group);
+  }
+
+ private:
+  const CompiledKernel& kernel_;
+  const double* parameters_;
+  DrivenMotion& motion_;
+};
+
 // Seeds the kernel's warm start on this thread for one sweep, and restores its defaults after.
 class StartSeed {
  public:
   StartSeed(const SpatialModel& model, const SpatialSweepOptions& options,
-            const CompiledKernel& kernel)
-      : kernel_(kernel) {
+            const CompiledKernel& kernel, const KernelRows& rows)
+      : kernel_(kernel), rows_(rows) {
     if (kernel.seed_start == nullptr || kernel.start_count == 0) return;
     // The numeric assembly reads the shared model's GiNaC expressions: one thread at a time
     // (Python threads, a grid's runs); the sweep's own kernel calls after it run unlocked.
@@ -74,11 +144,9 @@ class StartSeed {
     int group = -1;
     const double t0 = spatial_sample_time(options, 0);
     kernel_.seed_start(nullptr);
-    const int own_status =
-        kernel_.evaluate_double(options.parameters.data(), t0, own.data(), &group);
+    const int own_status = rows_(t0, own.data(), &group);
     kernel_.seed_start(values.data());
-    const int run_status =
-        kernel_.evaluate_double(options.parameters.data(), t0, run.data(), &group);
+    const int run_status = rows_(t0, run.data(), &group);
     if (own_status != 0 || run_status != 0) return;
     std::string joints;
     for (size_t c = 0; c < n; ++c) {
@@ -113,9 +181,7 @@ class StartSeed {
     const auto n = static_cast<size_t>(kernel_.column_count);
     std::vector<double> generated(n);
     int group = -1;
-    if (numeric.size() < n ||
-        kernel_.evaluate_double(options.parameters.data(), spatial_sample_time(options, 0),
-                                generated.data(), &group) != 0)
+    if (numeric.size() < n || rows_(spatial_sample_time(options, 0), generated.data(), &group) != 0)
       return;
     std::string joints;
     for (size_t c = 0; c < n; ++c) {
@@ -139,6 +205,7 @@ class StartSeed {
   }
 
   const CompiledKernel& kernel_;
+  const KernelRows& rows_;
   std::string warning_;
 };
 
@@ -161,7 +228,15 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
   // solver's assembly at this run's parameters and t0, both solvers take the same branch there
   // and then follow the motion (issue 28). Without an assembly the kernel starts from its
   // defaults (the assembly at the default parameters) and reports what it finds.
-  StartSeed seed(model, options, kernel);
+  check_table_times(model, options);
+  DrivenMotion motion(model, options.parameters);
+  if (motion.active() && (kernel.evaluate_driven_double == nullptr ||
+                          kernel.driver_count != static_cast<int>(motion.inputs())))
+    throw ModelError(file, "the generated kernel of '" + model.common.name +
+                               "' has no driven entry for its table drivers (rebuild to "
+                               "regenerate it)");
+  const KernelRows rows(kernel, options, motion);
+  StartSeed seed(model, options, kernel, rows);
   if (!seed.warning().empty()) result.warnings.push_back(seed.warning());
   bool newton_closure = false;
   for (int g = 0; g < kernel.group_count; ++g)
@@ -203,17 +278,14 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
       const int steps = static_cast<int>(std::ceil(std::abs(t - from) / own_step - 1e-9));
       for (int k = 1; k < steps && status == 0; ++k) {
         const double between_t = from + (t - from) * k / steps;
-        status =
-            kernel.evaluate_double(options.parameters.data(), between_t, between.data(), &group);
+        status = rows(between_t, between.data(), &group);
         if (status != 0) t = between_t, between_samples = true;
       }
     }
     std::vector<double> row(static_cast<size_t>(kernel.column_count));
-    if (status == 0)
-      status = kernel.evaluate_double(options.parameters.data(), t, row.data(), &group);
+    if (status == 0) status = rows(t, row.data(), &group);
     if (status == 0 && options.mass_matrix) {
-      status = kernel.mass_bias_double(options.parameters.data(), t, nullptr, M.data(), h.data(),
-                                       &group);
+      status = rows.mass_bias(t, M.data(), h.data(), &group);
       for (size_t a = 0; a < n; ++a)
         for (size_t b = a; b < n; ++b) row.push_back(M[a * n + b]);
       for (size_t a = 0; a < n; ++a) row.push_back(h[a]);

@@ -143,6 +143,13 @@ SpatialSolver::SpatialSolver(const SpatialModel& model, std::vector<double> para
     double reference = 0;
     if (col.driver >= 0) {
       const SpatialDriver& d = model.drivers[static_cast<size_t>(col.driver)];
+      if (d.table) {  // a recorded trajectory: the spline's exact value and derivatives
+        q_.emplace_back(d.table->spline, 0);
+        qd_.emplace_back(d.table->spline, 1);
+        qdd_.emplace_back(d.table->spline, 2);
+        offset_.push_back(0);
+        continue;
+      }
       value = d.value.ex, value_d = d.value_d, value_dd = d.value_dd;
     } else {
       const PoseCoordinate& pc = model.pose_drivers[static_cast<size_t>(col.pose_driver)]

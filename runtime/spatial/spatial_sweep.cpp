@@ -1,6 +1,9 @@
 // The spatial sweep: one row of DESIGN.md's spatial columns per sample (spatial_sweep.hpp).
 #include "spatial/spatial_sweep.hpp"
 
+#include <algorithm>
+#include <sstream>
+
 #include "numeric/mass_bias.hpp"
 #include "spatial/spatial_mass_matrix.hpp"
 
@@ -113,8 +116,25 @@ std::vector<double> spatial_sweep_row(const SpatialSolver& solver,
   return row;
 }
 
+void check_table_times(const SpatialModel& model, const SpatialSweepOptions& options) {
+  const double lo = std::min(options.t0, options.t1), hi = std::max(options.t0, options.t1);
+  for (const SpatialDriver& d : model.drivers) {
+    if (!d.table) continue;
+    const CubicSpline& s = *d.table->spline;
+    const double slack = 1e-12 * (s.back() - s.front());
+    if (lo >= s.front() - slack && hi <= s.back() + slack) continue;
+    std::ostringstream m;
+    m.precision(17);
+    m << "driver '" << d.name << "': the sweep's time range [" << lo << ", " << hi
+      << "] s is not within its table's [" << s.front() << ", " << s.back() << "] s ('"
+      << d.table->file << "'; a table is not extrapolated: choose t0 and t1 within it)";
+    throw ModelError(d.value.loc, m.str());
+  }
+}
+
 SpatialSweepResult run_spatial_sweep(const SpatialModel& model,
                                      const SpatialSweepOptions& options) {
+  check_table_times(model, options);
   const SpatialSolver solver(model, options.parameters);
   const std::vector<SpatialDriverGroup> groups = spatial_driver_groups(solver);
   SpatialSweepResult result;

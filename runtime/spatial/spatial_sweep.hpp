@@ -47,6 +47,9 @@ std::vector<double> spatial_sweep_row(const SpatialSolver& solver,
 SpatialSweepOptions default_spatial_sweep(const SpatialModel& model,
                                           const std::vector<double>& parameters = {});
 // Throws ModelError (naming t) for a sample the solver cannot evaluate.
+// A sweep of a model with table drivers stays within every table's time range (a table is not
+// extrapolated): else a ModelError at the driver's table naming both ranges.
+void check_table_times(const SpatialModel& model, const SpatialSweepOptions& options);
 SpatialSweepResult run_spatial_sweep(const SpatialModel& model, const SpatialSweepOptions& options);
 
 }  // namespace mechgen::spatial

@@ -17,6 +17,7 @@ mechgen_deps() {
     liburdfdom-dev libmujoco-dev                               # mechgen import: URDF, MJCF (MuJoCo)
     pybind11-dev python3-dev python3-numpy python3-pytest      # the Python module and its tests
     python3-scipy python3-matplotlib                           # examples/python
+    procps                                                     # ps: cache and budget tests check a killed compiler's children
     "$@"
   )
   if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -688,8 +688,14 @@ class Deriver {
     }
     for (const auto& [point_name, locator] : model_.named_points()) {
       const Vec r = world_point(point_name);
-      emit(out_.kinematics, "s.points." + point_name + ".x", r.x);
-      emit(out_.kinematics, "s.points." + point_name + ".y", r.y);
+      const std::string t = "s.points." + point_name + ".";
+      const Vec v{p_.derivative(r.x), p_.derivative(r.y)};
+      emit(out_.kinematics, t + "x", r.x);
+      emit(out_.kinematics, t + "y", r.y);
+      emit(out_.kinematics, t + "vx", v.x);
+      emit(out_.kinematics, t + "vy", v.y);
+      emit(out_.kinematics, t + "ax", p_.derivative(v.x));
+      emit(out_.kinematics, t + "ay", p_.derivative(v.y));
     }
   }
 

@@ -47,7 +47,10 @@ std::string sum_lines(const std::vector<std::string>& terms, const std::string& 
 
 OutputStage stage_of(const std::string& source) {
   const auto field_of = [&source]() { return source.substr(source.rfind('.') + 1); };
-  if (starts_with(source, "s.points.")) return OutputStage::positions;
+  if (starts_with(source, "s.points.")) {
+    const std::string field = field_of();
+    return field == "x" || field == "y" ? OutputStage::positions : OutputStage::rates;
+  }
   if (starts_with(source, "s.joints.")) return OutputStage::forces;
   if (starts_with(source, "s.drivers.")) {
     const std::string field = field_of();

@@ -2,12 +2,14 @@
 #include "spatial_derivation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "branch_sign.hpp"
 #include "geometry/screw.hpp"
@@ -310,20 +312,26 @@ class Builder {
     }
   }
 
-  // N_s at sample configurations (default parameters, kPivotSamples instants of the model's
-  // step, the numeric solver's poses), from which every pivot order is fixed at generation time;
-  // the first sample is the assembly.
+  // N_s at sample configurations (default parameters, the numeric solver's poses), from which
+  // every pivot order is fixed at generation time: kPivotSamples instants of the model's step
+  // (the first is the assembly), then poses over the drivers' declared ranges (a driver's
+  // `range:`, else its joint's), each driver moved alone from the assembly to both ends of its
+  // range by continuation, so that the rows kept and the pivots hold wherever a `--set` or a
+  // driven call takes the drivers (issue 27: an over-constrained loop's redundant rows change
+  // along the motion). Range poses where N_s is near singular (a true singularity, where no
+  // order holds) or that do not assemble are left out.
   static constexpr int kPivotSamples = 72;
+  static constexpr int kRangeSamples = 48;  // over all ranged drivers, both directions
   void sample_secondary_matrix(size_t start) {
     const std::vector<double> defaults = m_.common.default_parameters();
     const spatial::SpatialSolver solver(m_, defaults);
     const spatial::SpatialSweepOptions sweep = spatial::default_spatial_sweep(m_, defaults);
     const size_t rows = network_.size(), ns = g_.secondary.size();
-    spatial::SpatialState st;
-    for (int sample = 0; sample < kPivotSamples; ++sample) {
-      solver.solve(sweep.t0 + (sweep.t1 - sweep.t0) * sample / kPivotSamples, st);
-      if (sample == 0) assembly_ = st;
-      GiNaC::exmap num = numeric_parameters(defaults);
+    const GiNaC::exmap parameters = numeric_parameters(defaults);
+    // `previous`: the sample before this one on the same continuous path, or -1.
+    const auto add_sample = [&](const spatial::SpatialState& st, int previous) {
+      previous_.push_back(previous);
+      GiNaC::exmap num = parameters;
       for (size_t c = 0; c < cols_.size(); ++c)
         num[cols_[c].q] = GiNaC::numeric(st.q[static_cast<Eigen::Index>(c)]);
       // A primary coordinate's own definition (a pose coordinate's input minus its reference)
@@ -340,7 +348,58 @@ class Builder {
                   network_[r][static_cast<size_t>(g_.secondary[i])].subs(num, kSymbolKeys).evalf())
                   .to_double();
       samples_.push_back(m);
+    };
+    spatial::SpatialState st;
+    for (int sample = 0; sample < kPivotSamples; ++sample) {
+      solver.solve(sweep.t0 + (sweep.t1 - sweep.t0) * sample / kPivotSamples, st);
+      if (sample == 0) assembly_ = st;
+      add_sample(st, sample - 1);
     }
+    // The drivers' ranges, in the solver's primary order.
+    std::vector<std::pair<size_t, std::array<double, 2>>> ranged;
+    const GiNaC::exmap subs = m_.common.substitutions(defaults);
+    for (const SpatialDriver& d : m_.drivers) {
+      const SpatialJoint& joint = m_.joints[static_cast<size_t>(d.joint)];
+      std::optional<std::array<Expr, 2>> range = d.range;
+      if (!range && joint.columns.size() == 1) range = joint.range;
+      const int column = g_.joint_column[static_cast<size_t>(d.joint)] + d.column;
+      const auto primary = std::find(g_.primary.begin(), g_.primary.end(), column);
+      if (!range || primary == g_.primary.end()) continue;
+      ranged.push_back({static_cast<size_t>(primary - g_.primary.begin()),
+                        {m_.evaluate((*range)[0], subs), m_.evaluate((*range)[1], subs)}});
+    }
+    if (ranged.empty() || ns == 0) return;
+    const int steps = std::max(1, kRangeSamples / static_cast<int>(2 * ranged.size()));
+    Eigen::VectorXd qp0, qpd, qpdd;
+    solver.primary_motion(sweep.t0, qp0, qpd, qpdd);
+    qpd.setZero();
+    qpdd.setZero();
+    for (const auto& [k, ends] : ranged)
+      for (const double end : ends) {
+        spatial::SpatialState walk = assembly_;
+        Eigen::VectorXd qp = qp0;
+        const auto at = static_cast<Eigen::Index>(k);
+        int previous = 0;  // the assembly
+        for (int step = 1; step <= steps; ++step) {
+          qp[at] = qp0[at] + (end - qp0[at]) * step / steps;
+          try {
+            solver.solve(sweep.t0, qp, qpd, qpdd, walk);
+          } catch (const std::exception&) {
+            break;  // the range leaves where the mechanism assembles: no pose beyond
+          }
+          Eigen::MatrixXd n_s(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(ns));
+          const Eigen::MatrixXd n = solver.network(walk);
+          for (size_t i = 0; i < ns; ++i)
+            n_s.col(static_cast<Eigen::Index>(i)) = n.col(g_.secondary[i]);
+          const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(n_s).singularValues();
+          if (sv.size() > 0 && sv[sv.size() - 1] > 1e-3 * sv[0]) {
+            add_sample(walk, previous);
+            previous = static_cast<int>(samples_.size()) - 1;
+          } else {
+            previous = -1;  // a crossing through a true singularity says nothing of an order
+          }
+        }
+      }
   }
   GiNaC::exmap numeric_parameters(const std::vector<double>& values) const {
     GiNaC::exmap num;
@@ -359,6 +418,7 @@ class Builder {
     std::vector<double> pivots;         // each pivot's value at the assembly
     std::vector<size_t> blocks;         // each pivot's independent block of N_s
     double worst = 1;                   // the smallest pivot ratio over the samples
+    bool crosses = false;  // a pivot changes sign along a path: no fixed order holds there
   };
   // The independent blocks of N_s: secondary coordinates joined by a closure row that holds both
   // (nonzero in some sample; an exact zero in every sample is a structural zero). Circuits that
@@ -392,6 +452,7 @@ class Builder {
     }
     return block;
   }
+  static constexpr double kSteadyPivot = 1e-3;  // of its block's largest, in every sample
   PivotOrder pivot_order(const std::vector<size_t>& rows,
                          const std::vector<size_t>& columns) const {
     std::vector<std::vector<std::vector<double>>> a = samples_;
@@ -411,17 +472,36 @@ class Builder {
             if (!used[r] && !done[i]) l = std::max(l, std::abs(m[r][i]));
         largest.push_back(l);
       }
+      // A candidate whose sign changes between two neighbours on a path passes through zero
+      // between them, however large it is at every sample (Bennett's wx, wy, wz rows at the crank
+      // angle pi, between two range samples): one that does not is preferred while its ratio
+      // stays steady, else the best ratio as before.
+      size_t steady_row = network_.size(), steady_column = g_.secondary.size();
+      double steady = 0;
+      bool best_crosses = false;
       for (const size_t r : rows)
         for (const size_t i : columns) {
           if (used[r] || done[i]) continue;
           double ratio = 1;
-          for (size_t sample = 0; sample < a.size(); ++sample)
+          bool crosses = false;
+          for (size_t sample = 0; sample < a.size(); ++sample) {
             ratio = std::min(
                 ratio, largest[sample] > 0 ? std::abs(a[sample][r][i]) / largest[sample] : 0.0);
+            const int before = previous_[sample];
+            crosses = crosses ||
+                      (before >= 0 && a[sample][r][i] * a[static_cast<size_t>(before)][r][i] < 0);
+          }
           // Ties up to round-off keep the first candidate: the samples' last bits follow GiNaC's
           // term order, which changes from run to run (regeneration must be byte-identical).
-          if (ratio > value * (1 + 1e-9)) best = r, column = i, value = ratio;
+          if (ratio > value * (1 + 1e-9))
+            best = r, column = i, value = ratio, best_crosses = crosses;
+          if (!crosses && ratio > steady * (1 + 1e-9))
+            steady_row = r, steady_column = i, steady = ratio;
         }
+      if (steady >= kSteadyPivot)
+        best = steady_row, column = steady_column, value = steady;
+      else
+        order.crosses = order.crosses || best_crosses;
       if (best == network_.size() || value <= 1e-6)
         throw std::runtime_error(m_.common.file +
                                  ": error: no pivot order fixed at generation time stays "
@@ -444,7 +524,8 @@ class Builder {
     return order;
   }
   // The pivot order of the whole N_s (Davies' rates) and the plan's closure line.
-  void choose_pivots(const std::vector<size_t>& newton_rows, size_t newton_columns) {
+  void choose_pivots(const std::vector<size_t>& newton_rows, size_t newton_columns,
+                     bool newton_crosses) {
     std::vector<size_t> rows(network_.size()), columns(g_.secondary.size());
     for (size_t r = 0; r < rows.size(); ++r) rows[r] = r;
     for (size_t i = 0; i < columns.size(); ++i) columns[i] = i;
@@ -469,9 +550,19 @@ class Builder {
              ? std::string("every circuit in closed form, no Newton")
              : "Newton fallback on " + std::to_string(newton_columns) + " coordinates, " +
                    std::to_string(newton_rows.size()) + " rows") +
-        "; Davies' pivot order from " + std::to_string(kPivotSamples) +
-        " samples (smallest pivot " + ratio + " of its column)" +
-        (dropped.empty() ? "" : "; redundant rows dropped: " + dropped));
+        "; Davies' pivot order from " + std::to_string(kPivotSamples) + " samples" +
+        (samples_.size() > static_cast<size_t>(kPivotSamples)
+             ? " and " + std::to_string(samples_.size() - static_cast<size_t>(kPivotSamples)) +
+                   " over driver ranges"
+             : std::string()) +
+        " (smallest pivot " + ratio + " of its column)" +
+        (dropped.empty() ? "" : "; redundant rows dropped: " + dropped) +
+        (order.crosses || newton_crosses
+             ? "; warning: no fixed pivot order stays away from zero over the step and the "
+               "drivers' ranges (a pivot changes sign between two samples): near where it passes "
+               "zero the kernel refuses (singular or unreachable in group closure, its residual "
+               "checks) rather than lose precision; --solver numeric pivots at run time"
+             : ""));
   }
 
   // Definitions in an order where each follows those it reads: passes over the list in order,
@@ -613,8 +704,8 @@ class Builder {
       if (!circuit_closed[r / 6]) newton_rows.push_back(r);
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       if (!closed_form[i]) newton_columns.push_back(i);
-    choose_pivots(newton_rows, newton_columns.size());
     const PivotOrder newton = pivot_order(newton_rows, newton_columns);
+    choose_pivots(newton_rows, newton_columns.size(), newton.crosses);
     // Program order: what depends on no secondary coordinate, the closed forms, what depends on
     // them only, then the Newton steps and what depends on the Newton coordinates.
     std::vector<std::pair<symbol, ex>> chain(
@@ -1361,6 +1452,8 @@ class Builder {
   std::vector<std::vector<ex>> network_;
   std::vector<std::vector<int>> circuit_coef_;
   std::vector<std::vector<std::vector<double>>> samples_;  // N_s (rows x secondary) per sample
+  std::vector<int>
+      previous_;  // per sample: the one before it on its path (step, range walk), or -1
   spatial::SpatialState assembly_;  // the numeric solver's assembly (default parameters, t0)
   // cos q and sin q of closed-form coordinates -> their closed forms' (no trigonometry).
   std::map<ex, ex, GiNaC::ex_is_less> trig_;

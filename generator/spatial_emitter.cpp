@@ -600,6 +600,9 @@ class SpatialEmitter {
       for (const char* f : {"fx", "fy", "fz", "mx", "my", "mz"})
         column(j.name + "." + f, "s.joints." + j.name + "." + f);
     }
+    for (const auto& [point, body_index] : m_.named_points())
+      for (const char* f : {"vx", "vy", "vz", "ax", "ay", "az"})
+        column(point + "." + f, "s.points." + point + "." + f);
     if (names != spatial::spatial_column_names(m_))
       throw std::logic_error("spatial kernel columns differ from the sweep's");
     v["column_count"] = std::to_string(names.size());

@@ -155,7 +155,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -239,7 +239,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 176
+  // Total ops: 190
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -247,7 +247,15 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.A.x = T(0);
   s.points.A.y = T(0);
+  s.points.A.vx = T(0);
+  s.points.A.vy = T(0);
+  s.points.A.ax = T(0);
+  s.points.A.ay = T(0);
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -269,19 +277,27 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.M.x = M_x;
   const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp0;
   s.points.M.y = M_y;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.l*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
   const T _tmp1 = B_x - M_x;
   const T _tmp2 = M_y - P_y;
   const T _tmp3 = M_x - P_x;
   const T _tmp4 = T(1)/(_tmp1*_tmp2 + _tmp3*M_y);
   const T g2_coupler_rocker_inv = _tmp4;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.l*s_crank_rel_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T P_x_d = p.l*c_crank_rel_d;
   const T w_coupler = (_tmp1*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp3*P_x_d + _tmp2*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.rocker.w = w_rocker;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.l*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T _tmp5 = T(1)/p.l;
   const T c_coupler = -T(0.4)*_tmp5*_tmp3;
   s.bodies.coupler.cos_th = c_coupler;
@@ -291,40 +307,48 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rocker.cos_th = c_rocker;
   const T s_rocker = -T(0.4)*_tmp5*M_y;
   s.bodies.rocker.sin_th = s_rocker;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.l*s_crank_rel_dd;
   const T _tmp6 = w_coupler*w_coupler;
   const T _tmp7 = w_rocker*w_rocker;
   const T g2_coupler_rocker_acc_y = _tmp2*_tmp6 - M_y*_tmp7 - P_y_dd;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.l*c_crank_rel_dd;
   const T g2_coupler_rocker_acc_x = _tmp1*_tmp7 + _tmp3*_tmp6 - P_x_dd;
   const T w_coupler_d = -(_tmp1*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.coupler.al = w_coupler_d;
   const T w_rocker_d = (_tmp3*g2_coupler_rocker_acc_x + _tmp2*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.rocker.al = w_rocker_d;
+  const T M_x_d = P_x_d - _tmp2*w_coupler;
+  s.points.M.vx = M_x_d;
+  const T M_y_d = _tmp3*w_coupler + P_y_d;
+  s.points.M.vy = M_y_d;
   const T x_coupler = P_x - T(5)*p.l*c_coupler;
   s.points.C.x = x_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
   s.points.C.y = y_coupler;
+  const T c_coupler_d = -s_coupler*w_coupler;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+  s.points.C.vx = x_coupler_d;
+  const T s_coupler_d = c_coupler*w_coupler;
+  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
+  s.points.C.vy = y_coupler_d;
+  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  s.points.C.ax = x_coupler_dd;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
+  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+  s.points.C.ay = y_coupler_dd;
+  const T M_x_dd = P_x_dd - _tmp2*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+  s.points.M.ax = M_x_dd;
+  const T M_y_dd = _tmp3*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+  s.points.M.ay = M_y_dd;
   const T com_coupler_x = T(2.5)*p.l*c_coupler + x_coupler;
   s.bodies.coupler.x = com_coupler_x;
   const T com_coupler_y = T(2.5)*p.l*s_coupler + y_coupler;
   s.bodies.coupler.y = com_coupler_y;
-  const T c_coupler_d = -s_coupler*w_coupler;
-  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
   const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
   s.bodies.coupler.vx = com_coupler_x_d;
-  const T s_coupler_d = c_coupler*w_coupler;
-  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
   s.bodies.coupler.vy = com_coupler_y_d;
-  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
-  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
   const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
   s.bodies.coupler.ax = com_coupler_x_dd;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
-  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   s.bodies.coupler.ay = com_coupler_y_dd;
   const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
@@ -370,8 +394,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
-  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
@@ -385,7 +410,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 264
+  // Total ops: 278
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -393,7 +418,15 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.A.x = T(0);
   s.points.A.y = T(0);
+  s.points.A.vx = T(0);
+  s.points.A.vy = T(0);
+  s.points.A.ax = T(0);
+  s.points.A.ay = T(0);
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -416,19 +449,27 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.M.x = M_x;
   const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1;
   s.points.M.y = M_y;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.l*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.l*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
   const T _tmp2 = B_x - M_x;
   const T _tmp3 = M_y - P_y;
   const T _tmp4 = M_x - P_x;
   const T _tmp5 = T(1)/(_tmp2*_tmp3 + _tmp4*M_y);
   const T g2_coupler_rocker_inv = _tmp5;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.l*s_crank_rel_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T P_x_d = p.l*c_crank_rel_d;
   const T w_coupler = (_tmp2*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp4*P_x_d + _tmp3*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.rocker.w = w_rocker;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.l*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.l*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T _tmp6 = T(1)/p.l;
   const T s_coupler = -T(0.4)*_tmp6*_tmp3;
   s.bodies.coupler.sin_th = s_coupler;
@@ -436,13 +477,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.coupler.cos_th = c_coupler;
   const T c_rocker = T(0.4)*_tmp6*_tmp2;
   s.bodies.rocker.cos_th = c_rocker;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.l*s_crank_rel_dd;
   const T _tmp7 = w_coupler*w_coupler;
   const T _tmp8 = w_rocker*w_rocker;
   const T g2_coupler_rocker_acc_y = _tmp3*_tmp7 - M_y*_tmp8 - P_y_dd;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.l*c_crank_rel_dd;
   const T g2_coupler_rocker_acc_x = _tmp2*_tmp8 + _tmp4*_tmp7 - P_x_dd;
   const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.coupler.al = w_coupler_d;
@@ -450,18 +487,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.rocker.sin_th = s_rocker;
   const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.rocker.al = w_rocker_d;
+  const T c_coupler_d = -s_coupler*w_coupler;
+  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
+  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+  s.points.C.ay = y_coupler_dd;
+  const T s_coupler_d = c_coupler*w_coupler;
+  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
+  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+  s.points.C.ax = x_coupler_dd;
   const T x_coupler = P_x - T(5)*p.l*c_coupler;
   s.points.C.x = x_coupler;
   const T y_coupler = P_y - T(5)*p.l*s_coupler;
   s.points.C.y = y_coupler;
-  const T c_coupler_d = -s_coupler*w_coupler;
-  const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
-  const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
   const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
   s.bodies.coupler.ay = com_coupler_y_dd;
-  const T s_coupler_d = c_coupler*w_coupler;
-  const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
-  const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
   const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
   s.bodies.coupler.ax = com_coupler_x_dd;
   const T s_rocker_d = c_rocker*w_rocker;
@@ -514,6 +553,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.ay = com_crank_y_dd;
   const T com_crank_x_dd = T(0.5)*p.l*c_crank_rel_dd;
   s.bodies.crank.ax = com_crank_x_dd;
+  const T M_x_d = P_x_d - _tmp3*w_coupler;
+  s.points.M.vx = M_x_d;
+  const T M_y_d = _tmp4*w_coupler + P_y_d;
+  s.points.M.vy = M_y_d;
   const T com_crank_x = T(0.5)*p.l*c_crank_rel;
   s.bodies.crank.x = com_crank_x;
   const T com_crank_y = T(0.5)*p.l*s_crank_rel;
@@ -522,6 +565,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.M_rocker_coupler.fy = M_rocker_coupler_fy;
   const T M_rocker_coupler_fx = B_ground_rocker_fx - rocker_inertial_x;
   s.joints.M_rocker_coupler.fx = M_rocker_coupler_fx;
+  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+  s.points.C.vx = x_coupler_d;
+  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
+  s.points.C.vy = y_coupler_d;
   const T P_crank_coupler_fy = coupler_inertial_y - M_rocker_coupler_fy;
   s.joints.P_crank_coupler.fy = P_crank_coupler_fy;
   const T P_crank_coupler_fx = coupler_inertial_x - M_rocker_coupler_fx;
@@ -532,10 +579,12 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T crank_inertia = p.bar_t*p.bar_w*(_tmp11 + _tmp0)*p.rho*_tmp10*_tmp12;
   const T crank_angle_effort = P_crank_coupler_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_crank_coupler_fx*P_y - com_crank_y*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
-  const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+  const T M_x_dd = P_x_dd - _tmp3*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+  s.points.M.ax = M_x_dd;
+  const T M_y_dd = _tmp4*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+  s.points.M.ay = M_y_dd;
   const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
   s.bodies.coupler.vx = com_coupler_x_d;
-  const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
   const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
   s.bodies.coupler.vy = com_coupler_y_d;
   const T x_rocker_d = -T(2.5)*p.l*c_rocker_d;
@@ -563,8 +612,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
-  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.A_ground_crank.fx + s.joints.A_ground_crank.fy) + (s.joints.P_crank_coupler.fx + s.joints.P_crank_coupler.fy)) + ((s.joints.M_rocker_coupler.fx + s.joints.M_rocker_coupler.fy) + (s.joints.B_ground_rocker.fx + s.joints.B_ground_rocker.fy));
   const T _sum_forces_1 = s.drivers.crank_angle.effort;
@@ -621,7 +671,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
-    // Total ops: 267
+    // Total ops: 281
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;
@@ -630,7 +680,15 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[13 * stride + i] = in.crank_angle_dd;
     out[32 * stride + i] = T(0);
     out[33 * stride + i] = T(0);
+    out[50 * stride + i] = T(0);
+    out[51 * stride + i] = T(0);
+    out[52 * stride + i] = T(0);
+    out[53 * stride + i] = T(0);
     out[35 * stride + i] = T(0);
+    out[54 * stride + i] = T(0);
+    out[55 * stride + i] = T(0);
+    out[56 * stride + i] = T(0);
+    out[57 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel = cos(in.crank_angle);
     out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
@@ -648,37 +706,45 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp0 = p.l*p.l;
     const T g2_coupler_rocker_disc = T(6.25)*_tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
     failed = max(failed, (g2_coupler_rocker_disc > T(0)) ? T(0) : T(8187913));
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.l*c_crank_rel_d;
+    out[58 * stride + i] = P_x_d;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.l*s_crank_rel_d;
+    out[59 * stride + i] = P_y_d;
     const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
     const T _tmp1 = T(1)/g2_coupler_rocker_d2;
     const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e + g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp1 + P_x;
     out[40 * stride + i] = M_x;
     const T M_y = P_y - (g2_coupler_rocker_d_x*g2_coupler_rocker_root - g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1;
     out[41 * stride + i] = M_y;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T P_x_dd = p.l*c_crank_rel_dd;
+    out[60 * stride + i] = P_x_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T P_y_dd = p.l*s_crank_rel_dd;
+    out[61 * stride + i] = P_y_dd;
     const T _tmp2 = B_x - M_x;
     const T _tmp3 = M_y - P_y;
     const T _tmp4 = M_x - P_x;
     const T _tmp5 = T(1)/(_tmp2*_tmp3 + _tmp4*M_y);
     const T g2_coupler_rocker_inv = _tmp5;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T P_y_d = p.l*s_crank_rel_d;
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T P_x_d = p.l*c_crank_rel_d;
     const T w_coupler = (_tmp2*P_x_d - M_y*P_y_d)*g2_coupler_rocker_inv;
     out[19 * stride + i] = w_coupler;
     const T w_rocker = -(_tmp4*P_x_d + _tmp3*P_y_d)*g2_coupler_rocker_inv;
     out[28 * stride + i] = w_rocker;
-    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-    const T P_y_dd = p.l*s_crank_rel_dd;
     const T _tmp6 = w_coupler*w_coupler;
     const T _tmp7 = w_rocker*w_rocker;
     const T g2_coupler_rocker_acc_y = _tmp3*_tmp6 - M_y*_tmp7 - P_y_dd;
-    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-    const T P_x_dd = p.l*c_crank_rel_dd;
     const T g2_coupler_rocker_acc_x = _tmp2*_tmp7 + _tmp4*_tmp6 - P_x_dd;
     const T w_coupler_d = -(_tmp2*g2_coupler_rocker_acc_x - M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
     out[22 * stride + i] = w_coupler_d;
     const T w_rocker_d = (_tmp4*g2_coupler_rocker_acc_x + _tmp3*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
     out[31 * stride + i] = w_rocker_d;
+    const T M_x_d = P_x_d - _tmp3*w_coupler;
+    out[66 * stride + i] = M_x_d;
+    const T M_y_d = _tmp4*w_coupler + P_y_d;
+    out[67 * stride + i] = M_y_d;
     const T _tmp8 = T(1)/p.l;
     const T s_coupler = -T(0.4)*_tmp8*_tmp3;
     const T c_coupler = -T(0.4)*_tmp8*_tmp4;
@@ -708,18 +774,22 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[15 * stride + i] = com_coupler_y;
     const T c_coupler_d = -s_coupler*w_coupler;
     const T x_coupler_d = P_x_d - T(5)*p.l*c_coupler_d;
+    out[62 * stride + i] = x_coupler_d;
     const T com_coupler_x_d = T(2.5)*p.l*c_coupler_d + x_coupler_d;
     out[17 * stride + i] = com_coupler_x_d;
     const T s_coupler_d = c_coupler*w_coupler;
     const T y_coupler_d = P_y_d - T(5)*p.l*s_coupler_d;
+    out[63 * stride + i] = y_coupler_d;
     const T com_coupler_y_d = T(2.5)*p.l*s_coupler_d + y_coupler_d;
     out[18 * stride + i] = com_coupler_y_d;
     const T c_coupler_dd = -s_coupler*w_coupler_d - s_coupler_d*w_coupler;
     const T x_coupler_dd = P_x_dd - T(5)*p.l*c_coupler_dd;
+    out[64 * stride + i] = x_coupler_dd;
     const T com_coupler_x_dd = T(2.5)*p.l*c_coupler_dd + x_coupler_dd;
     out[20 * stride + i] = com_coupler_x_dd;
     const T s_coupler_dd = c_coupler*w_coupler_d + c_coupler_d*w_coupler;
     const T y_coupler_dd = P_y_dd - T(5)*p.l*s_coupler_dd;
+    out[65 * stride + i] = y_coupler_dd;
     const T com_coupler_y_dd = T(2.5)*p.l*s_coupler_dd + y_coupler_dd;
     out[21 * stride + i] = com_coupler_y_dd;
     const T x_rocker = B_x - T(2.5)*p.l*c_rocker;
@@ -744,6 +814,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T y_rocker_dd = -T(2.5)*p.l*s_rocker_dd;
     const T com_rocker_y_dd = T(1.25)*p.l*s_rocker_dd + y_rocker_dd;
     out[30 * stride + i] = com_rocker_y_dd;
+    const T M_x_dd = P_x_dd - _tmp3*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+    out[68 * stride + i] = M_x_dd;
+    const T M_y_dd = _tmp4*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+    out[69 * stride + i] = M_y_dd;
     const T ne1 = _tmp3;
     const T ne2 = -ne1;
     failed = max(failed, (ne2 != T(0)) ? T(0) : T(8183834));
@@ -797,8 +871,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8175635));
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
     const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
-    const T _sum_rates_2 = (out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i]);
-    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[58 * stride + i] + out[59 * stride + i]) + (out[60 * stride + i] + out[61 * stride + i]));
+    const T _sum_rates_3 = ((out[62 * stride + i] + out[63 * stride + i]) + (out[64 * stride + i] + out[65 * stride + i])) + ((out[66 * stride + i] + out[67 * stride + i]) + (out[68 * stride + i] + out[69 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8171543));
     const T _sum_forces_0 = ((out[42 * stride + i] + out[43 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i])) + ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]));
     const T _sum_forces_1 = out[4 * stride + i];
@@ -979,7 +1054,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x378ab8be49535830ULL;
+inline constexpr unsigned long long fingerprint = 0x6cc0b5c18d9ffcaeULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;
@@ -993,8 +1068,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.bar_t = values[4];
 }
 
-inline constexpr int column_count = 50;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "coupler.x", "coupler.y", "coupler.th", "coupler.vx", "coupler.vy", "coupler.w", "coupler.ax", "coupler.ay", "coupler.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "A.x", "A.y", "B.x", "B.y", "P.x", "P.y", "C.x", "C.y", "M.x", "M.y", "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy" };
+inline constexpr int column_count = 70;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "coupler.x", "coupler.y", "coupler.th", "coupler.vx", "coupler.vy", "coupler.w", "coupler.ax", "coupler.ay", "coupler.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "A.x", "A.y", "B.x", "B.y", "P.x", "P.y", "C.x", "C.y", "M.x", "M.y", "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy", "A.vx", "A.vy", "A.ax", "A.ay", "B.vx", "B.vy", "B.ax", "B.ay", "P.vx", "P.vy", "P.ax", "P.ay", "C.vx", "C.vy", "C.ax", "C.ay", "M.vx", "M.vy", "M.ax", "M.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -1047,6 +1122,26 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[47] = s.joints.M_rocker_coupler.fy;
   row[48] = s.joints.B_ground_rocker.fx;
   row[49] = s.joints.B_ground_rocker.fy;
+  row[50] = s.points.A.vx;
+  row[51] = s.points.A.vy;
+  row[52] = s.points.A.ax;
+  row[53] = s.points.A.ay;
+  row[54] = s.points.B.vx;
+  row[55] = s.points.B.vy;
+  row[56] = s.points.B.ax;
+  row[57] = s.points.B.ay;
+  row[58] = s.points.P.vx;
+  row[59] = s.points.P.vy;
+  row[60] = s.points.P.ax;
+  row[61] = s.points.P.ay;
+  row[62] = s.points.C.vx;
+  row[63] = s.points.C.vy;
+  row[64] = s.points.C.ax;
+  row[65] = s.points.C.ay;
+  row[66] = s.points.M.vx;
+  row[67] = s.points.M.vy;
+  row[68] = s.points.M.ax;
+  row[69] = s.points.M.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

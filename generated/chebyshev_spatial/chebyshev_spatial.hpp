@@ -2179,7 +2179,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x3e48d32849cccffbULL;
+inline constexpr unsigned long long fingerprint = 0xa79e332a5e0b29d1ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;
@@ -2193,8 +2193,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.bar_t = values[4];
 }
 
-inline constexpr int column_count = 113;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "rocker.x", "rocker.y", "rocker.z", "rocker.qw", "rocker.qx", "rocker.qy", "rocker.qz", "rocker.vx", "rocker.vy", "rocker.vz", "rocker.ax", "rocker.ay", "rocker.az", "rocker.wx", "rocker.wy", "rocker.wz", "rocker.alx", "rocker.aly", "rocker.alz", "A.x", "A.y", "A.z", "B.x", "B.y", "B.z", "P.x", "P.y", "P.z", "C.x", "C.y", "C.z", "M.x", "M.y", "M.z", "A_ground_crank.q", "A_ground_crank.qd", "A_ground_crank.qdd", "A_ground_crank.fx", "A_ground_crank.fy", "A_ground_crank.fz", "A_ground_crank.mx", "A_ground_crank.my", "A_ground_crank.mz", "P_crank_coupler.q", "P_crank_coupler.qd", "P_crank_coupler.qdd", "P_crank_coupler.fx", "P_crank_coupler.fy", "P_crank_coupler.fz", "P_crank_coupler.mx", "P_crank_coupler.my", "P_crank_coupler.mz", "M_rocker_coupler.q", "M_rocker_coupler.qd", "M_rocker_coupler.qdd", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "M_rocker_coupler.fz", "M_rocker_coupler.mx", "M_rocker_coupler.my", "M_rocker_coupler.mz", "B_ground_rocker.q", "B_ground_rocker.qd", "B_ground_rocker.qdd", "B_ground_rocker.fx", "B_ground_rocker.fy", "B_ground_rocker.fz", "B_ground_rocker.mx", "B_ground_rocker.my", "B_ground_rocker.mz" };
+inline constexpr int column_count = 143;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "rocker.x", "rocker.y", "rocker.z", "rocker.qw", "rocker.qx", "rocker.qy", "rocker.qz", "rocker.vx", "rocker.vy", "rocker.vz", "rocker.ax", "rocker.ay", "rocker.az", "rocker.wx", "rocker.wy", "rocker.wz", "rocker.alx", "rocker.aly", "rocker.alz", "A.x", "A.y", "A.z", "B.x", "B.y", "B.z", "P.x", "P.y", "P.z", "C.x", "C.y", "C.z", "M.x", "M.y", "M.z", "A_ground_crank.q", "A_ground_crank.qd", "A_ground_crank.qdd", "A_ground_crank.fx", "A_ground_crank.fy", "A_ground_crank.fz", "A_ground_crank.mx", "A_ground_crank.my", "A_ground_crank.mz", "P_crank_coupler.q", "P_crank_coupler.qd", "P_crank_coupler.qdd", "P_crank_coupler.fx", "P_crank_coupler.fy", "P_crank_coupler.fz", "P_crank_coupler.mx", "P_crank_coupler.my", "P_crank_coupler.mz", "M_rocker_coupler.q", "M_rocker_coupler.qd", "M_rocker_coupler.qdd", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "M_rocker_coupler.fz", "M_rocker_coupler.mx", "M_rocker_coupler.my", "M_rocker_coupler.mz", "B_ground_rocker.q", "B_ground_rocker.qd", "B_ground_rocker.qdd", "B_ground_rocker.fx", "B_ground_rocker.fy", "B_ground_rocker.fz", "B_ground_rocker.mx", "B_ground_rocker.my", "B_ground_rocker.mz", "A.vx", "A.vy", "A.vz", "A.ax", "A.ay", "A.az", "B.vx", "B.vy", "B.vz", "B.ax", "B.ay", "B.az", "P.vx", "P.vy", "P.vz", "P.ax", "P.ay", "P.az", "C.vx", "C.vy", "C.vz", "C.ax", "C.ay", "C.az", "M.vx", "M.vy", "M.vz", "M.ax", "M.ay", "M.az" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   [[maybe_unused]] T q[4];
@@ -2314,6 +2314,36 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[110] = s.joints.B_ground_rocker.mx;
   row[111] = s.joints.B_ground_rocker.my;
   row[112] = s.joints.B_ground_rocker.mz;
+  row[113] = s.points.A.vx;
+  row[114] = s.points.A.vy;
+  row[115] = s.points.A.vz;
+  row[116] = s.points.A.ax;
+  row[117] = s.points.A.ay;
+  row[118] = s.points.A.az;
+  row[119] = s.points.B.vx;
+  row[120] = s.points.B.vy;
+  row[121] = s.points.B.vz;
+  row[122] = s.points.B.ax;
+  row[123] = s.points.B.ay;
+  row[124] = s.points.B.az;
+  row[125] = s.points.P.vx;
+  row[126] = s.points.P.vy;
+  row[127] = s.points.P.vz;
+  row[128] = s.points.P.ax;
+  row[129] = s.points.P.ay;
+  row[130] = s.points.P.az;
+  row[131] = s.points.C.vx;
+  row[132] = s.points.C.vy;
+  row[133] = s.points.C.vz;
+  row[134] = s.points.C.ax;
+  row[135] = s.points.C.ay;
+  row[136] = s.points.C.az;
+  row[137] = s.points.M.vx;
+  row[138] = s.points.M.vy;
+  row[139] = s.points.M.vz;
+  row[140] = s.points.M.ax;
+  row[141] = s.points.M.ay;
+  row[142] = s.points.M.az;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

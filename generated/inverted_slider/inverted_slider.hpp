@@ -161,7 +161,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -245,7 +245,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 207
+  // Total ops: 219
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -253,8 +253,16 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.O.x = T(0);
   s.points.O.y = T(0);
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   s.points.B.x = p.d;
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -277,6 +285,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rocker.cos_th = c_rocker;
   const T s_rocker = (A_y*_tmp2 + _tmp0*p.h*g2_rocker_block_ap_x)*_tmp3;
   s.bodies.rocker.sin_th = s_rocker;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T A_y_d = p.r*s_crank_rel_d;
+  s.points.A.vy = A_y_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T A_x_d = p.r*c_crank_rel_d;
+  s.points.A.vx = A_x_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T A_x_dd = p.r*c_crank_rel_dd;
+  s.points.A.ax = A_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T A_y_dd = p.r*s_crank_rel_dd;
+  s.points.A.ay = A_y_dd;
   const T s_block_rel = _tmp1;
   const T c_block_rel = _tmp0;
   const T c_block = c_block_rel*c_rocker - s_block_rel*s_rocker;
@@ -289,10 +309,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.block.x = com_block_x;
   const T com_block_y = A_y + T(0.5)*p.h*c_block;
   s.bodies.block.y = com_block_y;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T A_x_d = p.r*c_crank_rel_d;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T A_y_d = p.r*s_crank_rel_d;
   const T g2_rocker_block_disc_d = T(2)*A_x_d*g2_rocker_block_ap_x + T(2)*A_y*A_y_d;
   const T _tmp4 = T(1)/g2_rocker_block_root;
   const T g2_rocker_block_root_d = T(0.5)*g2_rocker_block_disc_d*_tmp4;
@@ -304,10 +320,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T c_block_d = c_block_rel*c_rocker_d - s_block_rel*s_rocker_d;
   const T com_block_y_d = A_y_d + T(0.5)*p.h*c_block_d;
   s.bodies.block.vy = com_block_y_d;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T A_y_dd = p.r*s_crank_rel_dd;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T A_x_dd = p.r*c_crank_rel_dd;
   const T g2_rocker_block_disc_dd = T(2)*(A_x_d*A_x_d) + T(2)*(A_y_d*A_y_d) + T(2)*A_x_dd*g2_rocker_block_ap_x + T(2)*A_y*A_y_dd;
   const T _tmp5 = g2_rocker_block_root_d*g2_rocker_block_root_d;
   const T g2_rocker_block_root_dd = -T(0.5)*(T(2)*_tmp5 - g2_rocker_block_disc_dd)*_tmp4;
@@ -353,8 +365,24 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.S.x = S_x;
   const T S_y = A_y + p.h*c_block;
   s.points.S.y = S_y;
+  const T S_x_d = A_x_d - p.h*s_block_d;
+  s.points.S.vx = S_x_d;
+  const T S_y_d = A_y_d + p.h*c_block_d;
+  s.points.S.vy = S_y_d;
+  const T S_x_dd = A_x_dd - p.h*s_block_dd;
+  s.points.S.ax = S_x_dd;
+  const T S_y_dd = A_y_dd + p.h*c_block_dd;
+  s.points.S.ay = S_y_dd;
   const T E_y = p.L*s_rocker;
   s.points.E.y = E_y;
+  const T E_x_d = p.L*c_rocker_d;
+  s.points.E.vx = E_x_d;
+  const T E_y_d = p.L*s_rocker_d;
+  s.points.E.vy = E_y_d;
+  const T E_x_dd = p.L*c_rocker_dd;
+  s.points.E.ax = E_x_dd;
+  const T E_y_dd = p.L*s_rocker_dd;
+  s.points.E.ay = E_y_dd;
   if (!(g2_rocker_block_disc > T(0))) return detail::failed(s, 1, Status::unreachable);
   const T _sum_positions_0 = ((s.drivers.crank_angle.q + s.bodies.crank.x) + (s.bodies.crank.y + s.bodies.crank.cos_th)) + ((s.bodies.crank.sin_th + s.bodies.rocker.x) + (s.bodies.rocker.y + s.bodies.rocker.cos_th));
   const T _sum_positions_1 = ((s.bodies.rocker.sin_th + s.bodies.block.x) + (s.bodies.block.y + s.bodies.block.cos_th)) + ((s.bodies.block.sin_th + s.points.B.x) + (s.points.A.x + s.points.A.y));
@@ -363,8 +391,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.rocker.vx + s.bodies.rocker.vy) + (s.bodies.rocker.w + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.al) + (s.bodies.block.vx + s.bodies.block.vy));
-  const T _sum_rates_2 = (s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.points.A.vx + s.points.A.vy) + (s.points.A.ax + s.points.A.ay));
+  const T _sum_rates_3 = ((s.points.E.vx + s.points.E.vy) + (s.points.E.ax + s.points.E.ay)) + ((s.points.S.vx + s.points.S.vy) + (s.points.S.ax + s.points.S.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
@@ -378,7 +407,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 290
+  // Total ops: 302
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -386,8 +415,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.O.x = T(0);
   s.points.O.y = T(0);
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   s.points.B.x = p.d;
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -410,20 +447,24 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.rocker.cos_th = c_rocker;
   const T s_rocker = (A_y*_tmp2 + _tmp0*p.h*g2_rocker_block_ap_x)*_tmp3;
   s.bodies.rocker.sin_th = s_rocker;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T A_y_d = p.r*s_crank_rel_d;
+  s.points.A.vy = A_y_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T A_x_d = p.r*c_crank_rel_d;
+  s.points.A.vx = A_x_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T A_x_dd = p.r*c_crank_rel_dd;
+  s.points.A.ax = A_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T A_y_dd = p.r*s_crank_rel_dd;
+  s.points.A.ay = A_y_dd;
   const T s_block_rel = _tmp1;
   const T c_block_rel = _tmp0;
   const T c_block = c_block_rel*c_rocker - s_block_rel*s_rocker;
   s.bodies.block.cos_th = c_block;
   const T s_block = c_block_rel*s_rocker + s_block_rel*c_rocker;
   s.bodies.block.sin_th = s_block;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T A_y_dd = p.r*s_crank_rel_dd;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T A_x_dd = p.r*c_crank_rel_dd;
-  const T A_x_d = p.r*c_crank_rel_d;
-  const T A_y_d = p.r*s_crank_rel_d;
   const T g2_rocker_block_disc_dd = T(2)*(A_x_d*A_x_d) + T(2)*(A_y_d*A_y_d) + T(2)*A_x_dd*g2_rocker_block_ap_x + T(2)*A_y*A_y_dd;
   const T g2_rocker_block_disc_d = T(2)*A_x_d*g2_rocker_block_ap_x + T(2)*A_y*A_y_d;
   const T _tmp4 = T(1)/g2_rocker_block_root;
@@ -525,12 +566,28 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.rocker.vy = com_rocker_y_d;
   const T E_x = p.L*c_rocker + p.d;
   s.points.E.x = E_x;
+  const T S_x_d = A_x_d - p.h*s_block_d;
+  s.points.S.vx = S_x_d;
+  const T S_y_d = A_y_d + p.h*c_block_d;
+  s.points.S.vy = S_y_d;
+  const T S_x_dd = A_x_dd - p.h*s_block_dd;
+  s.points.S.ax = S_x_dd;
+  const T S_y_dd = A_y_dd + p.h*c_block_dd;
+  s.points.S.ay = S_y_dd;
   const T B_rocker_fy = _tmp17 + rocker_inertial_y;
   s.joints.B_rocker.fy = B_rocker_fy;
   const T B_rocker_fx = rocker_inertial_x + _tmp16;
   s.joints.B_rocker.fx = B_rocker_fx;
   const T E_y = p.L*s_rocker;
   s.points.E.y = E_y;
+  const T E_x_d = p.L*c_rocker_d;
+  s.points.E.vx = E_x_d;
+  const T E_y_d = p.L*s_rocker_d;
+  s.points.E.vy = E_y_d;
+  const T E_x_dd = p.L*c_rocker_dd;
+  s.points.E.ax = E_x_dd;
+  const T E_y_dd = p.L*s_rocker_dd;
+  s.points.E.ay = E_y_dd;
   const T O_crank_fy = A_block_fy + crank_inertial_y;
   s.joints.O_crank.fy = O_crank_fy;
   const T O_crank_fx = A_block_fx + crank_inertial_x;
@@ -544,8 +601,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.rocker.vx + s.bodies.rocker.vy) + (s.bodies.rocker.w + s.bodies.rocker.ax)) + ((s.bodies.rocker.ay + s.bodies.rocker.al) + (s.bodies.block.vx + s.bodies.block.vy));
-  const T _sum_rates_2 = (s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.points.A.vx + s.points.A.vy) + (s.points.A.ax + s.points.A.ay));
+  const T _sum_rates_3 = ((s.points.E.vx + s.points.E.vy) + (s.points.E.ax + s.points.E.ay)) + ((s.points.S.vx + s.points.S.vy) + (s.points.S.ax + s.points.S.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.O_crank.fx + s.joints.O_crank.fy) + (s.joints.B_rocker.fx + s.joints.B_rocker.fy)) + ((s.joints.A_block.fx + s.joints.A_block.fy) + (s.joints.slide.fx + s.joints.slide.fy));
   const T _sum_forces_1 = s.joints.slide.m + s.drivers.crank_angle.effort;
@@ -602,7 +660,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
-    // Total ops: 293
+    // Total ops: 305
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;
@@ -611,8 +669,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[13 * stride + i] = in.crank_angle_dd;
     out[32 * stride + i] = T(0);
     out[33 * stride + i] = T(0);
+    out[51 * stride + i] = T(0);
+    out[52 * stride + i] = T(0);
+    out[53 * stride + i] = T(0);
+    out[54 * stride + i] = T(0);
     out[34 * stride + i] = p.d;
     out[35 * stride + i] = T(0);
+    out[55 * stride + i] = T(0);
+    out[56 * stride + i] = T(0);
+    out[57 * stride + i] = T(0);
+    out[58 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel = cos(in.crank_angle);
     out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
@@ -625,6 +691,12 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T g2_rocker_block_ap_x = A_x - p.d;
     const T g2_rocker_block_disc = A_y*A_y + g2_rocker_block_ap_x*g2_rocker_block_ap_x - g2_rocker_block_w_y*g2_rocker_block_w_y;
     failed = max(failed, (g2_rocker_block_disc > T(0)) ? T(0) : T(8192009));
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T A_y_d = p.r*s_crank_rel_d;
+    out[60 * stride + i] = A_y_d;
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T A_x_d = p.r*c_crank_rel_d;
+    out[59 * stride + i] = A_x_d;
     const T g2_rocker_block_root = sqrt(g2_rocker_block_disc);
     const T _tmp1 = sin(p.alpha);
     const T g2_rocker_block_w_x = p.h*_tmp1;
@@ -634,10 +706,6 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T s_rocker = (A_y*_tmp2 + _tmp0*p.h*g2_rocker_block_ap_x)*_tmp3;
     const T c_rocker = -(_tmp0*p.h*A_y - g2_rocker_block_ap_x*_tmp2)*_tmp3;
     out[16 * stride + i] = atan2(s_rocker, c_rocker);
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T A_x_d = p.r*c_crank_rel_d;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T A_y_d = p.r*s_crank_rel_d;
     const T g2_rocker_block_disc_d = T(2)*A_x_d*g2_rocker_block_ap_x + T(2)*A_y*A_y_d;
     const T _tmp4 = T(1)/g2_rocker_block_root;
     const T g2_rocker_block_root_d = T(0.5)*g2_rocker_block_disc_d*_tmp4;
@@ -673,8 +741,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[17 * stride + i] = com_rocker_x_d;
     const T com_rocker_y_d = T(0.5)*p.L*s_rocker_d;
     out[18 * stride + i] = com_rocker_y_d;
-    const T A_y_dd = p.r*s_crank_rel_dd;
     const T A_x_dd = p.r*c_crank_rel_dd;
+    out[61 * stride + i] = A_x_dd;
+    const T A_y_dd = p.r*s_crank_rel_dd;
+    out[62 * stride + i] = A_y_dd;
     const T g2_rocker_block_disc_dd = T(2)*(A_x_d*A_x_d) + T(2)*(A_y_d*A_y_d) + T(2)*A_x_dd*g2_rocker_block_ap_x + T(2)*A_y*A_y_dd;
     const T _tmp5 = g2_rocker_block_root_d*g2_rocker_block_root_d;
     const T g2_rocker_block_root_dd = -T(0.5)*(T(2)*_tmp5 - g2_rocker_block_disc_dd)*_tmp4;
@@ -707,10 +777,26 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[38 * stride + i] = E_x;
     const T E_y = p.L*s_rocker;
     out[39 * stride + i] = E_y;
+    const T E_x_d = p.L*c_rocker_d;
+    out[63 * stride + i] = E_x_d;
+    const T E_y_d = p.L*s_rocker_d;
+    out[64 * stride + i] = E_y_d;
+    const T E_x_dd = p.L*c_rocker_dd;
+    out[65 * stride + i] = E_x_dd;
+    const T E_y_dd = p.L*s_rocker_dd;
+    out[66 * stride + i] = E_y_dd;
     const T S_x = A_x - p.h*s_block;
     out[40 * stride + i] = S_x;
     const T S_y = A_y + p.h*c_block;
     out[41 * stride + i] = S_y;
+    const T S_x_d = A_x_d - p.h*s_block_d;
+    out[67 * stride + i] = S_x_d;
+    const T S_y_d = A_y_d + p.h*c_block_d;
+    out[68 * stride + i] = S_y_d;
+    const T S_x_dd = A_x_dd - p.h*s_block_dd;
+    out[69 * stride + i] = S_x_dd;
+    const T S_y_dd = A_y_dd + p.h*c_block_dd;
+    out[70 * stride + i] = S_y_dd;
     const T slide_normal_x = -s_rocker;
     const T _tmp6 = (S_x - p.d)*c_rocker;
     const T _tmp7 = S_y*slide_normal_x;
@@ -766,8 +852,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8183827));
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
     const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
-    const T _sum_rates_2 = (out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i]);
-    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[59 * stride + i] + out[60 * stride + i]) + (out[61 * stride + i] + out[62 * stride + i]));
+    const T _sum_rates_3 = ((out[63 * stride + i] + out[64 * stride + i]) + (out[65 * stride + i] + out[66 * stride + i])) + ((out[67 * stride + i] + out[68 * stride + i]) + (out[69 * stride + i] + out[70 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + _sum_rates_3);
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8179735));
     const T _sum_forces_0 = ((out[42 * stride + i] + out[43 * stride + i]) + (out[44 * stride + i] + out[45 * stride + i])) + ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i]));
     const T _sum_forces_1 = out[50 * stride + i] + out[4 * stride + i];
@@ -937,7 +1024,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x1fdc44df3b6d6b4eULL;
+inline constexpr unsigned long long fingerprint = 0xff96df41a860a7d0ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 11;
@@ -957,8 +1044,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.T_r = values[10];
 }
 
-inline constexpr int column_count = 51;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "block.x", "block.y", "block.th", "block.vx", "block.vy", "block.w", "block.ax", "block.ay", "block.al", "O.x", "O.y", "B.x", "B.y", "A.x", "A.y", "E.x", "E.y", "S.x", "S.y", "O_crank.fx", "O_crank.fy", "B_rocker.fx", "B_rocker.fy", "A_block.fx", "A_block.fy", "slide.fx", "slide.fy", "slide.m" };
+inline constexpr int column_count = 71;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "block.x", "block.y", "block.th", "block.vx", "block.vy", "block.w", "block.ax", "block.ay", "block.al", "O.x", "O.y", "B.x", "B.y", "A.x", "A.y", "E.x", "E.y", "S.x", "S.y", "O_crank.fx", "O_crank.fy", "B_rocker.fx", "B_rocker.fy", "A_block.fx", "A_block.fy", "slide.fx", "slide.fy", "slide.m", "O.vx", "O.vy", "O.ax", "O.ay", "B.vx", "B.vy", "B.ax", "B.ay", "A.vx", "A.vy", "A.ax", "A.ay", "E.vx", "E.vy", "E.ax", "E.ay", "S.vx", "S.vy", "S.ax", "S.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -1012,6 +1099,26 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[48] = s.joints.slide.fx;
   row[49] = s.joints.slide.fy;
   row[50] = s.joints.slide.m;
+  row[51] = s.points.O.vx;
+  row[52] = s.points.O.vy;
+  row[53] = s.points.O.ax;
+  row[54] = s.points.O.ay;
+  row[55] = s.points.B.vx;
+  row[56] = s.points.B.vy;
+  row[57] = s.points.B.ax;
+  row[58] = s.points.B.ay;
+  row[59] = s.points.A.vx;
+  row[60] = s.points.A.vy;
+  row[61] = s.points.A.ax;
+  row[62] = s.points.A.ay;
+  row[63] = s.points.E.vx;
+  row[64] = s.points.E.vy;
+  row[65] = s.points.E.ax;
+  row[66] = s.points.E.ay;
+  row[67] = s.points.S.vx;
+  row[68] = s.points.S.vy;
+  row[69] = s.points.S.ax;
+  row[70] = s.points.S.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -2680,7 +2680,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd1d221fe0418ef4dULL;
+inline constexpr unsigned long long fingerprint = 0x427af83cf5ae8fefULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;
@@ -2697,8 +2697,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.theta = values[7];
 }
 
-inline constexpr int column_count = 109;
-inline constexpr const char* column_names[] = { "t", "foot_pose.x.q", "foot_pose.x.qd", "foot_pose.x.qdd", "foot_pose.x.effort", "foot_pose.y.q", "foot_pose.y.qd", "foot_pose.y.qdd", "foot_pose.y.effort", "foot_pose.rz.q", "foot_pose.rz.qd", "foot_pose.rz.qdd", "foot_pose.rz.effort", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "shank.x", "shank.y", "shank.z", "shank.qw", "shank.qx", "shank.qy", "shank.qz", "shank.vx", "shank.vy", "shank.vz", "shank.ax", "shank.ay", "shank.az", "shank.wx", "shank.wy", "shank.wz", "shank.alx", "shank.aly", "shank.alz", "foot.x", "foot.y", "foot.z", "foot.qw", "foot.qx", "foot.qy", "foot.qz", "foot.vx", "foot.vy", "foot.vz", "foot.ax", "foot.ay", "foot.az", "foot.wx", "foot.wy", "foot.wz", "foot.alx", "foot.aly", "foot.alz", "hip.x", "hip.y", "hip.z", "knee.x", "knee.y", "knee.z", "ankle.x", "ankle.y", "ankle.z", "toe.x", "toe.y", "toe.z", "j1.q", "j1.qd", "j1.qdd", "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.q", "j2.qd", "j2.qdd", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.q", "j3.qd", "j3.qdd", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz" };
+inline constexpr int column_count = 133;
+inline constexpr const char* column_names[] = { "t", "foot_pose.x.q", "foot_pose.x.qd", "foot_pose.x.qdd", "foot_pose.x.effort", "foot_pose.y.q", "foot_pose.y.qd", "foot_pose.y.qdd", "foot_pose.y.effort", "foot_pose.rz.q", "foot_pose.rz.qd", "foot_pose.rz.qdd", "foot_pose.rz.effort", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "shank.x", "shank.y", "shank.z", "shank.qw", "shank.qx", "shank.qy", "shank.qz", "shank.vx", "shank.vy", "shank.vz", "shank.ax", "shank.ay", "shank.az", "shank.wx", "shank.wy", "shank.wz", "shank.alx", "shank.aly", "shank.alz", "foot.x", "foot.y", "foot.z", "foot.qw", "foot.qx", "foot.qy", "foot.qz", "foot.vx", "foot.vy", "foot.vz", "foot.ax", "foot.ay", "foot.az", "foot.wx", "foot.wy", "foot.wz", "foot.alx", "foot.aly", "foot.alz", "hip.x", "hip.y", "hip.z", "knee.x", "knee.y", "knee.z", "ankle.x", "ankle.y", "ankle.z", "toe.x", "toe.y", "toe.z", "j1.q", "j1.qd", "j1.qdd", "j1.fx", "j1.fy", "j1.fz", "j1.mx", "j1.my", "j1.mz", "j2.q", "j2.qd", "j2.qdd", "j2.fx", "j2.fy", "j2.fz", "j2.mx", "j2.my", "j2.mz", "j3.q", "j3.qd", "j3.qdd", "j3.fx", "j3.fy", "j3.fz", "j3.mx", "j3.my", "j3.mz", "hip.vx", "hip.vy", "hip.vz", "hip.ax", "hip.ay", "hip.az", "knee.vx", "knee.vy", "knee.vz", "knee.ax", "knee.ay", "knee.az", "ankle.vx", "ankle.vy", "ankle.vz", "ankle.ax", "ankle.ay", "ankle.az", "toe.vx", "toe.vy", "toe.vz", "toe.ax", "toe.ay", "toe.az" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   [[maybe_unused]] T q[4];
@@ -2814,6 +2814,30 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[106] = s.joints.j3.mx;
   row[107] = s.joints.j3.my;
   row[108] = s.joints.j3.mz;
+  row[109] = s.points.hip.vx;
+  row[110] = s.points.hip.vy;
+  row[111] = s.points.hip.vz;
+  row[112] = s.points.hip.ax;
+  row[113] = s.points.hip.ay;
+  row[114] = s.points.hip.az;
+  row[115] = s.points.knee.vx;
+  row[116] = s.points.knee.vy;
+  row[117] = s.points.knee.vz;
+  row[118] = s.points.knee.ax;
+  row[119] = s.points.knee.ay;
+  row[120] = s.points.knee.az;
+  row[121] = s.points.ankle.vx;
+  row[122] = s.points.ankle.vy;
+  row[123] = s.points.ankle.vz;
+  row[124] = s.points.ankle.ax;
+  row[125] = s.points.ankle.ay;
+  row[126] = s.points.ankle.az;
+  row[127] = s.points.toe.vx;
+  row[128] = s.points.toe.vy;
+  row[129] = s.points.toe.vz;
+  row[130] = s.points.toe.ax;
+  row[131] = s.points.toe.ay;
+  row[132] = s.points.toe.az;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

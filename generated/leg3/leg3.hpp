@@ -172,7 +172,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -256,7 +256,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
-  // Total ops: 225
+  // Total ops: 253
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -270,6 +270,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.thigh.al = in.q1_dd;
   s.points.H.x = T(0);
   s.points.H.y = T(0);
+  s.points.H.vx = T(0);
+  s.points.H.vy = T(0);
+  s.points.H.ax = T(0);
+  s.points.H.ay = T(0);
   const T c_thigh_rel = cos(in.q1);
   s.bodies.thigh.cos_th = c_thigh_rel;
   const T s_thigh_rel = sin(in.q1);
@@ -284,6 +288,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.K.x = K_x;
   const T K_y = -p.l_th*c_thigh_rel;
   s.points.K.y = K_y;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  s.points.K.vx = K_x_d;
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  s.points.K.vy = K_y_d;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  s.points.K.ax = K_x_dd;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  s.points.K.ay = K_y_dd;
   const T Ank_x = K_x + p.l_sh*s_shank;
   s.points.Ank.x = Ank_x;
   const T Ank_y = K_y - p.l_sh*c_shank;
@@ -294,45 +310,41 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.foot.cos_th = c_foot;
   const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
   s.bodies.foot.sin_th = s_foot;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
+  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+  s.points.Ank.vx = Ank_x_d;
+  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  s.points.Ank.vy = Ank_y_d;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+  s.points.Ank.ax = Ank_x_dd;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  s.points.Ank.ay = Ank_y_dd;
   const T _tmp0 = p.l_heel - p.l_toe;
   const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
   s.bodies.foot.x = com_foot_x;
   const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
   s.bodies.foot.y = com_foot_y;
-  const T s_shank_rel_d = c_shank_rel*in.q2_d;
-  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-  const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
-  const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
   const T s_foot_rel_d = c_foot_rel*in.q3_d;
   const T c_foot_rel_d = -in.q3_d*s_foot_rel;
   const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
   const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-  const T K_x_d = p.l_th*s_thigh_rel_d;
-  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
   const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
   s.bodies.foot.vx = com_foot_x_d;
-  const T K_y_d = -p.l_th*c_thigh_rel_d;
-  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
   const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
   s.bodies.foot.vy = com_foot_y_d;
   const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
   const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
   const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
   const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-  const T K_x_dd = p.l_th*s_thigh_rel_dd;
-  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
   const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
   s.bodies.foot.ax = com_foot_x_dd;
-  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
   const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
   s.bodies.foot.ay = com_foot_y_dd;
   const T com_shank_x = K_x + T(0.5)*p.l_sh*s_shank;
@@ -353,10 +365,30 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _tmp2 = p.h_ft*c_foot;
   const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
   s.points.Toe.y = Toe_y;
+  const T _tmp3 = p.h_ft*s_foot_d;
+  const T Toe_x_d = Ank_x_d + _tmp3 - p.l_toe*c_foot_d;
+  s.points.Toe.vx = Toe_x_d;
+  const T _tmp4 = p.h_ft*c_foot_d;
+  const T Toe_y_d = Ank_y_d - _tmp4 - p.l_toe*s_foot_d;
+  s.points.Toe.vy = Toe_y_d;
+  const T _tmp5 = p.h_ft*s_foot_dd;
+  const T Toe_x_dd = Ank_x_dd + _tmp5 - p.l_toe*c_foot_dd;
+  s.points.Toe.ax = Toe_x_dd;
+  const T _tmp6 = p.h_ft*c_foot_dd;
+  const T Toe_y_dd = Ank_y_dd - _tmp6 - p.l_toe*s_foot_dd;
+  s.points.Toe.ay = Toe_y_dd;
   const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
   s.points.Heel.x = Heel_x;
   const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
   s.points.Heel.y = Heel_y;
+  const T Heel_x_d = Ank_x_d + p.l_heel*c_foot_d + _tmp3;
+  s.points.Heel.vx = Heel_x_d;
+  const T Heel_y_d = Ank_y_d + p.l_heel*s_foot_d - _tmp4;
+  s.points.Heel.vy = Heel_y_d;
+  const T Heel_x_dd = Ank_x_dd + p.l_heel*c_foot_dd + _tmp5;
+  s.points.Heel.ax = Heel_x_dd;
+  const T Heel_y_dd = Ank_y_dd + p.l_heel*s_foot_dd - _tmp6;
+  s.points.Heel.ay = Heel_y_dd;
   const T w_shank = in.q1_d + in.q2_d;
   s.bodies.shank.w = w_shank;
   const T com_thigh_x = T(0.5)*p.l_th*s_thigh_rel;
@@ -385,7 +417,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_rates_0 = ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd)) + ((s.drivers.q3.qd + s.drivers.q3.qdd) + (s.bodies.thigh.vx + s.bodies.thigh.vy));
   const T _sum_rates_1 = ((s.bodies.thigh.w + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.al)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.w + s.bodies.shank.ax));
   const T _sum_rates_2 = ((s.bodies.shank.ay + s.bodies.shank.al) + (s.bodies.foot.vx + s.bodies.foot.vy)) + ((s.bodies.foot.w + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.al));
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_3 = ((s.points.K.vx + s.points.K.vy) + (s.points.K.ax + s.points.K.ay)) + ((s.points.Ank.vx + s.points.Ank.vy) + (s.points.Ank.ax + s.points.Ank.ay));
+  const T _sum_rates_4 = ((s.points.Toe.vx + s.points.Toe.vy) + (s.points.Toe.ax + s.points.Toe.ay)) + ((s.points.Heel.vx + s.points.Heel.vy) + (s.points.Heel.ax + s.points.Heel.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
@@ -398,7 +432,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
-  // Total ops: 281
+  // Total ops: 309
   s.drivers.q1.q = in.q1;
   s.drivers.q1.qd = in.q1_d;
   s.drivers.q1.qdd = in.q1_dd;
@@ -412,6 +446,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.thigh.al = in.q1_dd;
   s.points.H.x = T(0);
   s.points.H.y = T(0);
+  s.points.H.vx = T(0);
+  s.points.H.vy = T(0);
+  s.points.H.ax = T(0);
+  s.points.H.ay = T(0);
   const T c_thigh_rel = cos(in.q1);
   s.bodies.thigh.cos_th = c_thigh_rel;
   const T s_thigh_rel = sin(in.q1);
@@ -422,10 +460,28 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.shank.cos_th = c_shank;
   const T s_shank = c_shank_rel*s_thigh_rel + c_thigh_rel*s_shank_rel;
   s.bodies.shank.sin_th = s_shank;
+  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
+  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
+  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+  s.points.K.ay = K_y_dd;
+  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
+  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
+  const T K_x_dd = p.l_th*s_thigh_rel_dd;
+  s.points.K.ax = K_x_dd;
+  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
+  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
+  const T s_shank_rel_d = c_shank_rel*in.q2_d;
+  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
+  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
+  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+  s.points.Ank.ay = Ank_y_dd;
   const T K_x = p.l_th*s_thigh_rel;
   s.points.K.x = K_x;
   const T K_y = -p.l_th*c_thigh_rel;
   s.points.K.y = K_y;
+  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
+  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+  s.points.Ank.ax = Ank_x_dd;
   const T Ank_x = K_x + p.l_sh*s_shank;
   s.points.Ank.x = Ank_x;
   const T Ank_y = K_y - p.l_sh*c_shank;
@@ -436,22 +492,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.foot.cos_th = c_foot;
   const T s_foot = c_foot_rel*s_shank + c_shank*s_foot_rel;
   s.bodies.foot.sin_th = s_foot;
-  const T c_shank_rel_d = -in.q2_d*s_shank_rel;
-  const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
-  const T s_shank_rel_d = c_shank_rel*in.q2_d;
-  const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
-  const T s_thigh_rel_d = c_thigh_rel*in.q1_d;
-  const T c_thigh_rel_dd = -in.q1_d*s_thigh_rel_d - in.q1_dd*s_thigh_rel;
-  const T c_thigh_rel_d = -in.q1_d*s_thigh_rel;
-  const T s_thigh_rel_dd = c_thigh_rel*in.q1_dd + c_thigh_rel_d*in.q1_d;
-  const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
-  const T K_y_dd = -p.l_th*c_thigh_rel_dd;
-  const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
   const T c_foot_rel_d = -in.q3_d*s_foot_rel;
   const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
   const T s_foot_rel_d = c_foot_rel*in.q3_d;
   const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
-  const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
   const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
   const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
   const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
@@ -459,8 +503,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _tmp0 = p.l_heel - p.l_toe;
   const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
   s.bodies.foot.ay = com_foot_y_dd;
-  const T K_x_dd = p.l_th*s_thigh_rel_dd;
-  const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
   const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
   s.bodies.foot.ax = com_foot_x_dd;
   const T com_foot_x = Ank_x + T(0.5)*_tmp0*c_foot + T(0.5)*p.h_ft*s_foot;
@@ -501,6 +543,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.thigh.x = com_thigh_x;
   const T com_thigh_y = -T(0.5)*p.l_th*c_thigh_rel;
   s.bodies.thigh.y = com_thigh_y;
+  const T K_x_d = p.l_th*s_thigh_rel_d;
+  s.points.K.vx = K_x_d;
+  const T K_y_d = -p.l_th*c_thigh_rel_d;
+  s.points.K.vy = K_y_d;
+  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+  s.points.Ank.vx = Ank_x_d;
+  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+  s.points.Ank.vy = Ank_y_d;
   const T knee_fy = foot_inertial_y + shank_inertial_y;
   s.joints.knee.fy = knee_fy;
   const T knee_fx = foot_inertial_x + shank_inertial_x;
@@ -512,12 +562,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.drivers.q1.effort = q1_effort;
   const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
   const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-  const T K_x_d = p.l_th*s_thigh_rel_d;
-  const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
   const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
   s.bodies.foot.vx = com_foot_x_d;
-  const T K_y_d = -p.l_th*c_thigh_rel_d;
-  const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
   const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
   s.bodies.foot.vy = com_foot_y_d;
   const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
@@ -530,10 +576,30 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _tmp4 = p.h_ft*c_foot;
   const T Toe_y = Ank_y - _tmp4 - p.l_toe*s_foot;
   s.points.Toe.y = Toe_y;
+  const T _tmp5 = p.h_ft*s_foot_d;
+  const T Toe_x_d = Ank_x_d + _tmp5 - p.l_toe*c_foot_d;
+  s.points.Toe.vx = Toe_x_d;
+  const T _tmp6 = p.h_ft*c_foot_d;
+  const T Toe_y_d = Ank_y_d - _tmp6 - p.l_toe*s_foot_d;
+  s.points.Toe.vy = Toe_y_d;
+  const T _tmp7 = p.h_ft*s_foot_dd;
+  const T Toe_x_dd = Ank_x_dd + _tmp7 - p.l_toe*c_foot_dd;
+  s.points.Toe.ax = Toe_x_dd;
+  const T _tmp8 = p.h_ft*c_foot_dd;
+  const T Toe_y_dd = Ank_y_dd - _tmp8 - p.l_toe*s_foot_dd;
+  s.points.Toe.ay = Toe_y_dd;
   const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp3;
   s.points.Heel.x = Heel_x;
   const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp4;
   s.points.Heel.y = Heel_y;
+  const T Heel_x_d = Ank_x_d + p.l_heel*c_foot_d + _tmp5;
+  s.points.Heel.vx = Heel_x_d;
+  const T Heel_y_d = Ank_y_d + p.l_heel*s_foot_d - _tmp6;
+  s.points.Heel.vy = Heel_y_d;
+  const T Heel_x_dd = Ank_x_dd + p.l_heel*c_foot_dd + _tmp7;
+  s.points.Heel.ax = Heel_x_dd;
+  const T Heel_y_dd = Ank_y_dd + p.l_heel*s_foot_dd - _tmp8;
+  s.points.Heel.ay = Heel_y_dd;
   const T w_shank = in.q1_d + in.q2_d;
   s.bodies.shank.w = w_shank;
   const T com_thigh_x_d = T(0.5)*p.l_th*s_thigh_rel_d;
@@ -554,7 +620,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_rates_0 = ((s.drivers.q1.qd + s.drivers.q1.qdd) + (s.drivers.q2.qd + s.drivers.q2.qdd)) + ((s.drivers.q3.qd + s.drivers.q3.qdd) + (s.bodies.thigh.vx + s.bodies.thigh.vy));
   const T _sum_rates_1 = ((s.bodies.thigh.w + s.bodies.thigh.ax) + (s.bodies.thigh.ay + s.bodies.thigh.al)) + ((s.bodies.shank.vx + s.bodies.shank.vy) + (s.bodies.shank.w + s.bodies.shank.ax));
   const T _sum_rates_2 = ((s.bodies.shank.ay + s.bodies.shank.al) + (s.bodies.foot.vx + s.bodies.foot.vy)) + ((s.bodies.foot.w + s.bodies.foot.ax) + (s.bodies.foot.ay + s.bodies.foot.al));
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_3 = ((s.points.K.vx + s.points.K.vy) + (s.points.K.ax + s.points.K.ay)) + ((s.points.Ank.vx + s.points.Ank.vy) + (s.points.Ank.ax + s.points.Ank.ay));
+  const T _sum_rates_4 = ((s.points.Toe.vx + s.points.Toe.vy) + (s.points.Toe.ax + s.points.Toe.ay)) + ((s.points.Heel.vx + s.points.Heel.vy) + (s.points.Heel.ax + s.points.Heel.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.hip.fx + s.joints.hip.fy) + (s.joints.knee.fx + s.joints.knee.fy)) + ((s.joints.ankle.fx + s.joints.ankle.fy) + (s.drivers.q1.effort + s.drivers.q2.effort));
   const T _sum_forces_1 = s.drivers.q3.effort;
@@ -622,7 +690,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.q3_dd = batch_q3_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.q1 - in.q1) + (in.q1_d - in.q1_d) + (in.q1_dd - in.q1_dd) + (in.q2 - in.q2) + (in.q2_d - in.q2_d) + (in.q2_dd - in.q2_dd) + (in.q3 - in.q3) + (in.q3_d - in.q3_d) + (in.q3_dd - in.q3_dd)) == T(0) ? T(0) : T(8196113);
-    // Total ops: 284
+    // Total ops: 312
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.q1;
     out[2 * stride + i] = in.q1_d;
@@ -637,6 +705,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[21 * stride + i] = in.q1_dd;
     out[40 * stride + i] = T(0);
     out[41 * stride + i] = T(0);
+    out[56 * stride + i] = T(0);
+    out[57 * stride + i] = T(0);
+    out[58 * stride + i] = T(0);
+    out[59 * stride + i] = T(0);
     const T s_thigh_rel = sin(in.q1);
     const T c_thigh_rel = cos(in.q1);
     out[15 * stride + i] = atan2(s_thigh_rel, c_thigh_rel);
@@ -682,24 +754,28 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[22 * stride + i] = com_shank_x;
     const T com_shank_y = K_y - T(0.5)*p.l_sh*c_shank;
     out[23 * stride + i] = com_shank_y;
+    const T K_x_d = p.l_th*s_thigh_rel_d;
+    out[60 * stride + i] = K_x_d;
     const T s_shank_rel_d = c_shank_rel*in.q2_d;
     const T c_shank_rel_d = -in.q2_d*s_shank_rel;
     const T s_shank_d = c_shank_rel*s_thigh_rel_d + c_shank_rel_d*s_thigh_rel + c_thigh_rel*s_shank_rel_d + c_thigh_rel_d*s_shank_rel;
-    const T K_x_d = p.l_th*s_thigh_rel_d;
     const T com_shank_x_d = K_x_d + T(0.5)*p.l_sh*s_shank_d;
     out[25 * stride + i] = com_shank_x_d;
-    const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
     const T K_y_d = -p.l_th*c_thigh_rel_d;
+    out[61 * stride + i] = K_y_d;
+    const T c_shank_d = c_shank_rel*c_thigh_rel_d + c_shank_rel_d*c_thigh_rel - s_shank_rel*s_thigh_rel_d - s_shank_rel_d*s_thigh_rel;
     const T com_shank_y_d = K_y_d - T(0.5)*p.l_sh*c_shank_d;
     out[26 * stride + i] = com_shank_y_d;
+    const T K_x_dd = p.l_th*s_thigh_rel_dd;
+    out[62 * stride + i] = K_x_dd;
     const T s_shank_rel_dd = c_shank_rel*in.q2_dd + c_shank_rel_d*in.q2_d;
     const T c_shank_rel_dd = -in.q2_d*s_shank_rel_d - in.q2_dd*s_shank_rel;
     const T s_shank_dd = T(2)*c_shank_rel_d*s_thigh_rel_d + T(2)*c_thigh_rel_d*s_shank_rel_d + c_shank_rel*s_thigh_rel_dd + c_shank_rel_dd*s_thigh_rel + c_thigh_rel*s_shank_rel_dd + c_thigh_rel_dd*s_shank_rel;
-    const T K_x_dd = p.l_th*s_thigh_rel_dd;
     const T com_shank_x_dd = K_x_dd + T(0.5)*p.l_sh*s_shank_dd;
     out[28 * stride + i] = com_shank_x_dd;
-    const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
     const T K_y_dd = -p.l_th*c_thigh_rel_dd;
+    out[63 * stride + i] = K_y_dd;
+    const T c_shank_dd = T(2)*c_shank_rel_d*c_thigh_rel_d + c_shank_rel*c_thigh_rel_dd + c_shank_rel_dd*c_thigh_rel - T(2)*s_shank_rel_d*s_thigh_rel_d - s_shank_rel*s_thigh_rel_dd - s_shank_rel_dd*s_thigh_rel;
     const T com_shank_y_dd = K_y_dd - T(0.5)*p.l_sh*c_shank_dd;
     out[29 * stride + i] = com_shank_y_dd;
     const T w_shank_d = in.q1_dd + in.q2_dd;
@@ -709,24 +785,28 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[31 * stride + i] = com_foot_x;
     const T com_foot_y = Ank_y + T(0.5)*_tmp0*s_foot - T(0.5)*p.h_ft*c_foot;
     out[32 * stride + i] = com_foot_y;
+    const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
+    out[64 * stride + i] = Ank_x_d;
     const T s_foot_rel_d = c_foot_rel*in.q3_d;
     const T c_foot_rel_d = -in.q3_d*s_foot_rel;
     const T s_foot_d = c_foot_rel*s_shank_d + c_foot_rel_d*s_shank + c_shank*s_foot_rel_d + c_shank_d*s_foot_rel;
     const T c_foot_d = c_foot_rel*c_shank_d + c_foot_rel_d*c_shank - s_foot_rel*s_shank_d - s_foot_rel_d*s_shank;
-    const T Ank_x_d = K_x_d + p.l_sh*s_shank_d;
     const T com_foot_x_d = Ank_x_d + T(0.5)*_tmp0*c_foot_d + T(0.5)*p.h_ft*s_foot_d;
     out[34 * stride + i] = com_foot_x_d;
     const T Ank_y_d = K_y_d - p.l_sh*c_shank_d;
+    out[65 * stride + i] = Ank_y_d;
     const T com_foot_y_d = Ank_y_d + T(0.5)*_tmp0*s_foot_d - T(0.5)*p.h_ft*c_foot_d;
     out[35 * stride + i] = com_foot_y_d;
+    const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
+    out[66 * stride + i] = Ank_x_dd;
     const T s_foot_rel_dd = c_foot_rel*in.q3_dd + c_foot_rel_d*in.q3_d;
     const T c_foot_rel_dd = -in.q3_d*s_foot_rel_d - in.q3_dd*s_foot_rel;
     const T s_foot_dd = T(2)*c_foot_rel_d*s_shank_d + T(2)*c_shank_d*s_foot_rel_d + c_foot_rel*s_shank_dd + c_foot_rel_dd*s_shank + c_shank*s_foot_rel_dd + c_shank_dd*s_foot_rel;
     const T c_foot_dd = T(2)*c_foot_rel_d*c_shank_d + c_foot_rel*c_shank_dd + c_foot_rel_dd*c_shank - T(2)*s_foot_rel_d*s_shank_d - s_foot_rel*s_shank_dd - s_foot_rel_dd*s_shank;
-    const T Ank_x_dd = K_x_dd + p.l_sh*s_shank_dd;
     const T com_foot_x_dd = Ank_x_dd + T(0.5)*_tmp0*c_foot_dd + T(0.5)*p.h_ft*s_foot_dd;
     out[37 * stride + i] = com_foot_x_dd;
     const T Ank_y_dd = K_y_dd - p.l_sh*c_shank_dd;
+    out[67 * stride + i] = Ank_y_dd;
     const T com_foot_y_dd = Ank_y_dd + T(0.5)*_tmp0*s_foot_dd - T(0.5)*p.h_ft*c_foot_dd;
     out[38 * stride + i] = com_foot_y_dd;
     const T w_foot_d = in.q3_dd + w_shank_d;
@@ -737,22 +817,42 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp2 = p.h_ft*c_foot;
     const T Toe_y = Ank_y - _tmp2 - p.l_toe*s_foot;
     out[47 * stride + i] = Toe_y;
+    const T _tmp3 = p.h_ft*s_foot_d;
+    const T Toe_x_d = Ank_x_d + _tmp3 - p.l_toe*c_foot_d;
+    out[68 * stride + i] = Toe_x_d;
+    const T _tmp4 = p.h_ft*c_foot_d;
+    const T Toe_y_d = Ank_y_d - _tmp4 - p.l_toe*s_foot_d;
+    out[69 * stride + i] = Toe_y_d;
+    const T _tmp5 = p.h_ft*s_foot_dd;
+    const T Toe_x_dd = Ank_x_dd + _tmp5 - p.l_toe*c_foot_dd;
+    out[70 * stride + i] = Toe_x_dd;
+    const T _tmp6 = p.h_ft*c_foot_dd;
+    const T Toe_y_dd = Ank_y_dd - _tmp6 - p.l_toe*s_foot_dd;
+    out[71 * stride + i] = Toe_y_dd;
     const T Heel_x = Ank_x + p.l_heel*c_foot + _tmp1;
     out[48 * stride + i] = Heel_x;
     const T Heel_y = Ank_y + p.l_heel*s_foot - _tmp2;
     out[49 * stride + i] = Heel_y;
+    const T Heel_x_d = Ank_x_d + p.l_heel*c_foot_d + _tmp3;
+    out[72 * stride + i] = Heel_x_d;
+    const T Heel_y_d = Ank_y_d + p.l_heel*s_foot_d - _tmp4;
+    out[73 * stride + i] = Heel_y_d;
+    const T Heel_x_dd = Ank_x_dd + p.l_heel*c_foot_dd + _tmp5;
+    out[74 * stride + i] = Heel_x_dd;
+    const T Heel_y_dd = Ank_y_dd + p.l_heel*s_foot_dd - _tmp6;
+    out[75 * stride + i] = Heel_y_dd;
     const T foot_inertial_x = p.m_ft*com_foot_x_dd;
     out[54 * stride + i] = foot_inertial_x;
     const T foot_inertial_y = p.m_ft*(com_foot_y_dd + T(9.81));
     out[55 * stride + i] = foot_inertial_y;
-    const T _tmp3 = p.l_heel + p.l_toe;
-    const T _tmp4 = T(1)/T(12);
-    const T foot_inertia = (_tmp3*_tmp3 + p.h_ft*p.h_ft)*p.m_ft*_tmp4;
+    const T _tmp7 = p.l_heel + p.l_toe;
+    const T _tmp8 = T(1)/T(12);
+    const T foot_inertia = (_tmp7*_tmp7 + p.h_ft*p.h_ft)*p.m_ft*_tmp8;
     const T q3_effort = (Ank_y - com_foot_y)*foot_inertial_x + foot_inertia*w_foot_d - (Ank_x - com_foot_x)*foot_inertial_y;
     out[12 * stride + i] = q3_effort;
     const T shank_inertial_y = p.m_sh*(com_shank_y_dd + T(9.81));
     const T shank_inertial_x = p.m_sh*com_shank_x_dd;
-    const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp4;
+    const T shank_inertia = (p.l_sh*p.l_sh)*p.m_sh*_tmp8;
     const T q2_effort = (Ank_x - K_x)*foot_inertial_y + (K_y - com_shank_y)*shank_inertial_x + q3_effort + shank_inertia*w_shank_d - (Ank_y - K_y)*foot_inertial_x - (K_x - com_shank_x)*shank_inertial_y;
     out[8 * stride + i] = q2_effort;
     const T knee_fy = foot_inertial_y + shank_inertial_y;
@@ -761,7 +861,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[52 * stride + i] = knee_fx;
     const T thigh_inertial_y = p.m_th*(com_thigh_y_dd + T(9.81));
     const T thigh_inertial_x = p.m_th*com_thigh_x_dd;
-    const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp4;
+    const T thigh_inertia = (p.l_th*p.l_th)*p.m_th*_tmp8;
     const T q1_effort = K_x*knee_fy + com_thigh_x*thigh_inertial_y + thigh_inertia*in.q1_dd + q2_effort - K_y*knee_fx - com_thigh_y*thigh_inertial_x;
     out[4 * stride + i] = q1_effort;
     const T hip_fy = knee_fy + thigh_inertial_y;
@@ -776,7 +876,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[6 * stride + i] + out[7 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[16 * stride + i] + out[17 * stride + i]));
     const T _sum_rates_1 = ((out[18 * stride + i] + out[19 * stride + i]) + (out[20 * stride + i] + out[21 * stride + i])) + ((out[25 * stride + i] + out[26 * stride + i]) + (out[27 * stride + i] + out[28 * stride + i]));
     const T _sum_rates_2 = ((out[29 * stride + i] + out[30 * stride + i]) + (out[34 * stride + i] + out[35 * stride + i])) + ((out[36 * stride + i] + out[37 * stride + i]) + (out[38 * stride + i] + out[39 * stride + i]));
-    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    const T _sum_rates_3 = ((out[60 * stride + i] + out[61 * stride + i]) + (out[62 * stride + i] + out[63 * stride + i])) + ((out[64 * stride + i] + out[65 * stride + i]) + (out[66 * stride + i] + out[67 * stride + i]));
+    const T _sum_rates_4 = ((out[68 * stride + i] + out[69 * stride + i]) + (out[70 * stride + i] + out[71 * stride + i])) + ((out[72 * stride + i] + out[73 * stride + i]) + (out[74 * stride + i] + out[75 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8187931));
     const T _sum_forces_0 = ((out[50 * stride + i] + out[51 * stride + i]) + (out[52 * stride + i] + out[53 * stride + i])) + ((out[54 * stride + i] + out[55 * stride + i]) + (out[4 * stride + i] + out[8 * stride + i]));
     const T _sum_forces_1 = out[12 * stride + i];
@@ -974,7 +1076,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x173e03712854795eULL;
+inline constexpr unsigned long long fingerprint = 0xcf157ff6ea77a1a0ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;
@@ -996,8 +1098,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.th_foot = values[12];
 }
 
-inline constexpr int column_count = 56;
-inline constexpr const char* column_names[] = { "t", "q1.q", "q1.qd", "q1.qdd", "q1.effort", "q2.q", "q2.qd", "q2.qdd", "q2.effort", "q3.q", "q3.qd", "q3.qdd", "q3.effort", "thigh.x", "thigh.y", "thigh.th", "thigh.vx", "thigh.vy", "thigh.w", "thigh.ax", "thigh.ay", "thigh.al", "shank.x", "shank.y", "shank.th", "shank.vx", "shank.vy", "shank.w", "shank.ax", "shank.ay", "shank.al", "foot.x", "foot.y", "foot.th", "foot.vx", "foot.vy", "foot.w", "foot.ax", "foot.ay", "foot.al", "H.x", "H.y", "K.x", "K.y", "Ank.x", "Ank.y", "Toe.x", "Toe.y", "Heel.x", "Heel.y", "hip.fx", "hip.fy", "knee.fx", "knee.fy", "ankle.fx", "ankle.fy" };
+inline constexpr int column_count = 76;
+inline constexpr const char* column_names[] = { "t", "q1.q", "q1.qd", "q1.qdd", "q1.effort", "q2.q", "q2.qd", "q2.qdd", "q2.effort", "q3.q", "q3.qd", "q3.qdd", "q3.effort", "thigh.x", "thigh.y", "thigh.th", "thigh.vx", "thigh.vy", "thigh.w", "thigh.ax", "thigh.ay", "thigh.al", "shank.x", "shank.y", "shank.th", "shank.vx", "shank.vy", "shank.w", "shank.ax", "shank.ay", "shank.al", "foot.x", "foot.y", "foot.th", "foot.vx", "foot.vy", "foot.w", "foot.ax", "foot.ay", "foot.al", "H.x", "H.y", "K.x", "K.y", "Ank.x", "Ank.y", "Toe.x", "Toe.y", "Heel.x", "Heel.y", "hip.fx", "hip.fy", "knee.fx", "knee.fy", "ankle.fx", "ankle.fy", "H.vx", "H.vy", "H.ax", "H.ay", "K.vx", "K.vy", "K.ax", "K.ay", "Ank.vx", "Ank.vy", "Ank.ax", "Ank.ay", "Toe.vx", "Toe.vy", "Toe.ax", "Toe.ay", "Heel.vx", "Heel.vy", "Heel.ax", "Heel.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -1056,6 +1158,26 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[53] = s.joints.knee.fy;
   row[54] = s.joints.ankle.fx;
   row[55] = s.joints.ankle.fy;
+  row[56] = s.points.H.vx;
+  row[57] = s.points.H.vy;
+  row[58] = s.points.H.ax;
+  row[59] = s.points.H.ay;
+  row[60] = s.points.K.vx;
+  row[61] = s.points.K.vy;
+  row[62] = s.points.K.ax;
+  row[63] = s.points.K.ay;
+  row[64] = s.points.Ank.vx;
+  row[65] = s.points.Ank.vy;
+  row[66] = s.points.Ank.ax;
+  row[67] = s.points.Ank.ay;
+  row[68] = s.points.Toe.vx;
+  row[69] = s.points.Toe.vy;
+  row[70] = s.points.Toe.ax;
+  row[71] = s.points.Toe.ay;
+  row[72] = s.points.Heel.vx;
+  row[73] = s.points.Heel.vy;
+  row[74] = s.points.Heel.ax;
+  row[75] = s.points.Heel.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -3336,7 +3336,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xe042d6adb51a4175ULL;
+inline constexpr unsigned long long fingerprint = 0x15bd9c39af60c557ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;
@@ -3352,8 +3352,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.a = values[6];
 }
 
-inline constexpr int column_count = 208;
-inline constexpr const char* column_names[] = { "t", "q1.q", "q1.qd", "q1.qdd", "q1.effort", "q2.q", "q2.qd", "q2.qdd", "q2.effort", "q3.q", "q3.qd", "q3.qdd", "q3.effort", "q4.q", "q4.qd", "q4.qdd", "q4.effort", "q5.q", "q5.qd", "q5.qdd", "q5.effort", "q6.q", "q6.qd", "q6.qdd", "q6.effort", "hip_yaw_link.x", "hip_yaw_link.y", "hip_yaw_link.z", "hip_yaw_link.qw", "hip_yaw_link.qx", "hip_yaw_link.qy", "hip_yaw_link.qz", "hip_yaw_link.vx", "hip_yaw_link.vy", "hip_yaw_link.vz", "hip_yaw_link.ax", "hip_yaw_link.ay", "hip_yaw_link.az", "hip_yaw_link.wx", "hip_yaw_link.wy", "hip_yaw_link.wz", "hip_yaw_link.alx", "hip_yaw_link.aly", "hip_yaw_link.alz", "hip_roll_link.x", "hip_roll_link.y", "hip_roll_link.z", "hip_roll_link.qw", "hip_roll_link.qx", "hip_roll_link.qy", "hip_roll_link.qz", "hip_roll_link.vx", "hip_roll_link.vy", "hip_roll_link.vz", "hip_roll_link.ax", "hip_roll_link.ay", "hip_roll_link.az", "hip_roll_link.wx", "hip_roll_link.wy", "hip_roll_link.wz", "hip_roll_link.alx", "hip_roll_link.aly", "hip_roll_link.alz", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "calf.x", "calf.y", "calf.z", "calf.qw", "calf.qx", "calf.qy", "calf.qz", "calf.vx", "calf.vy", "calf.vz", "calf.ax", "calf.ay", "calf.az", "calf.wx", "calf.wy", "calf.wz", "calf.alx", "calf.aly", "calf.alz", "ankle_link.x", "ankle_link.y", "ankle_link.z", "ankle_link.qw", "ankle_link.qx", "ankle_link.qy", "ankle_link.qz", "ankle_link.vx", "ankle_link.vy", "ankle_link.vz", "ankle_link.ax", "ankle_link.ay", "ankle_link.az", "ankle_link.wx", "ankle_link.wy", "ankle_link.wz", "ankle_link.alx", "ankle_link.aly", "ankle_link.alz", "foot_link.x", "foot_link.y", "foot_link.z", "foot_link.qw", "foot_link.qx", "foot_link.qy", "foot_link.qz", "foot_link.vx", "foot_link.vy", "foot_link.vz", "foot_link.ax", "foot_link.ay", "foot_link.az", "foot_link.wx", "foot_link.wy", "foot_link.wz", "foot_link.alx", "foot_link.aly", "foot_link.alz", "H.x", "H.y", "H.z", "K.x", "K.y", "K.z", "A.x", "A.y", "A.z", "foot.x", "foot.y", "foot.z", "toe.x", "toe.y", "toe.z", "hip_yaw.q", "hip_yaw.qd", "hip_yaw.qdd", "hip_yaw.fx", "hip_yaw.fy", "hip_yaw.fz", "hip_yaw.mx", "hip_yaw.my", "hip_yaw.mz", "hip_roll.q", "hip_roll.qd", "hip_roll.qdd", "hip_roll.fx", "hip_roll.fy", "hip_roll.fz", "hip_roll.mx", "hip_roll.my", "hip_roll.mz", "hip_pitch.q", "hip_pitch.qd", "hip_pitch.qdd", "hip_pitch.fx", "hip_pitch.fy", "hip_pitch.fz", "hip_pitch.mx", "hip_pitch.my", "hip_pitch.mz", "knee.q", "knee.qd", "knee.qdd", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "ankle_pitch.q", "ankle_pitch.qd", "ankle_pitch.qdd", "ankle_pitch.fx", "ankle_pitch.fy", "ankle_pitch.fz", "ankle_pitch.mx", "ankle_pitch.my", "ankle_pitch.mz", "ankle_roll.q", "ankle_roll.qd", "ankle_roll.qdd", "ankle_roll.fx", "ankle_roll.fy", "ankle_roll.fz", "ankle_roll.mx", "ankle_roll.my", "ankle_roll.mz" };
+inline constexpr int column_count = 238;
+inline constexpr const char* column_names[] = { "t", "q1.q", "q1.qd", "q1.qdd", "q1.effort", "q2.q", "q2.qd", "q2.qdd", "q2.effort", "q3.q", "q3.qd", "q3.qdd", "q3.effort", "q4.q", "q4.qd", "q4.qdd", "q4.effort", "q5.q", "q5.qd", "q5.qdd", "q5.effort", "q6.q", "q6.qd", "q6.qdd", "q6.effort", "hip_yaw_link.x", "hip_yaw_link.y", "hip_yaw_link.z", "hip_yaw_link.qw", "hip_yaw_link.qx", "hip_yaw_link.qy", "hip_yaw_link.qz", "hip_yaw_link.vx", "hip_yaw_link.vy", "hip_yaw_link.vz", "hip_yaw_link.ax", "hip_yaw_link.ay", "hip_yaw_link.az", "hip_yaw_link.wx", "hip_yaw_link.wy", "hip_yaw_link.wz", "hip_yaw_link.alx", "hip_yaw_link.aly", "hip_yaw_link.alz", "hip_roll_link.x", "hip_roll_link.y", "hip_roll_link.z", "hip_roll_link.qw", "hip_roll_link.qx", "hip_roll_link.qy", "hip_roll_link.qz", "hip_roll_link.vx", "hip_roll_link.vy", "hip_roll_link.vz", "hip_roll_link.ax", "hip_roll_link.ay", "hip_roll_link.az", "hip_roll_link.wx", "hip_roll_link.wy", "hip_roll_link.wz", "hip_roll_link.alx", "hip_roll_link.aly", "hip_roll_link.alz", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "calf.x", "calf.y", "calf.z", "calf.qw", "calf.qx", "calf.qy", "calf.qz", "calf.vx", "calf.vy", "calf.vz", "calf.ax", "calf.ay", "calf.az", "calf.wx", "calf.wy", "calf.wz", "calf.alx", "calf.aly", "calf.alz", "ankle_link.x", "ankle_link.y", "ankle_link.z", "ankle_link.qw", "ankle_link.qx", "ankle_link.qy", "ankle_link.qz", "ankle_link.vx", "ankle_link.vy", "ankle_link.vz", "ankle_link.ax", "ankle_link.ay", "ankle_link.az", "ankle_link.wx", "ankle_link.wy", "ankle_link.wz", "ankle_link.alx", "ankle_link.aly", "ankle_link.alz", "foot_link.x", "foot_link.y", "foot_link.z", "foot_link.qw", "foot_link.qx", "foot_link.qy", "foot_link.qz", "foot_link.vx", "foot_link.vy", "foot_link.vz", "foot_link.ax", "foot_link.ay", "foot_link.az", "foot_link.wx", "foot_link.wy", "foot_link.wz", "foot_link.alx", "foot_link.aly", "foot_link.alz", "H.x", "H.y", "H.z", "K.x", "K.y", "K.z", "A.x", "A.y", "A.z", "foot.x", "foot.y", "foot.z", "toe.x", "toe.y", "toe.z", "hip_yaw.q", "hip_yaw.qd", "hip_yaw.qdd", "hip_yaw.fx", "hip_yaw.fy", "hip_yaw.fz", "hip_yaw.mx", "hip_yaw.my", "hip_yaw.mz", "hip_roll.q", "hip_roll.qd", "hip_roll.qdd", "hip_roll.fx", "hip_roll.fy", "hip_roll.fz", "hip_roll.mx", "hip_roll.my", "hip_roll.mz", "hip_pitch.q", "hip_pitch.qd", "hip_pitch.qdd", "hip_pitch.fx", "hip_pitch.fy", "hip_pitch.fz", "hip_pitch.mx", "hip_pitch.my", "hip_pitch.mz", "knee.q", "knee.qd", "knee.qdd", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "ankle_pitch.q", "ankle_pitch.qd", "ankle_pitch.qdd", "ankle_pitch.fx", "ankle_pitch.fy", "ankle_pitch.fz", "ankle_pitch.mx", "ankle_pitch.my", "ankle_pitch.mz", "ankle_roll.q", "ankle_roll.qd", "ankle_roll.qdd", "ankle_roll.fx", "ankle_roll.fy", "ankle_roll.fz", "ankle_roll.mx", "ankle_roll.my", "ankle_roll.mz", "H.vx", "H.vy", "H.vz", "H.ax", "H.ay", "H.az", "K.vx", "K.vy", "K.vz", "K.ax", "K.ay", "K.az", "A.vx", "A.vy", "A.vz", "A.ax", "A.ay", "A.az", "foot.vx", "foot.vy", "foot.vz", "foot.ax", "foot.ay", "foot.az", "toe.vx", "toe.vy", "toe.vz", "toe.ax", "toe.ay", "toe.az" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   [[maybe_unused]] T q[4];
@@ -3571,6 +3571,36 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[205] = s.joints.ankle_roll.mx;
   row[206] = s.joints.ankle_roll.my;
   row[207] = s.joints.ankle_roll.mz;
+  row[208] = s.points.H.vx;
+  row[209] = s.points.H.vy;
+  row[210] = s.points.H.vz;
+  row[211] = s.points.H.ax;
+  row[212] = s.points.H.ay;
+  row[213] = s.points.H.az;
+  row[214] = s.points.K.vx;
+  row[215] = s.points.K.vy;
+  row[216] = s.points.K.vz;
+  row[217] = s.points.K.ax;
+  row[218] = s.points.K.ay;
+  row[219] = s.points.K.az;
+  row[220] = s.points.A.vx;
+  row[221] = s.points.A.vy;
+  row[222] = s.points.A.vz;
+  row[223] = s.points.A.ax;
+  row[224] = s.points.A.ay;
+  row[225] = s.points.A.az;
+  row[226] = s.points.foot.vx;
+  row[227] = s.points.foot.vy;
+  row[228] = s.points.foot.vz;
+  row[229] = s.points.foot.ax;
+  row[230] = s.points.foot.ay;
+  row[231] = s.points.foot.az;
+  row[232] = s.points.toe.vx;
+  row[233] = s.points.toe.vy;
+  row[234] = s.points.toe.vz;
+  row[235] = s.points.toe.ax;
+  row[236] = s.points.toe.ay;
+  row[237] = s.points.toe.az;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -184,7 +184,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -270,7 +270,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 204
+  // Total ops: 250
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -278,8 +278,20 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.A.x = T(0);
   s.points.A.y = T(0);
+  s.points.A.vx = T(0);
+  s.points.A.vy = T(0);
+  s.points.A.ax = T(0);
+  s.points.A.ay = T(0);
   s.points.B.x = p.g;
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
+  s.points.S.vx = T(0);
+  s.points.S.vy = T(0);
+  s.points.S.ax = T(0);
+  s.points.S.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -300,31 +312,35 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.M.x = M_x;
   const T M_y = (g2_coupler_rocker_d_x*g2_coupler_rocker_root + g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp1 + P_y;
   s.points.M.y = M_y;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.a*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.a*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
   const T _tmp2 = M_x - P_x;
   const T _tmp3 = M_x - p.g;
   const T _tmp4 = M_y - P_y;
   const T _tmp5 = T(1)/(_tmp2*M_y - _tmp3*_tmp4);
   const T g2_coupler_rocker_inv = _tmp5;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.a*s_crank_rel_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T P_x_d = p.a*c_crank_rel_d;
   const T w_coupler = -(_tmp3*P_x_d + M_y*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp2*P_x_d + _tmp4*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.rocker.w = w_rocker;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.a*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.a*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T _tmp6 = T(1)/p.b;
   const T c_coupler = _tmp6*_tmp2;
   s.bodies.coupler.cos_th = c_coupler;
   const T s_coupler = _tmp6*_tmp4;
   s.bodies.coupler.sin_th = s_coupler;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.a*s_crank_rel_dd;
   const T _tmp7 = w_coupler*w_coupler;
   const T _tmp8 = w_rocker*w_rocker;
   const T g2_coupler_rocker_acc_y = _tmp4*_tmp7 - M_y*_tmp8 - P_y_dd;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.a*c_crank_rel_dd;
   const T g2_coupler_rocker_acc_x = _tmp2*_tmp7 - _tmp3*_tmp8 - P_x_dd;
   const T w_coupler_d = (_tmp3*g2_coupler_rocker_acc_x + M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.coupler.al = w_coupler_d;
@@ -352,6 +368,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.C.x = C_x;
   const T C_y = P_y + p.e*_tmp12*c_coupler + _tmp9*p.e*s_coupler;
   s.points.C.y = C_y;
+  const T C_x_d = P_x_d + _tmp9*p.e*c_coupler_d - p.e*_tmp12*s_coupler_d;
+  s.points.C.vx = C_x_d;
+  const T C_y_d = P_y_d + p.e*_tmp12*c_coupler_d + _tmp9*p.e*s_coupler_d;
+  s.points.C.vy = C_y_d;
+  const T C_x_dd = P_x_dd + _tmp9*p.e*c_coupler_dd - p.e*_tmp12*s_coupler_dd;
+  s.points.C.ax = C_x_dd;
+  const T C_y_dd = P_y_dd + p.e*_tmp12*c_coupler_dd + _tmp9*p.e*s_coupler_dd;
+  s.points.C.ay = C_y_dd;
   const T _tmp13 = T(1)/p.c;
   const T c_rocker = _tmp13*_tmp3;
   s.bodies.rocker.cos_th = c_rocker;
@@ -359,9 +383,17 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.rocker.sin_th = s_rocker;
   const T w_rocker_d = (_tmp2*g2_coupler_rocker_acc_x + _tmp4*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.rocker.al = w_rocker_d;
+  const T M_x_d = P_x_d - _tmp4*w_coupler;
+  s.points.M.vx = M_x_d;
+  const T M_y_d = _tmp2*w_coupler + P_y_d;
+  s.points.M.vy = M_y_d;
   const T _tmp14 = T(1)/T(12);
   const T com_rocker_x = p.c*_tmp11*c_rocker + p.c*_tmp14*s_rocker + p.g;
   s.bodies.rocker.x = com_rocker_x;
+  const T M_x_dd = P_x_dd - _tmp4*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+  s.points.M.ax = M_x_dd;
+  const T M_y_dd = _tmp2*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+  s.points.M.ay = M_y_dd;
   const T com_rocker_y = p.c*_tmp11*s_rocker - p.c*_tmp14*c_rocker;
   s.bodies.rocker.y = com_rocker_y;
   const T s_rocker_d = c_rocker*w_rocker;
@@ -392,6 +424,14 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.crank.ay = com_crank_y_dd;
   const T R_y = -T(0.5)*p.c*c_rocker;
   s.points.R.y = R_y;
+  const T R_x_d = T(0.5)*p.c*s_rocker_d;
+  s.points.R.vx = R_x_d;
+  const T R_y_d = -T(0.5)*p.c*c_rocker_d;
+  s.points.R.vy = R_y_d;
+  const T R_x_dd = T(0.5)*p.c*s_rocker_dd;
+  s.points.R.ax = R_x_dd;
+  const T R_y_dd = -T(0.5)*p.c*c_rocker_dd;
+  s.points.R.ay = R_y_dd;
   const T S_x = p.c + p.g;
   s.points.S.x = S_x;
   if (!(g2_coupler_rocker_d2 > T(0))) return detail::failed(s, 1, Status::singular);
@@ -406,8 +446,10 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
-  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay));
+  const T _sum_rates_4 = (s.points.R.vx + s.points.R.vy) + (s.points.R.ax + s.points.R.ay);
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
@@ -421,7 +463,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 2, Status::unreachable);
-  // Total ops: 362
+  // Total ops: 408
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -429,8 +471,20 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.al = in.crank_angle_dd;
   s.points.A.x = T(0);
   s.points.A.y = T(0);
+  s.points.A.vx = T(0);
+  s.points.A.vy = T(0);
+  s.points.A.ax = T(0);
+  s.points.A.ay = T(0);
   s.points.B.x = p.g;
   s.points.B.y = T(0);
+  s.points.B.vx = T(0);
+  s.points.B.vy = T(0);
+  s.points.B.ax = T(0);
+  s.points.B.ay = T(0);
+  s.points.S.vx = T(0);
+  s.points.S.vy = T(0);
+  s.points.S.ax = T(0);
+  s.points.S.ay = T(0);
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T s_crank_rel = sin(in.crank_angle);
@@ -452,31 +506,35 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.M.x = M_x;
   const T M_y = (g2_coupler_rocker_d_x*g2_coupler_rocker_root + g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2 + P_y;
   s.points.M.y = M_y;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.a*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.a*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
   const T _tmp3 = M_x - P_x;
   const T _tmp4 = M_x - p.g;
   const T _tmp5 = M_y - P_y;
   const T _tmp6 = T(1)/(_tmp3*M_y - _tmp4*_tmp5);
   const T g2_coupler_rocker_inv = _tmp6;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.a*s_crank_rel_d;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T P_x_d = p.a*c_crank_rel_d;
   const T w_coupler = -(_tmp4*P_x_d + M_y*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.coupler.w = w_coupler;
   const T w_rocker = -(_tmp3*P_x_d + _tmp5*P_y_d)*g2_coupler_rocker_inv;
   s.bodies.rocker.w = w_rocker;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.a*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.a*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T _tmp7 = T(1)/p.b;
   const T c_coupler = _tmp7*_tmp3;
   s.bodies.coupler.cos_th = c_coupler;
   const T s_coupler = _tmp7*_tmp5;
   s.bodies.coupler.sin_th = s_coupler;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.a*s_crank_rel_dd;
   const T _tmp8 = w_coupler*w_coupler;
   const T _tmp9 = w_rocker*w_rocker;
   const T g2_coupler_rocker_acc_y = _tmp5*_tmp8 - M_y*_tmp9 - P_y_dd;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.a*c_crank_rel_dd;
   const T g2_coupler_rocker_acc_x = _tmp3*_tmp8 - _tmp4*_tmp9 - P_x_dd;
   const T w_coupler_d = (_tmp4*g2_coupler_rocker_acc_x + M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
   s.bodies.coupler.al = w_coupler_d;
@@ -573,6 +631,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.joints.M_rocker_coupler.fy = M_rocker_coupler_fy;
   const T C_y = P_y + p.e*_tmp13*c_coupler + _tmp10*p.e*s_coupler;
   s.points.C.y = C_y;
+  const T C_x_d = P_x_d + _tmp10*p.e*c_coupler_d - p.e*_tmp13*s_coupler_d;
+  s.points.C.vx = C_x_d;
+  const T C_y_d = P_y_d + p.e*_tmp13*c_coupler_d + _tmp10*p.e*s_coupler_d;
+  s.points.C.vy = C_y_d;
+  const T C_x_dd = P_x_dd + _tmp10*p.e*c_coupler_dd - p.e*_tmp13*s_coupler_dd;
+  s.points.C.ax = C_x_dd;
+  const T C_y_dd = P_y_dd + p.e*_tmp13*c_coupler_dd + _tmp10*p.e*s_coupler_dd;
+  s.points.C.ay = C_y_dd;
   const T M_rocker_coupler_fx = B_ground_rocker_fx - rocker_inertial_x - _tmp21;
   s.joints.M_rocker_coupler.fx = M_rocker_coupler_fx;
   const T com_crank_y_dd = T(0.5)*p.a*s_crank_rel_dd;
@@ -581,6 +647,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.ax = com_crank_x_dd;
   const T P_crank_coupler_fy = T(9.81)*p.m_tool + coupler_inertial_y - M_rocker_coupler_fy;
   s.joints.P_crank_coupler.fy = P_crank_coupler_fy;
+  const T M_x_d = P_x_d - _tmp5*w_coupler;
+  s.points.M.vx = M_x_d;
+  const T M_y_d = _tmp3*w_coupler + P_y_d;
+  s.points.M.vy = M_y_d;
   const T com_crank_x = T(0.5)*p.a*c_crank_rel;
   s.bodies.crank.x = com_crank_x;
   const T com_crank_y = T(0.5)*p.a*s_crank_rel;
@@ -595,6 +665,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T crank_inertia = (_tmp30 + _tmp23)*p.rho*p.t_plate*p.w_bar*_tmp31*_tmp15;
   const T crank_angle_effort = P_crank_coupler_fy*P_x + com_crank_x*crank_inertial_y + crank_inertia*in.crank_angle_dd - P_crank_coupler_fx*P_y - com_crank_y*crank_inertial_x;
   s.drivers.crank_angle.effort = crank_angle_effort;
+  const T M_x_dd = P_x_dd - _tmp5*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+  s.points.M.ax = M_x_dd;
+  const T M_y_dd = _tmp3*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+  s.points.M.ay = M_y_dd;
   const T com_rocker_x_d = p.c*_tmp12*c_rocker_d + p.c*_tmp15*s_rocker_d;
   s.bodies.rocker.vx = com_rocker_x_d;
   const T com_rocker_y_d = p.c*_tmp12*s_rocker_d - p.c*_tmp15*c_rocker_d;
@@ -603,6 +677,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.vx = com_crank_x_d;
   const T com_crank_y_d = T(0.5)*p.a*s_crank_rel_d;
   s.bodies.crank.vy = com_crank_y_d;
+  const T R_x_d = T(0.5)*p.c*s_rocker_d;
+  s.points.R.vx = R_x_d;
+  const T R_y_d = -T(0.5)*p.c*c_rocker_d;
+  s.points.R.vy = R_y_d;
+  const T R_x_dd = T(0.5)*p.c*s_rocker_dd;
+  s.points.R.ax = R_x_dd;
+  const T R_y_dd = -T(0.5)*p.c*c_rocker_dd;
+  s.points.R.ay = R_y_dd;
   if (!(g2_coupler_rocker_d2 > T(0))) return detail::failed(s, 1, Status::singular);
   const T A_ground_crank_fy = P_crank_coupler_fy + crank_inertial_y;
   s.joints.A_ground_crank.fy = A_ground_crank_fy;
@@ -618,8 +700,10 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.coupler.vx + s.bodies.coupler.vy) + (s.bodies.coupler.w + s.bodies.coupler.ax)) + ((s.bodies.coupler.ay + s.bodies.coupler.al) + (s.bodies.rocker.vx + s.bodies.rocker.vy));
-  const T _sum_rates_2 = (s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al);
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_2 = ((s.bodies.rocker.w + s.bodies.rocker.ax) + (s.bodies.rocker.ay + s.bodies.rocker.al)) + ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay));
+  const T _sum_rates_3 = ((s.points.M.vx + s.points.M.vy) + (s.points.M.ax + s.points.M.ay)) + ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay));
+  const T _sum_rates_4 = (s.points.R.vx + s.points.R.vy) + (s.points.R.ax + s.points.R.ay);
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.A_ground_crank.fx + s.joints.A_ground_crank.fy) + (s.joints.P_crank_coupler.fx + s.joints.P_crank_coupler.fy)) + ((s.joints.M_rocker_coupler.fx + s.joints.M_rocker_coupler.fy) + (s.joints.B_ground_rocker.fx + s.joints.B_ground_rocker.fy));
   const T _sum_forces_1 = s.drivers.crank_angle.effort;
@@ -676,7 +760,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196109);
-    // Total ops: 365
+    // Total ops: 411
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;
@@ -685,8 +769,20 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[13 * stride + i] = in.crank_angle_dd;
     out[32 * stride + i] = T(0);
     out[33 * stride + i] = T(0);
+    out[54 * stride + i] = T(0);
+    out[55 * stride + i] = T(0);
+    out[56 * stride + i] = T(0);
+    out[57 * stride + i] = T(0);
     out[34 * stride + i] = p.g;
     out[35 * stride + i] = T(0);
+    out[58 * stride + i] = T(0);
+    out[59 * stride + i] = T(0);
+    out[60 * stride + i] = T(0);
+    out[61 * stride + i] = T(0);
+    out[62 * stride + i] = T(0);
+    out[63 * stride + i] = T(0);
+    out[64 * stride + i] = T(0);
+    out[65 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel = cos(in.crank_angle);
     out[7 * stride + i] = atan2(s_crank_rel, c_crank_rel);
@@ -703,37 +799,45 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T g2_coupler_rocker_e = T(0.5)*_tmp0 + T(0.5)*g2_coupler_rocker_d2 - T(0.5)*_tmp1;
     const T g2_coupler_rocker_disc = _tmp0*g2_coupler_rocker_d2 - g2_coupler_rocker_e*g2_coupler_rocker_e;
     failed = max(failed, (g2_coupler_rocker_disc > T(0)) ? T(0) : T(8187913));
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.a*c_crank_rel_d;
+    out[66 * stride + i] = P_x_d;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.a*s_crank_rel_d;
+    out[67 * stride + i] = P_y_d;
     const T g2_coupler_rocker_root = sqrt(g2_coupler_rocker_disc);
     const T _tmp2 = T(1)/g2_coupler_rocker_d2;
     const T M_x = (g2_coupler_rocker_d_x*g2_coupler_rocker_e - g2_coupler_rocker_d_y*g2_coupler_rocker_root)*_tmp2 + P_x;
     out[40 * stride + i] = M_x;
     const T M_y = (g2_coupler_rocker_d_x*g2_coupler_rocker_root + g2_coupler_rocker_d_y*g2_coupler_rocker_e)*_tmp2 + P_y;
     out[41 * stride + i] = M_y;
+    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+    const T P_x_dd = p.a*c_crank_rel_dd;
+    out[68 * stride + i] = P_x_dd;
+    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+    const T P_y_dd = p.a*s_crank_rel_dd;
+    out[69 * stride + i] = P_y_dd;
     const T _tmp3 = M_x - P_x;
     const T _tmp4 = M_x - p.g;
     const T _tmp5 = M_y - P_y;
     const T _tmp6 = T(1)/(_tmp3*M_y - _tmp4*_tmp5);
     const T g2_coupler_rocker_inv = _tmp6;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T P_y_d = p.a*s_crank_rel_d;
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T P_x_d = p.a*c_crank_rel_d;
     const T w_coupler = -(_tmp4*P_x_d + M_y*P_y_d)*g2_coupler_rocker_inv;
     out[19 * stride + i] = w_coupler;
     const T w_rocker = -(_tmp3*P_x_d + _tmp5*P_y_d)*g2_coupler_rocker_inv;
     out[28 * stride + i] = w_rocker;
-    const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-    const T P_y_dd = p.a*s_crank_rel_dd;
     const T _tmp7 = w_coupler*w_coupler;
     const T _tmp8 = w_rocker*w_rocker;
     const T g2_coupler_rocker_acc_y = _tmp5*_tmp7 - M_y*_tmp8 - P_y_dd;
-    const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-    const T P_x_dd = p.a*c_crank_rel_dd;
     const T g2_coupler_rocker_acc_x = _tmp3*_tmp7 - _tmp4*_tmp8 - P_x_dd;
     const T w_coupler_d = (_tmp4*g2_coupler_rocker_acc_x + M_y*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
     out[22 * stride + i] = w_coupler_d;
     const T w_rocker_d = (_tmp3*g2_coupler_rocker_acc_x + _tmp5*g2_coupler_rocker_acc_y)*g2_coupler_rocker_inv;
     out[31 * stride + i] = w_rocker_d;
+    const T M_x_d = P_x_d - _tmp5*w_coupler;
+    out[70 * stride + i] = M_x_d;
+    const T M_y_d = _tmp3*w_coupler + P_y_d;
+    out[71 * stride + i] = M_y_d;
     const T _tmp9 = T(1)/p.b;
     const T s_coupler = _tmp9*_tmp5;
     const T c_coupler = _tmp9*_tmp3;
@@ -795,14 +899,34 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[36 * stride + i] = S_x;
     const T S_y = -p.c;
     out[37 * stride + i] = S_y;
+    const T M_x_dd = P_x_dd - _tmp5*w_coupler_d - (M_y_d - P_y_d)*w_coupler;
+    out[72 * stride + i] = M_x_dd;
+    const T M_y_dd = _tmp3*w_coupler_d + (M_x_d - P_x_d)*w_coupler + P_y_dd;
+    out[73 * stride + i] = M_y_dd;
     const T C_x = P_x + _tmp11*p.e*c_coupler - p.e*_tmp14*s_coupler;
     out[42 * stride + i] = C_x;
     const T C_y = P_y + p.e*_tmp14*c_coupler + _tmp11*p.e*s_coupler;
     out[43 * stride + i] = C_y;
+    const T C_x_d = P_x_d + _tmp11*p.e*c_coupler_d - p.e*_tmp14*s_coupler_d;
+    out[74 * stride + i] = C_x_d;
+    const T C_y_d = P_y_d + p.e*_tmp14*c_coupler_d + _tmp11*p.e*s_coupler_d;
+    out[75 * stride + i] = C_y_d;
+    const T C_x_dd = P_x_dd + _tmp11*p.e*c_coupler_dd - p.e*_tmp14*s_coupler_dd;
+    out[76 * stride + i] = C_x_dd;
+    const T C_y_dd = P_y_dd + p.e*_tmp14*c_coupler_dd + _tmp11*p.e*s_coupler_dd;
+    out[77 * stride + i] = C_y_dd;
     const T R_x = T(0.5)*p.c*s_rocker + p.g;
     out[44 * stride + i] = R_x;
     const T R_y = -T(0.5)*p.c*c_rocker;
     out[45 * stride + i] = R_y;
+    const T R_x_d = T(0.5)*p.c*s_rocker_d;
+    out[78 * stride + i] = R_x_d;
+    const T R_y_d = -T(0.5)*p.c*c_rocker_d;
+    out[79 * stride + i] = R_y_d;
+    const T R_x_dd = T(0.5)*p.c*s_rocker_dd;
+    out[80 * stride + i] = R_x_dd;
+    const T R_y_dd = -T(0.5)*p.c*c_rocker_dd;
+    out[81 * stride + i] = R_y_dd;
     failed = max(failed, (M_y != T(0)) ? T(0) : T(8183834));
     const T ne1 = _tmp5;
     const T ne2 = -ne1;
@@ -871,8 +995,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8175635));
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
     const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
-    const T _sum_rates_2 = (out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i]);
-    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[66 * stride + i] + out[67 * stride + i]) + (out[68 * stride + i] + out[69 * stride + i]));
+    const T _sum_rates_3 = ((out[70 * stride + i] + out[71 * stride + i]) + (out[72 * stride + i] + out[73 * stride + i])) + ((out[74 * stride + i] + out[75 * stride + i]) + (out[76 * stride + i] + out[77 * stride + i]));
+    const T _sum_rates_4 = (out[78 * stride + i] + out[79 * stride + i]) + (out[80 * stride + i] + out[81 * stride + i]);
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8171543));
     const T _sum_forces_0 = ((out[46 * stride + i] + out[47 * stride + i]) + (out[48 * stride + i] + out[49 * stride + i])) + ((out[50 * stride + i] + out[51 * stride + i]) + (out[52 * stride + i] + out[53 * stride + i]));
     const T _sum_forces_1 = out[4 * stride + i];
@@ -1065,7 +1191,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xca639efc85896264ULL;
+inline constexpr unsigned long long fingerprint = 0xa77a8b6215db28f2ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 14;
@@ -1088,8 +1214,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.s0 = values[13];
 }
 
-inline constexpr int column_count = 54;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "coupler.x", "coupler.y", "coupler.th", "coupler.vx", "coupler.vy", "coupler.w", "coupler.ax", "coupler.ay", "coupler.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "A.x", "A.y", "B.x", "B.y", "S.x", "S.y", "P.x", "P.y", "M.x", "M.y", "C.x", "C.y", "R.x", "R.y", "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy" };
+inline constexpr int column_count = 82;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "coupler.x", "coupler.y", "coupler.th", "coupler.vx", "coupler.vy", "coupler.w", "coupler.ax", "coupler.ay", "coupler.al", "rocker.x", "rocker.y", "rocker.th", "rocker.vx", "rocker.vy", "rocker.w", "rocker.ax", "rocker.ay", "rocker.al", "A.x", "A.y", "B.x", "B.y", "S.x", "S.y", "P.x", "P.y", "M.x", "M.y", "C.x", "C.y", "R.x", "R.y", "A_ground_crank.fx", "A_ground_crank.fy", "P_crank_coupler.fx", "P_crank_coupler.fy", "M_rocker_coupler.fx", "M_rocker_coupler.fy", "B_ground_rocker.fx", "B_ground_rocker.fy", "A.vx", "A.vy", "A.ax", "A.ay", "B.vx", "B.vy", "B.ax", "B.ay", "S.vx", "S.vy", "S.ax", "S.ay", "P.vx", "P.vy", "P.ax", "P.ay", "M.vx", "M.vy", "M.ax", "M.ay", "C.vx", "C.vy", "C.ax", "C.ay", "R.vx", "R.vy", "R.ax", "R.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -1146,6 +1272,34 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[51] = s.joints.M_rocker_coupler.fy;
   row[52] = s.joints.B_ground_rocker.fx;
   row[53] = s.joints.B_ground_rocker.fy;
+  row[54] = s.points.A.vx;
+  row[55] = s.points.A.vy;
+  row[56] = s.points.A.ax;
+  row[57] = s.points.A.ay;
+  row[58] = s.points.B.vx;
+  row[59] = s.points.B.vy;
+  row[60] = s.points.B.ax;
+  row[61] = s.points.B.ay;
+  row[62] = s.points.S.vx;
+  row[63] = s.points.S.vy;
+  row[64] = s.points.S.ax;
+  row[65] = s.points.S.ay;
+  row[66] = s.points.P.vx;
+  row[67] = s.points.P.vy;
+  row[68] = s.points.P.ax;
+  row[69] = s.points.P.ay;
+  row[70] = s.points.M.vx;
+  row[71] = s.points.M.vy;
+  row[72] = s.points.M.ax;
+  row[73] = s.points.M.ay;
+  row[74] = s.points.C.vx;
+  row[75] = s.points.C.vy;
+  row[76] = s.points.C.ax;
+  row[77] = s.points.C.ay;
+  row[78] = s.points.R.vx;
+  row[79] = s.points.R.vy;
+  row[80] = s.points.R.ax;
+  row[81] = s.points.R.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -26093,7 +26093,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xca63f6ad6107529aULL;
+inline constexpr unsigned long long fingerprint = 0xe6eb9bc584d72124ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 31;
@@ -26133,8 +26133,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.z0 = values[30];
 }
 
-inline constexpr int column_count = 426;
-inline constexpr const char* column_names[] = { "t", "foot.x.q", "foot.x.qd", "foot.x.qdd", "foot.x.effort", "foot.y.q", "foot.y.qd", "foot.y.qdd", "foot.y.effort", "foot.z.q", "foot.z.qd", "foot.z.qdd", "foot.z.effort", "frame.x", "frame.y", "frame.z", "frame.qw", "frame.qx", "frame.qy", "frame.qz", "frame.vx", "frame.vy", "frame.vz", "frame.ax", "frame.ay", "frame.az", "frame.wx", "frame.wy", "frame.wz", "frame.alx", "frame.aly", "frame.alz", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "shank.x", "shank.y", "shank.z", "shank.qw", "shank.qx", "shank.qy", "shank.qz", "shank.vx", "shank.vy", "shank.vz", "shank.ax", "shank.ay", "shank.az", "shank.wx", "shank.wy", "shank.wz", "shank.alx", "shank.aly", "shank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "barrel1.x", "barrel1.y", "barrel1.z", "barrel1.qw", "barrel1.qx", "barrel1.qy", "barrel1.qz", "barrel1.vx", "barrel1.vy", "barrel1.vz", "barrel1.ax", "barrel1.ay", "barrel1.az", "barrel1.wx", "barrel1.wy", "barrel1.wz", "barrel1.alx", "barrel1.aly", "barrel1.alz", "rod1.x", "rod1.y", "rod1.z", "rod1.qw", "rod1.qx", "rod1.qy", "rod1.qz", "rod1.vx", "rod1.vy", "rod1.vz", "rod1.ax", "rod1.ay", "rod1.az", "rod1.wx", "rod1.wy", "rod1.wz", "rod1.alx", "rod1.aly", "rod1.alz", "barrel2.x", "barrel2.y", "barrel2.z", "barrel2.qw", "barrel2.qx", "barrel2.qy", "barrel2.qz", "barrel2.vx", "barrel2.vy", "barrel2.vz", "barrel2.ax", "barrel2.ay", "barrel2.az", "barrel2.wx", "barrel2.wy", "barrel2.wz", "barrel2.alx", "barrel2.aly", "barrel2.alz", "rod2.x", "rod2.y", "rod2.z", "rod2.qw", "rod2.qx", "rod2.qy", "rod2.qz", "rod2.vx", "rod2.vy", "rod2.vz", "rod2.ax", "rod2.ay", "rod2.az", "rod2.wx", "rod2.wy", "rod2.wz", "rod2.alx", "rod2.aly", "rod2.alz", "barrel3.x", "barrel3.y", "barrel3.z", "barrel3.qw", "barrel3.qx", "barrel3.qy", "barrel3.qz", "barrel3.vx", "barrel3.vy", "barrel3.vz", "barrel3.ax", "barrel3.ay", "barrel3.az", "barrel3.wx", "barrel3.wy", "barrel3.wz", "barrel3.alx", "barrel3.aly", "barrel3.alz", "rod3.x", "rod3.y", "rod3.z", "rod3.qw", "rod3.qx", "rod3.qy", "rod3.qz", "rod3.vx", "rod3.vy", "rod3.vz", "rod3.ax", "rod3.ay", "rod3.az", "rod3.wx", "rod3.wy", "rod3.wz", "rod3.alx", "rod3.aly", "rod3.alz", "O.x", "O.y", "O.z", "M.x", "M.y", "M.z", "Q.x", "Q.y", "Q.z", "H.x", "H.y", "H.z", "F.x", "F.y", "F.z", "N.x", "N.y", "N.z", "A.x", "A.y", "A.z", "G.x", "G.y", "G.z", "C.x", "C.y", "C.z", "B.x", "B.y", "B.z", "D.x", "D.y", "D.z", "swing.q", "swing.qd", "swing.qdd", "swing.fx", "swing.fy", "swing.fz", "swing.mx", "swing.my", "swing.mz", "hip.q", "hip.qd", "hip.qdd", "hip.fx", "hip.fy", "hip.fz", "hip.mx", "hip.my", "hip.mz", "crank_pivot.q", "crank_pivot.qd", "crank_pivot.qdd", "crank_pivot.fx", "crank_pivot.fy", "crank_pivot.fz", "crank_pivot.mx", "crank_pivot.my", "crank_pivot.mz", "knee.q", "knee.qd", "knee.qdd", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "coupler_B.q1", "coupler_B.q1d", "coupler_B.q1dd", "coupler_B.q2", "coupler_B.q2d", "coupler_B.q2dd", "coupler_B.q3", "coupler_B.q3d", "coupler_B.q3dd", "coupler_B.fx", "coupler_B.fy", "coupler_B.fz", "coupler_B.mx", "coupler_B.my", "coupler_B.mz", "coupler_C.q1", "coupler_C.q1d", "coupler_C.q1dd", "coupler_C.q2", "coupler_C.q2d", "coupler_C.q2dd", "coupler_C.fx", "coupler_C.fy", "coupler_C.fz", "coupler_C.mx", "coupler_C.my", "coupler_C.mz", "cyl1_base.q1", "cyl1_base.q1d", "cyl1_base.q1dd", "cyl1_base.q2", "cyl1_base.q2d", "cyl1_base.q2dd", "cyl1_base.fx", "cyl1_base.fy", "cyl1_base.fz", "cyl1_base.mx", "cyl1_base.my", "cyl1_base.mz", "cyl1.q", "cyl1.qd", "cyl1.qdd", "cyl1.fx", "cyl1.fy", "cyl1.fz", "cyl1.mx", "cyl1.my", "cyl1.mz", "cyl1_end.q1", "cyl1_end.q1d", "cyl1_end.q1dd", "cyl1_end.q2", "cyl1_end.q2d", "cyl1_end.q2dd", "cyl1_end.q3", "cyl1_end.q3d", "cyl1_end.q3dd", "cyl1_end.fx", "cyl1_end.fy", "cyl1_end.fz", "cyl1_end.mx", "cyl1_end.my", "cyl1_end.mz", "cyl2_base.q1", "cyl2_base.q1d", "cyl2_base.q1dd", "cyl2_base.q2", "cyl2_base.q2d", "cyl2_base.q2dd", "cyl2_base.fx", "cyl2_base.fy", "cyl2_base.fz", "cyl2_base.mx", "cyl2_base.my", "cyl2_base.mz", "cyl2.q", "cyl2.qd", "cyl2.qdd", "cyl2.fx", "cyl2.fy", "cyl2.fz", "cyl2.mx", "cyl2.my", "cyl2.mz", "cyl2_end.q1", "cyl2_end.q1d", "cyl2_end.q1dd", "cyl2_end.q2", "cyl2_end.q2d", "cyl2_end.q2dd", "cyl2_end.q3", "cyl2_end.q3d", "cyl2_end.q3dd", "cyl2_end.fx", "cyl2_end.fy", "cyl2_end.fz", "cyl2_end.mx", "cyl2_end.my", "cyl2_end.mz", "cyl3_base.q1", "cyl3_base.q1d", "cyl3_base.q1dd", "cyl3_base.q2", "cyl3_base.q2d", "cyl3_base.q2dd", "cyl3_base.fx", "cyl3_base.fy", "cyl3_base.fz", "cyl3_base.mx", "cyl3_base.my", "cyl3_base.mz", "cyl3.q", "cyl3.qd", "cyl3.qdd", "cyl3.fx", "cyl3.fy", "cyl3.fz", "cyl3.mx", "cyl3.my", "cyl3.mz", "cyl3_end.q1", "cyl3_end.q1d", "cyl3_end.q1dd", "cyl3_end.q2", "cyl3_end.q2d", "cyl3_end.q2dd", "cyl3_end.q3", "cyl3_end.q3d", "cyl3_end.q3dd", "cyl3_end.fx", "cyl3_end.fy", "cyl3_end.fz", "cyl3_end.mx", "cyl3_end.my", "cyl3_end.mz" };
+inline constexpr int column_count = 492;
+inline constexpr const char* column_names[] = { "t", "foot.x.q", "foot.x.qd", "foot.x.qdd", "foot.x.effort", "foot.y.q", "foot.y.qd", "foot.y.qdd", "foot.y.effort", "foot.z.q", "foot.z.qd", "foot.z.qdd", "foot.z.effort", "frame.x", "frame.y", "frame.z", "frame.qw", "frame.qx", "frame.qy", "frame.qz", "frame.vx", "frame.vy", "frame.vz", "frame.ax", "frame.ay", "frame.az", "frame.wx", "frame.wy", "frame.wz", "frame.alx", "frame.aly", "frame.alz", "thigh.x", "thigh.y", "thigh.z", "thigh.qw", "thigh.qx", "thigh.qy", "thigh.qz", "thigh.vx", "thigh.vy", "thigh.vz", "thigh.ax", "thigh.ay", "thigh.az", "thigh.wx", "thigh.wy", "thigh.wz", "thigh.alx", "thigh.aly", "thigh.alz", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "shank.x", "shank.y", "shank.z", "shank.qw", "shank.qx", "shank.qy", "shank.qz", "shank.vx", "shank.vy", "shank.vz", "shank.ax", "shank.ay", "shank.az", "shank.wx", "shank.wy", "shank.wz", "shank.alx", "shank.aly", "shank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "barrel1.x", "barrel1.y", "barrel1.z", "barrel1.qw", "barrel1.qx", "barrel1.qy", "barrel1.qz", "barrel1.vx", "barrel1.vy", "barrel1.vz", "barrel1.ax", "barrel1.ay", "barrel1.az", "barrel1.wx", "barrel1.wy", "barrel1.wz", "barrel1.alx", "barrel1.aly", "barrel1.alz", "rod1.x", "rod1.y", "rod1.z", "rod1.qw", "rod1.qx", "rod1.qy", "rod1.qz", "rod1.vx", "rod1.vy", "rod1.vz", "rod1.ax", "rod1.ay", "rod1.az", "rod1.wx", "rod1.wy", "rod1.wz", "rod1.alx", "rod1.aly", "rod1.alz", "barrel2.x", "barrel2.y", "barrel2.z", "barrel2.qw", "barrel2.qx", "barrel2.qy", "barrel2.qz", "barrel2.vx", "barrel2.vy", "barrel2.vz", "barrel2.ax", "barrel2.ay", "barrel2.az", "barrel2.wx", "barrel2.wy", "barrel2.wz", "barrel2.alx", "barrel2.aly", "barrel2.alz", "rod2.x", "rod2.y", "rod2.z", "rod2.qw", "rod2.qx", "rod2.qy", "rod2.qz", "rod2.vx", "rod2.vy", "rod2.vz", "rod2.ax", "rod2.ay", "rod2.az", "rod2.wx", "rod2.wy", "rod2.wz", "rod2.alx", "rod2.aly", "rod2.alz", "barrel3.x", "barrel3.y", "barrel3.z", "barrel3.qw", "barrel3.qx", "barrel3.qy", "barrel3.qz", "barrel3.vx", "barrel3.vy", "barrel3.vz", "barrel3.ax", "barrel3.ay", "barrel3.az", "barrel3.wx", "barrel3.wy", "barrel3.wz", "barrel3.alx", "barrel3.aly", "barrel3.alz", "rod3.x", "rod3.y", "rod3.z", "rod3.qw", "rod3.qx", "rod3.qy", "rod3.qz", "rod3.vx", "rod3.vy", "rod3.vz", "rod3.ax", "rod3.ay", "rod3.az", "rod3.wx", "rod3.wy", "rod3.wz", "rod3.alx", "rod3.aly", "rod3.alz", "O.x", "O.y", "O.z", "M.x", "M.y", "M.z", "Q.x", "Q.y", "Q.z", "H.x", "H.y", "H.z", "F.x", "F.y", "F.z", "N.x", "N.y", "N.z", "A.x", "A.y", "A.z", "G.x", "G.y", "G.z", "C.x", "C.y", "C.z", "B.x", "B.y", "B.z", "D.x", "D.y", "D.z", "swing.q", "swing.qd", "swing.qdd", "swing.fx", "swing.fy", "swing.fz", "swing.mx", "swing.my", "swing.mz", "hip.q", "hip.qd", "hip.qdd", "hip.fx", "hip.fy", "hip.fz", "hip.mx", "hip.my", "hip.mz", "crank_pivot.q", "crank_pivot.qd", "crank_pivot.qdd", "crank_pivot.fx", "crank_pivot.fy", "crank_pivot.fz", "crank_pivot.mx", "crank_pivot.my", "crank_pivot.mz", "knee.q", "knee.qd", "knee.qdd", "knee.fx", "knee.fy", "knee.fz", "knee.mx", "knee.my", "knee.mz", "coupler_B.q1", "coupler_B.q1d", "coupler_B.q1dd", "coupler_B.q2", "coupler_B.q2d", "coupler_B.q2dd", "coupler_B.q3", "coupler_B.q3d", "coupler_B.q3dd", "coupler_B.fx", "coupler_B.fy", "coupler_B.fz", "coupler_B.mx", "coupler_B.my", "coupler_B.mz", "coupler_C.q1", "coupler_C.q1d", "coupler_C.q1dd", "coupler_C.q2", "coupler_C.q2d", "coupler_C.q2dd", "coupler_C.fx", "coupler_C.fy", "coupler_C.fz", "coupler_C.mx", "coupler_C.my", "coupler_C.mz", "cyl1_base.q1", "cyl1_base.q1d", "cyl1_base.q1dd", "cyl1_base.q2", "cyl1_base.q2d", "cyl1_base.q2dd", "cyl1_base.fx", "cyl1_base.fy", "cyl1_base.fz", "cyl1_base.mx", "cyl1_base.my", "cyl1_base.mz", "cyl1.q", "cyl1.qd", "cyl1.qdd", "cyl1.fx", "cyl1.fy", "cyl1.fz", "cyl1.mx", "cyl1.my", "cyl1.mz", "cyl1_end.q1", "cyl1_end.q1d", "cyl1_end.q1dd", "cyl1_end.q2", "cyl1_end.q2d", "cyl1_end.q2dd", "cyl1_end.q3", "cyl1_end.q3d", "cyl1_end.q3dd", "cyl1_end.fx", "cyl1_end.fy", "cyl1_end.fz", "cyl1_end.mx", "cyl1_end.my", "cyl1_end.mz", "cyl2_base.q1", "cyl2_base.q1d", "cyl2_base.q1dd", "cyl2_base.q2", "cyl2_base.q2d", "cyl2_base.q2dd", "cyl2_base.fx", "cyl2_base.fy", "cyl2_base.fz", "cyl2_base.mx", "cyl2_base.my", "cyl2_base.mz", "cyl2.q", "cyl2.qd", "cyl2.qdd", "cyl2.fx", "cyl2.fy", "cyl2.fz", "cyl2.mx", "cyl2.my", "cyl2.mz", "cyl2_end.q1", "cyl2_end.q1d", "cyl2_end.q1dd", "cyl2_end.q2", "cyl2_end.q2d", "cyl2_end.q2dd", "cyl2_end.q3", "cyl2_end.q3d", "cyl2_end.q3dd", "cyl2_end.fx", "cyl2_end.fy", "cyl2_end.fz", "cyl2_end.mx", "cyl2_end.my", "cyl2_end.mz", "cyl3_base.q1", "cyl3_base.q1d", "cyl3_base.q1dd", "cyl3_base.q2", "cyl3_base.q2d", "cyl3_base.q2dd", "cyl3_base.fx", "cyl3_base.fy", "cyl3_base.fz", "cyl3_base.mx", "cyl3_base.my", "cyl3_base.mz", "cyl3.q", "cyl3.qd", "cyl3.qdd", "cyl3.fx", "cyl3.fy", "cyl3.fz", "cyl3.mx", "cyl3.my", "cyl3.mz", "cyl3_end.q1", "cyl3_end.q1d", "cyl3_end.q1dd", "cyl3_end.q2", "cyl3_end.q2d", "cyl3_end.q2dd", "cyl3_end.q3", "cyl3_end.q3d", "cyl3_end.q3dd", "cyl3_end.fx", "cyl3_end.fy", "cyl3_end.fz", "cyl3_end.mx", "cyl3_end.my", "cyl3_end.mz", "O.vx", "O.vy", "O.vz", "O.ax", "O.ay", "O.az", "M.vx", "M.vy", "M.vz", "M.ax", "M.ay", "M.az", "Q.vx", "Q.vy", "Q.vz", "Q.ax", "Q.ay", "Q.az", "H.vx", "H.vy", "H.vz", "H.ax", "H.ay", "H.az", "F.vx", "F.vy", "F.vz", "F.ax", "F.ay", "F.az", "N.vx", "N.vy", "N.vz", "N.ax", "N.ay", "N.az", "A.vx", "A.vy", "A.vz", "A.ax", "A.ay", "A.az", "G.vx", "G.vy", "G.vz", "G.ax", "G.ay", "G.az", "C.vx", "C.vy", "C.vz", "C.ax", "C.ay", "C.az", "B.vx", "B.vy", "B.vz", "B.ax", "B.ay", "B.az", "D.vx", "D.vy", "D.vz", "D.ax", "D.ay", "D.az" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   [[maybe_unused]] T q[4];
@@ -26575,6 +26575,72 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[423] = s.joints.cyl3_end.mx;
   row[424] = s.joints.cyl3_end.my;
   row[425] = s.joints.cyl3_end.mz;
+  row[426] = s.points.O.vx;
+  row[427] = s.points.O.vy;
+  row[428] = s.points.O.vz;
+  row[429] = s.points.O.ax;
+  row[430] = s.points.O.ay;
+  row[431] = s.points.O.az;
+  row[432] = s.points.M.vx;
+  row[433] = s.points.M.vy;
+  row[434] = s.points.M.vz;
+  row[435] = s.points.M.ax;
+  row[436] = s.points.M.ay;
+  row[437] = s.points.M.az;
+  row[438] = s.points.Q.vx;
+  row[439] = s.points.Q.vy;
+  row[440] = s.points.Q.vz;
+  row[441] = s.points.Q.ax;
+  row[442] = s.points.Q.ay;
+  row[443] = s.points.Q.az;
+  row[444] = s.points.H.vx;
+  row[445] = s.points.H.vy;
+  row[446] = s.points.H.vz;
+  row[447] = s.points.H.ax;
+  row[448] = s.points.H.ay;
+  row[449] = s.points.H.az;
+  row[450] = s.points.F.vx;
+  row[451] = s.points.F.vy;
+  row[452] = s.points.F.vz;
+  row[453] = s.points.F.ax;
+  row[454] = s.points.F.ay;
+  row[455] = s.points.F.az;
+  row[456] = s.points.N.vx;
+  row[457] = s.points.N.vy;
+  row[458] = s.points.N.vz;
+  row[459] = s.points.N.ax;
+  row[460] = s.points.N.ay;
+  row[461] = s.points.N.az;
+  row[462] = s.points.A.vx;
+  row[463] = s.points.A.vy;
+  row[464] = s.points.A.vz;
+  row[465] = s.points.A.ax;
+  row[466] = s.points.A.ay;
+  row[467] = s.points.A.az;
+  row[468] = s.points.G.vx;
+  row[469] = s.points.G.vy;
+  row[470] = s.points.G.vz;
+  row[471] = s.points.G.ax;
+  row[472] = s.points.G.ay;
+  row[473] = s.points.G.az;
+  row[474] = s.points.C.vx;
+  row[475] = s.points.C.vy;
+  row[476] = s.points.C.vz;
+  row[477] = s.points.C.ax;
+  row[478] = s.points.C.ay;
+  row[479] = s.points.C.az;
+  row[480] = s.points.B.vx;
+  row[481] = s.points.B.vy;
+  row[482] = s.points.B.vz;
+  row[483] = s.points.B.ax;
+  row[484] = s.points.B.ay;
+  row[485] = s.points.B.az;
+  row[486] = s.points.D.vx;
+  row[487] = s.points.D.vy;
+  row[488] = s.points.D.vz;
+  row[489] = s.points.D.ax;
+  row[490] = s.points.D.ay;
+  row[491] = s.points.D.az;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -161,7 +161,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -249,7 +249,7 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
-  // Total ops: 130
+  // Total ops: 134
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -261,8 +261,16 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.ram.al = T(0);
   s.points.Q.x = T(0);
   s.points.Q.y = T(0);
+  s.points.Q.vx = T(0);
+  s.points.Q.vy = T(0);
+  s.points.Q.ax = T(0);
+  s.points.Q.ay = T(0);
   s.points.O.x = T(0);
   s.points.O.y = p.d;
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   const T s_crank_rel = sin(in.crank_angle);
   s.bodies.crank.sin_th = s_crank_rel;
   const T c_crank_rel = cos(in.crank_angle);
@@ -271,6 +279,18 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.points.P.y = P_y;
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.r*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.r*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
   const T g2_lever_root = sqrt(g2_lever_disc);
   const T _tmp0 = T(1)/g2_lever_root;
@@ -280,14 +300,6 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T c_lever = P_x*_tmp0;
   s.bodies.lever.cos_th = c_lever;
   s.bodies.block.cos_th = c_lever;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
   const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
@@ -306,9 +318,13 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   s.bodies.block.ax = C_x_dd;
   s.bodies.ram.ax = C_x_dd;
+  s.points.C.ax = C_x_dd;
+  s.points.Tool.ax = C_x_dd;
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
   s.bodies.block.ay = C_y_dd;
   s.bodies.ram.ay = C_y_dd;
+  s.points.C.ay = C_y_dd;
+  s.points.Tool.ay = C_y_dd;
   const T com_crank_y = T(0.5)*p.r*s_crank_rel + p.d;
   s.bodies.crank.y = com_crank_y;
   const T w_lever = c_lever*s_lever_d - c_lever_d*s_lever;
@@ -349,15 +365,27 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
   s.bodies.block.vx = C_x_d;
   s.bodies.ram.vx = C_x_d;
+  s.points.C.vx = C_x_d;
+  s.points.Tool.vx = C_x_d;
   const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
   s.bodies.block.vy = C_y_d;
   s.bodies.ram.vy = C_y_d;
+  s.points.C.vy = C_y_d;
+  s.points.Tool.vy = C_y_d;
   const T com_ram_x = C_x + T(0.05);
   s.bodies.ram.x = com_ram_x;
   const T E_x = p.L*c_lever;
   s.points.E.x = E_x;
   const T E_y = p.L*s_lever;
   s.points.E.y = E_y;
+  const T E_x_d = p.L*c_lever_d;
+  s.points.E.vx = E_x_d;
+  const T E_y_d = p.L*s_lever_d;
+  s.points.E.vy = E_y_d;
+  const T E_x_dd = p.L*c_lever_dd;
+  s.points.E.ax = E_x_dd;
+  const T E_y_dd = p.L*s_lever_dd;
+  s.points.E.ay = E_y_dd;
   const T Tool_x = C_x + T(0.1);
   s.points.Tool.x = Tool_x;
   const T Tool_y = C_y - T(0.02);
@@ -372,7 +400,9 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.lever.vx + s.bodies.lever.vy) + (s.bodies.lever.w + s.bodies.lever.ax)) + ((s.bodies.lever.ay + s.bodies.lever.al) + (s.bodies.block.vx + s.bodies.block.vy));
   const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.bodies.ram.vx + s.bodies.ram.vy) + (s.bodies.ram.ax + s.bodies.ram.ay));
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_3 = ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay)) + ((s.points.E.vx + s.points.E.vy) + (s.points.E.ax + s.points.E.ay));
+  const T _sum_rates_4 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.Tool.vx + s.points.Tool.vy) + (s.points.Tool.ax + s.points.Tool.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
 
   return Status::ok;
@@ -386,7 +416,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 3, Status::unreachable);
-  // Total ops: 197
+  // Total ops: 201
   s.drivers.crank_angle.q = in.crank_angle;
   s.drivers.crank_angle.qd = in.crank_angle_d;
   s.drivers.crank_angle.qdd = in.crank_angle_dd;
@@ -398,8 +428,16 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.ram.al = T(0);
   s.points.Q.x = T(0);
   s.points.Q.y = T(0);
+  s.points.Q.vx = T(0);
+  s.points.Q.vy = T(0);
+  s.points.Q.ax = T(0);
+  s.points.Q.ay = T(0);
   s.points.O.x = T(0);
   s.points.O.y = p.d;
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   s.joints.ram_slide.fx = T(0);
   const T s_crank_rel = sin(in.crank_angle);
   s.bodies.crank.sin_th = s_crank_rel;
@@ -409,6 +447,18 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.P.y = P_y;
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T P_x_d = p.r*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.r*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T g2_lever_disc = P_x*P_x + P_y*P_y;
   const T g2_lever_root = sqrt(g2_lever_disc);
   const T _tmp0 = T(1)/g2_lever_root;
@@ -418,14 +468,6 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T c_lever = P_x*_tmp0;
   s.bodies.lever.cos_th = c_lever;
   s.bodies.block.cos_th = c_lever;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.r*s_crank_rel_dd;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.r*c_crank_rel_dd;
-  const T P_y_d = p.r*s_crank_rel_d;
-  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
   const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
   const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
@@ -444,6 +486,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
   s.bodies.block.ax = C_x_dd;
   s.bodies.ram.ax = C_x_dd;
+  s.points.C.ax = C_x_dd;
+  s.points.Tool.ax = C_x_dd;
   const T com_lever_y_dd = T(0.5)*p.L*s_lever_dd;
   s.bodies.lever.ay = com_lever_y_dd;
   const T com_lever_x_dd = T(0.5)*p.L*c_lever_dd;
@@ -498,6 +542,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
   s.bodies.block.ay = C_y_dd;
   s.bodies.ram.ay = C_y_dd;
+  s.points.C.ay = C_y_dd;
+  s.points.Tool.ay = C_y_dd;
   const T crank_inertial_y = p.m_c*(com_crank_y_dd + T(9.81));
   const T crank_inertial_x = p.m_c*com_crank_x_dd;
   const T crank_inertia = p.m_c*(p.r*p.r)*_tmp6;
@@ -532,9 +578,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
   s.bodies.block.vx = C_x_d;
   s.bodies.ram.vx = C_x_d;
+  s.points.C.vx = C_x_d;
+  s.points.Tool.vx = C_x_d;
   const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
   s.bodies.block.vy = C_y_d;
   s.bodies.ram.vy = C_y_d;
+  s.points.C.vy = C_y_d;
+  s.points.Tool.vy = C_y_d;
   const T crank_pivot_fy = crank_inertial_y - _tmp10;
   s.joints.crank_pivot.fy = crank_pivot_fy;
   const T crank_pivot_fx = crank_inertial_x - _tmp9;
@@ -544,6 +594,14 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.points.E.x = E_x;
   const T E_y = p.L*s_lever;
   s.points.E.y = E_y;
+  const T E_x_d = p.L*c_lever_d;
+  s.points.E.vx = E_x_d;
+  const T E_y_d = p.L*s_lever_d;
+  s.points.E.vy = E_y_d;
+  const T E_x_dd = p.L*c_lever_dd;
+  s.points.E.ax = E_x_dd;
+  const T E_y_dd = p.L*s_lever_dd;
+  s.points.E.ay = E_y_dd;
   const T Tool_x = C_x + T(0.1);
   s.points.Tool.x = Tool_x;
   const T ram_slide_n = ram_inertial_y - ram_pin_fy;
@@ -563,7 +621,9 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.lever.vx + s.bodies.lever.vy) + (s.bodies.lever.w + s.bodies.lever.ax)) + ((s.bodies.lever.ay + s.bodies.lever.al) + (s.bodies.block.vx + s.bodies.block.vy));
   const T _sum_rates_2 = ((s.bodies.block.w + s.bodies.block.ax) + (s.bodies.block.ay + s.bodies.block.al)) + ((s.bodies.ram.vx + s.bodies.ram.vy) + (s.bodies.ram.ax + s.bodies.ram.ay));
-  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+  const T _sum_rates_3 = ((s.points.P.vx + s.points.P.vy) + (s.points.P.ax + s.points.P.ay)) + ((s.points.E.vx + s.points.E.vy) + (s.points.E.ax + s.points.E.ay));
+  const T _sum_rates_4 = ((s.points.C.vx + s.points.C.vy) + (s.points.C.ax + s.points.C.ay)) + ((s.points.Tool.vx + s.points.Tool.vy) + (s.points.Tool.ax + s.points.Tool.ay));
+  const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 5, Status::non_finite);
   const T _sum_forces_0 = ((s.joints.crank_pivot.fx + s.joints.crank_pivot.fy) + (s.joints.lever_pivot.fx + s.joints.lever_pivot.fy)) + ((s.joints.crank_pin.fx + s.joints.crank_pin.fy) + (s.joints.block_slide.fx + s.joints.block_slide.fy));
   const T _sum_forces_1 = (s.joints.block_slide.m + (s.joints.ram_pin.fx + s.joints.ram_pin.fy)) + (s.joints.ram_slide.fy + (s.joints.ram_slide.m + s.drivers.crank_angle.effort));
@@ -620,7 +680,7 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     in.crank_angle_dd = batch_crank_angle_dd[i];
     // x - x is 0 exactly unless x is infinite or NaN: one comparison checks all inputs.
     T failed = ((in.t - in.t) + (in.crank_angle - in.crank_angle) + (in.crank_angle_d - in.crank_angle_d) + (in.crank_angle_dd - in.crank_angle_dd)) == T(0) ? T(0) : T(8196113);
-    // Total ops: 199
+    // Total ops: 203
     out[0 * stride + i] = in.t;
     out[1 * stride + i] = in.crank_angle;
     out[2 * stride + i] = in.crank_angle_d;
@@ -632,8 +692,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[40 * stride + i] = T(0);
     out[41 * stride + i] = T(0);
     out[42 * stride + i] = T(0);
+    out[67 * stride + i] = T(0);
+    out[68 * stride + i] = T(0);
+    out[69 * stride + i] = T(0);
+    out[70 * stride + i] = T(0);
     out[43 * stride + i] = T(0);
     out[44 * stride + i] = p.d;
+    out[71 * stride + i] = T(0);
+    out[72 * stride + i] = T(0);
+    out[73 * stride + i] = T(0);
+    out[74 * stride + i] = T(0);
     out[64 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
     const T c_crank_rel = cos(in.crank_angle);
@@ -644,6 +712,12 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[46 * stride + i] = P_y;
     const T g2_lever_disc = P_x*P_x + P_y*P_y;
     failed = max(failed, (g2_lever_disc > T(0)) ? T(0) : T(8192009));
+    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+    const T P_x_d = p.r*c_crank_rel_d;
+    out[75 * stride + i] = P_x_d;
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.r*s_crank_rel_d;
+    out[76 * stride + i] = P_y_d;
     const T g2_lever_root = sqrt(g2_lever_disc);
     const T _tmp0 = T(1)/g2_lever_root;
     const T s_lever = P_y*_tmp0;
@@ -651,10 +725,6 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp1 = atan2(s_lever, c_lever);
     out[16 * stride + i] = _tmp1;
     out[25 * stride + i] = _tmp1;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T P_y_d = p.r*s_crank_rel_d;
-    const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-    const T P_x_d = p.r*c_crank_rel_d;
     const T g2_lever_disc_d = T(2)*P_x*P_x_d + T(2)*P_y*P_y_d;
     const T g2_lever_root_d = T(0.5)*g2_lever_disc_d*_tmp0;
     const T s_lever_d = (P_y_d - g2_lever_root_d*s_lever)*_tmp0;
@@ -695,8 +765,10 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[17 * stride + i] = com_lever_x_d;
     const T com_lever_y_d = T(0.5)*p.L*s_lever_d;
     out[18 * stride + i] = com_lever_y_d;
-    const T P_y_dd = p.r*s_crank_rel_dd;
     const T P_x_dd = p.r*c_crank_rel_dd;
+    out[77 * stride + i] = P_x_dd;
+    const T P_y_dd = p.r*s_crank_rel_dd;
+    out[78 * stride + i] = P_y_dd;
     const T g2_lever_disc_dd = T(2)*(P_x_d*P_x_d) + T(2)*(P_y_d*P_y_d) + T(2)*P_x*P_x_dd + T(2)*P_y*P_y_dd;
     const T g2_lever_root_dd = -T(0.5)*(T(2)*(g2_lever_root_d*g2_lever_root_d) - g2_lever_disc_dd)*_tmp0;
     const T c_lever_dd = (P_x_dd - T(2)*c_lever_d*g2_lever_root_d - c_lever*g2_lever_root_dd)*_tmp0;
@@ -713,23 +785,39 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T C_x_d = c_lever*g3_block_ram_lambda_d + c_lever_d*g3_block_ram_lambda;
     out[26 * stride + i] = C_x_d;
     out[35 * stride + i] = C_x_d;
+    out[83 * stride + i] = C_x_d;
+    out[87 * stride + i] = C_x_d;
     const T C_y_d = g3_block_ram_lambda*s_lever_d + g3_block_ram_lambda_d*s_lever;
     out[27 * stride + i] = C_y_d;
     out[36 * stride + i] = C_y_d;
+    out[84 * stride + i] = C_y_d;
+    out[88 * stride + i] = C_y_d;
     const T g3_block_ram_cross_dd = -s_lever_dd;
     const T g3_block_ram_lambda_dd = -(T(2)*g3_block_ram_cross_d*g3_block_ram_lambda_d + g3_block_ram_cross_dd*g3_block_ram_lambda)*_tmp2;
     const T C_x_dd = T(2)*c_lever_d*g3_block_ram_lambda_d + c_lever*g3_block_ram_lambda_dd + c_lever_dd*g3_block_ram_lambda;
     out[29 * stride + i] = C_x_dd;
     out[38 * stride + i] = C_x_dd;
+    out[85 * stride + i] = C_x_dd;
+    out[89 * stride + i] = C_x_dd;
     const T C_y_dd = T(2)*g3_block_ram_lambda_d*s_lever_d + g3_block_ram_lambda*s_lever_dd + g3_block_ram_lambda_dd*s_lever;
     out[30 * stride + i] = C_y_dd;
     out[39 * stride + i] = C_y_dd;
+    out[86 * stride + i] = C_y_dd;
+    out[90 * stride + i] = C_y_dd;
     const T com_ram_x = C_x + T(0.05);
     out[32 * stride + i] = com_ram_x;
     const T E_x = p.L*c_lever;
     out[47 * stride + i] = E_x;
     const T E_y = p.L*s_lever;
     out[48 * stride + i] = E_y;
+    const T E_x_d = p.L*c_lever_d;
+    out[79 * stride + i] = E_x_d;
+    const T E_y_d = p.L*s_lever_d;
+    out[80 * stride + i] = E_y_d;
+    const T E_x_dd = p.L*c_lever_dd;
+    out[81 * stride + i] = E_x_dd;
+    const T E_y_dd = p.L*s_lever_dd;
+    out[82 * stride + i] = E_y_dd;
     const T Tool_x = C_x + T(0.1);
     out[51 * stride + i] = Tool_x;
     const T Tool_y = C_y - T(0.02);
@@ -795,7 +883,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
     const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[27 * stride + i]));
     const T _sum_rates_2 = ((out[28 * stride + i] + out[29 * stride + i]) + (out[30 * stride + i] + out[31 * stride + i])) + ((out[35 * stride + i] + out[36 * stride + i]) + (out[38 * stride + i] + out[39 * stride + i]));
-    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
+    const T _sum_rates_3 = ((out[75 * stride + i] + out[76 * stride + i]) + (out[77 * stride + i] + out[78 * stride + i])) + ((out[79 * stride + i] + out[80 * stride + i]) + (out[81 * stride + i] + out[82 * stride + i]));
+    const T _sum_rates_4 = ((out[83 * stride + i] + out[84 * stride + i]) + (out[85 * stride + i] + out[86 * stride + i])) + ((out[87 * stride + i] + out[88 * stride + i]) + (out[89 * stride + i] + out[90 * stride + i]));
+    const T _sum_rates = (_sum_rates_0 + _sum_rates_1) + (_sum_rates_2 + (_sum_rates_3 + _sum_rates_4));
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8171547));
     const T _sum_forces_0 = ((out[53 * stride + i] + out[54 * stride + i]) + (out[55 * stride + i] + out[56 * stride + i])) + ((out[57 * stride + i] + out[58 * stride + i]) + (out[59 * stride + i] + out[60 * stride + i]));
     const T _sum_forces_1 = (out[61 * stride + i] + (out[62 * stride + i] + out[63 * stride + i])) + (out[65 * stride + i] + (out[66 * stride + i] + out[4 * stride + i]));
@@ -964,7 +1054,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xc12d7614125708e7ULL;
+inline constexpr unsigned long long fingerprint = 0xadad333b97e6c8fdULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 10;
@@ -983,8 +1073,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.F_cut = values[9];
 }
 
-inline constexpr int column_count = 67;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "lever.x", "lever.y", "lever.th", "lever.vx", "lever.vy", "lever.w", "lever.ax", "lever.ay", "lever.al", "block.x", "block.y", "block.th", "block.vx", "block.vy", "block.w", "block.ax", "block.ay", "block.al", "ram.x", "ram.y", "ram.th", "ram.vx", "ram.vy", "ram.w", "ram.ax", "ram.ay", "ram.al", "Q.x", "Q.y", "O.x", "O.y", "P.x", "P.y", "E.x", "E.y", "C.x", "C.y", "Tool.x", "Tool.y", "crank_pivot.fx", "crank_pivot.fy", "lever_pivot.fx", "lever_pivot.fy", "crank_pin.fx", "crank_pin.fy", "block_slide.fx", "block_slide.fy", "block_slide.m", "ram_pin.fx", "ram_pin.fy", "ram_slide.fx", "ram_slide.fy", "ram_slide.m" };
+inline constexpr int column_count = 91;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "lever.x", "lever.y", "lever.th", "lever.vx", "lever.vy", "lever.w", "lever.ax", "lever.ay", "lever.al", "block.x", "block.y", "block.th", "block.vx", "block.vy", "block.w", "block.ax", "block.ay", "block.al", "ram.x", "ram.y", "ram.th", "ram.vx", "ram.vy", "ram.w", "ram.ax", "ram.ay", "ram.al", "Q.x", "Q.y", "O.x", "O.y", "P.x", "P.y", "E.x", "E.y", "C.x", "C.y", "Tool.x", "Tool.y", "crank_pivot.fx", "crank_pivot.fy", "lever_pivot.fx", "lever_pivot.fy", "crank_pin.fx", "crank_pin.fy", "block_slide.fx", "block_slide.fy", "block_slide.m", "ram_pin.fx", "ram_pin.fy", "ram_slide.fx", "ram_slide.fy", "ram_slide.m", "Q.vx", "Q.vy", "Q.ax", "Q.ay", "O.vx", "O.vy", "O.ax", "O.ay", "P.vx", "P.vy", "P.ax", "P.ay", "E.vx", "E.vy", "E.ax", "E.ay", "C.vx", "C.vy", "C.ax", "C.ay", "Tool.vx", "Tool.vy", "Tool.ax", "Tool.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -1054,6 +1144,30 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[64] = s.joints.ram_slide.fx;
   row[65] = s.joints.ram_slide.fy;
   row[66] = s.joints.ram_slide.m;
+  row[67] = s.points.Q.vx;
+  row[68] = s.points.Q.vy;
+  row[69] = s.points.Q.ax;
+  row[70] = s.points.Q.ay;
+  row[71] = s.points.O.vx;
+  row[72] = s.points.O.vy;
+  row[73] = s.points.O.ax;
+  row[74] = s.points.O.ay;
+  row[75] = s.points.P.vx;
+  row[76] = s.points.P.vy;
+  row[77] = s.points.P.ax;
+  row[78] = s.points.P.ay;
+  row[79] = s.points.E.vx;
+  row[80] = s.points.E.vy;
+  row[81] = s.points.E.ax;
+  row[82] = s.points.E.ay;
+  row[83] = s.points.C.vx;
+  row[84] = s.points.C.vy;
+  row[85] = s.points.C.ax;
+  row[86] = s.points.C.ay;
+  row[87] = s.points.Tool.vx;
+  row[88] = s.points.Tool.vy;
+  row[89] = s.points.Tool.ax;
+  row[90] = s.points.Tool.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

@@ -21,7 +21,7 @@
 //   rocker: revolute 'jD' from 'ground' (product of exponentials)
 //   coupler: spherical 'jB' from 'crank' (product of exponentials)
 //   jD (link coupler): closed form, link 'coupler' from 'crank': A cos q + B sin q = C (the root nearer the warm start), then 'jC' (universal) from the link's direction, 'jB' (spherical) from the relative rotation
-//   closure: 6 secondary coordinates, 6 closure rows; every circuit in closed form, no Newton; Davies' pivot order from 72 samples (smallest pivot 0.0035 of its column)
+//   closure: 6 secondary coordinates, 6 closure rows; every circuit in closed form, no Newton; Davies' pivot order from 72 samples (smallest pivot 0.0035 of its column); warning: no fixed pivot order stays away from zero over the step and the drivers' ranges (a pivot changes sign between two samples): near where it passes zero the kernel refuses (singular or unreachable in group closure, its residual checks) rather than lose precision; --solver numeric pivots at run time
 #pragma once
 
 #include <cmath>
@@ -3702,7 +3702,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x7f2a0126c48aaba7ULL;
+inline constexpr unsigned long long fingerprint = 0xc80bd29d8f782f2dULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 7;
@@ -3718,8 +3718,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.w = values[6];
 }
 
-inline constexpr int column_count = 119;
-inline constexpr const char* column_names[] = { "t", "theta.q", "theta.qd", "theta.qdd", "theta.effort", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "rocker.x", "rocker.y", "rocker.z", "rocker.qw", "rocker.qx", "rocker.qy", "rocker.qz", "rocker.vx", "rocker.vy", "rocker.vz", "rocker.ax", "rocker.ay", "rocker.az", "rocker.wx", "rocker.wy", "rocker.wz", "rocker.alx", "rocker.aly", "rocker.alz", "A.x", "A.y", "A.z", "D.x", "D.y", "D.z", "B.x", "B.y", "B.z", "C.x", "C.y", "C.z", "jA.q", "jA.qd", "jA.qdd", "jA.fx", "jA.fy", "jA.fz", "jA.mx", "jA.my", "jA.mz", "jB.q1", "jB.q1d", "jB.q1dd", "jB.q2", "jB.q2d", "jB.q2dd", "jB.q3", "jB.q3d", "jB.q3dd", "jB.fx", "jB.fy", "jB.fz", "jB.mx", "jB.my", "jB.mz", "jC.q1", "jC.q1d", "jC.q1dd", "jC.q2", "jC.q2d", "jC.q2dd", "jC.fx", "jC.fy", "jC.fz", "jC.mx", "jC.my", "jC.mz", "jD.q", "jD.qd", "jD.qdd", "jD.fx", "jD.fy", "jD.fz", "jD.mx", "jD.my", "jD.mz" };
+inline constexpr int column_count = 143;
+inline constexpr const char* column_names[] = { "t", "theta.q", "theta.qd", "theta.qdd", "theta.effort", "crank.x", "crank.y", "crank.z", "crank.qw", "crank.qx", "crank.qy", "crank.qz", "crank.vx", "crank.vy", "crank.vz", "crank.ax", "crank.ay", "crank.az", "crank.wx", "crank.wy", "crank.wz", "crank.alx", "crank.aly", "crank.alz", "coupler.x", "coupler.y", "coupler.z", "coupler.qw", "coupler.qx", "coupler.qy", "coupler.qz", "coupler.vx", "coupler.vy", "coupler.vz", "coupler.ax", "coupler.ay", "coupler.az", "coupler.wx", "coupler.wy", "coupler.wz", "coupler.alx", "coupler.aly", "coupler.alz", "rocker.x", "rocker.y", "rocker.z", "rocker.qw", "rocker.qx", "rocker.qy", "rocker.qz", "rocker.vx", "rocker.vy", "rocker.vz", "rocker.ax", "rocker.ay", "rocker.az", "rocker.wx", "rocker.wy", "rocker.wz", "rocker.alx", "rocker.aly", "rocker.alz", "A.x", "A.y", "A.z", "D.x", "D.y", "D.z", "B.x", "B.y", "B.z", "C.x", "C.y", "C.z", "jA.q", "jA.qd", "jA.qdd", "jA.fx", "jA.fy", "jA.fz", "jA.mx", "jA.my", "jA.mz", "jB.q1", "jB.q1d", "jB.q1dd", "jB.q2", "jB.q2d", "jB.q2dd", "jB.q3", "jB.q3d", "jB.q3dd", "jB.fx", "jB.fy", "jB.fz", "jB.mx", "jB.my", "jB.mz", "jC.q1", "jC.q1d", "jC.q1dd", "jC.q2", "jC.q2d", "jC.q2dd", "jC.fx", "jC.fy", "jC.fz", "jC.mx", "jC.my", "jC.mz", "jD.q", "jD.qd", "jD.qdd", "jD.fx", "jD.fy", "jD.fz", "jD.mx", "jD.my", "jD.mz", "A.vx", "A.vy", "A.vz", "A.ax", "A.ay", "A.az", "D.vx", "D.vy", "D.vz", "D.ax", "D.ay", "D.az", "B.vx", "B.vy", "B.vz", "B.ax", "B.ay", "B.az", "C.vx", "C.vy", "C.vz", "C.ax", "C.ay", "C.az" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   [[maybe_unused]] T q[4];
@@ -3845,6 +3845,30 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[116] = s.joints.jD.mx;
   row[117] = s.joints.jD.my;
   row[118] = s.joints.jD.mz;
+  row[119] = s.points.A.vx;
+  row[120] = s.points.A.vy;
+  row[121] = s.points.A.vz;
+  row[122] = s.points.A.ax;
+  row[123] = s.points.A.ay;
+  row[124] = s.points.A.az;
+  row[125] = s.points.D.vx;
+  row[126] = s.points.D.vy;
+  row[127] = s.points.D.vz;
+  row[128] = s.points.D.ax;
+  row[129] = s.points.D.ay;
+  row[130] = s.points.D.az;
+  row[131] = s.points.B.vx;
+  row[132] = s.points.B.vy;
+  row[133] = s.points.B.vz;
+  row[134] = s.points.B.ax;
+  row[135] = s.points.B.ay;
+  row[136] = s.points.B.az;
+  row[137] = s.points.C.vx;
+  row[138] = s.points.C.vy;
+  row[139] = s.points.C.vz;
+  row[140] = s.points.C.ax;
+  row[141] = s.points.C.ay;
+  row[142] = s.points.C.az;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

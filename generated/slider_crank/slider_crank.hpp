@@ -163,7 +163,7 @@ struct BodyState {
 };
 template <class T>
 struct PointState {
-  T x, y;
+  T x, y, vx, vy, ax, ay;
 };
 template <class T>
 struct JointForce {
@@ -261,16 +261,38 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   s.bodies.slider.al = T(0);
   s.points.O.x = T(0);
   s.points.O.y = T(0);
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   s.points.G.y = T(0);
+  s.points.G.vx = T(0);
+  s.points.G.vy = T(0);
+  s.points.G.ax = T(0);
+  s.points.G.ay = T(0);
   s.points.Q.y = T(0);
+  s.points.Q.vy = T(0);
+  s.points.Q.ay = T(0);
   const T s_crank_rel = sin(in.crank_angle);
   s.bodies.crank.sin_th = s_crank_rel;
   const T c_crank_rel = cos(in.crank_angle);
   s.bodies.crank.cos_th = c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   s.points.P.y = P_y;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.r*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
+  const T P_x_d = p.r*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
+  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
+  const T P_x_dd = p.r*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
   const T g2_rod_slider_w_y = -P_y;
   const T g2_rod_slider_disc = p.L*p.L - g2_rod_slider_w_y*g2_rod_slider_w_y;
   const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
@@ -278,27 +300,21 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
   s.bodies.slider.x = g2_rod_slider_lambda;
   s.points.Q.x = g2_rod_slider_lambda;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T P_x_d = p.r*c_crank_rel_d;
   const T g2_rod_slider_w_x_d = -P_x_d;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_rod_slider_w_y_d = -P_y_d;
   const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
   const T _tmp0 = T(1)/g2_rod_slider_root;
   const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp0;
   const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
   s.bodies.slider.vx = g2_rod_slider_lambda_d;
-  const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
-  const T P_x_dd = p.r*c_crank_rel_dd;
+  s.points.Q.vx = g2_rod_slider_lambda_d;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
   const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp0;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
   s.bodies.slider.ax = g2_rod_slider_lambda_dd;
+  s.points.Q.ax = g2_rod_slider_lambda_dd;
   const T _tmp1 = T(1)/p.L;
   const T c_rod = -_tmp1*(P_x - g2_rod_slider_lambda);
   s.bodies.rod.cos_th = c_rod;
@@ -345,7 +361,8 @@ Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, Stat
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.rod.vx + s.bodies.rod.vy) + (s.bodies.rod.w + s.bodies.rod.ax)) + ((s.bodies.rod.ay + s.bodies.rod.al) + (s.bodies.slider.vx + s.bodies.slider.ax));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_2 = (s.points.P.vx + (s.points.P.vy + s.points.P.ax)) + (s.points.P.ay + (s.points.Q.vx + s.points.Q.ax));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
 
   return Status::ok;
@@ -374,8 +391,18 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.slider.al = T(0);
   s.points.O.x = T(0);
   s.points.O.y = T(0);
+  s.points.O.vx = T(0);
+  s.points.O.vy = T(0);
+  s.points.O.ax = T(0);
+  s.points.O.ay = T(0);
   s.points.G.y = T(0);
+  s.points.G.vx = T(0);
+  s.points.G.vy = T(0);
+  s.points.G.ax = T(0);
+  s.points.G.ay = T(0);
   s.points.Q.y = T(0);
+  s.points.Q.vy = T(0);
+  s.points.Q.ay = T(0);
   s.joints.slide.fx = T(0);
   s.joints.slide.m = T(0);
   const T s_crank_rel = sin(in.crank_angle);
@@ -384,6 +411,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   s.bodies.crank.cos_th = c_crank_rel;
   const T P_y = p.r*s_crank_rel;
   s.points.P.y = P_y;
+  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+  const T P_y_d = p.r*s_crank_rel_d;
+  s.points.P.vy = P_y_d;
+  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
+  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
+  const T P_y_dd = p.r*s_crank_rel_dd;
+  s.points.P.ay = P_y_dd;
   const T P_x = p.r*c_crank_rel;
   s.points.P.x = P_x;
   const T G_x = T(3)*p.r + p.L;
@@ -396,15 +430,13 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
   s.bodies.slider.x = g2_rod_slider_lambda;
   s.points.Q.x = g2_rod_slider_lambda;
-  const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
   const T c_crank_rel_dd = -in.crank_angle_d*s_crank_rel_d - in.crank_angle_dd*s_crank_rel;
   const T P_x_dd = p.r*c_crank_rel_dd;
+  s.points.P.ax = P_x_dd;
+  const T P_x_d = p.r*c_crank_rel_d;
+  s.points.P.vx = P_x_d;
   const T g2_rod_slider_w_x_dd = -P_x_dd;
-  const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
-  const T s_crank_rel_dd = c_crank_rel*in.crank_angle_dd + c_crank_rel_d*in.crank_angle_d;
-  const T P_y_dd = p.r*s_crank_rel_dd;
   const T g2_rod_slider_w_y_dd = -P_y_dd;
-  const T P_y_d = p.r*s_crank_rel_d;
   const T g2_rod_slider_w_y_d = -P_y_d;
   const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
   const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
@@ -413,10 +445,11 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp1;
   const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
   s.bodies.slider.ax = g2_rod_slider_lambda_dd;
-  const T P_x_d = p.r*c_crank_rel_d;
+  s.points.Q.ax = g2_rod_slider_lambda_dd;
   const T g2_rod_slider_w_x_d = -P_x_d;
   const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
   s.bodies.slider.vx = g2_rod_slider_lambda_d;
+  s.points.Q.vx = g2_rod_slider_lambda_d;
   const T _tmp2 = P_x - g2_rod_slider_lambda;
   const T _tmp3 = T(1)/p.L;
   const T c_rod = -_tmp3*_tmp2;
@@ -503,7 +536,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   if (!(_sum_positions - _sum_positions == T(0))) return detail::failed(s, 3, Status::non_finite);
   const T _sum_rates_0 = ((s.drivers.crank_angle.qd + s.drivers.crank_angle.qdd) + (s.bodies.crank.vx + s.bodies.crank.vy)) + ((s.bodies.crank.w + s.bodies.crank.ax) + (s.bodies.crank.ay + s.bodies.crank.al));
   const T _sum_rates_1 = ((s.bodies.rod.vx + s.bodies.rod.vy) + (s.bodies.rod.w + s.bodies.rod.ax)) + ((s.bodies.rod.ay + s.bodies.rod.al) + (s.bodies.slider.vx + s.bodies.slider.ax));
-  const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+  const T _sum_rates_2 = (s.points.P.vx + (s.points.P.vy + s.points.P.ax)) + (s.points.P.ay + (s.points.Q.vx + s.points.Q.ax));
+  const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
   if (!(_sum_rates - _sum_rates == T(0))) return detail::failed(s, 4, Status::non_finite);
   const T _sum_forces = ((s.joints.O_ground_crank.fx + s.joints.O_ground_crank.fy) + (s.joints.P_crank_rod.fx + s.joints.P_crank_rod.fy)) + ((s.joints.Q_rod_slider.fx + s.joints.Q_rod_slider.fy) + (s.joints.slide.fy + s.drivers.crank_angle.effort));
   if (!(_sum_forces - _sum_forces == T(0))) return detail::failed(s, 5, Status::non_finite);
@@ -573,8 +607,18 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[31 * stride + i] = T(0);
     out[32 * stride + i] = T(0);
     out[33 * stride + i] = T(0);
+    out[49 * stride + i] = T(0);
+    out[50 * stride + i] = T(0);
+    out[51 * stride + i] = T(0);
+    out[52 * stride + i] = T(0);
     out[35 * stride + i] = T(0);
+    out[53 * stride + i] = T(0);
+    out[54 * stride + i] = T(0);
+    out[55 * stride + i] = T(0);
+    out[56 * stride + i] = T(0);
     out[39 * stride + i] = T(0);
+    out[62 * stride + i] = T(0);
+    out[64 * stride + i] = T(0);
     out[46 * stride + i] = T(0);
     out[48 * stride + i] = T(0);
     const T s_crank_rel = sin(in.crank_angle);
@@ -588,6 +632,9 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T _tmp0 = p.L*p.L;
     const T g2_rod_slider_disc = _tmp0 - g2_rod_slider_w_y*g2_rod_slider_w_y;
     failed = max(failed, (g2_rod_slider_disc > T(0)) ? T(0) : T(8192009));
+    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
+    const T P_y_d = p.r*s_crank_rel_d;
+    out[58 * stride + i] = P_y_d;
     const T g2_rod_slider_root = sqrt(g2_rod_slider_disc);
     const T g2_rod_slider_w_x = -P_x;
     const T g2_rod_slider_lambda = g2_rod_slider_root - g2_rod_slider_w_x;
@@ -600,15 +647,15 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     out[16 * stride + i] = atan2(s_rod, c_rod);
     const T c_crank_rel_d = -in.crank_angle_d*s_crank_rel;
     const T P_x_d = p.r*c_crank_rel_d;
+    out[57 * stride + i] = P_x_d;
     const T g2_rod_slider_w_x_d = -P_x_d;
-    const T s_crank_rel_d = c_crank_rel*in.crank_angle_d;
-    const T P_y_d = p.r*s_crank_rel_d;
     const T g2_rod_slider_w_y_d = -P_y_d;
     const T g2_rod_slider_disc_d = -T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_d;
     const T _tmp3 = T(1)/g2_rod_slider_root;
     const T g2_rod_slider_root_d = T(0.5)*g2_rod_slider_disc_d*_tmp3;
     const T g2_rod_slider_lambda_d = g2_rod_slider_root_d - g2_rod_slider_w_x_d;
     out[26 * stride + i] = g2_rod_slider_lambda_d;
+    out[61 * stride + i] = g2_rod_slider_lambda_d;
     const T s_rod_d = -_tmp1*P_y_d;
     const T c_rod_d = -_tmp1*(P_x_d - g2_rod_slider_lambda_d);
     const T w_rod = c_rod*s_rod_d - c_rod_d*s_rod;
@@ -636,13 +683,16 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     const T com_rod_y_d = P_y_d + T(0.5)*p.L*s_rod_d;
     out[18 * stride + i] = com_rod_y_d;
     const T P_x_dd = p.r*c_crank_rel_dd;
-    const T g2_rod_slider_w_x_dd = -P_x_dd;
+    out[59 * stride + i] = P_x_dd;
     const T P_y_dd = p.r*s_crank_rel_dd;
+    out[60 * stride + i] = P_y_dd;
+    const T g2_rod_slider_w_x_dd = -P_x_dd;
     const T g2_rod_slider_w_y_dd = -P_y_dd;
     const T g2_rod_slider_disc_dd = -T(2)*(g2_rod_slider_w_y_d*g2_rod_slider_w_y_d) - T(2)*g2_rod_slider_w_y*g2_rod_slider_w_y_dd;
     const T g2_rod_slider_root_dd = -T(0.5)*(T(2)*(g2_rod_slider_root_d*g2_rod_slider_root_d) - g2_rod_slider_disc_dd)*_tmp3;
     const T g2_rod_slider_lambda_dd = g2_rod_slider_root_dd - g2_rod_slider_w_x_dd;
     out[29 * stride + i] = g2_rod_slider_lambda_dd;
+    out[63 * stride + i] = g2_rod_slider_lambda_dd;
     const T c_rod_dd = -_tmp1*(P_x_dd - g2_rod_slider_lambda_dd);
     const T com_rod_x_dd = P_x_dd + T(0.5)*p.L*c_rod_dd;
     out[20 * stride + i] = com_rod_x_dd;
@@ -700,7 +750,8 @@ void evaluate_batch(const Params<T>& params, const BatchInputs<T>& inputs, long 
     failed = max(failed, (_sum_positions - _sum_positions == T(0)) ? T(0) : T(8183827));
     const T _sum_rates_0 = ((out[2 * stride + i] + out[3 * stride + i]) + (out[8 * stride + i] + out[9 * stride + i])) + ((out[10 * stride + i] + out[11 * stride + i]) + (out[12 * stride + i] + out[13 * stride + i]));
     const T _sum_rates_1 = ((out[17 * stride + i] + out[18 * stride + i]) + (out[19 * stride + i] + out[20 * stride + i])) + ((out[21 * stride + i] + out[22 * stride + i]) + (out[26 * stride + i] + out[29 * stride + i]));
-    const T _sum_rates = _sum_rates_0 + _sum_rates_1;
+    const T _sum_rates_2 = (out[57 * stride + i] + (out[58 * stride + i] + out[59 * stride + i])) + (out[60 * stride + i] + (out[61 * stride + i] + out[63 * stride + i]));
+    const T _sum_rates = _sum_rates_0 + (_sum_rates_1 + _sum_rates_2);
     failed = max(failed, (_sum_rates - _sum_rates == T(0)) ? T(0) : T(8179735));
     const T _sum_forces = ((out[40 * stride + i] + out[41 * stride + i]) + (out[42 * stride + i] + out[43 * stride + i])) + ((out[44 * stride + i] + out[45 * stride + i]) + (out[47 * stride + i] + out[4 * stride + i]));
     failed = max(failed, (_sum_forces - _sum_forces == T(0)) ? T(0) : T(8175643));
@@ -856,7 +907,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x309d7e454e28410bULL;
+inline constexpr unsigned long long fingerprint = 0xf7be796ff153c011ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;
@@ -878,8 +929,8 @@ void set_parameters(Params<T>& p, const T* values) noexcept {
   p.T_f = values[12];
 }
 
-inline constexpr int column_count = 49;
-inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "rod.x", "rod.y", "rod.th", "rod.vx", "rod.vy", "rod.w", "rod.ax", "rod.ay", "rod.al", "slider.x", "slider.y", "slider.th", "slider.vx", "slider.vy", "slider.w", "slider.ax", "slider.ay", "slider.al", "O.x", "O.y", "G.x", "G.y", "P.x", "P.y", "Q.x", "Q.y", "O_ground_crank.fx", "O_ground_crank.fy", "P_crank_rod.fx", "P_crank_rod.fy", "Q_rod_slider.fx", "Q_rod_slider.fy", "slide.fx", "slide.fy", "slide.m" };
+inline constexpr int column_count = 65;
+inline constexpr const char* column_names[] = { "t", "crank_angle.q", "crank_angle.qd", "crank_angle.qdd", "crank_angle.effort", "crank.x", "crank.y", "crank.th", "crank.vx", "crank.vy", "crank.w", "crank.ax", "crank.ay", "crank.al", "rod.x", "rod.y", "rod.th", "rod.vx", "rod.vy", "rod.w", "rod.ax", "rod.ay", "rod.al", "slider.x", "slider.y", "slider.th", "slider.vx", "slider.vy", "slider.w", "slider.ax", "slider.ay", "slider.al", "O.x", "O.y", "G.x", "G.y", "P.x", "P.y", "Q.x", "Q.y", "O_ground_crank.fx", "O_ground_crank.fy", "P_crank_rod.fx", "P_crank_rod.fy", "Q_rod_slider.fx", "Q_rod_slider.fy", "slide.fx", "slide.fy", "slide.m", "O.vx", "O.vy", "O.ax", "O.ay", "G.vx", "G.vy", "G.ax", "G.ay", "P.vx", "P.vy", "P.ax", "P.ay", "Q.vx", "Q.vy", "Q.ax", "Q.ay" };
 template <class T>
 void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[0] = in.t;
@@ -931,6 +982,22 @@ void to_columns(const Inputs<T>& in, const State<T>& s, T* row) noexcept {
   row[46] = s.joints.slide.fx;
   row[47] = s.joints.slide.fy;
   row[48] = s.joints.slide.m;
+  row[49] = s.points.O.vx;
+  row[50] = s.points.O.vy;
+  row[51] = s.points.O.ax;
+  row[52] = s.points.O.ay;
+  row[53] = s.points.G.vx;
+  row[54] = s.points.G.vy;
+  row[55] = s.points.G.ax;
+  row[56] = s.points.G.ay;
+  row[57] = s.points.P.vx;
+  row[58] = s.points.P.vy;
+  row[59] = s.points.P.ax;
+  row[60] = s.points.P.ay;
+  row[61] = s.points.Q.vx;
+  row[62] = s.points.Q.vy;
+  row[63] = s.points.Q.ax;
+  row[64] = s.points.Q.ay;
 }
 
 // Forward dynamics in the drivers' coordinates (model order), issue 22: effort = M q'' + h.

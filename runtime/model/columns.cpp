@@ -15,6 +15,8 @@ ColumnLayout column_layout(const Model& model) {
     layout.joint.push_back(next);
     next += joint.type == JointType::prismatic ? 3 : 2;
   }
+  for (size_t i = 0; i < model.named_points().size(); ++i, next += 4)
+    layout.point_rates.push_back(next);
   layout.count = next;
   return layout;
 }
@@ -37,6 +39,9 @@ std::vector<std::string> column_names(const Model& model) {
     names.push_back(j.name + ".fy");
     if (j.type == JointType::prismatic) names.push_back(j.name + ".m");
   }
+  // Appended after the original columns, so a script reading them by position reads the same.
+  for (const auto& [point, body] : model.named_points())
+    for (const char* s : {".vx", ".vy", ".ax", ".ay"}) names.push_back(point + s);
   return names;
 }
 

@@ -1190,6 +1190,15 @@ void ReferenceSolver::fill_row(double t, Status status, std::vector<double>& row
     const Vector2d p = k.r + k.R * point_local_[i];
     at(layout_.point[i]) = p.x();
     at(layout_.point[i] + 1) = p.y();
+    if (!rates) continue;
+    const Vector2d r = k.R * point_local_[i];
+    const Vector2d v = k.v + k.w * perp(r);
+    const Vector2d a = k.a + k.al * perp(r) - k.w * k.w * r;
+    const int c = layout_.point_rates[i];
+    at(c) = v.x();
+    at(c + 1) = v.y();
+    at(c + 2) = a.x();
+    at(c + 3) = a.y();
   }
   if (!forces) return;
   for (size_t ji = 0; ji < joints_.size(); ++ji) {

@@ -311,10 +311,23 @@ SpatialSweepResult run_spatial_kernel_sweep(const SpatialModel& model,
                   "fixed at generation loses its precision there; --solver numeric pivots at run "
                   "time)"
                 : " (the configuration is singular there)");
-      // A Newton closure starts from the previous sample: samples far apart fail there too.
-      if (status != 2 && i > 0 && newton_closure)
+      // A Newton closure starts from the previous call: calls far apart fail there too, but the
+      // kernel is already called at least every model step, so once the samples are several
+      // times denser than that, more samples do not help; what remains is the closure's rows
+      // and elimination order, fixed at generation over the step and the drivers' ranges.
+      const double spacing = options.samples > 1
+                                 ? std::abs(options.t1 - options.t0) / (options.samples - 1)
+                                 : own_step;
+      const bool dense = spacing <= own_step / 4;
+      if (status != 2 && i > 0 && newton_closure && !dense)
         m << "; or the samples are too far apart for the closure's Newton steps from the "
              "previous one: use more samples, or --solver numeric (it halves its steps)";
+      else if (i > 0 && newton_closure && dense)
+        m << "; the samples are already dense, so more will not help: if --solver numeric "
+             "runs here, the closure rows or elimination order the kernel fixed at generation "
+             "(over the model's step and its drivers' `range:`) lose rank here: give the "
+             "drivers a `range:` that covers this motion and regenerate, or use --solver "
+             "numeric";
       throw ModelError(file, m.str());
     }
     result.rows.push_back(std::move(row));

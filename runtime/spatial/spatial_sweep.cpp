@@ -38,6 +38,9 @@ std::vector<std::string> spatial_column_names(const SpatialModel& model) {
     }
     for (const char* s : {".fx", ".fy", ".fz", ".mx", ".my", ".mz"}) cols.push_back(j.name + s);
   }
+  // Appended after the original columns, so a script reading them by position reads the same.
+  for (const auto& [point, body] : model.named_points())
+    for (const char* s : {".vx", ".vy", ".vz", ".ax", ".ay", ".az"}) cols.push_back(point + s);
   return cols;
 }
 
@@ -97,11 +100,16 @@ std::vector<double> spatial_sweep_row(const SpatialSolver& solver,
     row.insert(row.end(), {c[0], c[1], c[2], q[0], q[1], q[2], q[3], v[0], v[1], v[2], a[0], a[1],
                            a[2], w[0], w[1], w[2], al[0], al[1], al[2]});
   }
+  // Named point i's body and its position in that body's frame.
+  std::vector<std::pair<int, const V3*>> points;
   for (const auto& [point, body] : model.named_points()) {
     const SpatialBody& sb = model.bodies[static_cast<size_t>(body)];
     size_t k = 0;
     while (sb.points[k].name != point) ++k;
-    const V3 x = solver.point_position(state, body, in.points[static_cast<size_t>(body)][k]);
+    points.emplace_back(body, &in.points[static_cast<size_t>(body)][k]);
+  }
+  for (const auto& [body, local] : points) {
+    const V3 x = solver.point_position(state, body, *local);
     row.insert(row.end(), {x[0], x[1], x[2]});
   }
   for (size_t j = 0; j < model.joints.size(); ++j) {
@@ -112,6 +120,11 @@ std::vector<double> spatial_sweep_row(const SpatialSolver& solver,
     }
     const Wrench& r = loads.reaction[j];
     row.insert(row.end(), {r.f[0], r.f[1], r.f[2], r.m[0], r.m[1], r.m[2]});
+  }
+  for (const auto& [body, local] : points) {
+    const V3 v = solver.point_velocity(state, body, *local);
+    const V3 a = solver.point_acceleration(state, body, *local);
+    row.insert(row.end(), {v[0], v[1], v[2], a[0], a[1], a[2]});
   }
   return row;
 }

@@ -2,6 +2,7 @@
 // the Bioloid's 24 x 54 with five virtual chains), and located errors for bad input.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 
 #include "model/spatial_graph.hpp"
@@ -62,6 +63,81 @@ TEST(SpatialModel, ShippedModelsReadWithTheirNetworkSizes) {
     EXPECT_EQ(static_cast<int>(g.secondary.size()), c.cols - c.primary);
   }
   EXPECT_FALSE(is_spatial_description(MECHGEN_SOURCE_DIR "/models/chebyshev.yaml"));
+}
+
+// Issue 27 item 4: the Stewart platform's top is pose-driven; the breadth-first tree would reach it
+// through a leg (3 joints) before its virtual chain (6), and the generator would not see it as
+// known. The tree goes through the virtual chain: every leg's prismatic closes a circuit and the
+// top's tree path holds the six prescribed virtual coordinates only.
+TEST(SpatialModel, PrescribedBodiesAreReachedThroughTheirVirtualChains) {
+  const SpatialModel m = read_spatial_model(MECHGEN_SOURCE_DIR "/models/stewart.yaml");
+  const SpatialGraph g = build_spatial_graph(m);
+  const int top = m.body_index("top");
+  EXPECT_EQ(m.joints[static_cast<size_t>(g.parent_joint[static_cast<size_t>(top)])].name,
+            "pose_rx");
+  int on_path = 0;
+  for (int c = 0; c < g.cols(); ++c)
+    if (g.path_sign[static_cast<size_t>(top)][static_cast<size_t>(c)] != 0) {
+      ++on_path;
+      EXPECT_TRUE(g.columns[static_cast<size_t>(c)].primary) << column_name(m, g, c);
+    }
+  EXPECT_EQ(on_path, 6);
+  ASSERT_EQ(g.circuits(), 6);
+  for (int k = 0; k < 6; ++k)
+    EXPECT_EQ(m.joints[static_cast<size_t>(g.chords[static_cast<size_t>(k)])].name,
+              "leg" + std::to_string(k + 1));
+  // The shipped pose-driven models keep their breadth-first trees (their virtual chains were
+  // already on them): the Bioloid's waist, feet and hands hang on their chains.
+  const SpatialModel b = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
+  const SpatialGraph gb = build_spatial_graph(b);
+  for (const char* body : {"waist", "r_foot", "l_foot", "r_hand", "l_hand"})
+    EXPECT_TRUE(
+        b.joints[static_cast<size_t>(gb.parent_joint[static_cast<size_t>(b.body_index(body))])]
+            .is_virtual)
+        << body;
+}
+
+// Issue 27 item 7: a rod between two spherical joints, written by hand: its spin about the line
+// through the centres is idle; the reader makes the second joint universal with both axes normal
+// to that line (and to each other) and says so in the model's notes.
+TEST(SpatialModel, SphericalSphericalRodsHaveTheirSpinHeld) {
+  const SpatialModel m = read_spatial_model(MECHGEN_SOURCE_DIR "/models/delta.yaml");
+  ASSERT_EQ(m.notes.size(), 6u);
+  EXPECT_NE(m.notes[0].find("link 'rod1a' between spherical joints 'elbow1a' and 'wrist1a': its "
+                            "spin about the line through them is idle; fixed"),
+            std::string::npos)
+      << m.notes[0];
+  const GiNaC::exmap subs = m.common.substitutions(m.common.default_parameters());
+  auto num = [&](const Vec3Expr& v) {
+    return std::array<double, 3>{m.evaluate(v.x, subs), m.evaluate(v.y, subs),
+                                 m.evaluate(v.z, subs)};
+  };
+  auto dot = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  for (const char* rod : {"1a", "1b", "2a", "2b", "3a", "3b"}) {
+    SCOPED_TRACE(rod);
+    const SpatialJoint& a =
+        m.joints[static_cast<size_t>(m.joint_index(std::string("elbow") + rod))];
+    const SpatialJoint& b =
+        m.joints[static_cast<size_t>(m.joint_index(std::string("wrist") + rod))];
+    EXPECT_EQ(a.type, SpatialJointType::spherical);
+    ASSERT_EQ(b.type, SpatialJointType::universal);
+    ASSERT_EQ(b.columns.size(), 2u);
+    const std::array<double, 3> pa = num(a.s0), pb = num(b.s0), s = num(b.s), s2 = num(b.s2);
+    const std::array<double, 3> u{pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+    EXPECT_NEAR(dot(s, u), 0, 1e-15);
+    EXPECT_NEAR(dot(s2, u), 0, 1e-15);
+    EXPECT_NEAR(dot(s, s2), 0, 1e-15);
+    EXPECT_NEAR(dot(s, s), 1, 1e-15);
+    EXPECT_NEAR(dot(s2, s2), 1, 1e-15);
+  }
+  // A spherical joint between two rods is not a link of one rod: models without such links keep
+  // their spherical joints and have no notes.
+  const SpatialModel q = read_spatial_model(MECHGEN_SOURCE_DIR "/models/quadruped_leg.yaml");
+  EXPECT_TRUE(q.notes.empty());
+  EXPECT_EQ(q.joints[static_cast<size_t>(q.joint_index("coupler_B"))].type,
+            SpatialJointType::spherical);
 }
 
 TEST(SpatialModel, Leg6FollowsSeedTable1) {

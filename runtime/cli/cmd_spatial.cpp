@@ -52,6 +52,7 @@ int run_spatial_check(const Args& args) {
   std::string out = path + ": spatial model '" + model.common.name + "'" +
                     (model.common.description.empty() ? "" : ": " + model.common.description) +
                     "\n";
+  for (const std::string& note : model.notes) out += "note: " + note + "\n";
   std::vector<std::vector<std::string>> rows{{"name", "mass [kg]", "com (body frame)", "kind"}};
   for (size_t b = 0; b < model.bodies.size(); ++b)
     rows.push_back({model.bodies[b].name, model.bodies[b].ground ? "ground" : fixed(in.mass[b]),

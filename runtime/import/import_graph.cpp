@@ -8,11 +8,13 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "import/import_tree.hpp"
 #include "model/description_syntax.hpp"
+#include "model/idle_spin.hpp"
 
 namespace mechgen::import {
 
@@ -375,72 +377,43 @@ class Builder {
     return false;
   }
 
-  // A binary link between two spherical joints spins idly about the line through them: the
-  // second joint becomes universal, its axes normal to that line.
   // Links between two spherical joints, binary (a rod) or a chain joined by prismatics along the
   // line through the two centres and revolutes about it (a cylinder and its piston), spin idly
-  // about that line: the second spherical joint becomes universal, its axes normal to the line.
+  // about that line: the second spherical joint becomes universal, its axes normal to the line
+  // (model/idle_spin.hpp, shared with the spatial reader).
   bool spherical_spins() {
-    for (size_t a_index = 0; a_index < d_.joints.size(); ++a_index) {
-      if (d_.joints[a_index].type != JointType::spherical) continue;
-      for (const bool forward : {true, false}) {
-        const Joint& a = d_.joints[a_index];
-        int body = forward ? a.second : a.first;
-        int came = static_cast<int>(a_index);
-        std::vector<int> bodies, between;
-        int b_index = -1;
-        for (int step = 0; step < 4 && b_index < 0; ++step) {
-          if (d_.bodies[static_cast<size_t>(body)].ground) break;
-          const std::vector<int> js = joints_of(body);
-          if (js.size() != 2) break;
-          bodies.push_back(body);
-          const int next = js[0] == came ? js[1] : js[0];
-          const Joint& k = d_.joints[static_cast<size_t>(next)];
-          if (k.type == JointType::spherical) {
-            b_index = next;
-          } else if (k.type == JointType::prismatic || k.type == JointType::revolute) {
-            between.push_back(next);
-            body = k.first == body ? k.second : k.first;
-            came = next;
-          } else {
-            break;
-          }
-        }
-        if (b_index < 0) continue;
-        Joint& b = d_.joints[static_cast<size_t>(b_index)];
-        if (!((b.s0 - a.s0).norm() > kTiny)) continue;
-        const Vec3 u = (b.s0 - a.s0).normalized();
-        bool along = true;
-        for (const int k : between) {
-          const Joint& j = d_.joints[static_cast<size_t>(k)];
-          along = along && std::abs(std::abs(j.s.dot(u)) - 1) < 1e-9 &&
-                  (j.type == JointType::prismatic || line_distance(j.s0, j.s, a.s0, u) < kTiny);
-        }
-        if (!along) continue;
-        Vec3 e = Vec3::UnitX();
-        if (std::abs(u.y()) < std::abs(u[0]) && std::abs(u.y()) <= std::abs(u.z()))
-          e = Vec3::UnitY();
-        else if (std::abs(u.z()) < std::abs(u[0]))
-          e = Vec3::UnitZ();
-        b.type = JointType::universal;
-        b.s = u.cross(e).normalized();
-        b.s2 = u.cross(b.s).normalized();
-        std::string names;
-        for (const int k : bodies) {
-          d_.bodies[static_cast<size_t>(k)].spin_fixed = true;
-          names += (names.empty() ? "" : ", ") + d_.bodies[static_cast<size_t>(k)].name;
-        }
-        const std::string& an = d_.joints[a_index].name;
-        b.comment = "spherical in the source; universal: " + names + " would spin idly about " +
-                    an + " - " + b.name;
-        d_.notes.push_back((bodies.size() == 1 ? "link " : "links ") + names +
-                           " between spherical joints " + an + " and " + b.name +
-                           ": their spin about the line through them is idle; " + b.name +
-                           " made universal (axes normal to that line)");
-        return true;
-      }
+    std::vector<SpinJoint> joints;
+    for (const Joint& j : d_.joints)
+      joints.push_back({j.type == JointType::spherical   ? SpinJointKind::spherical
+                        : j.type == JointType::prismatic ? SpinJointKind::prismatic
+                        : j.type == JointType::revolute  ? SpinJointKind::revolute
+                                                         : SpinJointKind::other,
+                        j.first,
+                        j.second,
+                        {j.s0[0], j.s0[1], j.s0[2]},
+                        {j.s[0], j.s[1], j.s[2]}});
+    std::vector<bool> ground;
+    for (const Body& b : d_.bodies) ground.push_back(b.ground);
+    const std::optional<IdleSpin> spin = find_idle_spin(joints, ground, kTiny);
+    if (!spin) return false;
+    Joint& b = d_.joints[static_cast<size_t>(spin->b)];
+    const Vec3 u(spin->u[0], spin->u[1], spin->u[2]);
+    b.type = JointType::universal;
+    b.s = u.cross(Vec3::Unit(spin->normal)).normalized();
+    b.s2 = u.cross(b.s).normalized();
+    std::string names;
+    for (const int k : spin->bodies) {
+      d_.bodies[static_cast<size_t>(k)].spin_fixed = true;
+      names += (names.empty() ? "" : ", ") + d_.bodies[static_cast<size_t>(k)].name;
     }
-    return false;
+    const std::string& an = d_.joints[static_cast<size_t>(spin->a)].name;
+    b.comment = "spherical in the source; universal: " + names + " would spin idly about " + an +
+                " - " + b.name;
+    d_.notes.push_back((spin->bodies.size() == 1 ? "link " : "links ") + names +
+                       " between spherical joints " + an + " and " + b.name +
+                       ": their spin about the line through them is idle; " + b.name +
+                       " made universal (axes normal to that line)");
+    return true;
   }
 
   // Body `from` into body `into`; joint `removed` (between them) goes.

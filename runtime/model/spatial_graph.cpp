@@ -2,6 +2,8 @@
 #include "model/spatial_graph.hpp"
 
 #include <deque>
+#include <limits>
+#include <utility>
 
 namespace mechgen {
 
@@ -36,28 +38,82 @@ SpatialGraph build_spatial_graph(const SpatialModel& model) {
   for (int c = 0; c < g.cols(); ++c)
     (g.columns[static_cast<size_t>(c)].primary ? g.primary : g.secondary).push_back(c);
 
-  // Spanning tree: breadth first from the ground, joints in model order.
+  // Spanning tree: breadth first from the ground, joints in model order. A body whose pose is
+  // fully prescribed (reached from the ground through joints whose coordinates are all primary:
+  // driven joints, a pose driver's prescribed virtual chain, fixed joints) must be reached through
+  // them, so that its tree pose is known without solving anything (issue 27: a Stewart platform's
+  // top, pose-driven, was reached through a leg). Where the breadth-first tree does not do so, the
+  // tree is rebuilt by a 0-1 breadth-first search that takes prescribed joints first.
+  std::vector<bool> prescribed(nj, true);
+  for (size_t j = 0; j < nj; ++j)
+    for (size_t k = 0; k < model.joints[j].columns.size(); ++k)
+      prescribed[j] =
+          prescribed[j] && g.columns[static_cast<size_t>(g.joint_column[j]) + k].primary;
   g.parent.assign(nb, -1);
   g.parent_joint.assign(nb, -1);
   std::vector<bool> reached(nb, false), in_tree(nj, false);
-  std::deque<int> queue{model.ground};
-  reached[static_cast<size_t>(model.ground)] = true;
-  while (!queue.empty()) {
-    const int b = queue.front();
-    queue.pop_front();
-    g.order.push_back(b);
-    for (size_t j = 0; j < nj; ++j) {
-      const SpatialJoint& joint = model.joints[j];
-      if (joint.first != b && joint.second != b) continue;
-      const int other = joint.first == b ? joint.second : joint.first;
-      if (reached[static_cast<size_t>(other)]) continue;
-      reached[static_cast<size_t>(other)] = true;
-      in_tree[j] = true;
-      g.parent[static_cast<size_t>(other)] = b;
-      g.parent_joint[static_cast<size_t>(other)] = static_cast<int>(j);
-      queue.push_back(other);
+  auto tree = [&](bool prefer_prescribed) {
+    g.parent.assign(nb, -1);
+    g.parent_joint.assign(nb, -1);
+    g.order.clear();
+    reached.assign(nb, false);
+    in_tree.assign(nj, false);
+    std::vector<int> dist(nb, std::numeric_limits<int>::max());
+    std::vector<bool> done(nb, false);
+    std::deque<int> queue{model.ground};
+    dist[static_cast<size_t>(model.ground)] = 0;
+    reached[static_cast<size_t>(model.ground)] = true;
+    while (!queue.empty()) {
+      const int b = queue.front();
+      queue.pop_front();
+      if (done[static_cast<size_t>(b)]) continue;
+      done[static_cast<size_t>(b)] = true;
+      g.order.push_back(b);
+      for (size_t j = 0; j < nj; ++j) {
+        const SpatialJoint& joint = model.joints[j];
+        if (joint.first != b && joint.second != b) continue;
+        const int other = joint.first == b ? joint.second : joint.first;
+        const int w = prefer_prescribed && prescribed[j] ? 0 : 1;
+        if (done[static_cast<size_t>(other)] ||
+            dist[static_cast<size_t>(b)] + w >= dist[static_cast<size_t>(other)])
+          continue;
+        dist[static_cast<size_t>(other)] = dist[static_cast<size_t>(b)] + w;
+        reached[static_cast<size_t>(other)] = true;
+        g.parent[static_cast<size_t>(other)] = b;
+        g.parent_joint[static_cast<size_t>(other)] = static_cast<int>(j);
+        if (w == 0)
+          queue.push_front(other);
+        else
+          queue.push_back(other);
+      }
     }
-  }
+    for (size_t b = 0; b < nb; ++b)
+      if (g.parent_joint[b] >= 0) in_tree[static_cast<size_t>(g.parent_joint[b])] = true;
+  };
+  // Bodies whose pose is prescribed, and whether the tree reaches each through prescribed joints.
+  auto prescribed_bodies_known = [&] {
+    std::vector<bool> known(nb, false);
+    known[static_cast<size_t>(model.ground)] = true;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (size_t j = 0; j < nj; ++j) {
+        const SpatialJoint& joint = model.joints[j];
+        if (!prescribed[j]) continue;
+        for (const auto& [from, to] :
+             {std::pair{joint.first, joint.second}, std::pair{joint.second, joint.first}})
+          if (known[static_cast<size_t>(from)] && !known[static_cast<size_t>(to)])
+            known[static_cast<size_t>(to)] = grew = true;
+      }
+    }
+    for (const int b : g.order)
+      if (b != model.ground && known[static_cast<size_t>(b)]) {
+        const int p = g.parent[static_cast<size_t>(b)], j = g.parent_joint[static_cast<size_t>(b)];
+        if (!known[static_cast<size_t>(p)] || !prescribed[static_cast<size_t>(j)]) return false;
+      }
+    return true;
+  };
+  tree(false);
+  if (!prescribed_bodies_known()) tree(true);
   for (size_t b = 0; b < nb; ++b)
     if (!reached[b])
       throw ModelError(model.bodies[b].loc, "body '" + model.bodies[b].name +

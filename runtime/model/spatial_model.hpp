@@ -146,6 +146,9 @@ struct SpatialModel {
   // `kernel: {jacobians: [...]}`: the bodies (twist Jacobian) and named points (velocity
   // Jacobian) whose Jacobians a generated kernel emits; absent: every moving one.
   std::optional<std::vector<std::string>> kernel_jacobians;
+  // What the reader changed and why (`mechgen check` prints them): a link between two spherical
+  // joints whose idle spin was held (model/idle_spin.hpp).
+  std::vector<std::string> notes;
 
   int body_index(const std::string& name) const;
   // Whether a generated kernel emits the Jacobian of this body or named point.

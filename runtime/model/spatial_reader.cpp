@@ -6,11 +6,13 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "geometry/screw.hpp"
 #include "model/description_syntax.hpp"
 #include "model/fingerprint.hpp"
+#include "model/idle_spin.hpp"
 #include "model/spatial_graph.hpp"
 #include "model/spatial_model.hpp"
 #include "model/spatial_value_checks.hpp"
@@ -64,6 +66,7 @@ class SpatialReader {
   void check_point_names() const;
   void read_mass(const YAML::Node& node, SpatialBody& body);
   void read_joint(const YAML::Node& node);
+  void hold_idle_spins();
   void read_driver(const YAML::Node& node);
   void read_pose_driver(const YAML::Node& node);
   void read_driver_table(const YAML::Node& node, const std::string& what, SpatialDriver& d);
@@ -377,6 +380,71 @@ void SpatialReader::read_joint(const YAML::Node& node) {
   m_.joints.push_back(j);
 }
 
+// A link between two spherical joints A and B spins idly about the line through their centres (no
+// driver can fix it): B becomes universal with its axes normal to that line (as the importer
+// does), which holds the spin at its reference; the universal's couple about the line is the one
+// the spin would need, zero for links with no moment of inertia about it (a thin rod, a point
+// mass).
+void SpatialReader::hold_idle_spins() {
+  std::vector<bool> ground;
+  for (const SpatialBody& b : m_.bodies) ground.push_back(b.ground);
+  for (;;) {
+    std::vector<SpinJoint> joints;
+    for (const SpatialJoint& j : m_.joints) {
+      const Vec3<double> s0 = numbers(j.s0), s = numbers(j.s);
+      joints.push_back({j.type == SpatialJointType::spherical   ? SpinJointKind::spherical
+                        : j.type == SpatialJointType::prismatic ? SpinJointKind::prismatic
+                        : j.type == SpatialJointType::revolute  ? SpinJointKind::revolute
+                                                                : SpinJointKind::other,
+                        j.first,
+                        j.second,
+                        {s0[0], s0[1], s0[2]},
+                        {s[0], s[1], s[2]}});
+    }
+    const std::optional<IdleSpin> spin = find_idle_spin(joints, ground, 1e-9);
+    if (!spin) return;
+    SpatialJoint& a = m_.joints[static_cast<size_t>(spin->a)];
+    SpatialJoint& b = m_.joints[static_cast<size_t>(spin->b)];
+    // The line's direction as an expression of the parameters (u = B - A, not normalised), e the
+    // unit axis least aligned with it: s = u x e / |u x e|, s2 = u x s / |u x s|.
+    const GiNaC::ex u[3] = {b.s0.x.ex - a.s0.x.ex, b.s0.y.ex - a.s0.y.ex, b.s0.z.ex - a.s0.z.ex};
+    auto cross = [](const GiNaC::ex* p, const GiNaC::ex* q, GiNaC::ex* out) {
+      out[0] = p[1] * q[2] - p[2] * q[1];
+      out[1] = p[2] * q[0] - p[0] * q[2];
+      out[2] = p[0] * q[1] - p[1] * q[0];
+    };
+    auto unit = [&](GiNaC::ex* v) {
+      const GiNaC::ex length = GiNaC::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      Vec3Expr out;
+      Expr* parts[3] = {&out.x, &out.y, &out.z};
+      for (int i = 0; i < 3; ++i) {
+        std::ostringstream text;
+        text << v[i] / length;
+        *parts[i] = {v[i] / length, text.str(), b.loc};
+      }
+      return out;
+    };
+    GiNaC::ex e[3] = {0, 0, 0}, s[3], s2[3];
+    e[spin->normal] = 1;
+    cross(u, e, s);
+    b.s = unit(s);
+    const GiNaC::ex sn[3] = {b.s.x.ex, b.s.y.ex, b.s.z.ex};
+    cross(u, sn, s2);
+    b.s2 = unit(s2);
+    b.type = SpatialJointType::universal;
+    b.columns = {{ScrewColumnKind::rotation, b.s}, {ScrewColumnKind::rotation, b.s2}};
+    b.assembly.assign(2, {GiNaC::ex(0), "0", b.loc});
+    std::string names;
+    for (const int k : spin->bodies)
+      names += (names.empty() ? "'" : ", '") + m_.bodies[static_cast<size_t>(k)].name + "'";
+    m_.notes.push_back(std::string(spin->bodies.size() == 1 ? "link " : "links ") + names +
+                       " between spherical joints '" + a.name + "' and '" + b.name +
+                       "': its spin about the line through them is idle; fixed ('" + b.name +
+                       "' taken as universal, axes normal to that line), no reaction about that "
+                       "line for links without a moment of inertia about it");
+  }
+}
+
 void SpatialReader::read_driver(const YAML::Node& node) {
   if (!node.IsMap()) fail(node, "a driver must be a mapping");
   if (node["type"]) {
@@ -676,6 +744,7 @@ SpatialModel SpatialReader::read(const YAML::Node& root) {
     for (const auto& item : list) (this->*read_item)(item);
     if (m_.ground < 0) fail(list, "no ground body (mark one body 'ground: true')");
     if (key == std::string("bodies")) check_point_names();
+    if (key == std::string("joints")) hold_idle_spins();
   }
   default_step(root);
   build_spatial_graph(m_);  // a body not connected to the ground, a rigid circuit: errors now

@@ -6,7 +6,7 @@
 # rsur among them) and chains of loops (scripts/growth_models.sh) for the reader; rsur's parameters
 # as `--set NAME=VALUE` would change them (halved, doubled, zero, negated; scripts/fuzz_seeds.py)
 # for the spatial kernel; tests/data/ URDF (+ closures) and MJCF files and ../shared/robots/*/
-# robot.urdf + robot.yaml (when that folder is there) for the import. A finding (crash, sanitizer
+# robot.urdf + robot.yaml (when that folder is there, and SECONDS >= 60) for the import. A finding (crash, sanitizer
 # report, timeout, out of memory) stops with the reproducer in build-fuzz/ and exit 1.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -27,7 +27,9 @@ cp -n models/*.yaml build-fuzz/corpus/reader/
 source scripts/growth_models.sh
 for n in 1 2 3; do growth_loops $n >build-fuzz/corpus/reader/growth_loops$n.yaml; done
 growth_tree 7 >build-fuzz/corpus/reader/growth_tree7.yaml
-python3 scripts/fuzz_seeds.py "$root" build-fuzz/corpus
+robots=()  # the shared robots' imports take 9 to 26 s each under the sanitizers: long runs only
+[[ $seconds -ge 60 ]] && robots=(--robots)
+python3 scripts/fuzz_seeds.py "$root" build-fuzz/corpus "${robots[@]}"
 export ASAN_OPTIONS="detect_leaks=0:allocator_may_return_null=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 cd build-fuzz
@@ -40,7 +42,9 @@ for target in model_reader_fuzzer kernel_fuzzer spatial_kernel_fuzzer import_fuz
   # -rss_limit_mb and -timeout: a memory blow-up or a hang is a finding too; -max_len covers the
   # largest shipped model.
   rc=0
-  ./"$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  limit=10  # per input; an import assembles its loops from 16 starts: up to 8 s for tests/data's
+  [[ $target == import_fuzzer ]] && limit=30
+  ./"$target" -max_total_time="$seconds" -timeout="$limit" -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 "$corpus" >"$target.log" 2>&1 || rc=$?
   grep -E "^(stat::number_of_executed_units|SUMMARY|==[0-9]+==ERROR|artifact_prefix|Test unit)" \
     "$target.log" || true

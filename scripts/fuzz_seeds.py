@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Seed corpora of the libFuzzer targets (tests/fuzz/), written by scripts/fuzz.sh:
-  python3 scripts/fuzz_seeds.py ROOT CORPUS_DIR
+  python3 scripts/fuzz_seeds.py ROOT CORPUS_DIR [--robots]
 CORPUS_DIR/spatial_kernel: inputs of spatial_kernel_fuzzer as `mechgen sweep models/rsur.yaml
   --set NAME=VALUE` would give them: the first byte 2 (keep the assembly as the warm start), then
   rsur's parameters in model order as doubles (its defaults, read from the model, one of them
   halved, doubled, zero or negated), then the time t.
 CORPUS_DIR/import: inputs of import_fuzzer: byte 0 + a URDF (+ NUL + its closures' YAML) or
-  byte 1 + an MJCF file, from ROOT/tests/data and ROOT/../shared/robots/*/ when it is there.
+  byte 1 + an MJCF file, from ROOT/tests/data; with --robots also ROOT/../shared/robots/*/ when
+  it is there (their assembly takes 9 to 26 s each under the sanitizers: for long runs only).
 """
 import glob
 import os
@@ -50,7 +51,7 @@ def kernel_seeds(root, out):
                 f.write(data)
 
 
-def import_seeds(root, out):
+def import_seeds(root, out, robots):
     os.makedirs(out, exist_ok=True)
     data = os.path.join(root, "tests", "data")
     pairs = []  # (label, urdf, closures or None)
@@ -59,7 +60,8 @@ def import_seeds(root, out):
         pairs.append((stem, urdf, None))
         for yaml in sorted(glob.glob(os.path.join(data, stem + "_*.yaml"))):
             pairs.append((os.path.splitext(os.path.basename(yaml))[0], urdf, yaml))
-    for robot in sorted(glob.glob(os.path.join(root, "..", "shared", "robots", "*", "robot.urdf"))):
+    shared = os.path.join(root, "..", "shared", "robots", "*", "robot.urdf")
+    for robot in sorted(glob.glob(shared)) if robots else []:
         folder = os.path.dirname(robot)
         yaml = os.path.join(folder, "robot.yaml")
         pairs.append((os.path.basename(folder), robot, yaml if os.path.exists(yaml) else None))
@@ -79,7 +81,7 @@ def import_seeds(root, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit("usage: fuzz_seeds.py ROOT CORPUS_DIR")
+    if len(sys.argv) not in (3, 4) or sys.argv[3:] not in ([], ["--robots"]):
+        sys.exit("usage: fuzz_seeds.py ROOT CORPUS_DIR [--robots]")
     kernel_seeds(sys.argv[1], os.path.join(sys.argv[2], "spatial_kernel"))
-    import_seeds(sys.argv[1], os.path.join(sys.argv[2], "import"))
+    import_seeds(sys.argv[1], os.path.join(sys.argv[2], "import"), len(sys.argv) == 4)

@@ -108,9 +108,12 @@ echo "cells: wall time / peak resident memory (max RSS) of the whole command"
 if [[ $quick -eq 1 ]]; then
   family chain 10 100
   family tree 10 100
+  family chain_nojac 10 100
   family loops 1 2 4 8 16
 else
   family chain 10 100 1000
   family tree 10 100 1000
+  family chain_nojac 10 100 1000
+  family tree_nojac 10 100 1000
   family loops 1 2 4 8 16 32 64
 fi

@@ -2,6 +2,8 @@
 #   growth_chain N     a spatial serial chain of N driven revolutes (axes z, x, y in turn), N bodies
 #   growth_tree N      a branched tree of N driven revolutes: body i hangs from body (i - 1) / 2
 #                      (a binary tree, depth log2 N), N bodies
+#   growth_chain_nojac N, growth_tree_nojac N: the same with `kernel: {jacobians: []}` (a kernel
+#                      without the bodies' and points' Jacobians: 6 x N entries each, N^2 in all)
 #   growth_loops N     N RSUR loops chained in series, one driver: loop 1 is models/rsur.yaml; the
 #                      rocker of loop j is the crank of loop j + 1, whose geometry is loop j's turned
 #                      by the cyclic rotation R (x -> y -> z -> x) so that its crank axis is loop j's
@@ -10,8 +12,8 @@
 # a joint): the text grows linearly with N.
 
 # A serial chain or a binary tree of N revolutes with masses, every joint driven.
-growth_revolutes() {  # KIND N
-  awk -v kind="$1" -v n="$2" 'BEGIN {
+growth_revolutes() {  # KIND N [nojac]
+  awk -v kind="$1" -v n="$2" -v nojac="${3:-}" 'BEGIN {
     printf "name: %s%d\ndimension: spatial\ngravity: [0, 0, -9.81]\n", kind, n
     printf "parameters:\n  w: {value: 3, unit: rad/s}\n  m: {value: 0.1, unit: kg}\n"
     printf "bodies:\n  - {name: base, ground: true, points: {P0: [0, 0, 0]}}\n"
@@ -31,10 +33,13 @@ growth_revolutes() {  # KIND N
     print "drivers:"
     for (i = 1; i <= n; i++) printf "  - {name: q%d, joint: j%d, kind: angle, value: 0.1*sin(w*t + 0.1*%d)}\n", i, i, i
     print "step: {t0: 0, t1: 2*pi/w, samples: 11}"
+    if (nojac) print "kernel: {jacobians: []}"
   }'
 }
 growth_chain() { growth_revolutes chain "$1"; }
 growth_tree() { growth_revolutes tree "$1"; }
+growth_chain_nojac() { growth_revolutes chain "$1" nojac; }
+growth_tree_nojac() { growth_revolutes tree "$1" nojac; }
 
 growth_loops() {  # N
   awk -v n="$1" 'BEGIN {

@@ -197,7 +197,8 @@ Redundancy redundancy(const SpatialSolver& solver, const SpatialState& s) {
     Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr(sys.A);
     if (qr.info() == Eigen::Success && qr.rank() == sys.A.cols()) {
       r.joint_unique.assign(static_cast<size_t>(nj), true);
-      r.component_unique.assign(static_cast<size_t>(nj), std::array<bool, 6>{true, true, true, true, true, true});
+      r.component_unique.assign(static_cast<size_t>(nj),
+                                std::array<bool, 6>{true, true, true, true, true, true});
       r.efforts_unique = true;
       return r;
     }

@@ -22,7 +22,9 @@ if [ -n "${MECHGEN_SANITIZE_BUILD:-}" ]; then
 fi
 
 # value NAME FILE: the value column of check's structure row NAME
-value() { awk -v name="$1" 'index($0, "  " name " ") == 1 { sub("^  " name " +", ""); print; exit }' "$2"; }
+value() {
+  awk -v name="$1" 'index($0, "  " name " ") == 1 { v = substr($0, length(name) + 3); sub(/^ +/, "", v); print v; exit }' "$2"
+}
 
 # run NAME COMMAND...: the command must succeed within 60 s
 run() {

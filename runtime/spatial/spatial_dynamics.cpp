@@ -3,7 +3,11 @@
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 #include <Eigen/SparseQR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -42,16 +46,42 @@ struct System {
   std::vector<V3> point;
 };
 
-// Above this many unknowns the system is solved sparse (a rank-revealing QR with a fill-reducing
-// column order: near-linear in the bodies for trees and chains of loops); below, dense as always.
+// Above this many unknowns the system is solved sparse (a supernodal LU with a fill-reducing
+// column order when A is square, as for trees and chains of loops: near-linear in the bodies; a
+// QR otherwise); below, dense as always.
 constexpr Eigen::Index kSparseAbove = 200;
 
-// x with A x = b when A has full column rank (the sparse QR's rank), else nothing.
+// The sparse LU and the ratio of its smallest to largest pivot (|U_jj|: they lie in L's
+// supernodes), a cheap stand-in for the dense LU's reciprocal condition number.
+class PivotedLU : public Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>> {
+ public:
+  explicit PivotedLU(const Sparse& A) : Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>>(A) {}
+  double pivot_ratio() {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    for (Eigen::Index j = 0; j < cols(); ++j)
+      for (SCMatrix::InnerIterator it(m_Lstore, j); it; ++it)
+        if (it.index() == j) {
+          lo = std::min(lo, std::abs(it.value())), hi = std::max(hi, std::abs(it.value()));
+          break;
+        }
+    return hi > 0 ? lo / hi : 0;
+  }
+};
+
+// x with A x = b when A has full column rank (square: the LU's pivots no smaller than 1e-12 of
+// the largest, as the dense path's rcond; else the sparse QR's rank), else nothing.
 std::optional<Eigen::VectorXd> full_rank_sparse_solve(const Sparse& A, const Eigen::VectorXd& b) {
-  Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr(A);
-  if (qr.info() != Eigen::Success || qr.rank() < A.cols()) return std::nullopt;
-  Eigen::VectorXd x = qr.solve(b);
-  if (qr.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
+  Eigen::VectorXd x;
+  if (A.rows() == A.cols()) {
+    PivotedLU lu(A);
+    if (lu.info() != Eigen::Success || !(lu.pivot_ratio() > 1e-12)) return std::nullopt;
+    x = lu.solve(b);
+  } else {
+    Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr(A);
+    if (qr.info() != Eigen::Success || qr.rank() < A.cols()) return std::nullopt;
+    x = qr.solve(b);
+  }
+  if (!x.allFinite()) return std::nullopt;
   return x;
 }
 
@@ -191,11 +221,10 @@ Redundancy redundancy(const SpatialSolver& solver, const SpatialState& s) {
   const System sys = assemble(solver, s);
   const int nj = static_cast<int>(solver.model().joints.size());
   Redundancy r;
-  // Large and of full column rank (the sparse QR): no redundancy, every reaction unique, without
+  // Large and of full column rank (the sparse solve): no redundancy, every reaction unique, without
   // the dense SVD (cubic).
   if (sys.A.cols() > kSparseAbove) {
-    Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr(sys.A);
-    if (qr.info() == Eigen::Success && qr.rank() == sys.A.cols()) {
+    if (full_rank_sparse_solve(sys.A, sys.b)) {
       r.joint_unique.assign(static_cast<size_t>(nj), true);
       r.component_unique.assign(static_cast<size_t>(nj),
                                 std::array<bool, 6>{true, true, true, true, true, true});

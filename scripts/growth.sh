@@ -87,10 +87,10 @@ family() {
       }
       printf "fitted exponent (time; memory above the first size) |"
       for (i = 1; i <= nc; i++) {
-        tn = 0; sx = sy = sxx = sxy = 0; mn = 0; mx = my = mxx = mxy = 0
+        tn = 0; sx = sy = sxx = sxy = 0; mn = 0; mx = my = mxx = mxy = 0; late = 0
         for (r = 1; r <= NR; r++) {
           split(v[r, cmd[i]], p, ":")
-          if (p[3] != 0) continue
+          if (p[3] != 0) { late = 1; continue }
           x = log(size[r])
           if (p[1] >= 0.05) { tn++; sx += x; sy += log(p[1]); sxx += x * x; sxy += x * log(p[1]) }
           if (r == 1) base = p[2]
@@ -98,7 +98,7 @@ family() {
         }
         t = tn >= 2 ? sprintf("N^%.2f", (tn * sxy - sx * sy) / (tn * sxx - sx * sx)) : "-"
         m = mn >= 2 ? sprintf("N^%.2f", (mn * mxy - mx * my) / (mn * mxx - mx * mx)) : "-"
-        printf " time %s, memory %s%s", t, m, i < nc ? " |" : "\n"
+        printf " time %s, memory %s%s%s", t, m, late ? " (finished sizes only)" : "", i < nc ? " |" : "\n"
       }
     }' "$work/$kind.rows"
 }

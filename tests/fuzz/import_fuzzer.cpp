@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -23,13 +24,16 @@
 
 namespace {
 
-const std::string& folder() {
-  static const std::string path = [] {
-    char name[] = "/tmp/mechgen_import_fuzz.XXXXXX";
-    if (!mkdtemp(name)) std::abort();
-    return std::string(name);
+// The folder's name outlives every static (the atexit handler removing it runs after them).
+char folder_name[] = "/tmp/mechgen_import_fuzz.XXXXXX";
+
+std::string folder() {
+  static const bool made = [] {
+    if (!mkdtemp(folder_name)) std::abort();
+    std::atexit([] { std::filesystem::remove_all(folder_name); });  // at the run's normal end
+    return true;
   }();
-  return path;
+  return made ? folder_name : "";
 }
 
 std::string write(const std::string& file, const std::string& text) {

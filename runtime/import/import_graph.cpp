@@ -488,7 +488,14 @@ class Builder {
 }  // namespace
 
 Description describe(const Tree& tree, const TreePose& pose, bool floating) {
-  return Builder(tree, pose, floating).run();
+  Description d = Builder(tree, pose, floating).run();
+  // Nothing moves (no link, or every link fixed or welded to the root, and no floating base): no
+  // mechanism to describe, said at the root (issue 26 item 5, found by import_fuzzer).
+  if (d.joints.empty() && d.pose_drivers.empty())
+    throw ImportError(tree.source, tree.links.empty() ? 1 : tree.links[0].line,
+                      "nothing moves: every link of '" + tree.name +
+                          "' is its root or fixed to it (no joint to describe)");
+  return d;
 }
 
 void float_base(Tree& tree) {

@@ -89,7 +89,7 @@ std::string write_model(const Description& d) {
       o << "\n";
     }
   }
-  o << "\njoints:\n";
+  o << (d.joints.empty() ? "\njoints: []\n" : "\njoints:\n");  // a floating body alone
   for (const Joint& j : d.joints) {
     o << "  - {name: " << identifier(j.name) << ", type: " << type_name(j.type)
       << ", first: " << identifier(d.bodies[static_cast<size_t>(j.first)].name)

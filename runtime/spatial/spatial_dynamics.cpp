@@ -1,6 +1,14 @@
 // Spatial Newton-Euler: assembly of A x = b and its minimum-norm solution (spatial_dynamics.hpp).
 #include "spatial/spatial_dynamics.hpp"
 
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+#include <Eigen/SparseQR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -28,11 +36,62 @@ Eigen::Matrix3d m3(const M3& m) {
   return out;
 }
 
+// A is sparse: a joint's six unknowns touch its two bodies' rows and its own columns' rows, a
+// driver's effort its two bodies'. Dense, it would be (6 bodies + columns) x (6 joints + drivers):
+// 390 MB and an O(n^3) solve for 1 000 bodies (issue 26 item 1).
+using Sparse = Eigen::SparseMatrix<double>;
 struct System {
-  Eigen::MatrixXd A;
+  Sparse A;
   Eigen::VectorXd b;
   std::vector<V3> point;
 };
+
+// Above this many unknowns the system is solved sparse (a supernodal LU with a fill-reducing
+// column order when A is square, as for trees and chains of loops: near-linear in the bodies; a
+// QR otherwise); below, dense as always.
+constexpr Eigen::Index kSparseAbove = 200;
+
+// The sparse LU and the ratio of its smallest to largest pivot (|U_jj|: they lie in L's
+// supernodes), a cheap stand-in for the dense LU's reciprocal condition number.
+class PivotedLU : public Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>> {
+ public:
+  explicit PivotedLU(const Sparse& A) : Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>>(A) {}
+  double pivot_ratio() {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    for (Eigen::Index j = 0; j < cols(); ++j)
+      for (SCMatrix::InnerIterator it(m_Lstore, j); it; ++it)
+        if (it.index() == j) {
+          lo = std::min(lo, std::abs(it.value())), hi = std::max(hi, std::abs(it.value()));
+          break;
+        }
+    return hi > 0 ? lo / hi : 0;
+  }
+};
+
+// x with A x = b when A has full column rank (square: the LU's pivots no smaller than 1e-12 of
+// the largest, as the dense path's rcond; else the sparse QR's rank), else nothing.
+std::optional<Eigen::VectorXd> full_rank_sparse_solve(const Sparse& A, const Eigen::VectorXd& b) {
+  Eigen::VectorXd x;
+  if (A.rows() == A.cols()) {
+    PivotedLU lu(A);
+    if (lu.info() != Eigen::Success || !(lu.pivot_ratio() > 1e-12)) return std::nullopt;
+    x = lu.solve(b);
+  } else {
+    Eigen::SparseQR<Sparse, Eigen::COLAMDOrdering<int>> qr(A);
+    if (qr.info() != Eigen::Success || qr.rank() < A.cols()) return std::nullopt;
+    x = qr.solve(b);
+  }
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+template <int R, int C>
+void add_block(std::vector<Eigen::Triplet<double>>& t, int row, int col,
+               const Eigen::Matrix<double, R, C>& m) {
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < C; ++j)
+      if (m(i, j) != 0) t.emplace_back(row + i, col + j, m(i, j));
+}
 
 // Rows: 6 per non-ground body (force, moment about the ground origin), then one per column.
 // Unknowns: 6 per joint (force, moment about the joint point), then one per primary column.
@@ -48,7 +107,8 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
     if (b != model.ground) body_row[static_cast<size_t>(b)] = rows, rows += 6;
   const int column_row = rows;
   rows += g.cols();
-  System sys{Eigen::MatrixXd::Zero(rows, 6 * nj + np), Eigen::VectorXd::Zero(rows), {}};
+  System sys{Sparse(rows, 6 * nj + np), Eigen::VectorXd::Zero(rows), {}};
+  std::vector<Eigen::Triplet<double>> entries;  // summed where they repeat
 
   for (int j = 0; j < nj; ++j) {
     const SpatialJoint& joint = model.joints[static_cast<size_t>(j)];
@@ -60,13 +120,13 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
     T.block<3, 3>(3, 0) = skew(P);
     for (const auto& [body, sign] : {std::pair{joint.second, 1.0}, std::pair{joint.first, -1.0}})
       if (body != model.ground)
-        sys.A.block<6, 6>(body_row[static_cast<size_t>(body)], 6 * j) += sign * T;
+        add_block<6, 6>(entries, body_row[static_cast<size_t>(body)], 6 * j, sign * T);
     for (size_t k = 0; k < joint.columns.size(); ++k) {
       const int c = g.joint_column[static_cast<size_t>(j)] + static_cast<int>(k);
       const Twist& sc = s.screw[static_cast<size_t>(c)];
       Eigen::Matrix<double, 1, 6> power;  // reciprocal product with (f, m_o)
       power << sc.v[0], sc.v[1], sc.v[2], sc.w[0], sc.w[1], sc.w[2];
-      sys.A.block<1, 6>(column_row + c, 6 * j) = power * T;
+      add_block<1, 6>(entries, column_row + c, 6 * j, power * T);
     }
   }
   // A driven coordinate's effort: a couple about its axis (rotation, helical) or a force along
@@ -85,8 +145,10 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
     }
     for (const auto& [body, sign] : {std::pair{joint.second, 1.0}, std::pair{joint.first, -1.0}})
       if (body != model.ground)
-        sys.A.block<6, 1>(body_row[static_cast<size_t>(body)], 6 * nj + k) += sign * w;
+        add_block<6, 1>(entries, body_row[static_cast<size_t>(body)], 6 * nj + k, sign * w);
   }
+  sys.A.setFromTriplets(entries.begin(), entries.end());
+  sys.A.makeCompressed();
   // Right-hand side: rate of momentum minus gravity and applied loads, about the ground origin.
   const std::vector<Wrench> applied = solver.applied_wrenches(s);
   for (int b = 0; b < nb; ++b) {
@@ -113,7 +175,7 @@ System assemble(const SpatialSolver& solver, const SpatialState& s) {
 
 NewtonEulerSystem newton_euler_system(const SpatialSolver& solver, const SpatialState& s) {
   System sys = assemble(solver, s);
-  return {std::move(sys.A), std::move(sys.b)};
+  return {Eigen::MatrixXd(sys.A), std::move(sys.b)};
 }
 
 SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s) {
@@ -121,15 +183,19 @@ SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s
   // Without redundancy A is square and regular: an LU solve. Otherwise (or when LU finds A
   // nearly singular) the minimum-norm least-squares solution of a complete orthogonal
   // decomposition, whose rank gives the redundancy.
+  // Large: the sparse QR when A has full column rank (no redundancy); a redundant large model
+  // still takes the dense decomposition (cubic: named in README.md "Growth with size").
   Eigen::VectorXd x;
   int redundancy = 0;
   bool solved = false;
-  if (sys.A.rows() == sys.A.cols()) {
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(sys.A);
+  if (sys.A.cols() > kSparseAbove) {
+    if (auto sparse = full_rank_sparse_solve(sys.A, sys.b)) x = std::move(*sparse), solved = true;
+  } else if (sys.A.rows() == sys.A.cols()) {
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu{Eigen::MatrixXd(sys.A)};
     if (lu.rcond() > 1e-12) x = lu.solve(sys.b), solved = true;
   }
   if (!solved) {
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(sys.A);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod{Eigen::MatrixXd(sys.A)};
     cod.setThreshold(1e-10);
     x = cod.solve(sys.b);
     redundancy = static_cast<int>(sys.A.cols() - cod.rank());
@@ -153,13 +219,24 @@ SpatialLoads inverse_dynamics(const SpatialSolver& solver, const SpatialState& s
 
 Redundancy redundancy(const SpatialSolver& solver, const SpatialState& s) {
   const System sys = assemble(solver, s);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(sys.A, Eigen::ComputeFullV);
+  const int nj = static_cast<int>(solver.model().joints.size());
+  Redundancy r;
+  // Large and of full column rank (the sparse solve): no redundancy, every reaction unique, without
+  // the dense SVD (cubic).
+  if (sys.A.cols() > kSparseAbove) {
+    if (full_rank_sparse_solve(sys.A, sys.b)) {
+      r.joint_unique.assign(static_cast<size_t>(nj), true);
+      r.component_unique.assign(static_cast<size_t>(nj),
+                                std::array<bool, 6>{true, true, true, true, true, true});
+      r.efforts_unique = true;
+      return r;
+    }
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd{Eigen::MatrixXd(sys.A), Eigen::ComputeFullV};
   svd.setThreshold(1e-10);
   const auto rank = svd.rank();
   const Eigen::MatrixXd null = svd.matrixV().rightCols(sys.A.cols() - rank);
-  Redundancy r;
   r.degree = static_cast<int>(null.cols());
-  const int nj = static_cast<int>(solver.model().joints.size());
   for (int j = 0; j < nj; ++j) {
     r.joint_unique.push_back(null.middleRows(6 * j, 6).norm() < 1e-8);
     std::array<bool, 6> unique;

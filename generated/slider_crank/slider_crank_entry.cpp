@@ -120,6 +120,22 @@ static int forward_dynamics_row(const double* parameters, double t, const double
   return static_cast<int>(status);
 }
 
+// The Newton-Euler system (ne_system()) at the drivers' (q, qd, qdd) or the model's own motion at
+// t (null drivers), as mass_bias_row reads them; A and b zero unless ok.
+static int ne_system_row(const double* parameters, double t, const double* drivers, double* A,
+                         double* b, int* failed_group) {
+  Params<double> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  for (int i = 0; i < ne_size; ++i) b[i] = 0.0;
+  const Status status = ne_system(p, in, A, b);
+  *failed_group = -1;
+  if (status == Status::ok) return 0;
+  for (int i = 0; i < ne_size * ne_size; ++i) A[i] = 0.0;
+  for (int i = 0; i < ne_size; ++i) b[i] = 0.0;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"slider_crank",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
@@ -127,7 +143,12 @@ const CompiledKernel& compiled_kernel() {
                                      &evaluate_row<float>, 1,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
                                      fingerprint,     &mass_bias_row,
-                                     &forward_dynamics_row};
+                                     &forward_dynamics_row, 0,
+                                     nullptr,         nullptr,
+                                     0,               nullptr,
+                                     nullptr,         ne_size,
+                                     ne_size,         ne_unknowns,
+                                     &ne_system_row};
   return kernel;
 }
 

@@ -78,6 +78,31 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// n samples at driver motions through evaluate_batch, vectorised as evaluate_batch_rows: driver
+// d's (q, qd, qdd) of sample i at drivers[(3 d + k) n + i], k = 0, 1, 2 (evaluate_batch's storage
+// layout), times t[i].
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(MECHGEN_KERNEL_SHARED)
+__attribute__((target_clones("avx512f", "avx2", "default"), flatten))
+#endif
+static void evaluate_driven_batch_rows(const double* parameters, const double* t,
+                                       [[maybe_unused]] const double* drivers, long n, double* out,
+                                       int* status, int* group) {
+  Params<double> p;
+  set_parameters(p, parameters);
+  std::vector<double> failure(static_cast<size_t>(n));
+  BatchInputs<double> batch;
+  batch.t = t;
+  batch.crank_angle = drivers + 0 * n;
+  batch.crank_angle_d = drivers + 1 * n;
+  batch.crank_angle_dd = drivers + 2 * n;
+  evaluate_batch(p, batch, n, out, n, failure.data());
+  for (long i = 0; i < n; ++i) {
+    status[i] = static_cast<int>(batch_status(failure[static_cast<size_t>(i)]));
+    group[i] = batch_failed_group(failure[static_cast<size_t>(i)]);
+  }
+}
+
 // Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
 // generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
 // in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
@@ -148,7 +173,10 @@ const CompiledKernel& compiled_kernel() {
                                      0,               nullptr,
                                      nullptr,         ne_size,
                                      ne_size,         ne_unknowns,
-                                     &ne_system_row};
+                                     &ne_system_row,  0,
+                                     nullptr,         nullptr,
+                                     0,               nullptr,
+                                     &evaluate_driven_batch_rows};
   return kernel;
 }
 

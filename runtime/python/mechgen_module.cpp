@@ -276,7 +276,20 @@ class Kernel {
     const std::vector<double> times = times_of(t, n);
     py::array_t<double> block({m, n});
     IntArray status(n);
-    {
+    if (k_.evaluate_driven_batch_double) {
+      // A planar kernel's vectorised driven batch: the drivers' (q, qd, qdd) as its arrays.
+      py::gil_scoped_release release;
+      std::vector<double> drivers(static_cast<size_t>(3 * w * n));
+      for (py::ssize_t d = 0; d < w; ++d)
+        for (py::ssize_t i = 0; i < n; ++i) {
+          drivers[static_cast<size_t>((3 * d) * n + i)] = a.data()[i * w + d];
+          drivers[static_cast<size_t>((3 * d + 1) * n + i)] = b.data()[i * w + d];
+          drivers[static_cast<size_t>((3 * d + 2) * n + i)] = c.data()[i * w + d];
+        }
+      std::vector<int> group(static_cast<size_t>(n));
+      k_.evaluate_driven_batch_double(p.data(), times.data(), drivers.data(), static_cast<long>(n),
+                                      block.mutable_data(), status.mutable_data(), group.data());
+    } else {
       py::gil_scoped_release release;
       double* out = block.mutable_data();
       int* s = status.mutable_data();

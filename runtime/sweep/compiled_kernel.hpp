@@ -98,6 +98,14 @@ struct CompiledKernel {
   const int* jacobian_rows = nullptr;
   int jacobian_columns = 0;
   JacobiansFunction jacobians_double = nullptr;
+  // Planar kernels: evaluate_batch_double at driver motions instead of the model's own, as
+  // vectorised: (q, qd, qdd) of driver d for sample i at drivers[(3 d + k) n + i] (k = 0, 1, 2),
+  // times t[0..n); out, status and group as BatchFunction's. Null in spatial kernels (their batch
+  // entry is a loop over the scalar row: the driven row's loop is as fast).
+  using DrivenBatchFunction = void (*)(const double* parameters, const double* t,
+                                       const double* drivers, long n, double* out, int* status,
+                                       int* group);
+  DrivenBatchFunction evaluate_driven_batch_double = nullptr;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr, whatever its fingerprint (the

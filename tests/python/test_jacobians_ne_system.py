@@ -174,3 +174,27 @@ def test_kernel_built_on_demand_has_the_same_entries(tmp_path, monkeypatch):
     assert built.ne_unknowns == shipped.ne_unknowns
     close(A2, A, 1e-12)
     close(b2, b, 1e-12)
+
+
+@pytest.mark.parametrize("name", ["chebyshev", "pasibot"])
+def test_planar_driven_batch_is_the_vectorised_entry(name):
+    # evaluate(q=...) of a planar kernel runs the vectorised driven entry: at the drivers' own
+    # motion it is the time batch bit for bit, and the CSV's rows (the scalar entry) to 1e-12;
+    # a sample whose input is not finite fails alone.
+    k = mechgen.Model(model_path(name)).kernel()
+    t = np.linspace(0.0, 1.0, 40)
+    rows, status = k.evaluate(t=t, as_array=True)
+    names = k.columns
+    q, qd, qdd = (np.stack([rows[names.index(f"{d}.{s}")] for d in k.drivers], axis=1)
+                  for s in ("q", "qd", "qdd"))
+    driven, dstatus = k.evaluate(q=q, qd=qd, qdd=qdd, t=t, as_array=True)
+    assert np.all(status == mechgen.OK) and np.all(dstatus == mechgen.OK)
+    assert np.array_equal(driven, rows)
+    table = k.sweep(samples=40, t0=0.0, t1=1.0)
+    for c, column in enumerate(names):
+        np.testing.assert_allclose(driven[c], table[column], rtol=1e-12, atol=1e-12,
+                                   err_msg=column)
+    q[5, 0] = np.nan
+    bad, bstatus = k.evaluate(q=q, qd=qd, qdd=qdd, t=t, as_array=True)
+    assert bstatus[5] == mechgen.UNREACHABLE and np.all(np.delete(bstatus, 5) == mechgen.OK)
+    assert np.array_equal(np.delete(bad, 5, axis=1), np.delete(rows, 5, axis=1))

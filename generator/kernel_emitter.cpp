@@ -492,6 +492,16 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
                                  : "_dd") +
                        " = static_cast<T>(drivers[" + std::to_string(3 * i + k) + "]);";
   }
+  // The driven batch: evaluate_batch's inputs read from the drivers' arrays (its storage layout).
+  std::string driven_batch;
+  for (size_t i = 0; i < model.drivers.size(); ++i)
+    for (size_t k = 0; k < 3; ++k)
+      driven_batch += std::string(driven_batch.empty() ? "" : "\n") + "  batch." +
+                      model.drivers[i].name +
+                      (k == 0   ? ""
+                       : k == 1 ? "_d"
+                                : "_dd") +
+                      " = drivers + " + std::to_string(3 * i + k) + " * n;";
   const ForwardDynamicsText dynamics =
       emit_forward_dynamics(options.templates_dir, coordinates, driven_inputs, "State<T> s;");
   values["forward_dynamics"] = dynamics.header;
@@ -500,9 +510,13 @@ std::vector<EmittedFile> emit_kernel(const Model& model, const SolvePlan& plan,
   files.push_back(
       {model.name + ".hpp", render_template(read_template(kernel), values, "kernel.hpp.in")});
   std::map<std::string, std::string> entry_values{
-      {"model", values["model"]},       {"source", values["source"]},
-      {"command", values["command"]},   {"driver_count", std::to_string(model.drivers.size())},
-      {"driven_inputs", driven_inputs}, {"forward_dynamics_entry", dynamics.entry}};
+      {"model", values["model"]},
+      {"source", values["source"]},
+      {"command", values["command"]},
+      {"driver_count", std::to_string(model.drivers.size())},
+      {"driven_inputs", driven_inputs},
+      {"forward_dynamics_entry", dynamics.entry},
+      {"driven_batch_pointers", driven_batch}};
   const std::string entry = options.templates_dir + "/kernel_entry.cpp.in";
   files.push_back({model.name + "_entry.cpp",
                    render_template(read_template(entry), entry_values, "kernel_entry.cpp.in")});

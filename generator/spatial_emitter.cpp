@@ -669,6 +669,22 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
     point_names += std::string(point_names.empty() ? "" : ", ") + "\"" + point + "\"";
     ++point_count;
   }
+  // The Jacobians entry: the State's body_jacobians then point_jacobians fields, in order.
+  std::string jacobian_names, jacobian_rows, jacobian_copy;
+  size_t jacobian_count = 0;
+  const auto add_jacobian = [&](const std::string& field, const std::string& name, int rows) {
+    jacobian_names += std::string(jacobian_names.empty() ? "" : ", ") + "\"" + name + "\"";
+    jacobian_rows += std::string(jacobian_rows.empty() ? "" : ", ") + std::to_string(rows);
+    jacobian_copy += std::string(jacobian_copy.empty() ? "" : "\n") + "J = copy_jacobian(&s." +
+                     field + "." + name + "[0][0], " + std::to_string(rows) + ", J);";
+    ++jacobian_count;
+  };
+  for (const SpatialBody& b : model.bodies)
+    if (!b.ground && !b.is_virtual && model.emits_jacobian(b.name))
+      add_jacobian("body_jacobians", b.name, 6);
+  for (const auto& [point, body] : model.named_points())
+    if (!model.bodies[static_cast<size_t>(body)].ground && model.emits_jacobian(point))
+      add_jacobian("point_jacobians", point, 3);
   const std::map<std::string, std::string> entry{
       {"model", values.at("model")},
       {"source", values.at("source")},
@@ -684,7 +700,11 @@ std::vector<EmittedFile> emit_spatial_kernel(const SpatialModel& model,
       {"batch_inputs", batch_inputs},
       {"batch_points", batch_points},
       {"point_count", std::to_string(point_count)},
-      {"point_names", point_names.empty() ? "nullptr" : point_names}};
+      {"point_names", point_names.empty() ? "nullptr" : point_names},
+      {"jacobian_count", std::to_string(jacobian_count)},
+      {"jacobian_names", jacobian_names.empty() ? "nullptr" : jacobian_names},
+      {"jacobian_rows", jacobian_rows.empty() ? "0" : jacobian_rows},
+      {"jacobian_copy", jacobian_copy}};
   files.push_back(
       {model.common.name + "_entry.cpp",
        render_template(read_text(options.templates_dir + "/spatial_kernel_entry.cpp.in"), entry,

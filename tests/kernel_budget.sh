@@ -52,7 +52,7 @@ for how in variable option; do
     "$M" sweep "$W/crank_b.yaml" --max-kernel-mb 0.01 --cache "$W/c1" --out "$W/o.csv" 2>"$W/err" &&
       fail "over the limit ($how): accepted"
   fi
-  grep -q "error: the kernel of 'crank_b' is too large to compile: 0.05 MB header: about 3 s and 72 MB to compile .*over the limit of 0.01 MB (--max-kernel-mb, MECHGEN_MAX_KERNEL_MB); no compiler was started. Use --solver numeric, or raise the limit (--max-kernel-mb 1)" "$W/err" ||
+  grep -q "error: the kernel of 'crank_b' is too large to compile: 0.05 MB header: about 3 s and [0-9]* MB to compile .*over the limit of 0.01 MB (--max-kernel-mb, MECHGEN_MAX_KERNEL_MB); no compiler was started. Use --solver numeric, or raise the limit (--max-kernel-mb 1)" "$W/err" ||
     fail "over the limit ($how): $(cat "$W/err")"
   [ ! -e "$W/compiles" ] || fail "over the limit ($how): the compiler ran"
   [ ! -e "$W/o.csv" ] || fail "over the limit ($how): an output was written"
@@ -128,14 +128,14 @@ chmod 755 "$W/oom"
 MECHGEN_CXX="$W/oom" MECHGEN_COMPILE_MEMORY_MB=300 "$M" sweep "$W/crank_b.yaml" --cache "$W/c3" \
   --out "$W/o.csv" 2>"$W/err" && fail "memory: accepted"
 [ "$(cat "$W/ulimit")" = $((300000000 / 1024)) ] || fail "memory: the compiler's ulimit -v is $(cat "$W/ulimit")"
-grep -q "error: compiling the kernel of 'crank_b' failed (the compiler ran out of memory (0.05 MB header, about 72 MB expected; limit 300 MB, --compile-memory-mb, MECHGEN_COMPILE_MEMORY_MB))" "$W/err" ||
+grep -q "error: compiling the kernel of 'crank_b' failed (the compiler ran out of memory (0.05 MB header, about [0-9]* MB expected; limit 300 MB, --compile-memory-mb, MECHGEN_COMPILE_MEMORY_MB))" "$W/err" ||
   fail "memory: $(cat "$W/err")"
 no_build_left "$W/c3" "memory"
 rm -f "$W/compiles"
 for mb in 60 20; do  # GCC says it (60 MB), or crashes as its stack cannot grow (20 MB)
   "$M" sweep "$W/crank_b.yaml" --compile-memory-mb $mb --cache "$W/c3" --out "$W/o.csv" 2>"$W/err" &&
     fail "real compiler in $mb MB: accepted"
-  grep -qE "(the compiler ran out of memory|exit [0-9]+, a crash: out of memory\?) \(0.05 MB header, about 72 MB expected; limit $mb MB, --compile-memory-mb" "$W/err" ||
+  grep -qE "(the compiler ran out of memory|exit [0-9]+, a crash: out of memory\?) \(0.05 MB header, about [0-9]+ MB expected; limit $mb MB, --compile-memory-mb" "$W/err" ||
     fail "real compiler in $mb MB: $(cat "$W/err")"
   no_build_left "$W/c3" "real compiler in $mb MB"
 done
@@ -155,7 +155,7 @@ printf '#!/bin/sh\nexit 1\n' >"$W/false_cxx"
 chmod 755 "$W/false_cxx"
 MECHGEN_CXX="$W/false_cxx" "$M" sweep "$W/quad_b.yaml" --cache "$W/c6" --out "$W/o.csv" 2>"$W/err" &&
   fail "announce: accepted"
-[ "$(head -1 "$W/err")" = "mechgen: compiling kernel for quad_b, first use: 1.53 MB header: about 40 s and 443 MB to compile (expected)" ] ||
+head -1 "$W/err" | grep -qE "^mechgen: compiling kernel for quad_b, first use: 1\.[0-9]{2} MB header: about [0-9]+ s and [0-9]+ MB to compile \(expected\)$" ||
   fail "announce: $(cat "$W/err")"
 grep -q "error: compiling the kernel of 'quad_b' failed (.*exit 1)" "$W/err" || fail "announce: $(cat "$W/err")"
 

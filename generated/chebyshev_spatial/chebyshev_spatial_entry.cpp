@@ -179,6 +179,61 @@ static int forward_dynamics_row(const double* parameters, double t, const double
   return static_cast<int>(status);
 }
 
+// The Newton-Euler system (ne_system()) at the drivers' (q, qd, qdd) or the model's own motion at
+// t (null drivers), from the warm start a driven row uses; A and b zero unless ok.
+static int ne_system_row(const double* parameters, double t, const double* drivers, double* A,
+                         double* b, int* failed_group) {
+  using T = double;
+  const Params<T> p = parameters_from<T>(parameters);
+  const Inputs<T> in = dynamics_inputs(p, t, drivers);
+  // A closed chain's warm start carries over from one call to the next (per thread and scalar):
+  // from where a sweep starts when time does not advance (a new sweep) or seed_start()
+  // began one, whichever way its time runs then; and after a failed call, whose State is no
+  // assembly to continue from (the next call may lie far from the last accepted one).
+  Carried<T>& c = carried<T>();
+  if (c.restart || c.s.failed_group >= 0 || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;
+  c.restart = false;
+  c.last_t = in.t;
+  State<T>& s = c.s;
+  const Status status = ne_system(p, in, s, A, b);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+// The screw Jacobians of State (jacobian_names[] in order, each jacobian_rows[] x primary_count,
+// row-major) from kinematics() at the same inputs and warm start as ne_system_row.
+static const char* const jacobian_names[] = { "crank", "coupler", "rocker", "P", "C", "M" };
+static const int jacobian_rows[] = { 6, 6, 6, 3, 3, 3 };
+[[maybe_unused]] static double* copy_jacobian(const double* from, int rows, double* to) {
+  for (int i = 0; i < rows * primary_count; ++i) to[i] = from[i];
+  return to + rows * primary_count;
+}
+static int jacobians_row(const double* parameters, double t, const double* drivers,
+                         [[maybe_unused]] double* J, int* failed_group) {
+  using T = double;
+  const Params<T> p = parameters_from<T>(parameters);
+  const Inputs<T> in = dynamics_inputs(p, t, drivers);
+  // A closed chain's warm start carries over from one call to the next (per thread and scalar):
+  // from where a sweep starts when time does not advance (a new sweep) or seed_start()
+  // began one, whichever way its time runs then; and after a failed call, whose State is no
+  // assembly to continue from (the next call may lie far from the last accepted one).
+  Carried<T>& c = carried<T>();
+  if (c.restart || c.s.failed_group >= 0 || (!c.seeded && !(in.t > c.last_t))) c.s = c.start;
+  c.restart = false;
+  c.last_t = in.t;
+  State<T>& s = c.s;
+  const Status status = kinematics(p, in, s);
+  *failed_group = s.failed_group;
+  if (status != Status::ok) return static_cast<int>(status);
+  J = copy_jacobian(&s.body_jacobians.crank[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.coupler[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.rocker[0][0], 6, J);
+  J = copy_jacobian(&s.point_jacobians.P[0][0], 3, J);
+  J = copy_jacobian(&s.point_jacobians.C[0][0], 3, J);
+  J = copy_jacobian(&s.point_jacobians.M[0][0], 3, J);
+  return 0;
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"chebyshev_spatial",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
@@ -189,7 +244,11 @@ const CompiledKernel& compiled_kernel() {
                                      &forward_dynamics_row,     5,
                                      point_names,     &point_positions_batch,
                                      3, start_columns,
-                                     &seed_start};
+                                     &seed_start,  ne_rows,
+                                     ne_size,         ne_unknowns,
+                                     &ne_system_row,  6,
+                                     jacobian_names,  jacobian_rows,
+                                     primary_count,   &jacobians_row};
   return kernel;
 }
 

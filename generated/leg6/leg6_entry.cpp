@@ -172,6 +172,49 @@ static int forward_dynamics_row(const double* parameters, double t, const double
   return static_cast<int>(status);
 }
 
+// The Newton-Euler system (ne_system()) at the drivers' (q, qd, qdd) or the model's own motion at
+// t (null drivers), from the warm start a driven row uses; A and b zero unless ok.
+static int ne_system_row(const double* parameters, double t, const double* drivers, double* A,
+                         double* b, int* failed_group) {
+  using T = double;
+  const Params<T> p = parameters_from<T>(parameters);
+  const Inputs<T> in = dynamics_inputs(p, t, drivers);
+  State<T> s;
+  const Status status = ne_system(p, in, s, A, b);
+  *failed_group = s.failed_group;
+  return static_cast<int>(status);
+}
+
+// The screw Jacobians of State (jacobian_names[] in order, each jacobian_rows[] x primary_count,
+// row-major) from kinematics() at the same inputs and warm start as ne_system_row.
+static const char* const jacobian_names[] = { "hip_yaw_link", "hip_roll_link", "thigh", "calf", "ankle_link", "foot_link", "K", "A", "foot", "toe" };
+static const int jacobian_rows[] = { 6, 6, 6, 6, 6, 6, 3, 3, 3, 3 };
+[[maybe_unused]] static double* copy_jacobian(const double* from, int rows, double* to) {
+  for (int i = 0; i < rows * primary_count; ++i) to[i] = from[i];
+  return to + rows * primary_count;
+}
+static int jacobians_row(const double* parameters, double t, const double* drivers,
+                         [[maybe_unused]] double* J, int* failed_group) {
+  using T = double;
+  const Params<T> p = parameters_from<T>(parameters);
+  const Inputs<T> in = dynamics_inputs(p, t, drivers);
+  State<T> s;
+  const Status status = kinematics(p, in, s);
+  *failed_group = s.failed_group;
+  if (status != Status::ok) return static_cast<int>(status);
+  J = copy_jacobian(&s.body_jacobians.hip_yaw_link[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.hip_roll_link[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.thigh[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.calf[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.ankle_link[0][0], 6, J);
+  J = copy_jacobian(&s.body_jacobians.foot_link[0][0], 6, J);
+  J = copy_jacobian(&s.point_jacobians.K[0][0], 3, J);
+  J = copy_jacobian(&s.point_jacobians.A[0][0], 3, J);
+  J = copy_jacobian(&s.point_jacobians.foot[0][0], 3, J);
+  J = copy_jacobian(&s.point_jacobians.toe[0][0], 3, J);
+  return 0;
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"leg6",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
@@ -182,7 +225,11 @@ const CompiledKernel& compiled_kernel() {
                                      &forward_dynamics_row,     5,
                                      point_names,     &point_positions_batch,
                                      0, nullptr,
-                                     nullptr};
+                                     nullptr,  ne_rows,
+                                     ne_size,         ne_unknowns,
+                                     &ne_system_row,  10,
+                                     jacobian_names,  jacobian_rows,
+                                     primary_count,   &jacobians_row};
   return kernel;
 }
 

@@ -78,6 +78,31 @@ static void evaluate_batch_rows(const double* parameters, const double* t, long 
   }
 }
 
+// n samples at driver motions through evaluate_batch, vectorised as evaluate_batch_rows: driver
+// d's (q, qd, qdd) of sample i at drivers[(3 d + k) n + i], k = 0, 1, 2 (evaluate_batch's storage
+// layout), times t[i].
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(MECHGEN_KERNEL_SHARED)
+__attribute__((target_clones("avx512f", "avx2", "default"), flatten))
+#endif
+static void evaluate_driven_batch_rows(const double* parameters, const double* t,
+                                       [[maybe_unused]] const double* drivers, long n, double* out,
+                                       int* status, int* group) {
+  Params<double> p;
+  set_parameters(p, parameters);
+  std::vector<double> failure(static_cast<size_t>(n));
+  BatchInputs<double> batch;
+  batch.t = t;
+  batch.crank_angle = drivers + 0 * n;
+  batch.crank_angle_d = drivers + 1 * n;
+  batch.crank_angle_dd = drivers + 2 * n;
+  evaluate_batch(p, batch, n, out, n, failure.data());
+  for (long i = 0; i < n; ++i) {
+    status[i] = static_cast<int>(batch_status(failure[static_cast<size_t>(i)]));
+    group[i] = batch_failed_group(failure[static_cast<size_t>(i)]);
+  }
+}
+
 // Forward dynamics for the runtime (CompiledKernel::mass_bias_double and forward_dynamics_double),
 // generated through templates/forward_dynamics_entry.cpp.in: the drivers' (q, qd, qdd) per driver
 // in model order in `drivers` (qdd not used), or the model's own driver motion at t when `drivers`
@@ -120,6 +145,22 @@ static int forward_dynamics_row(const double* parameters, double t, const double
   return static_cast<int>(status);
 }
 
+// The Newton-Euler system (ne_system()) at the drivers' (q, qd, qdd) or the model's own motion at
+// t (null drivers), as mass_bias_row reads them; A and b zero unless ok.
+static int ne_system_row(const double* parameters, double t, const double* drivers, double* A,
+                         double* b, int* failed_group) {
+  Params<double> p;
+  set_parameters(p, parameters);
+  const Inputs<double> in = dynamics_inputs(p, t, drivers);
+  for (int i = 0; i < ne_size; ++i) b[i] = 0.0;
+  const Status status = ne_system(p, in, A, b);
+  *failed_group = -1;
+  if (status == Status::ok) return 0;
+  for (int i = 0; i < ne_size * ne_size; ++i) A[i] = 0.0;
+  for (int i = 0; i < ne_size; ++i) b[i] = 0.0;
+  return static_cast<int>(status);
+}
+
 const CompiledKernel& compiled_kernel() {
   static const CompiledKernel kernel{"plate_crank",     parameter_count, parameter_names,
                                      column_count,    column_names,    group_count,
@@ -127,7 +168,15 @@ const CompiledKernel& compiled_kernel() {
                                      &evaluate_row<float>, 1,
                                      &evaluate_driven_row<double>, &evaluate_batch_rows,
                                      fingerprint,     &mass_bias_row,
-                                     &forward_dynamics_row};
+                                     &forward_dynamics_row, 0,
+                                     nullptr,         nullptr,
+                                     0,               nullptr,
+                                     nullptr,         ne_size,
+                                     ne_size,         ne_unknowns,
+                                     &ne_system_row,  0,
+                                     nullptr,         nullptr,
+                                     0,               nullptr,
+                                     &evaluate_driven_batch_rows};
   return kernel;
 }
 

@@ -1,5 +1,6 @@
 #include "ondemand/data_paths.hpp"
 
+#include <dlfcn.h>
 #include <elf.h>
 #include <link.h>
 
@@ -20,13 +21,33 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// <prefix>/share/mechgen when this executable is <prefix>/bin/<name> of an installed mechgen.
+// <prefix>/share/mechgen when this executable is <prefix>/bin/<name> of an installed mechgen, or
+// when this code is in an installed shared object below <prefix> (the Python module in
+// <prefix>/lib/python3.X/site-packages, up to five folders deep: Debian's lib/<multiarch>/...),
+// whose interpreter is no mechgen.
 fs::path installed_data_dir() {
   std::error_code error;
+  const auto data = [&error](const fs::path& prefix) {
+    const fs::path share = prefix / "share" / "mechgen";
+    return fs::exists(share / "templates" / "kernel.hpp.in", error) ? share : fs::path{};
+  };
   const fs::path exe = fs::read_symlink("/proc/self/exe", error);
-  if (error) return {};
-  const fs::path share = exe.parent_path().parent_path() / "share" / "mechgen";
-  return fs::exists(share / "templates" / "kernel.hpp.in", error) ? share : fs::path{};
+  if (!error) {
+    const fs::path share = data(exe.parent_path().parent_path());
+    if (!share.empty()) return share;
+  }
+  Dl_info self{};
+  if (::dladdr(reinterpret_cast<void*>(&installed_data_dir), &self) == 0 || !self.dli_fname)
+    return {};
+  const fs::path object = fs::absolute(self.dli_fname, error);
+  if (error || object == exe) return {};
+  fs::path folder = object.parent_path();
+  for (int up = 0; up < 5 && folder.has_relative_path(); ++up) {
+    folder = folder.parent_path();
+    const fs::path share = data(folder);
+    if (!share.empty()) return share;
+  }
+  return {};
 }
 
 // The main program's NT_GNU_BUILD_ID note, as hex, or "" when it has none.

@@ -10,7 +10,7 @@ namespace mechgen {
 // The layout below; a kernel built on demand (a shared library) is used only when its entry
 // `extern "C" const CompiledKernel* mechgen_kernel_entry(int abi)` accepts this value. Bump it with
 // any change of CompiledKernel.
-inline constexpr int kCompiledKernelAbi = 4;
+inline constexpr int kCompiledKernelAbi = 5;
 
 struct CompiledKernel {
   // Evaluates the row at time t (the model's driver motion) for parameters in model order;
@@ -72,6 +72,40 @@ struct CompiledKernel {
   int start_count = 0;
   const int* start_columns = nullptr;
   SeedFunction seed_start = nullptr;
+  // The Newton-Euler system A x = b of the header's ne_system() (ne_rows x ne_size, A row-major,
+  // unknowns ne_unknowns[]) at the drivers' (q, qd, qdd) per driver in model order (`drivers`),
+  // or at the model's own driver motion at t when `drivers` is null; A and b are zero unless it
+  // returns 0 (return values and failed_group as RowFunction's; planar kernels give -1 for the
+  // group). A spatial closed chain closes its circuits from the warm start of
+  // evaluate_driven_double, which it carries on, as a driven row does.
+  using NeSystemFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                   double* A, double* b, int* failed_group);
+  int ne_rows = 0;
+  int ne_size = 0;
+  const char* const* ne_unknowns = nullptr;
+  NeSystemFunction ne_system_double = nullptr;
+  // Spatial kernels: the screw Jacobians the header's State holds (all of them, or those that
+  // `kernel: {jacobians: [...]}` names): jacobian_count of them, jacobian_names[] with
+  // jacobian_rows[] rows each (6: a body's twist, rows wx, wy, wz, then the velocity of the body
+  // point at the ground origin; 3: a named point's velocity; bodies first) by jacobian_columns
+  // columns (the driven coordinates' rates in model order), row-major, one after the other in J.
+  // At drivers or the model's motion at t as ne_system_double, and with the same warm start; J is
+  // written only on 0. Null and 0 in planar kernels.
+  using JacobiansFunction = int (*)(const double* parameters, double t, const double* drivers,
+                                    double* J, int* failed_group);
+  int jacobian_count = 0;
+  const char* const* jacobian_names = nullptr;
+  const int* jacobian_rows = nullptr;
+  int jacobian_columns = 0;
+  JacobiansFunction jacobians_double = nullptr;
+  // Planar kernels: evaluate_batch_double at driver motions instead of the model's own, as
+  // vectorised: (q, qd, qdd) of driver d for sample i at drivers[(3 d + k) n + i] (k = 0, 1, 2),
+  // times t[0..n); out, status and group as BatchFunction's. Null in spatial kernels (their batch
+  // entry is a loop over the scalar row: the driven row's loop is as fast).
+  using DrivenBatchFunction = void (*)(const double* parameters, const double* t,
+                                       const double* drivers, long n, double* out, int* status,
+                                       int* group);
+  DrivenBatchFunction evaluate_driven_batch_double = nullptr;
 };
 
 // The kernel compiled into this binary for `model`, or nullptr, whatever its fingerprint (the

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -58,16 +59,21 @@ struct ScopedEnv {
   bool had_ = false;
 };
 
-// Column by column to 1e-9 of the column's largest magnitude (at least 1e-5 of its unit: a point
-// fixed to the ground has round-off rates, the kernel's exact zeros against the solver's 1e-15);
-// angles
-// modulo a turn (the kernel reports (-pi, pi], the numeric solver follows the crank).
+// Column by column to 1e-9 of the column's largest magnitude, at least 1e-6 of its unit and 1e-3 of
+// the largest column of its kind (its field: a point fixed to the ground, or sliding along x, has
+// round-off rates across it, the kernel's exact zeros against the solver's 1e-14); angles modulo a
+// turn (the kernel reports (-pi, pi], the numeric solver follows the crank).
 void expect_equal_to_numeric(const std::vector<std::string>& columns,
                              const std::vector<std::vector<double>>& generated,
                              const std::vector<std::vector<double>>& numeric) {
   ASSERT_EQ(generated.size(), numeric.size());
+  const auto field = [](const std::string& column) { return column.substr(column.rfind('.') + 1); };
+  std::map<std::string, double> kind;
+  for (size_t c = 0; c < columns.size(); ++c)
+    for (const auto& row : numeric)
+      kind[field(columns[c])] = std::max(kind[field(columns[c])], std::abs(row[c]));
   for (size_t c = 0; c < columns.size(); ++c) {
-    double scale = 1e-5;
+    double scale = std::max(1e-6, 1e-3 * kind[field(columns[c])]);
     for (const auto& row : numeric) scale = std::max(scale, std::abs(row[c]));
     const bool angle = columns[c].ends_with(".th");
     for (size_t i = 0; i < numeric.size(); ++i) {

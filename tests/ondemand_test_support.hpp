@@ -15,6 +15,15 @@
 
 namespace mechgen::test {
 
+// The sanitizer build (tests/CMakeLists.txt defines MECHGEN_SANITIZE_BUILD there) is for memory
+// errors: a test skips there what only repeats the plain build's numbers at many times the cost
+// (a kernel compiled on first use, a large symbolic derivation).
+#if defined(MECHGEN_SANITIZE_BUILD)
+inline constexpr bool kSanitizerBuild = true;
+#else
+inline constexpr bool kSanitizerBuild = false;
+#endif
+
 inline std::string file_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream text;

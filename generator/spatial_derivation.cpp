@@ -419,6 +419,8 @@ class Builder {
     std::vector<size_t> blocks;         // each pivot's independent block of N_s
     double worst = 1;                   // the smallest pivot ratio over the samples
     bool crosses = false;  // a pivot changes sign along a path: no fixed order holds there
+    // Every nonzero row of the block kept (rows), eliminated as N_s^T N_s (see least_squares).
+    bool least_squares = false;
   };
   // The independent blocks of N_s: secondary coordinates joined by a closure row that holds both
   // (nonzero in some sample; an exact zero in every sample is a structural zero). Circuits that
@@ -523,21 +525,65 @@ class Builder {
     }
     return order;
   }
+  // Where no fixed row set holds over the samples (a pivot changes sign on a path) and rows are
+  // left over (a redundant, over-constrained block), the order keeps every nonzero row and its
+  // solves take the normal equations N_s^T N_s x = N_s^T b (issue 27: Bennett's three kept rows
+  // pass through a singular minor at a regular pose, while N_s keeps its full column rank).
+  // N_s^T N_s is symmetric positive definite wherever N_s has full column rank, so a fixed order
+  // never meets a zero pivot, and the closure's systems are consistent: the solution is exact.
+  PivotOrder least_squares(PivotOrder order, const std::vector<size_t>& rows) const {
+    std::vector<size_t> nonzero;
+    for (const size_t r : rows) {
+      bool any = false;
+      for (const auto& m : samples_)
+        for (const size_t i : order.columns) any = any || m[r][i] != 0;
+      if (any) nonzero.push_back(r);
+    }
+    if (!order.crosses || nonzero.size() <= order.rows.size()) return order;
+    order.least_squares = true;
+    order.crosses = false;
+    order.rows = nonzero;
+    order.pivots.clear();
+    order.worst = 1;
+    // Its pivots at each sample: at the assembly for the singular check; their smallest ratio
+    // to their column's diagonal entry for the plan.
+    const size_t n = order.columns.size();
+    for (size_t sample = 0; sample < samples_.size(); ++sample) {
+      std::vector<std::vector<double>> g(n, std::vector<double>(n, 0));
+      for (size_t a = 0; a < n; ++a)
+        for (size_t b = 0; b < n; ++b)
+          for (const size_t r : nonzero)
+            g[a][b] +=
+                samples_[sample][r][order.columns[a]] * samples_[sample][r][order.columns[b]];
+      std::vector<double> diagonal(n);
+      for (size_t k = 0; k < n; ++k) diagonal[k] = g[k][k];
+      for (size_t k = 0; k < n; ++k) {
+        if (sample == 0) order.pivots.push_back(g[k][k]);
+        order.worst = std::min(order.worst, diagonal[k] > 0 ? g[k][k] / diagonal[k] : 0.0);
+        for (size_t i = k + 1; i < n; ++i) {
+          const double f = g[k][k] != 0 ? g[i][k] / g[k][k] : 0.0;
+          for (size_t j = k; j < n; ++j) g[i][j] -= f * g[k][j];
+        }
+      }
+    }
+    return order;
+  }
   // The pivot order of the whole N_s (Davies' rates) and the plan's closure line.
   void choose_pivots(const std::vector<size_t>& newton_rows, size_t newton_columns,
                      bool newton_crosses) {
     std::vector<size_t> rows(network_.size()), columns(g_.secondary.size());
     for (size_t r = 0; r < rows.size(); ++r) rows[r] = r;
     for (size_t i = 0; i < columns.size(); ++i) columns[i] = i;
-    const PivotOrder order = pivot_order(rows, columns);
+    const PivotOrder order = least_squares(pivot_order(rows, columns), rows);
     pivot_ = order;
     out_.closure_pivots = order.pivots;
     out_.closure_blocks = order.blocks;
+    out_.closure_least_squares = order.least_squares;
     out_.groups.push_back("closure");
     std::string dropped;
     std::vector<bool> used(rows.size(), false);
     for (const size_t r : order.rows) used[r] = true;
-    for (size_t r = 0; r < rows.size(); ++r)
+    for (size_t r = 0; r < rows.size() && !order.least_squares; ++r)
       if (!used[r])
         dropped += (dropped.empty() ? "" : ", ") + std::string(r % 6 < 3 ? "w" : "v") +
                    kAxis[r % 3] + " of circuit " + std::to_string(r / 6);
@@ -557,6 +603,11 @@ class Builder {
              : std::string()) +
         " (smallest pivot " + ratio + " of its column)" +
         (dropped.empty() ? "" : "; redundant rows dropped: " + dropped) +
+        (order.least_squares
+             ? "; no fixed set of rows stays regular over the step and the drivers' ranges: all " +
+                   std::to_string(order.rows.size()) +
+                   " nonzero rows kept, solved as N_s^T N_s (least squares, exact on the closure)"
+             : std::string()) +
         (order.crosses || newton_crosses
              ? "; warning: no fixed pivot order stays away from zero over the step and the "
                "drivers' ranges (a pivot changes sign between two samples): near where it passes "
@@ -606,6 +657,40 @@ class Builder {
       a.push_back(row);
     }
     return a;
+  }
+  // The matrix `order` eliminates: N_s on its pivot rows, or N_s^T N_s over its rows (least
+  // squares), in the elimination's column order.
+  std::vector<std::vector<ex>> closure_matrix(const PivotOrder& order, const GiNaC::exmap& subs,
+                                              const std::string& prefix) {
+    const std::vector<std::vector<ex>> a = secondary_matrix(order, subs);
+    if (!order.least_squares) return a;
+    const size_t n = order.columns.size();
+    std::vector<std::vector<ex>> g(n, std::vector<ex>(n));
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i; j < n; ++j) {
+        ex sum = 0;
+        for (const std::vector<ex>& row : a) sum += row[i] * row[j];
+        g[i][j] = g[j][i] = named(prefix + "g" + std::to_string(i) + "_" + std::to_string(j), sum);
+      }
+    return g;
+  }
+  // The right-hand side `order` eliminates, from b on its rows: b itself, or N_s^T b.
+  std::vector<ex> closure_rhs(const PivotOrder& order, const std::vector<ex>& b,
+                              const GiNaC::exmap& subs, const std::string& prefix) {
+    if (!order.least_squares) return b;
+    std::vector<ex> rows;
+    for (size_t r = 0; r < b.size(); ++r)
+      rows.push_back(named(prefix + "rb" + std::to_string(r), b[r]));
+    std::vector<ex> out;
+    for (size_t k = 0; k < order.columns.size(); ++k) {
+      ex sum = 0;
+      for (size_t r = 0; r < order.rows.size(); ++r)
+        sum += network_[order.rows[r]][static_cast<size_t>(g_.secondary[order.columns[k]])].subs(
+                   subs) *
+               rows[r];
+      out.push_back(named(prefix + "nb" + std::to_string(k), sum));
+    }
+    return out;
   }
 
   // The closed-form solvers (spatial_circuit_solvers.hpp) tried on each circuit, first match wins:
@@ -704,7 +789,7 @@ class Builder {
       if (!circuit_closed[r / 6]) newton_rows.push_back(r);
     for (size_t i = 0; i < g_.secondary.size(); ++i)
       if (!closed_form[i]) newton_columns.push_back(i);
-    const PivotOrder newton = pivot_order(newton_rows, newton_columns);
+    const PivotOrder newton = least_squares(pivot_order(newton_rows, newton_columns), newton_rows);
     choose_pivots(newton_rows, newton_columns.size(), newton.crosses);
     // Program order: what depends on no secondary coordinate, the closed forms, what depends on
     // them only, then the Newton steps and what depends on the Newton coordinates.
@@ -764,11 +849,12 @@ class Builder {
         out_.definitions.emplace_back(copy, value.subs(subs));
         subs[sym] = copy;
       }
-      const Lu lu = factor(secondary_matrix(newton, subs), "n" + std::to_string(step) + "_");
+      const std::string prefix = "n" + std::to_string(step) + "_";
+      const Lu lu = factor(closure_matrix(newton, subs, prefix), prefix);
       std::vector<ex> rhs;
       for (const size_t r : newton.rows) rhs.push_back(-residual_[r].subs(subs));
       const std::vector<ex> dq =
-          unpermute(newton, solve(lu, rhs, "n" + std::to_string(step) + "_"));
+          unpermute(newton, solve(lu, closure_rhs(newton, rhs, subs, prefix), prefix));
       for (const size_t i : newton_columns)
         q[i] = named_always("q_" + cols_[static_cast<size_t>(g_.secondary[i])].name + suffix,
                             q[i] + dq[i]);
@@ -793,7 +879,7 @@ class Builder {
   void secondary_rates(bool accelerations) {
     const size_t ns = g_.secondary.size();
     if (!accelerations) {
-      lu_ = factor(secondary_matrix(pivot_, {}), "lu_");
+      lu_ = factor(closure_matrix(pivot_, {}, "lu_"), "lu_");
       for (size_t k = 0; k < lu_.pivots.size(); ++k)
         output(out_.kinematics, "s.closure.pivot[" + std::to_string(k) + "]", lu_.pivots[k]);
       std::vector<ex> rhs;
@@ -803,7 +889,8 @@ class Builder {
           b -= network_[r][static_cast<size_t>(c)] * cols_[static_cast<size_t>(c)].qd;
         rhs.push_back(b);
       }
-      const std::vector<ex> qd = unpermute(pivot_, solve(lu_, rhs, "vel_"));
+      const std::vector<ex> qd =
+          unpermute(pivot_, solve(lu_, closure_rhs(pivot_, rhs, {}, "vel_"), "vel_"));
       for (size_t i = 0; i < ns; ++i) {
         Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
         col.qd = named("qd_" + col.name, qd[i]);
@@ -820,7 +907,9 @@ class Builder {
         std::vector<ex> b;
         for (const size_t r : pivot_.rows)
           b.push_back(-network_[r][static_cast<size_t>(g_.primary[k])]);
-        const std::vector<ex> x = unpermute(pivot_, solve(lu_, b, "sen" + std::to_string(k) + "_"));
+        const std::string prefix = "sen" + std::to_string(k) + "_";
+        const std::vector<ex> x =
+            unpermute(pivot_, solve(lu_, closure_rhs(pivot_, b, {}, prefix), prefix));
         for (size_t i = 0; i < ns; ++i)
           sensitivity_[static_cast<size_t>(g_.secondary[i])][k] = x[i];
       }
@@ -838,7 +927,8 @@ class Builder {
       }
       rhs.push_back(named("acc_rhs" + std::to_string(r), b));
     }
-    const std::vector<ex> qdd = unpermute(pivot_, solve(lu_, rhs, "acc_"));
+    const std::vector<ex> qdd =
+        unpermute(pivot_, solve(lu_, closure_rhs(pivot_, rhs, {}, "acc_"), "acc_"));
     for (size_t i = 0; i < ns; ++i) {
       Column& col = cols_[static_cast<size_t>(g_.secondary[i])];
       col.qdd = named("qdd_" + col.name, qdd[i]);
@@ -1135,8 +1225,12 @@ class Builder {
       r.push_back(geometry::reciprocal(cols_[c].screw,
                                        Wrench{effort[j].f - tree[j].f, effort[j].m - tree[j].m}));
     }
+    if (pivot_.least_squares) {
+      output_reactions(least_squares_reactions(r, tree, effort, coef));
+      return;
+    }
     const std::vector<Wrench> x =
-        chord_reactions(solve_transposed(lu_, r, "rct_"), "rx", tree, effort, coef);
+        chord_reactions(on_rows(solve_transposed(lu_, r, "rct_")), "rx", tree, effort, coef);
     // The null space: per dropped row, y = e_row - (S^-T N_s[row]^T on the pivot rows).
     std::vector<std::vector<Wrench>> z;
     const std::vector<Wrench> none(nj);
@@ -1146,53 +1240,125 @@ class Builder {
       std::vector<ex> b;
       for (const size_t i : pivot_.columns)
         b.push_back(-network_[row][static_cast<size_t>(g_.secondary[i])]);
-      std::vector<ex> y = solve_transposed(lu_, b, n + "_");
-      y.push_back(1);
-      z.push_back(chord_reactions(y, n, none, none, coef, row));
+      std::vector<ex> y = on_rows(solve_transposed(lu_, b, n + "_"));
+      y[row] = 1;
+      z.push_back(chord_reactions(y, n, none, none, coef));
     }
     // Minimum norm: x - Z (Z^T Z)^-1 Z^T x over every joint's six components.
-    auto dot = [&](const std::vector<Wrench>& a, const std::vector<Wrench>& b) {
-      ex sum = 0;
-      for (size_t j = 0; j < nj; ++j)
-        sum += geometry::dot(a[j].f, b[j].f) + geometry::dot(a[j].m, b[j].m);
-      return sum;
-    };
     std::vector<std::vector<ex>> gram(z.size(), std::vector<ex>(z.size()));
     std::vector<ex> rhs;
     for (size_t a = 0; a < z.size(); ++a) {
       for (size_t b = 0; b < z.size(); ++b)
-        gram[a][b] =
-            b < a ? gram[b][a]
-                  : named("gram" + std::to_string(a) + "_" + std::to_string(b), dot(z[a], z[b]));
-      rhs.push_back(named("gram_rhs" + std::to_string(a), -dot(z[a], x)));
+        gram[a][b] = b < a ? gram[b][a]
+                           : named("gram" + std::to_string(a) + "_" + std::to_string(b),
+                                   reaction_dot(z[a], z[b]));
+      rhs.push_back(named("gram_rhs" + std::to_string(a), -reaction_dot(z[a], x)));
     }
     const std::vector<ex> alpha = solve(factor(gram, "gram_"), rhs, "gram_");
-    for (size_t j = 0; j < nj; ++j) {
+    std::vector<Wrench> w = x;
+    for (size_t j = 0; j < nj; ++j)
+      for (size_t a = 0; a < z.size(); ++a)
+        w[j] = w[j] + Wrench{alpha[a] * z[a][j].f, alpha[a] * z[a][j].m};
+    output_reactions(w);
+  }
+  void output_reactions(const std::vector<Wrench>& w) {
+    for (size_t j = 0; j < m_.joints.size(); ++j) {
       const SpatialJoint& joint = m_.joints[j];
       if (joint.is_virtual) continue;
-      Wrench w = x[j];
-      for (size_t a = 0; a < z.size(); ++a)
-        w = w + Wrench{alpha[a] * z[a][j].f, alpha[a] * z[a][j].m};
       const std::string o = "s.joints." + joint.name + ".";
-      output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, w.f));
-      output(out_.dynamics, o, {"mx", "my", "mz"}, named("rm_" + joint.name, w.m));
+      output(out_.dynamics, o, {"fx", "fy", "fz"}, named("rf_" + joint.name, w[j].f));
+      output(out_.dynamics, o, {"mx", "my", "mz"}, named("rm_" + joint.name, w[j].m));
     }
   }
+  // The norm the reactions minimise: every joint's six components.
+  static ex reaction_dot(const std::vector<Wrench>& a, const std::vector<Wrench>& b) {
+    ex sum = 0;
+    for (size_t j = 0; j < a.size(); ++j)
+      sum += geometry::dot(a[j].f, b[j].f) + geometry::dot(a[j].m, b[j].m);
+    return sum;
+  }
+  // A vector over the pivot rows (elimination order) spread over all of N's rows (zero elsewhere).
+  std::vector<ex> on_rows(const std::vector<ex>& y) const {
+    std::vector<ex> out(network_.size(), 0);
+    for (size_t k = 0; k < pivot_.rows.size(); ++k) out[pivot_.rows[k]] = y[k];
+    return out;
+  }
 
-  // Every joint's reaction (force, moment at its point) from the chords' wrenches y (per network
-  // row: the pivot rows' in elimination order, then `extra`'s), the tree's wrench and the
-  // efforts: W_j = tree_j + sum_c coef_jc y_c - effort_j.
+  // Least squares (no square set of rows, see least_squares()): the chord wrenches y, one per
+  // closure row, that satisfy N_s^T y = r with the smallest reactions. With Z the reactions of a
+  // unit chord wrench per row and x0 those of the tree and the efforts alone, the KKT conditions
+  // of min |x0 + Z y|^2 are y = -H^-1 (g + N_s l) with H = Z^T Z, g = Z^T x0 and
+  // (N_s^T H^-1 N_s) l = -r - N_s^T H^-1 g. H is positive definite (each chord joint carries its
+  // own wrench alone) and N_s^T H^-1 N_s wherever N_s has full column rank: both eliminations
+  // keep a fixed order.
+  std::vector<Wrench> least_squares_reactions(const std::vector<ex>& r,
+                                              const std::vector<Wrench>& tree,
+                                              const std::vector<Wrench>& effort,
+                                              const std::vector<std::vector<int>>& coef) {
+    const size_t nr = network_.size(), n = pivot_.columns.size();
+    const std::vector<Wrench> none(m_.joints.size());
+    const std::vector<Wrench> x0 =
+        chord_reactions(std::vector<ex>(nr, 0), "kx", tree, effort, coef);
+    std::vector<std::vector<Wrench>> z;
+    for (size_t row = 0; row < nr; ++row) {
+      std::vector<ex> unit(nr, 0);
+      unit[row] = 1;
+      z.push_back(chord_reactions(unit, "kz" + std::to_string(row), none, none, coef));
+    }
+    std::vector<std::vector<ex>> h(nr, std::vector<ex>(nr));
+    std::vector<ex> g;
+    for (size_t a = 0; a < nr; ++a) {
+      for (size_t b = a; b < nr; ++b)
+        h[a][b] = h[b][a] =
+            named("kh" + std::to_string(a) + "_" + std::to_string(b), reaction_dot(z[a], z[b]));
+      g.push_back(named("kg" + std::to_string(a), reaction_dot(z[a], x0)));
+    }
+    const Lu lh = factor(h, "kh_");
+    const auto column = [&](size_t k) {  // N_s's column of elimination unknown k
+      std::vector<ex> c;
+      for (size_t row = 0; row < nr; ++row)
+        c.push_back(network_[row][static_cast<size_t>(g_.secondary[pivot_.columns[k]])]);
+      return c;
+    };
+    std::vector<std::vector<ex>> u;  // H^-1 N_s, per elimination unknown
+    for (size_t k = 0; k < n; ++k)
+      u.push_back(solve(lh, column(k), "ku" + std::to_string(k) + "_"));
+    const std::vector<ex> hg = solve(lh, g, "khg_");
+    std::vector<std::vector<ex>> kkt(n, std::vector<ex>(n));
+    std::vector<ex> rhs;
+    for (size_t a = 0; a < n; ++a) {
+      const std::vector<ex> na = column(a);
+      for (size_t b = a; b < n; ++b) {
+        ex sum = 0;
+        for (size_t row = 0; row < nr; ++row) sum += na[row] * u[b][row];
+        kkt[a][b] = kkt[b][a] = named("kk" + std::to_string(a) + "_" + std::to_string(b), sum);
+      }
+      ex sum = -r[a];
+      for (size_t row = 0; row < nr; ++row) sum -= na[row] * hg[row];
+      rhs.push_back(named("kl_rhs" + std::to_string(a), sum));
+    }
+    const std::vector<ex> l = solve(factor(kkt, "kk_"), rhs, "kl_");
+    std::vector<ex> y;
+    for (size_t row = 0; row < nr; ++row) {
+      ex sum = -hg[row];
+      for (size_t a = 0; a < n; ++a) sum -= u[a][row] * l[a];
+      y.push_back(named("ky" + std::to_string(row), sum));
+    }
+    return chord_reactions(y, "rx", tree, effort, coef);
+  }
+
+  // Every joint's reaction (force, moment at its point) from the chords' wrenches y (one per
+  // network row), the tree's wrench and the efforts: W_j = tree_j + sum_c coef_jc y_c - effort_j.
   std::vector<Wrench> chord_reactions(const std::vector<ex>& y, const std::string& prefix,
                                       const std::vector<Wrench>& tree,
                                       const std::vector<Wrench>& effort,
-                                      const std::vector<std::vector<int>>& coef, size_t extra = 0) {
+                                      const std::vector<std::vector<int>>& coef) {
     std::vector<Wrench> chord(g_.chords.size());
     auto place = [&](size_t row, const ex& value) {
       Wrench& w = chord[row / 6];
       (row % 6 < 3 ? w.m[row % 6] : w.f[row % 6 - 3]) += value;  // N's rows: w then v
     };
-    for (size_t k = 0; k < pivot_.rows.size(); ++k) place(pivot_.rows[k], y[k]);
-    if (y.size() > pivot_.rows.size()) place(extra, y.back());
+    for (size_t row = 0; row < y.size(); ++row) place(row, y[row]);
     std::vector<Wrench> out;
     for (size_t j = 0; j < m_.joints.size(); ++j) {
       Wrench w{tree[j].f - effort[j].f, tree[j].m - effort[j].m};

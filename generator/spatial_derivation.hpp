@@ -48,6 +48,8 @@ struct SpatialDerivation {
   std::vector<double> closure_start;
   std::vector<double> closure_pivots;  // the pivots of the eliminated N_s there
   std::vector<size_t> closure_blocks;  // each pivot's independent block (circuits sharing none)
+  // The pivots are those of N_s^T N_s (no fixed set of rows holds: every row kept, least squares).
+  bool closure_least_squares = false;
   bool closed_chain = false;
   // Closed-form groups' reachability: each value must be >= 0, else the kernel returns
   // unreachable naming groups[group] (a law of cosines' 1 - cos^2, before its square root).

@@ -473,16 +473,22 @@ class SpatialEmitter {
                            std::string("s.closure.pivot[") + std::to_string(k) + "]";
       block_dets[b] *= d_.closure_pivots[k];
     }
+    // N_s^T N_s's determinant is N_s's squared (a square block's; least squares: the sum of its
+    // square minors' squares): the same 1e-9, squared.
+    const double singular_ratio = d_.closure_least_squares ? 1e-18 : 1e-9;
     std::string singular_checks;
     for (size_t b = 0; b < block_products.size(); ++b)
       singular_checks += "  if (!(abs(" + block_products[b] + ") > " +
-                         number_literal(1e-9 * std::abs(block_dets[b])) +
+                         number_literal(singular_ratio * std::abs(block_dets[b])) +
                          "))\n    return s.failed_group = " + closure_group +
                          ", Status::singular;\n";
     const std::string checks =
         "  // Unreachable: the Newton-Raphson steps did not close the circuits; singular: N_s is "
         "(nearly)\n  // singular there: the determinant of an independent block (circuits that "
-        "share coordinates)\n  // below 1e-9 of its value at the assembly.\n"
+        "share coordinates)\n  // below " +
+        std::string(d_.closure_least_squares
+                        ? "1e-18 of its value at the assembly (of N_s^T N_s: least squares).\n"
+                        : "1e-9 of its value at the assembly.\n") +
         "  using std::abs;\n"
         "  if (!(s.closure.residual <= T(1e8) * std::numeric_limits<T>::epsilon() *\n"
         "                                   std::numeric_limits<T>::epsilon()))\n"

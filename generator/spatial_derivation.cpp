@@ -101,7 +101,7 @@ class Builder {
     const ex x = e.expand();
     if (trivial(x)) return x;
     const symbol s(name);
-    out_.definitions.emplace_back(s, x);
+    sink_->emplace_back(s, x);
     return s;
   }
   V named(const std::string& name, const V& v) {
@@ -177,7 +177,7 @@ class Builder {
   }
   ex named_always(const std::string& name, const ex& e) {
     const symbol s(name);
-    out_.definitions.emplace_back(s, e);
+    sink_->emplace_back(s, e);
     return s;
   }
 
@@ -773,10 +773,12 @@ class Builder {
     return value;
   }
 
-  // Positions of the secondary coordinates: the closed forms first, then kNewtonSteps unrolled
+  // Positions of the secondary coordinates: the closed forms first, then kNewtonSteps
   // Newton-Raphson steps from the State's warm start on the rest (the circuits not closed in
-  // closed form), each on a renamed copy of the position definitions that depend on those
-  // coordinates; then the definitions themselves at the result.
+  // closed form): one step derived on its own list (out_.newton_step, on a renamed copy of the
+  // position definitions that depend on those coordinates), which the kernel repeats in a loop
+  // (one function for every entry point: the header grows with one step, not five per entry);
+  // then the definitions themselves at the result.
   static constexpr int kNewtonSteps = 5;
   void close_positions(size_t start) {
     circuit_rows();
@@ -832,37 +834,38 @@ class Builder {
     }
     emit_in_dependency_order(std::move(closed_forms));
     const size_t nn = newton_columns.size();
-    std::vector<ex> q(g_.secondary.size());
+    std::vector<ex> q(g_.secondary.size());  // the iterate, s.closure.next[k]
     for (size_t k = 0; k < nn; ++k) {
-      q[newton_columns[k]] = symbol("s.closure.q[" + std::to_string(k) + "]");
+      q[newton_columns[k]] = symbol("s.closure.next[" + std::to_string(k) + "]");
       out_.closure_start.push_back(
           assembly_.q[static_cast<Eigen::Index>(g_.secondary[newton_columns[k]])]);
       out_.closure_columns.push_back(g_.secondary[newton_columns[k]]);
     }
-    for (int step = 0; step < kNewtonSteps && nn > 0; ++step) {
-      const std::string suffix = "_n" + std::to_string(step);
+    if (nn > 0) {
+      sink_ = &out_.newton_step;
       GiNaC::exmap subs;
       for (const size_t i : newton_columns)
         subs[cols_[static_cast<size_t>(g_.secondary[i])].q] = q[i];
       for (const auto& [sym, value] : dependent) {
-        const symbol copy(sym.get_name() + suffix);
-        out_.definitions.emplace_back(copy, value.subs(subs));
+        const symbol copy(sym.get_name() + "_n");
+        out_.newton_step.emplace_back(copy, value.subs(subs));
         subs[sym] = copy;
       }
-      const std::string prefix = "n" + std::to_string(step) + "_";
-      const Lu lu = factor(closure_matrix(newton, subs, prefix), prefix);
+      const Lu lu = factor(closure_matrix(newton, subs, "n_"), "n_");
       std::vector<ex> rhs;
       for (const size_t r : newton.rows) rhs.push_back(-residual_[r].subs(subs));
       const std::vector<ex> dq =
-          unpermute(newton, solve(lu, closure_rhs(newton, rhs, subs, prefix), prefix));
+          unpermute(newton, solve(lu, closure_rhs(newton, rhs, subs, "n_"), "n_"));
       for (const size_t i : newton_columns)
-        q[i] = named_always("q_" + cols_[static_cast<size_t>(g_.secondary[i])].name + suffix,
-                            q[i] + dq[i]);
+        out_.newton_update.push_back(named_always(
+            "q_" + cols_[static_cast<size_t>(g_.secondary[i])].name + "_n", q[i] + dq[i]));
+      sink_ = &out_.definitions;
+      out_.newton_steps = kNewtonSteps;
     }
+    // The positions read the loop's result.
     for (size_t k = 0; k < nn; ++k) {
       const ex& coordinate = cols_[static_cast<size_t>(g_.secondary[newton_columns[k]])].q;
       out_.definitions.emplace_back(GiNaC::ex_to<symbol>(coordinate), q[newton_columns[k]]);
-      output(out_.kinematics, "s.closure.next[" + std::to_string(k) + "]", coordinate);
     }
     for (const auto& definition : dependent) out_.definitions.push_back(definition);
     closure_residual();
@@ -1604,6 +1607,8 @@ class Builder {
   std::vector<SpatialPrimaryInput> inputs_;
   std::vector<int> input_of_column_;  // per graph column: its index in inputs_, or -1
   SpatialDerivation out_;
+  // Where named() puts its definitions: the program's, or the Newton step's while it is derived.
+  std::vector<std::pair<symbol, ex>>* sink_ = &out_.definitions;
   std::vector<Column> cols_;
   std::vector<Pose> D_, frame_;  // per body: displacement from the reference pose; its frame
   std::vector<Twist> V_, A_;     // per body: ground-origin twist and its rate

@@ -11,7 +11,8 @@
 //  - inverse dynamics by a recursive backward pass: each body's rate of momentum plus what its
 //    children draw, transmitted through its tree joint; a driven coordinate's effort is the
 //    reciprocal product of its screw with that wrench, the rest is the joint's reaction.
-//  - closed chains: secondary coordinates by unrolled Newton steps on the closure, Davies' rates
+//  - closed chains: secondary coordinates in closed form or by Newton steps on the closure (one
+//    step derived, repeated by the kernel in a loop shared by its entry points), Davies' rates
 //    through a fixed-order elimination of N_s, efforts by virtual power, and the reactions from
 //    the chords' wrenches through N_s transposed (the same elimination), projected off the
 //    redundant rows' null space to the numeric solver's minimum-norm ones.
@@ -46,6 +47,13 @@ struct SpatialDerivation {
   // (default parameters, t0), the State's default warm start. Empty for a tree and for a closed
   // chain solved in closed form throughout.
   std::vector<double> closure_start;
+  // The Newton fallback's one step: definitions reading the iterate s.closure.next[] and the
+  // iterate's new values; the kernel runs it newton_steps times from the warm start
+  // s.closure.q[] (one function shared by every entry point), and the main definitions read the
+  // result as s.closure.next[].
+  std::vector<std::pair<GiNaC::symbol, GiNaC::ex>> newton_step;
+  std::vector<GiNaC::ex> newton_update;
+  int newton_steps = 0;
   std::vector<double> closure_pivots;  // the pivots of the eliminated N_s there
   std::vector<size_t> closure_blocks;  // each pivot's independent block (circuits sharing none)
   // The pivots are those of N_s^T N_s (no fixed set of rows holds: every row kept, least squares).

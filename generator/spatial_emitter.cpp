@@ -126,6 +126,7 @@ class SpatialEmitter {
   SpatialEmitter(const SpatialModel& model, const SpatialDerivation& d)
       : m_(model), d_(d), inputs_(spatial_primary_inputs(model, build_spatial_graph(model))) {
     for (const auto& [symbol, value] : d.definitions) definition_[symbol] = value;
+    for (const auto& [symbol, value] : d.newton_step) definition_[symbol] = value;
   }
 
   // The positions-only entry in two parts: the definitions that read the parameters alone,
@@ -391,10 +392,56 @@ class SpatialEmitter {
     v["evaluate_using"] = using_std(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
     v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, definition_, stage_check);
+    newton(v);
     closure(v);
     start(v);
     columns(v);
     return v;
+  }
+
+  // The Newton fallback (closed chains with circuits not in closed form): one function that every
+  // entry point calls first, running the derived step newton_steps times from the warm start
+  // s.closure.q[] into s.closure.next[], which the entries' positions then read. What the step
+  // reads from the program (the known bodies' poses) is computed once before the loop.
+  void newton(std::map<std::string, std::string>& v) const {
+    v["newton_function"] = "";
+    if (d_.newton_update.empty()) return;
+    std::vector<SpatialOutput> updates;
+    for (size_t k = 0; k < d_.newton_update.size(); ++k)
+      updates.push_back({"s.closure.next[" + std::to_string(k) + "]", d_.newton_update[k]});
+    const std::set<ex, GiNaC::ex_is_less> needed = needed_symbols(updates);
+    CodeBlock before("_nb"), step("_ns");
+    for (const auto& [symbol, value] : d_.definitions)
+      if (needed.count(symbol)) before.define(symbol.get_name(), value);
+    for (const auto& [symbol, value] : d_.newton_step)
+      if (needed.count(symbol)) step.define(symbol.get_name(), value);
+    for (const SpatialOutput& o : updates) step.assign(o.target, o.value);
+    std::set<std::string> functions = before.math_functions();
+    for (const std::string& f : step.math_functions()) functions.insert(f);
+    std::string using_lines;
+    for (const std::string& f : functions)
+      using_lines +=
+          "  using " +
+          std::string(f == "sin" || f == "cos" || f == "branch_sign" ? "detail::" : "std::") + f +
+          ";\n";
+    const std::string n = std::to_string(d_.newton_update.size());
+    v["newton_function"] =
+        "namespace detail {\n"
+        "// The circuits left to Newton-Raphson (the plan above): " +
+        std::to_string(d_.newton_steps) +
+        " steps from the warm start s.closure.q[] into\n// s.closure.next[], shared by every "
+        "entry point; each entry then checks the closure it reached.\n"
+        "template <class T>\nvoid close_newton([[maybe_unused]] const Params<T>& p, "
+        "[[maybe_unused]] const Inputs<T>& in,\n                  State<T>& s) noexcept {\n" +
+        using_lines + "  // Total ops: " + std::to_string(before.op_count()) + " once, then " +
+        std::to_string(step.op_count()) + " per step\n" + before.render("  ") +
+        "  for (int i = 0; i < " + n + "; ++i) s.closure.next[i] = s.closure.q[i];\n" +
+        "  for (int step = 0; step < " + std::to_string(d_.newton_steps) + "; ++step) {\n" +
+        step.render("    ") + "  }\n}\n}  // namespace detail\n\n";
+    const std::string call = "  detail::close_newton(p, in, s);\n";
+    for (const char* body : {"kinematics_body", "velocities_body", "evaluate_body", "control_body",
+                             "positions_body", "ne_body"})
+      v[body] = call + v[body];
   }
 
  private:

@@ -151,7 +151,7 @@ int run_spatial_check(const Args& args) {
       out += "generated kernel: closed chain, " + std::to_string(secondary) +
              " secondary coordinates (" + std::to_string(secondary - newton) + " in closed form, " +
              std::to_string(newton) +
-             " by unrolled Newton-Raphson), Davies' rates by a fixed-pivot elimination, efforts "
+             " by Newton-Raphson), Davies' rates by a fixed-pivot elimination, efforts "
              "by virtual power, reactions through N_s transposed" +
              compiled + "\n";
     // The closed-form groups and the closure (docs/spatial_kernels.md).

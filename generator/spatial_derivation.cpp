@@ -525,12 +525,15 @@ class Builder {
     }
     return order;
   }
-  // Where no fixed row set holds over the samples (a pivot changes sign on a path) and rows are
-  // left over (a redundant, over-constrained block), the order keeps every nonzero row and its
-  // solves take the normal equations N_s^T N_s x = N_s^T b (issue 27: Bennett's three kept rows
-  // pass through a singular minor at a regular pose, while N_s keeps its full column rank).
-  // N_s^T N_s is symmetric positive definite wherever N_s has full column rank, so a fixed order
-  // never meets a zero pivot, and the closure's systems are consistent: the solution is exact.
+  // Where rows are left over that are not structural zeros (an over-constrained block: Bennett's
+  // loop, a planar loop in a plane no axis is normal to), the order keeps every nonzero row and
+  // its solves take the normal equations N_s^T N_s x = N_s^T b. Which rows a fixed choice may
+  // keep changes along the motion and with the parameters (issue 27: Bennett's three kept rows
+  // pass through a singular minor at a regular pose, and for some Bennett linkages no three rows
+  // hold over a turn), while N_s keeps its full column rank. N_s^T N_s is symmetric positive
+  // definite wherever N_s has full column rank, so a fixed order never meets a zero pivot, and
+  // the closure's systems are consistent: the solution is exact. A planar loop whose plane an
+  // axis is normal to keeps its three in-plane rows (the others are exact zeros) and its LU.
   PivotOrder least_squares(PivotOrder order, const std::vector<size_t>& rows) const {
     std::vector<size_t> nonzero;
     for (const size_t r : rows) {
@@ -539,7 +542,7 @@ class Builder {
         for (const size_t i : order.columns) any = any || m[r][i] != 0;
       if (any) nonzero.push_back(r);
     }
-    if (!order.crosses || nonzero.size() <= order.rows.size()) return order;
+    if (nonzero.size() <= order.rows.size()) return order;
     order.least_squares = true;
     order.crosses = false;
     order.rows = nonzero;
@@ -604,9 +607,9 @@ class Builder {
         " (smallest pivot " + ratio + " of its column)" +
         (dropped.empty() ? "" : "; redundant rows dropped: " + dropped) +
         (order.least_squares
-             ? "; no fixed set of rows stays regular over the step and the drivers' ranges: all " +
-                   std::to_string(order.rows.size()) +
-                   " nonzero rows kept, solved as N_s^T N_s (least squares, exact on the closure)"
+             ? "; redundant rows: all " + std::to_string(order.rows.size()) +
+                   " nonzero rows kept, solved as N_s^T N_s (least squares, exact on the closure: "
+                   "no fixed choice of rows holds at every pose and parameter set)"
              : std::string()) +
         (order.crosses || newton_crosses
              ? "; warning: no fixed pivot order stays away from zero over the step and the "

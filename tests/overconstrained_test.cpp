@@ -1,16 +1,15 @@
-// Issue 27 item 1: an over-constrained loop's generated kernel holds over its driver's whole range.
-// Bennett's 4R linkage has 6 closure rows for 3 secondary coordinates; the three its kernel keeps
-// were chosen at generation from the default motion alone, and at a larger crank amplitude (`--set
-// A=...`, through theta1 = 0, a regular pose) they lost rank: the kernel refused ("unreachable in
-// group closure") where the numeric solver ran. Now the rows are chosen over the driver's `range:`
-// too, and a pivot that changes sign between two samples is avoided where another holds. Checked
-// through the command line as a user runs it: on the shipped model the generated sweep equals the
-// numeric one column by column, and both satisfy Bennett's closure equation
+// Issue 27 item 1: an over-constrained loop's generated kernel holds over its driver's whole range
+// and at other parameters. Bennett's 4R linkage has 6 closure rows for 3 secondary coordinates;
+// the three its kernel kept were chosen at generation from the default motion alone, and at a
+// larger crank amplitude (`--set A=...`, through theta1 = 0, a regular pose) they lost rank: the
+// kernel refused ("unreachable in group closure") where the numeric solver ran; for some Bennett
+// linkages no three rows hold over a turn. Now the kernel keeps all six and solves N_s^T N_s
+// (least squares, exact on the closure; the reactions' minimum norm from its KKT conditions).
+// Checked through the command line as a user runs it: the generated sweep equals the numeric one
+// column by column, and both satisfy Bennett's closure equation
 //   tan(theta1 / 2) tan(theta2 / 2) = sin((beta + alpha) / 2) / sin((beta - alpha) / 2),
-// an expectation that shares nothing with either solver. Random Bennett linkages over a whole turn
-// (each generated on demand with its own defaults) give the numeric solver's columns; where no
-// fixed row set holds over the turn, the kernel keeps every row and solves N_s^T N_s (least
-// squares, with the reactions' minimum norm from their KKT conditions), which `check` says.
+// an expectation that shares nothing with either solver: on the shipped model at its own and at
+// other geometries (`--set`), and on random Bennett linkages generated on demand.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -67,10 +66,13 @@ double closure_violation(const report::CsvTable& t, const Bennett& g) {
   return worst;
 }
 
-// Sweeps `model` at crank amplitude A with both solvers; both must run, agree column by column
-// and close Bennett's loop; the crank must have passed through theta1 = 0 (mod 2 pi).
+// Sweeps `model` with `g`'s geometry (through --set) at crank amplitude A with both solvers; both
+// must run, agree column by column and close Bennett's loop; the crank must have passed through
+// theta1 = 0 (mod 2 pi).
 void sweep_over_range(const fs::path& dir, const fs::path& model, const Bennett& g, double A) {
-  const std::string common = "sweep " + model.string() + " --set A=" + number(A) +
+  const std::string common = "sweep " + model.string() + " --set a=" + number(g.a) +
+                             " --set alpha=" + number(g.alpha) + " --set beta=" + number(g.beta) +
+                             " --set th1_0=" + number(g.th1_0) + " --set A=" + number(A) +
                              " --samples 721 --cache " + (dir / "cache").string();
   std::string err;
   ASSERT_EQ(
@@ -109,6 +111,24 @@ TEST(OverConstrained, BennettThroughTheCrankAtZero) {
   sweep_over_range(dir, MECHGEN_SOURCE_DIR "/models/bennett.yaml", Bennett{}, 1.5);
   if (!test::kSanitizerBuild)
     sweep_over_range(dir, MECHGEN_SOURCE_DIR "/models/bennett.yaml", Bennett{}, 3.0);
+}
+
+// The shipped kernel at other geometries (`--set`, no regeneration): its rows, kept in least
+// squares, hold wherever N_s keeps its rank (a fixed choice of three rows made at the default
+// geometry need not hold at another).
+TEST(OverConstrained, ShippedBennettAtOtherGeometriesEqualsTheNumericSolver) {
+  const fs::path dir = test::fresh_dir("overconstrained", "geometries");
+  const std::vector<Bennett> geometries{
+      {0.22, 1.2, 5 * M_PI / 6, 1.2},
+      {0.5, 0.7, 2.0, 1.2},
+      {0.22, 2.5, 0.6, 0.3},
+      {0.11030298303095883, 2.1888213812490669, 1.1285274689482852, 2.0237097604243024}};
+  for (const Bennett& g : geometries) {
+    SCOPED_TRACE("a " + number(g.a) + ", alpha " + number(g.alpha) + ", beta " + number(g.beta) +
+                 ", th1_0 " + number(g.th1_0));
+    sweep_over_range(dir, MECHGEN_SOURCE_DIR "/models/bennett.yaml", g, 3.0);
+    if (test::kSanitizerBuild) break;
+  }
 }
 
 // A linkage generated from its own description and swept a whole turn each way: the generated

@@ -103,11 +103,19 @@ class BuildFolder {
  public:
   BuildFolder(const fs::path& cache, const std::string& name) {
     std::string pattern = (cache / (".build-" + name + "-XXXXXX")).string();
-    if (!::mkdtemp(pattern.data()))
+    int error = 0;
+    {
+      const report::SignalsHeld held;  // until the folder is registered
+      if (::mkdtemp(pattern.data())) {
+        path_ = pattern;
+        slot_ = report::register_temporary(path_.string(), true);
+      } else {
+        error = errno;
+      }
+    }
+    if (path_.empty())
       throw std::runtime_error("cannot create a build folder in the kernel cache " +
-                               cache.string() + ": " + std::strerror(errno));
-    path_ = pattern;
-    slot_ = report::register_temporary(path_.string(), true);
+                               cache.string() + ": " + std::strerror(error));
     lock_ = ::open((path_ / "owner.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
     if (lock_ >= 0) report::lock_exclusively(lock_);
   }

@@ -126,10 +126,17 @@ AtomicOutput::AtomicOutput(const std::string& path, std::uint64_t expected_bytes
   std::string pattern =
       (fs::path(folder_of(target_)) / ("." + fs::path(target_).filename().string() + ".XXXXXX"))
           .string();
-  lock_fd_ = ::mkostemp(pattern.data(), O_CLOEXEC);
-  if (lock_fd_ < 0) cannot_write(path, std::strerror(errno));
-  temporary_ = pattern;
-  slot_ = register_temporary(fs::absolute(temporary_).string(), false);
+  int error = 0;
+  {
+    const SignalsHeld held;  // until the temporary is registered
+    lock_fd_ = ::mkostemp(pattern.data(), O_CLOEXEC);
+    error = errno;
+    if (lock_fd_ >= 0) {
+      temporary_ = pattern;
+      slot_ = register_temporary(fs::absolute(temporary_).string(), false);
+    }
+  }
+  if (lock_fd_ < 0) cannot_write(path, std::strerror(error));
   lock_exclusively(lock_fd_);  // a fresh file: nobody else holds it
   // mkstemp creates the file 0600: a replaced file keeps its mode, a new one gets what a plain open
   // would (0666 less the umask).

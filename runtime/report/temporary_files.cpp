@@ -108,6 +108,18 @@ int register_process_group(int group) {
   return take_slot(kGroup, "", group);
 }
 
+SignalsHeld::SignalsHeld() {
+  install_handlers();
+  sigset_t held;
+  sigemptyset(&held);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, signal);
+  ::pthread_sigmask(SIG_BLOCK, &held, &previous_);
+}
+
+SignalsHeld::~SignalsHeld() {
+  ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+}
+
 void unregister_temporary(int slot) {
   if (slot >= 0 && slot < kSlots) g_slots[slot].state.store(kFree);
 }

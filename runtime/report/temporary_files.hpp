@@ -12,6 +12,8 @@
 //   between creating a temporary and locking it.
 #pragma once
 
+#include <signal.h>
+
 #include <chrono>
 #include <string>
 
@@ -25,6 +27,21 @@ int register_temporary(const std::string& path, bool folder);
 // A process group killed (SIGKILL) by the handler before the temporaries are removed.
 int register_process_group(int group);
 void unregister_temporary(int slot);
+
+// Holds SIGINT, SIGTERM and SIGHUP in this thread, the handler installed first, while a temporary
+// is created and registered (scope it around both): a signal between the two would leave the
+// temporary behind (seen under AddressSanitizer, whose allocations widen that moment). A held
+// signal arrives when the guard ends, the temporary then registered.
+class SignalsHeld {
+ public:
+  SignalsHeld();
+  ~SignalsHeld();
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t previous_;
+};
 
 // Locks `fd` (flock LOCK_EX, without waiting): the open file then marks its temporary as live.
 // False when another process holds the lock.

@@ -18,4 +18,6 @@ expect() {
 expect "$data/mjcf_nothing_moves.xml" "nothing moves: every link of 'empty' is its root or fixed to it"
 # 2. The same in URDF: two links welded by a fixed joint.
 expect "$data/urdf_nothing_moves.urdf" "nothing moves: every link of 'welded' is its root or fixed to it"
+# 3. A URDF inertia no rigid body has (the fuzzer's flipped bit): refused at its link.
+expect "$data/urdf_inertia_not_rigid.urdf" "link 'arm': its inertia's principal moments 1e-07, 1e-07, 3e-07 kg m^2 are no rigid body's"
 echo "import fuzz findings: ok"

@@ -3,6 +3,8 @@
 #include <urdf_parser/urdf_parser.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <fstream>
 #include <map>
@@ -152,6 +154,19 @@ Tree read_urdf(const std::string& urdf_path, const std::string& closures_path) {
       link.inertia = o.linear() * I * o.linear().transpose();
       if (!(link.mass >= 0))
         throw ImportError(urdf_path, link.line, "link '" + l->name + "': negative mass");
+      // A tensor no rigid body has (a negative principal moment, or I1 + I2 < I3) is refused
+      // here, at the source's link, as the description's reader would refuse it.
+      const Eigen::Vector3d moments =
+          Eigen::SelfAdjointEigenSolver<Mat3>(I, Eigen::EigenvaluesOnly).eigenvalues();
+      const double scale = I.cwiseAbs().maxCoeff();
+      if (!(moments[0] >= -1e-12 * scale) ||
+          !(moments[0] + moments[1] >= moments[2] * (1 - 1e-9))) {
+        std::ostringstream text;
+        text << "link '" << l->name << "': its inertia's principal moments " << moments[0] << ", "
+             << moments[1] << ", " << moments[2]
+             << " kg m^2 are no rigid body's (each >= 0, I1 + I2 >= I3)";
+        throw ImportError(urdf_path, link.line, text.str());
+      }
     }
     link_index[l->name] = static_cast<int>(tree.links.size());
     tree.links.push_back(link);

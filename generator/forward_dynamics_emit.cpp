@@ -48,9 +48,58 @@ std::string mass_bias_body(const std::vector<std::string>& q) {
   return join(body);
 }
 
+// Above this many coordinates mass_solve() is a loop, not straight lines (bioloid's 30: 130 kB
+// of code for one solve per forward-dynamics step, where the mass matrix's n + 1 evaluations
+// dominate); both do the same operations in the same order.
+constexpr size_t kUnrolledLdltAtMost = 12;
+
+// mass_solve()'s body for a large M: ldlt_body's operations, in loops over arrays.
+std::string ldlt_loop_body(size_t n) {
+  const std::string N = std::to_string(n);
+  return join({
+      "using std::abs;",
+      "using std::isfinite;",
+      "constexpr int n = " + N + ";",
+      "// The largest diagonal entry sets the scale of the pivots' tolerance.",
+      "T scale = abs(M[0]);",
+      "for (int j = 1; j < n; ++j) scale = abs(M[j * n + j]) > scale ? abs(M[j * n + j]) : scale;",
+      "const T relative = T(64) * std::numeric_limits<T>::epsilon();",
+      "const T tolerance = (relative > T(1e-12) ? relative : T(1e-12)) * scale;",
+      "// d: pivots; l: L below the diagonal; e = l d.",
+      "T d[n], l[n * n], e[n * n];",
+      "for (int j = 0; j < n; ++j) {",
+      "  T pivot = M[j * n + j];",
+      "  for (int k = 0; k < j; ++k) pivot = pivot - e[j * n + k] * l[j * n + k];",
+      "  if (!(pivot > tolerance)) return Status::singular;",
+      "  d[j] = pivot;",
+      "  for (int i = j + 1; i < n; ++i) {",
+      "    T below = M[i * n + j];",
+      "    for (int k = 0; k < j; ++k) below = below - e[i * n + k] * l[j * n + k];",
+      "    e[i * n + j] = below;",
+      "    l[i * n + j] = below / pivot;",
+      "  }",
+      "}",
+      "// L z = effort - h, then D y = z and L^T x = y.",
+      "T z[n], x[n];",
+      "for (int i = 0; i < n; ++i) {",
+      "  z[i] = effort[i] - h[i];",
+      "  for (int k = 0; k < i; ++k) z[i] = z[i] - l[i * n + k] * z[k];",
+      "}",
+      "bool finite = true;",
+      "for (int r = n - 1; r >= 0; --r) {",
+      "  x[r] = z[r] / d[r];",
+      "  for (int k = r + 1; k < n; ++k) x[r] = x[r] - l[k * n + r] * x[k];",
+      "  finite = finite && isfinite(x[r]);",
+      "}",
+      "if (!finite) return Status::non_finite;",
+      "for (int i = 0; i < n; ++i) qdd[i] = x[i];",
+  });
+}
+
 // mass_solve()'s body: LDL^T of M in fixed order (d_j pivots, l_i_j below the diagonal, e_i_j =
 // l_i_j d_j), a pivot not above the tolerance is singular; then L z = r, D y = z, L^T x = y.
 std::string ldlt_body(size_t n) {
+  if (n > kUnrolledLdltAtMost) return ldlt_loop_body(n);
   auto l = [](size_t i, size_t j) { return "l_" + std::to_string(i) + "_" + std::to_string(j); };
   auto e = [](size_t i, size_t j) { return "e_" + std::to_string(i) + "_" + std::to_string(j); };
   auto d = [](size_t j) { return "d_" + std::to_string(j); };

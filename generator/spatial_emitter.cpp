@@ -20,6 +20,7 @@
 #include "output_checks.hpp"
 #include "spatial/spatial_sweep.hpp"
 #include "spatial_primary_inputs.hpp"
+#include "spatial_shared_stages.hpp"
 #include "template_renderer.hpp"
 
 namespace mechgen::gen {
@@ -27,6 +28,10 @@ namespace mechgen::gen {
 using GiNaC::ex;
 
 namespace {
+
+// Above this many bytes of entry-point code written as straight lines, the entries share their
+// stages (spatial_shared_stages.hpp; README "Performance": the cross-over).
+constexpr size_t kSharedStagesAbove = 600 * 1024;
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -209,6 +214,15 @@ class SpatialEmitter {
     return needed;
   }
 
+  // A structurally zero Jacobian entry is zero from the State's construction: never written.
+  static std::vector<SpatialOutput> written(const std::vector<SpatialOutput>& outputs) {
+    std::vector<SpatialOutput> kept;
+    for (const SpatialOutput& o : outputs)
+      if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
+        kept.push_back(o);
+    return kept;
+  }
+
   // Only the definitions the outputs read, in program order, then the outputs.
   // A closed-form group's reach value is checked right after its definition (before any square
   // root of it) in the entry points that have a State.
@@ -224,10 +238,7 @@ class SpatialEmitter {
               symbol, ">=",
               "return detail::failed(s, " + std::to_string(g.group) + ", Status::unreachable);");
     }
-    // A structurally zero Jacobian entry is zero from the State's construction: never written.
-    for (const SpatialOutput& o : outputs)
-      if (!(o.value.is_zero() && o.target.find("_jacobians.") != std::string::npos))
-        code.assign(o.target, o.value);
+    for (const SpatialOutput& o : written(outputs)) code.assign(o.target, o.value);
     const std::vector<std::string> unused = code.unused_definitions();
     if (!unused.empty()) throw std::logic_error("generated code would define unused " + unused[0]);
     return code;
@@ -392,11 +403,118 @@ class SpatialEmitter {
     v["evaluate_using"] = using_std(full);
     v["evaluate_ops"] = std::to_string(full.op_count());
     v["evaluate_body"] = full.render("  ") + spatial_output_checks(all, definition_, stage_check);
+    v["shared_stages"] = "";
+    size_t straight = 0;
+    for (const char* body :
+         {"kinematics_body", "velocities_body", "evaluate_body", "control_body", "ne_body"})
+      straight += v[body].size();
+    if (straight > kSharedStagesAbove) {
+      // What each entry checks stays its own; the code before the checks is shared.
+      const std::map<std::string, std::vector<SpatialOutput>> checked{{"kinematics", kinematic},
+                                                                      {"velocities", velocity},
+                                                                      {"evaluate", all},
+                                                                      {"control", control}};
+      shared_stages(velocity, kinematic, control, system, v);
+      for (const auto& [entry, outputs] : checked)
+        v[entry + "_body"] += spatial_output_checks(outputs, definition_, stage_check);
+      v["ne_body"] += spatial_output_checks(system, definition_, stage_check, OutputStage::forces);
+    }
     newton(v);
     closure(v);
     start(v);
     columns(v);
     return v;
+  }
+
+  // A large kernel's entry points as calls of shared stages (spatial_shared_stages.hpp): motion
+  // (positions and first rates: velocities()), accelerations, jacobians (kinematics()), efforts
+  // (control()), then each entry's own tail (evaluate()'s reactions, ne_fill()'s system). Replaces
+  // the entries' bodies, using lines and op counts.
+  void shared_stages(const std::vector<SpatialOutput>& velocity,
+                     const std::vector<SpatialOutput>& kinematic,
+                     const std::vector<SpatialOutput>& control,
+                     const std::vector<SpatialOutput>& system,
+                     std::map<std::string, std::string>& v) const {
+    std::set<std::string> in_velocity;
+    for (const SpatialOutput& o : velocity) in_velocity.insert(o.target);
+    std::vector<SpatialOutput> accelerations;
+    for (const SpatialOutput& o : d_.kinematics)
+      if (!in_velocity.count(o.target)) accelerations.push_back(o);
+    std::set<std::string> staged;
+    const auto beyond = [&](const std::vector<SpatialOutput>& outputs) {
+      std::vector<SpatialOutput> rest;
+      for (const SpatialOutput& o : written(outputs))
+        if (!staged.count(o.target)) rest.push_back(o);
+      return rest;
+    };
+    for (const std::vector<SpatialOutput>* list : {&velocity, &kinematic})
+      for (const SpatialOutput& o : *list) staged.insert(o.target);
+    const std::vector<SpatialOutput> system_rest = beyond(system), efforts = beyond(control);
+    for (const SpatialOutput& o : efforts) staged.insert(o.target);
+    const std::vector<SpatialOutput> reactions = beyond(d_.dynamics);
+    // The bodies' rates of momentum: what the efforts and the Newton-Euler system both read.
+    std::vector<ex> momenta;
+    {
+      const std::set<ex, GiNaC::ex_is_less> motion_read = needed_symbols(velocity),
+                                            kinematic_read = needed_symbols(kinematic),
+                                            system_read = needed_symbols(system_rest);
+      for (const ex& x : needed_symbols(efforts))
+        if (system_read.count(x) && !kinematic_read.count(x) && !motion_read.count(x) &&
+            definition_.count(x))
+          momenta.push_back(x);
+    }
+    enum : size_t { at_motion, at_accelerations, at_jacobians, at_momenta, at_efforts };
+    const std::vector<SharedStage> stages{
+        {"motion",
+         "Every body's pose and twist, the points, the coordinates and their rates (velocities()).",
+         written(velocity),
+         {},
+         {}},
+        {"accelerations",
+         "The twist rates, points' and coordinates' accelerations.",
+         written(accelerations),
+         {},
+         {at_motion}},
+        {"jacobians",
+         "The screw Jacobians of the bodies and points.",
+         written(d_.jacobians),
+         {},
+         {at_motion, at_accelerations}},
+        {"momenta",
+         "Each body's rate of momentum (the efforts' and the Newton-Euler system's).",
+         {},
+         momenta,
+         {at_motion, at_accelerations}},
+        {"efforts",
+         "The driver efforts (inverse dynamics).",
+         efforts,
+         {},
+         {at_motion, at_accelerations, at_jacobians, at_momenta}}};
+    const std::vector<size_t> all_stages{at_motion, at_accelerations, at_jacobians, at_momenta,
+                                         at_efforts};
+    const std::vector<StagedEntry> entries{
+        {"velocities", {at_motion}, {}},
+        {"kinematics", {at_motion, at_accelerations, at_jacobians}, {}},
+        {"evaluate", all_stages, reactions},
+        {"control", all_stages, {}},
+        {"ne", {at_motion, at_accelerations, at_momenta}, system_rest}};
+    const StagedProgramView program{
+        d_.definitions, [this](const std::vector<SpatialOutput>& o) { return needed_symbols(o); },
+        [this](CodeBlock& code, const GiNaC::symbol& symbol) {
+          for (const SpatialDerivation::Guard& g : d_.guards)
+            if (g.value == symbol)
+              code.guard(symbol, ">=",
+                         "return detail::failed(s, " + std::to_string(g.group) +
+                             ", Status::unreachable);");
+        },
+        [](const CodeBlock& code) { return using_std(code); }};
+    const StagedKernel kernel = emit_shared_stages(program, stages, entries);
+    v["shared_stages"] = kernel.functions;
+    for (const StagedEntry& e : entries) {
+      v[e.name + "_body"] = kernel.body.at(e.name);
+      v[e.name + "_using"] = kernel.using_lines.at(e.name);
+      v[e.name + "_ops"] = std::to_string(kernel.ops.at(e.name)) + " (with the stages it calls)";
+    }
   }
 
   // The Newton fallback (closed chains with circuits not in closed form): one function that every

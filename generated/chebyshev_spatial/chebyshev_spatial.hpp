@@ -1424,7 +1424,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
 }
 
 // A controller's cycle: the named points' positions, the screw Jacobians and the driver efforts (inverse
-// dynamics torques and forces); body outputs, joint coordinates and reactions are left untouched.
+// dynamics torques and forces); reactions are left untouched, and so are body outputs and joint
+// coordinates unless the kernel shares its stages (a large one: detail::motion fills them).
 template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using std::abs;
@@ -2179,7 +2180,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x8957c7670da084d8ULL;
+inline constexpr unsigned long long fingerprint = 0x2f47c4a3ad1330d7ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

@@ -997,7 +997,8 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
 }
 
 // A controller's cycle: the named points' positions, the screw Jacobians and the driver efforts (inverse
-// dynamics torques and forces); body outputs, joint coordinates and reactions are left untouched.
+// dynamics torques and forces); reactions are left untouched, and so are body outputs and joint
+// coordinates unless the kernel shares its stages (a large one: detail::motion fills them).
 template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
   using detail::cos;
@@ -1463,7 +1464,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xfec41db0b43d2920ULL;
+inline constexpr unsigned long long fingerprint = 0x9dbb53d30859e53fULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 5;

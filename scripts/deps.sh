@@ -15,6 +15,7 @@ mechgen_deps() {
     libjs-three                                                # mechgen view: three.js, inlined into each page
     chromium libpng-dev nlohmann-json3-dev                     # view_test: headless browser, PNG, JSON
     liburdfdom-dev libmujoco-dev                               # mechgen import: URDF, MJCF (MuJoCo)
+    libsimbody-dev                                             # bench peers (leg6/simbody; MuJoCo above)
     pybind11-dev python3-dev python3-numpy python3-pytest      # the Python module and its tests
     python3-scipy python3-matplotlib                           # examples/python
     procps                                                     # ps: cache and budget tests check a killed compiler's children

@@ -370,8 +370,8 @@ static int ne_system_row(const double* parameters, double t, const double* drive
 
 // The screw Jacobians of State (jacobian_names[] in order, each jacobian_rows[] x primary_count,
 // row-major) from kinematics() at the same inputs and warm start as ne_system_row.
-static const char* const jacobian_names[] = { "waist", "r_hip1", "r_hip2", "r_thigh", "r_calf", "r_ankle", "r_foot", "l_hip1", "l_hip2", "l_thigh", "l_calf", "l_ankle", "l_foot", "r_shoulder", "r_upper_arm", "r_forearm", "r_wrist1", "r_wrist2", "r_hand", "l_shoulder", "l_upper_arm", "l_forearm", "l_wrist1", "l_wrist2", "l_hand", "W", "head", "RH", "RK", "RA", "RF", "r_toe_out", "r_toe_in", "r_heel_in", "r_heel_out", "LH", "LK", "LA", "LF", "l_toe_out", "l_toe_in", "l_heel_in", "l_heel_out", "RS", "RE", "RP", "LS", "LE", "LP" };
-static const int jacobian_rows[] = { 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3 };
+static const char* const jacobian_names[] = { "r_foot", "l_foot", "r_hand", "l_hand" };
+static const int jacobian_rows[] = { 6, 6, 6, 6 };
 [[maybe_unused]] static double* copy_jacobian(const double* from, int rows, double* to) {
   for (int i = 0; i < rows * primary_count; ++i) to[i] = from[i];
   return to + rows * primary_count;
@@ -385,55 +385,10 @@ static int jacobians_row(const double* parameters, double t, const double* drive
   const Status status = kinematics(p, in, s);
   *failed_group = s.failed_group;
   if (status != Status::ok) return static_cast<int>(status);
-  J = copy_jacobian(&s.body_jacobians.waist[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_hip1[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_hip2[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_thigh[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_calf[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_ankle[0][0], 6, J);
   J = copy_jacobian(&s.body_jacobians.r_foot[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_hip1[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_hip2[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_thigh[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_calf[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_ankle[0][0], 6, J);
   J = copy_jacobian(&s.body_jacobians.l_foot[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_shoulder[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_upper_arm[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_forearm[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_wrist1[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.r_wrist2[0][0], 6, J);
   J = copy_jacobian(&s.body_jacobians.r_hand[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_shoulder[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_upper_arm[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_forearm[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_wrist1[0][0], 6, J);
-  J = copy_jacobian(&s.body_jacobians.l_wrist2[0][0], 6, J);
   J = copy_jacobian(&s.body_jacobians.l_hand[0][0], 6, J);
-  J = copy_jacobian(&s.point_jacobians.W[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.head[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RH[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RK[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RA[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RF[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.r_toe_out[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.r_toe_in[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.r_heel_in[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.r_heel_out[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LH[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LK[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LA[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LF[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.l_toe_out[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.l_toe_in[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.l_heel_in[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.l_heel_out[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RS[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RE[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.RP[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LS[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LE[0][0], 3, J);
-  J = copy_jacobian(&s.point_jacobians.LP[0][0], 3, J);
   return 0;
 }
 
@@ -449,7 +404,7 @@ const CompiledKernel& compiled_kernel() {
                                      0, nullptr,
                                      nullptr,  ne_rows,
                                      ne_size,         ne_unknowns,
-                                     &ne_system_row,  49,
+                                     &ne_system_row,  4,
                                      jacobian_names,  jacobian_rows,
                                      primary_count,   &jacobians_row};
   return kernel;

@@ -14,7 +14,7 @@ using GiNaC::ex;
 
 // Part of the welded model's fingerprint: bump it when the transformation changes what a kernel
 // of the same description computes.
-constexpr int kSupportTransformVersion = 1;
+constexpr int kSupportTransformVersion = 2;  // 2: the description's `kernel: {jacobians}` kept
 
 Expr expr(const ex& e, const SourceLoc& loc) {
   std::ostringstream text;
@@ -87,6 +87,9 @@ SpatialModel weld_support(const SpatialModel& model, const std::string& support)
 
   SpatialModel out;
   out.common = model.common;
+  // The Jacobians the description asks its kernels for (`kernel: {jacobians: [...]}`), not every
+  // body's: the support foot is the ground here and has none.
+  out.kernel_jacobians = model.kernel_jacobians;
   Model& common = out.common;
   common.name = support_model_name(model.common.name, support);
   common.description = model.common.description + "; single support on " + support +

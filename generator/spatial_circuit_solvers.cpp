@@ -17,7 +17,7 @@ const std::vector<CircuitSolver>& circuit_solvers() {
 
 const std::vector<CircuitSolver>& fallback_circuit_solvers() {
   static const std::vector<CircuitSolver> solvers{planar_loop_held_closed_form,
-                                                  one_angle_closed_form};
+                                                  one_angle_closed_form, platform_closed_form};
   return solvers;
 }
 

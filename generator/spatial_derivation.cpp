@@ -226,7 +226,12 @@ class Builder {
         Column& col = cols_[c0 + k];
         col.screw = named("sw_" + col.name, "sv_" + col.name,
                           geometry::adjoint(G, geometry::unit_twist(col.axis)));
-        G = G * col.displacement;
+        // Named before the next coordinate's screw: a universal's or spherical's products
+        // expanded at once swell (a Delta's wrists: 20 kB per screw entry).
+        if (k + 1 < m_.joints[j].columns.size()) {
+          G = G * col.displacement;
+          G = {named("G_" + col.name + "_R", G.R), named("G_" + col.name + "_p", G.p)};
+        }
       }
     }
   }
@@ -288,8 +293,17 @@ class Builder {
       const int j = g_.chords[ci];
       const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
       const std::string n = "X" + std::to_string(ci);
-      const Pose X = D_[static_cast<size_t>(joint.first)] * joint_motion(j) *
-                     geometry::inverse(D_[static_cast<size_t>(joint.second)]);
+      // Named factor by factor: the product of the first body's pose, each of the chord's screw
+      // displacements and the second body's inverse, expanded at once, swells (a Delta's chords,
+      // universal joints between two moved bodies: 0.8 MB of code for 60 entries).
+      Pose X = D_[static_cast<size_t>(joint.first)];
+      const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
+      for (size_t k = 0; k < joint.columns.size(); ++k) {
+        X = X * cols_[c0 + k].displacement;
+        const std::string f = n + "_f" + std::to_string(k);
+        X = {named(f + "_R", X.R), named(f + "_p", X.p)};
+      }
+      X = X * geometry::inverse(D_[static_cast<size_t>(joint.second)]);
       const M R = named(n + "_R", X.R);
       residual_.push_back(named(n + "_wx", (R(2, 1) - R(1, 2)) / 2));
       residual_.push_back(named(n + "_wy", (R(0, 2) - R(2, 0)) / 2));

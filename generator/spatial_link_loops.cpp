@@ -1,6 +1,7 @@
 // Closed-form groups of binary links with universal and spherical ends (spatial_link_loops.hpp).
 #include "spatial_link_loops.hpp"
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -156,12 +157,18 @@ class LinkSolver {
 
   // The group, or nothing when the geometry does not fit (checked at the assembly).
   std::optional<ClosedFormGroup> solve() {
+    // Both ends known and nothing slides: a rod between a known body and a placed platform.
+    const bool rigid = l_.revolute < 0 && l_.prismatic < 0;
     const bool measured = l_.revolute < 0;  // both ends known: the cylinder's length measured
-    const std::string& rname = joint(measured ? l_.prismatic : l_.revolute).name;
-    g_.name = rname + " (link " + body(l_.L1) + ")";
-    prefix_ = "cf_" + rname + "_";
+    const std::string& rname =
+        rigid ? body(l_.L1) : joint(measured ? l_.prismatic : l_.revolute).name;
+    if (g_.name.empty())
+      g_.name = rigid ? rname + " (both ends known)" : rname + " (link " + body(l_.L1) + ")";
+    if (prefix_.empty()) prefix_ = "cf_" + rname + "_";
     const bool slider = !measured && joint(l_.revolute).type == SpatialJointType::prismatic;
-    if (measured) {
+    if (rigid) {
+      if (!between_known()) return std::nullopt;
+    } else if (measured) {
       if (!measured_length()) return std::nullopt;
     } else {
       const std::optional<ex> length2 = link_length2();
@@ -177,21 +184,69 @@ class LinkSolver {
     const SpatialJoint& u = joint(universal_end());
     const SpatialJoint& s = joint(spherical_end());
     const std::string from =
-        measured
+        rigid ? " between '" + body(l_.Y) + "' and '" + body(l_.X) + "'"
+        : measured
             ? " between known '" + body(l_.Y) + "' and '" + body(l_.X) +
                   "': its coordinate from the distance of the end centres"
             : " from '" + body(l_.X) +
                   "': " + (slider ? "a quadratic in the slider's q" : "A cos q + B sin q = C") +
                   " (the root nearer the warm start)";
-    g_.plan = "closed form, link '" + body(l_.L1) +
-              (l_.prismatic >= 0
-                   ? "' + '" + body(l_.L2) + "' (length " + (measured ? "of '" : "driven by '") +
-                         joint(l_.prismatic).name + "')"
-                   : "'") +
-              from + ", then '" + u.name + "' (universal) from the link's direction, '" + s.name +
-              "' (spherical) from the relative rotation";
+    g_.plan += "closed form, link '" + body(l_.L1) +
+               (l_.prismatic >= 0
+                    ? "' + '" + body(l_.L2) + "' (length " + (measured ? "of '" : "driven by '") +
+                          joint(l_.prismatic).name + "')"
+                    : "'") +
+               from + ", then '" + u.name + "' (universal) from the link's direction, '" + s.name +
+               "' (spherical) from the relative rotation";
     return g_;
   }
+
+  // Y is a platform that keeps its reference orientation (Clavel's parallelograms) at known
+  // distances r_i from known points: its displacement is the translation t that puts each of
+  // three of its end centres w_i on its sphere, |w_i + t - e_i| = r_i, that is |t - c_i| = r_i
+  // for c_i = e_i - w_i. The two differences of the spheres are planes, a . x = alpha and
+  // b . x = beta for x = t - c_1; their line x0 + lambda n (n = a x b) meets the first sphere at
+  // lambda = +-sqrt((r_1^2 - |x0|^2) / |n|^2): the root on the assembly's side (the plate below
+  // the motors, not above). Then solve() places the link on Y's tree path from Y's pose.
+  bool platform(const std::array<V, 3>& known_centre, const std::array<V, 3>& platform_centre,
+                const std::string& name, const std::string& plan) {
+    g_.name = name;
+    prefix_ = "cf_" + m_.bodies[static_cast<size_t>(l_.Y)].name + "_";
+    std::array<V, 3> c;
+    std::array<ex, 3> r2;
+    for (size_t i = 0; i < 3; ++i) {
+      const V d = known_centre[i] - platform_centre[i];
+      c[i] = def("c" + std::to_string(i + 1),
+                 geometry::apply(ctx_.tree_pose[static_cast<size_t>(arm_[i])], known_centre[i]) -
+                     platform_centre[i]);
+      r2[i] = def("r" + std::to_string(i + 1) + "_sq", geometry::dot(d, d));
+    }
+    const V a = def("a", c[1] - c[0]), b = def("b", c[2] - c[0]);
+    const V n = def("n", geometry::cross(a, b));
+    const ex nn = def("nn", geometry::dot(n, n));
+    const ex alpha = def("plane_a", (geometry::dot(a, a) + r2[0] - r2[1]) / 2);
+    const ex beta = def("plane_b", (geometry::dot(b, b) + r2[0] - r2[2]) / 2);
+    const V x0 =
+        def("x0", (1 / nn) * (alpha * geometry::cross(b, n) + beta * geometry::cross(n, a)));
+    const ex disc = def("disc", r2[0] - geometry::dot(x0, x0));
+    g_.reach.push_back(disc);
+    // The assembly's translation and orientation: the root's side, and the orientation kept.
+    const Pose& DP = ctx_.tree_pose[static_cast<size_t>(l_.Y)];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (!(std::abs(ctx_.value(DP.R(i, j)) - (i == j ? 1.0 : 0.0)) < 1e-9)) return false;
+    const V off = DP.p - c[0] - x0;
+    const double side = ctx_.value(geometry::dot(off, n));
+    if (!(ctx_.value(disc) > 0) || side == 0) return false;
+    const ex lambda = def("lambda", (side > 0 ? 1 : -1) * root(disc) / GiNaC::sqrt(nn));
+    const V t = def("t", c[0] + x0 + lambda * n);
+    const V miss = t - DP.p;
+    if (!(std::sqrt(ctx_.value(geometry::dot(miss, miss))) < 1e-9)) return false;
+    placed_ = Pose{M::identity(), t};
+    g_.plan = plan;
+    return true;
+  }
+  void set_arms(const std::array<int, 3>& arms) { arm_ = arms; }
 
  private:
   const SpatialJoint& joint(int j) const { return m_.joints[static_cast<size_t>(j)]; }
@@ -265,6 +320,19 @@ class LinkSolver {
     length_ = def("len", n + sign * ctx_.q[c] * geometry::dot(s, d0_) / n);
     scale_ = def("len_ratio", length_ / n);
     return length_ * length_;
+  }
+
+  // Both ends' bodies placed (Y by a platform's closed form, or by its tree path) and nothing
+  // slides: the ends' angles from the end centres; the link's length must be the distance there.
+  bool between_known() {
+    d0_ = def("d0", centre(l_.x_end) - centre(l_.y_end));
+    DY_ = placed_ ? *placed_ : ctx_.tree_pose[static_cast<size_t>(l_.Y)];
+    cX_ = def("cX", geometry::apply(ctx_.tree_pose[static_cast<size_t>(l_.X)], centre(l_.x_end)));
+    cY_ = def("cY", geometry::apply(DY_, centre(l_.y_end)));
+    const V span = cX_ - cY_;
+    const double now = std::sqrt(ctx_.value(geometry::dot(span, span)));
+    const double length = std::sqrt(ctx_.value(geometry::dot(d0_, d0_)));
+    return std::abs(now - length) < 1e-9 * (1 + length);
   }
 
   // Both end bodies known, the prismatic unknown (a cylinder following a pose-driven leg): the
@@ -472,6 +540,8 @@ class LinkSolver {
   V d0_, cX_, cY_;
   ex length_, scale_;
   Pose DY_;
+  std::optional<Pose> placed_;  // Y's displacement, given (a platform)
+  std::array<int, 3> arm_{};    // the platform's three known bodies
 };
 
 // The first link (over the unknown revolutes in joint order) that `accept` takes.
@@ -504,21 +574,138 @@ std::optional<ClosedFormGroup> link_group(
     std::optional<ClosedFormGroup> group = LinkSolver(ctx, *link).solve();
     if (group && accept(*group)) return group;
   }
+  // A rod between two known bodies (a platform's, once the platform is placed): nothing unknown
+  // but its ends' angles.
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    const int L = static_cast<int>(b);
+    const std::vector<int> ends = joints_of(m, L, -1);
+    if (L == m.ground || ends.size() != 2 || !end_joint(ctx, ends[0]) || !end_joint(ctx, ends[1]))
+      continue;
+    Link l;
+    l.L1 = l.L2 = L, l.y_end = ends[0], l.x_end = ends[1];
+    l.Y = other(m.joints[static_cast<size_t>(ends[0])], L);
+    l.X = other(m.joints[static_cast<size_t>(ends[1])], L);
+    if (l.X == l.Y ||
+        m.joints[static_cast<size_t>(ends[0])].type ==
+            m.joints[static_cast<size_t>(ends[1])].type ||
+        !ctx.pose_known(l.X) || !ctx.pose_known(l.Y))
+      continue;
+    ctx.assembly.clear();
+    std::optional<ClosedFormGroup> group = LinkSolver(ctx, l).solve();
+    if (group && accept(*group)) return group;
+  }
   return std::nullopt;
 }
 
-}  // namespace
-
-std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContext& context,
-                                                       int circuit) {
-  const SpatialGraph& g = context.graph;
-  ClosureContext ctx{context,       context.model,      g, {}, {}, context.tree_pose,
-                     context.known, context.assembly_q, {}};
-  for (const CircuitColumn& c : context.columns) {
-    ctx.axes.push_back(c.axis);
-    ctx.q.push_back(c.q);
+// A platform P held only by rods from known bodies, two per body as a parallelogram whose side
+// on that body keeps its direction (it lies along every revolute axis of the body's tree path:
+// a Delta's arm), from three or more bodies whose sides are not all parallel: P keeps its
+// reference orientation (Clavel's argument) and its position is the intersection of three
+// spheres. Then the rod on P's tree path is placed between its known body and P; the other rods
+// are then links between known bodies (link_group). The layout is recognised at the default
+// parameters; P's translation must give the assembly.
+std::optional<ClosedFormGroup> platform_group(ClosureContext& ctx,
+                                              const std::vector<bool>& in_circuit) {
+  const SpatialModel& m = ctx.model;
+  struct Rod {
+    int L = -1, at_platform = -1, at_known = -1, known = -1;
+  };
+  const auto small = [&](const V& v) { return std::sqrt(ctx.value(geometry::dot(v, v))) < 1e-9; };
+  for (size_t pb = 0; pb < m.bodies.size(); ++pb) {
+    const int P = static_cast<int>(pb);
+    if (P == m.ground || ctx.pose_known(P)) continue;
+    std::map<int, std::vector<Rod>> by_known;  // the rods, by their known body
+    bool rods_only = true;
+    for (const int j : joints_of(m, P, -1)) {
+      Rod r{other(m.joints[static_cast<size_t>(j)], P), j, -1, -1};
+      const std::vector<int> next = joints_of(m, r.L, j);
+      rods_only =
+          rods_only && r.L != m.ground && end_joint(ctx, j) && next.size() == 1 &&
+          end_joint(ctx, next[0]) &&
+          m.joints[static_cast<size_t>(j)].type != m.joints[static_cast<size_t>(next[0])].type;
+      if (!rods_only) break;
+      r.at_known = next[0];
+      r.known = other(m.joints[static_cast<size_t>(next[0])], r.L);
+      rods_only = r.known != P && ctx.pose_known(r.known);
+      if (!rods_only) break;
+      by_known[r.known].push_back(r);
+    }
+    if (!rods_only || by_known.size() < 3) continue;
+    const auto centre = [&](int j) -> const V& {
+      return ctx.axes[static_cast<size_t>(ctx.graph.joint_column[static_cast<size_t>(j)])].s0;
+    };
+    // Each known body's pair: a parallelogram at the reference, its side along the body's axes.
+    std::vector<V> sides;
+    bool parallelograms = true;
+    for (const auto& [known, rods] : by_known) {
+      if (rods.size() != 2) {
+        parallelograms = false;
+        break;
+      }
+      const V side = centre(rods[1].at_known) - centre(rods[0].at_known);
+      const V l0 = centre(rods[0].at_known) - centre(rods[0].at_platform);
+      const V l1 = centre(rods[1].at_known) - centre(rods[1].at_platform);
+      parallelograms = !small(side) &&
+                       small(side - (centre(rods[1].at_platform) - centre(rods[0].at_platform))) &&
+                       small(l0 - l1);
+      const std::vector<int>& path = ctx.graph.path_sign[static_cast<size_t>(known)];
+      for (size_t c = 0; parallelograms && c < path.size(); ++c)
+        if (path[c] != 0 && ctx.axes[c].kind == geometry::ScrewKind::rotation)
+          parallelograms = small(geometry::cross(ctx.axes[c].s, side));
+      if (!parallelograms) break;
+      sides.push_back(side);
+    }
+    if (!parallelograms || small(geometry::cross(sides[0], sides[1]))) continue;
+    // P's tree path: its unknown columns are exactly one rod's.
+    const std::vector<int>& path = ctx.graph.path_sign[pb];
+    std::optional<Rod> tree_rod;
+    for (const auto& [known, rods] : by_known)
+      for (const Rod& r : rods) {
+        const int pj = ctx.graph.parent_joint[pb];
+        if (pj == r.at_platform) tree_rod = r;
+      }
+    if (!tree_rod) continue;
+    std::vector<bool> rod_column(path.size(), false);
+    for (const int j : {tree_rod->at_platform, tree_rod->at_known}) {
+      const int c0 = ctx.graph.joint_column[static_cast<size_t>(j)];
+      for (size_t k = 0; k < m.joints[static_cast<size_t>(j)].columns.size(); ++k)
+        rod_column[static_cast<size_t>(c0) + k] = true;
+    }
+    bool only_the_rod = true;
+    for (size_t c = 0; c < path.size(); ++c)
+      if (path[c] != 0 && !ctx.known[c])
+        only_the_rod = only_the_rod && rod_column[c] && in_circuit[c];
+    if (!only_the_rod) continue;
+    std::array<V, 3> known_centre, platform_centre;
+    std::array<int, 3> arms{};
+    std::string names;
+    size_t i = 0;
+    for (const auto& [known, rods] : by_known) {
+      if (i == 3) break;
+      known_centre[i] = centre(rods[0].at_known);
+      platform_centre[i] = centre(rods[0].at_platform);
+      arms[i++] = known;
+      names += (names.empty() ? "'" : ", '") + m.bodies[static_cast<size_t>(known)].name + "'";
+    }
+    Link l;
+    l.L1 = l.L2 = tree_rod->L, l.Y = P, l.X = tree_rod->known;
+    l.y_end = tree_rod->at_platform, l.x_end = tree_rod->at_known;
+    ctx.assembly.clear();
+    LinkSolver solver(ctx, l);
+    solver.set_arms(arms);
+    const std::string& name = m.bodies[pb].name;
+    if (!solver.platform(known_centre, platform_centre, name + " (three spheres)",
+                         "platform '" + name + "' keeps its orientation (parallelogram rods from " +
+                             names + "): its position from the intersection of three spheres; "))
+      continue;
+    return solver.solve();
   }
-  // The circuit's columns: those whose coefficient in its closure is not zero.
+  return std::nullopt;
+}
+
+// Which columns take part in `circuit`'s closure (coefficient not zero).
+std::vector<bool> circuit_columns(const CircuitSolverContext& context, int circuit) {
+  const SpatialGraph& g = context.graph;
   const int chord = g.chords[static_cast<size_t>(circuit)];
   const SpatialJoint& cj = context.model.joints[static_cast<size_t>(chord)];
   std::vector<bool> in_circuit(g.columns.size());
@@ -527,6 +714,63 @@ std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContex
                         g.path_sign[static_cast<size_t>(cj.second)][c] +
                         (g.columns[c].joint == chord ? 1 : 0) !=
                     0;
+  return in_circuit;
+}
+
+ClosureContext closure_context(const CircuitSolverContext& context) {
+  ClosureContext ctx{context,           context.model, context.graph,      {}, {},
+                     context.tree_pose, context.known, context.assembly_q, {}};
+  for (const CircuitColumn& c : context.columns) {
+    ctx.axes.push_back(c.axis);
+    ctx.q.push_back(c.q);
+  }
+  return ctx;
+}
+
+// The group's definitions under the derivation's names (the columns' own symbols are its
+// coordinates).
+CircuitClosedForm circuit_form(const CircuitSolverContext& context, const ClosureContext& ctx,
+                               const ClosedFormGroup& group, bool closes) {
+  CircuitClosedForm out{group.name, group.plan, {}, {}, {}};
+  out.closes = closes;
+  std::map<ex, int, GiNaC::ex_is_less> column_of;
+  for (const int c : group.columns) column_of[ctx.q[static_cast<size_t>(c)]] = c;
+  GiNaC::exmap renamed;
+  for (const auto& [c, w] : group.warm) renamed[w] = context.warm_start(c);
+  for (const auto& [name, value] : group.definitions) {
+    const ex v = value.subs(renamed);
+    const auto it = column_of.find(name);
+    if (it != column_of.end())
+      out.coordinates.emplace_back(it->second, v);
+    else
+      renamed[name] = context.named(name.get_name(), v);
+  }
+  for (const ex& r : group.reach) out.reach.push_back(r.subs(renamed));
+  for (const auto& [c, cs] : group.cos_sin)
+    out.cos_sin[c] = {cs.first.subs(renamed), cs.second.subs(renamed)};
+  return out;
+}
+
+}  // namespace
+
+std::optional<CircuitClosedForm> platform_closed_form(const CircuitSolverContext& context,
+                                                      int circuit) {
+  ClosureContext ctx = closure_context(context);
+  const std::vector<bool> in_circuit = circuit_columns(context, circuit);
+  const std::optional<ClosedFormGroup> group = platform_group(ctx, in_circuit);
+  if (!group) return std::nullopt;
+  // Closed when the rod on the platform's path was the circuit's last unknown.
+  bool closes = true;
+  std::vector<bool> known = context.known;
+  for (const int c : group->columns) known[static_cast<size_t>(c)] = true;
+  for (size_t c = 0; c < known.size(); ++c) closes = closes && (!in_circuit[c] || known[c]);
+  return circuit_form(context, ctx, *group, closes);
+}
+
+std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContext& context,
+                                                       int circuit) {
+  ClosureContext ctx = closure_context(context);
+  const std::vector<bool> in_circuit = circuit_columns(context, circuit);
   const auto accept = [&](const ClosedFormGroup& group) {
     std::vector<bool> known = context.known;
     for (const int c : group.columns) {
@@ -539,25 +783,7 @@ std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContex
   };
   const std::optional<ClosedFormGroup> group = link_group(ctx, accept);
   if (!group) return std::nullopt;
-  // The group's definitions under the derivation's names (the columns' own symbols are its
-  // coordinates).
-  CircuitClosedForm out{group->name, group->plan, {}, {}, {}};
-  std::map<ex, int, GiNaC::ex_is_less> column_of;
-  for (const int c : group->columns) column_of[ctx.q[static_cast<size_t>(c)]] = c;
-  GiNaC::exmap renamed;
-  for (const auto& [c, w] : group->warm) renamed[w] = context.warm_start(c);
-  for (const auto& [name, value] : group->definitions) {
-    const ex v = value.subs(renamed);
-    const auto it = column_of.find(name);
-    if (it != column_of.end())
-      out.coordinates.emplace_back(it->second, v);
-    else
-      renamed[name] = context.named(name.get_name(), v);
-  }
-  for (const ex& r : group->reach) out.reach.push_back(r.subs(renamed));
-  for (const auto& [c, cs] : group->cos_sin)
-    out.cos_sin[c] = {cs.first.subs(renamed), cs.second.subs(renamed)};
-  return out;
+  return circuit_form(context, ctx, *group, true);
 }
 
 }  // namespace mechgen::gen

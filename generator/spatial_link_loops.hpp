@@ -8,8 +8,8 @@
 // crossed axes) and the spherical end's three from the remaining relative rotation (x-y-z
 // angles). rsur's RSUR loop and every circuit of quadruped_leg (cylinders l3, l2, l1 on the
 // swing, the crank and the hip, then the coupler on the knee, which needs the crank's: dependency
-// order) are such links. Branches from the assembly; angles within half a turn of the
-// assembly's.
+// order) are such links, and so is a rod between two known bodies (a Delta's, once its platform
+// is placed). Branches from the assembly; angles within half a turn of the assembly's.
 #pragma once
 
 #include <optional>
@@ -22,5 +22,12 @@ namespace mechgen::gen {
 // column of the circuit known), or nothing.
 std::optional<CircuitClosedForm> link_loop_closed_form(const CircuitSolverContext& context,
                                                        int circuit);
+
+// A platform held only by parallelogram pairs of rods from three or more known bodies (a Delta
+// robot's plate): it keeps its orientation, its position is the intersection of three spheres,
+// and the rod on its tree path is placed from it (the circuit closes only if that rod was its
+// last unknown: the other rods are then links between known bodies, link_loop_closed_form).
+std::optional<CircuitClosedForm> platform_closed_form(const CircuitSolverContext& context,
+                                                      int circuit);
 
 }  // namespace mechgen::gen

@@ -176,7 +176,7 @@ TEST(ParallelRobots, DeltaWithSphericalRodsHoldsTheirSpinsAndMatchesThreeSpheres
   const fs::path dir = test::fresh_dir("mechgen_parallel", "delta");
   const std::string model = std::string(MECHGEN_SOURCE_DIR) + "/models/delta.yaml";
   std::string out;
-  // `check` plans the Delta's Newton kernel (about 20 s of symbolic work): the plain build only.
+  // `check` plans the Delta's kernel (a few seconds of symbolic work): the plain build only.
   if (!test::kSanitizerBuild) {
     ASSERT_EQ(mechgen("check " + model, dir, out), 0) << out;
     for (const char* rod : {"1a", "1b", "2a", "2b", "3a", "3b"})
@@ -185,45 +185,71 @@ TEST(ParallelRobots, DeltaWithSphericalRodsHoldsTheirSpinsAndMatchesThreeSpheres
                          "': its spin about the line through them is idle; fixed"),
                 std::string::npos)
           << out;
+    // The plate by three spheres, then every rod between known bodies: no Newton.
+    EXPECT_NE(out.find("platform 'plate' keeps its orientation (parallelogram rods from 'arm1', "
+                       "'arm2', 'arm3'): its position from the intersection of three spheres"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("every circuit in closed form, no Newton"), std::string::npos) << out;
   }
-  ASSERT_EQ(mechgen("sweep " + model + " --solver numeric --samples 61 --out " +
-                        (dir / "num.csv").string(),
-                    dir, out),
-            0)
+  const std::string sweep = "sweep " + model + " --samples 61";
+  ASSERT_EQ(mechgen(sweep + " --solver numeric --out " + (dir / "num.csv").string(), dir, out), 0)
       << out;
   const report::CsvTable numeric = report::read_csv((dir / "num.csv").string());
   ASSERT_EQ(numeric.rows.size(), 61u);
+  std::vector<const report::CsvTable*> tables{&numeric};
+  // The generated kernel (1.25 MB: about half a minute to compile on first use), in the Release
+  // build only: equal to the numeric solver's Newton-Raphson on every column.
+  report::CsvTable generated;
+  if (!test::kSanitizerBuild) {
+    ASSERT_EQ(mechgen(sweep + " --cache " + (dir / "cache").string() + " --out " +
+                          (dir / "gen.csv").string(),
+                      dir, out),
+              0)
+        << out;
+    generated = report::read_csv((dir / "gen.csv").string());
+    ASSERT_EQ(generated.header, numeric.header);
+    ASSERT_EQ(generated.rows.size(), 61u);
+    std::string where;
+    const double worst =
+        test::worst_column_difference(numeric.header, numeric.rows, generated.rows, where);
+    EXPECT_LT(worst, 1e-9) << where;
+    std::cout << "delta, generated (three spheres) against numeric: worst " << worst << " ("
+              << where << ")\n";
+    tables.push_back(&generated);
+  }
   // The model's geometry (models/delta.yaml's parameters).
   const double pi = std::acos(-1.0), R = 0.2, r = 0.05, La = 0.3, l = 0.8;
   double worst_centre = 0, worst_couple = 0, largest_couple = 0, lowest = 0, highest = -1;
-  for (const auto& row : numeric.rows) {
-    std::array<Vec, 3> centres;
-    for (size_t i = 0; i < 3; ++i) {
-      const double phi = 2 * pi * static_cast<double>(i) / 3;
-      const double theta = row[column(numeric, "theta" + std::to_string(i + 1) + ".q")];
-      // The elbow of an arm turned down by theta, minus the plate's joint offset r u_i.
-      centres[i] = {(R + La * std::cos(theta) - r) * std::cos(phi),
-                    (R + La * std::cos(theta) - r) * std::sin(phi), -La * std::sin(theta)};
-    }
-    const Vec C = three_spheres(centres[0], centres[1], centres[2], l);
-    const Vec swept{row[column(numeric, "C.x")], row[column(numeric, "C.y")],
-                    row[column(numeric, "C.z")]};
-    worst_centre = std::max(worst_centre, distance(C, swept));
-    lowest = std::min(lowest, C[2]);
-    highest = std::max(highest, C[2]);
-    // Each wrist's couple on the plate about its rod's line (the line from the elbow centre E_i
-    // to the plate joint: C + r u_i - E_i, as for the mid-rod of the parallelogram).
-    for (size_t i = 0; i < 3; ++i) {
-      const Vec u = minus(C, centres[i]);
-      for (const char side : {'a', 'b'}) {
-        const std::string j = "wrist" + std::to_string(i + 1) + side;
-        const Vec M{row[column(numeric, j + ".mx")], row[column(numeric, j + ".my")],
-                    row[column(numeric, j + ".mz")]};
-        worst_couple = std::max(worst_couple, std::abs(dot(M, u)) / l);
-        largest_couple = std::max(largest_couple, std::sqrt(dot(M, M)));
+  for (const report::CsvTable* table : tables)
+    for (const auto& row : table->rows) {
+      std::array<Vec, 3> centres;
+      for (size_t i = 0; i < 3; ++i) {
+        const double phi = 2 * pi * static_cast<double>(i) / 3;
+        const double theta = row[column(*table, "theta" + std::to_string(i + 1) + ".q")];
+        // The elbow of an arm turned down by theta, minus the plate's joint offset r u_i.
+        centres[i] = {(R + La * std::cos(theta) - r) * std::cos(phi),
+                      (R + La * std::cos(theta) - r) * std::sin(phi), -La * std::sin(theta)};
+      }
+      const Vec C = three_spheres(centres[0], centres[1], centres[2], l);
+      const Vec swept{row[column(*table, "C.x")], row[column(*table, "C.y")],
+                      row[column(*table, "C.z")]};
+      worst_centre = std::max(worst_centre, distance(C, swept));
+      lowest = std::min(lowest, C[2]);
+      highest = std::max(highest, C[2]);
+      // Each wrist's couple on the plate about its rod's line (the line from the elbow centre E_i
+      // to the plate joint: C + r u_i - E_i, as for the mid-rod of the parallelogram).
+      for (size_t i = 0; i < 3; ++i) {
+        const Vec u = minus(C, centres[i]);
+        for (const char side : {'a', 'b'}) {
+          const std::string j = "wrist" + std::to_string(i + 1) + side;
+          const Vec M{row[column(*table, j + ".mx")], row[column(*table, j + ".my")],
+                      row[column(*table, j + ".mz")]};
+          worst_couple = std::max(worst_couple, std::abs(dot(M, u)) / l);
+          largest_couple = std::max(largest_couple, std::sqrt(dot(M, M)));
+        }
       }
     }
-  }
   EXPECT_LT(worst_centre, 1e-12);
   EXPECT_GT(highest - lowest, 0.05);  // the plate really moves
   EXPECT_LT(worst_couple, 1e-12);

@@ -748,7 +748,7 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  // Total ops: 9006
+  // Total ops: 8526
   const T s0_RL2_z = p.l1 + p.l2 + p.l3;
   const T s0_RL3_z = s0_RL2_z;
   const T s0_RL4_z = p.l2 + p.l3;
@@ -1804,60 +1804,96 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   const T sv_LA6_x = s0_LA6_z*R_l_wrist2_01 - p.sy*R_l_wrist2_02 - R_vLA_b5_10*p_l_wrist2_z - p_l_wrist2_y*sin_vLA_ry;
   const T sv_LA6_y = s0_LA6_z*R_l_wrist2_11 + R_vLA_b5_00*p_l_wrist2_z + p_l_wrist2_x*sin_vLA_ry - p.sy*R_l_wrist2_12;
   const T sv_LA6_z = s0_LA6_z*R_l_wrist2_21 + R_vLA_b5_10*p_l_wrist2_x - p.sy*R_l_wrist2_22 - R_vLA_b5_00*p_l_wrist2_y;
-  const T X0_R_01 = R_r_ankle_11*R_r_hip2_01 + R_r_calf_10*R_r_thigh_00*cos_RL4 + R_r_calf_12*R_r_thigh_00*sin_RL4 + R_r_calf_12*R_r_thigh_02*cos_RL4 - R_r_calf_10*R_r_thigh_02*sin_RL4;
-  const T X0_R_02 = R_r_ankle_21*R_r_hip2_01 + R_r_calf_20*R_r_thigh_00*cos_RL4 + R_r_calf_22*R_r_thigh_00*sin_RL4 + R_r_calf_22*R_r_thigh_02*cos_RL4 - R_r_calf_20*R_r_thigh_02*sin_RL4;
-  const T X0_R_10 = R_r_ankle_01*R_r_hip2_11 + R_r_calf_00*R_r_thigh_10*cos_RL4 + R_r_calf_02*R_r_thigh_10*sin_RL4 + R_r_calf_02*R_r_thigh_12*cos_RL4 - R_r_calf_00*R_r_thigh_12*sin_RL4;
-  const T X0_R_12 = R_r_ankle_21*R_r_hip2_11 + R_r_calf_20*R_r_thigh_10*cos_RL4 + R_r_calf_22*R_r_thigh_10*sin_RL4 + R_r_calf_22*R_r_thigh_12*cos_RL4 - R_r_calf_20*R_r_thigh_12*sin_RL4;
-  const T X0_R_20 = R_r_ankle_01*R_r_hip2_21 + R_r_calf_00*R_r_thigh_20*cos_RL4 + R_r_calf_02*R_r_thigh_20*sin_RL4 + R_r_calf_02*R_r_thigh_22*cos_RL4 - R_r_calf_00*R_r_thigh_22*sin_RL4;
-  const T X0_R_21 = R_r_ankle_11*R_r_hip2_21 + R_r_calf_10*R_r_thigh_20*cos_RL4 + R_r_calf_12*R_r_thigh_20*sin_RL4 + R_r_calf_12*R_r_thigh_22*cos_RL4 - R_r_calf_10*R_r_thigh_22*sin_RL4;
+  const T X0_f0_R_00 = R_r_thigh_00*cos_RL4 - R_r_thigh_02*sin_RL4;
+  const T X0_f0_R_02 = R_r_thigh_00*sin_RL4 + R_r_thigh_02*cos_RL4;
+  const T X0_f0_R_10 = R_r_thigh_10*cos_RL4 - R_r_thigh_12*sin_RL4;
+  const T X0_f0_R_12 = R_r_thigh_10*sin_RL4 + R_r_thigh_12*cos_RL4;
+  const T X0_f0_R_20 = R_r_thigh_20*cos_RL4 - R_r_thigh_22*sin_RL4;
+  const T X0_f0_R_22 = R_r_thigh_20*sin_RL4 + R_r_thigh_22*cos_RL4;
+  const T X0_f0_p_x = s0_RL4_z*R_r_thigh_02 + p_r_thigh_x - s0_RL4_z*R_r_thigh_00*sin_RL4 - s0_RL4_z*R_r_thigh_02*cos_RL4;
+  const T X0_f0_p_y = s0_RL4_z*R_r_thigh_12 + p_r_thigh_y - s0_RL4_z*R_r_thigh_10*sin_RL4 - s0_RL4_z*R_r_thigh_12*cos_RL4;
+  const T X0_f0_p_z = s0_RL4_z*R_r_thigh_22 + p_r_thigh_z - s0_RL4_z*R_r_thigh_20*sin_RL4 - s0_RL4_z*R_r_thigh_22*cos_RL4;
+  const T X0_R_01 = R_r_ankle_11*R_r_hip2_01 + R_r_calf_10*X0_f0_R_00 + R_r_calf_12*X0_f0_R_02;
+  const T X0_R_02 = R_r_ankle_21*R_r_hip2_01 + R_r_calf_20*X0_f0_R_00 + R_r_calf_22*X0_f0_R_02;
+  const T X0_R_10 = R_r_ankle_01*R_r_hip2_11 + R_r_calf_00*X0_f0_R_10 + R_r_calf_02*X0_f0_R_12;
+  const T X0_R_12 = R_r_ankle_21*R_r_hip2_11 + R_r_calf_20*X0_f0_R_10 + R_r_calf_22*X0_f0_R_12;
+  const T X0_R_20 = R_r_ankle_01*R_r_hip2_21 + R_r_calf_00*X0_f0_R_20 + R_r_calf_02*X0_f0_R_22;
+  const T X0_R_21 = R_r_ankle_11*R_r_hip2_21 + R_r_calf_10*X0_f0_R_20 + R_r_calf_12*X0_f0_R_22;
   const T X0_wx = T(0.5)*X0_R_21 - T(0.5)*X0_R_12;
   const T X0_wy = T(0.5)*X0_R_02 - T(0.5)*X0_R_20;
   const T X0_wz = T(0.5)*X0_R_10 - T(0.5)*X0_R_01;
-  const T X0_vx = R_r_calf_00*R_r_thigh_02*p_r_calf_x*sin_RL4 + R_r_calf_10*R_r_thigh_02*p_r_calf_y*sin_RL4 + R_r_calf_20*R_r_thigh_02*p_r_calf_z*sin_RL4 + s0_RL4_z*R_r_thigh_02 + p_r_thigh_x - R_r_ankle_01*R_r_hip2_01*p_r_calf_x - R_r_ankle_11*R_r_hip2_01*p_r_calf_y - R_r_ankle_21*R_r_hip2_01*p_r_calf_z - R_r_calf_00*R_r_thigh_00*cos_RL4*p_r_calf_x - R_r_calf_02*R_r_thigh_00*p_r_calf_x*sin_RL4 - R_r_calf_02*R_r_thigh_02*cos_RL4*p_r_calf_x - R_r_calf_10*R_r_thigh_00*cos_RL4*p_r_calf_y - R_r_calf_12*R_r_thigh_00*p_r_calf_y*sin_RL4 - R_r_calf_12*R_r_thigh_02*cos_RL4*p_r_calf_y - R_r_calf_20*R_r_thigh_00*cos_RL4*p_r_calf_z - R_r_calf_22*R_r_thigh_00*p_r_calf_z*sin_RL4 - R_r_calf_22*R_r_thigh_02*cos_RL4*p_r_calf_z - s0_RL4_z*R_r_thigh_00*sin_RL4 - s0_RL4_z*R_r_thigh_02*cos_RL4;
-  const T X0_vy = R_r_calf_00*R_r_thigh_12*p_r_calf_x*sin_RL4 + R_r_calf_10*R_r_thigh_12*p_r_calf_y*sin_RL4 + R_r_calf_20*R_r_thigh_12*p_r_calf_z*sin_RL4 + s0_RL4_z*R_r_thigh_12 + p_r_thigh_y - R_r_ankle_01*R_r_hip2_11*p_r_calf_x - R_r_ankle_11*R_r_hip2_11*p_r_calf_y - R_r_ankle_21*R_r_hip2_11*p_r_calf_z - R_r_calf_00*R_r_thigh_10*cos_RL4*p_r_calf_x - R_r_calf_02*R_r_thigh_10*p_r_calf_x*sin_RL4 - R_r_calf_02*R_r_thigh_12*cos_RL4*p_r_calf_x - R_r_calf_10*R_r_thigh_10*cos_RL4*p_r_calf_y - R_r_calf_12*R_r_thigh_10*p_r_calf_y*sin_RL4 - R_r_calf_12*R_r_thigh_12*cos_RL4*p_r_calf_y - R_r_calf_20*R_r_thigh_10*cos_RL4*p_r_calf_z - R_r_calf_22*R_r_thigh_10*p_r_calf_z*sin_RL4 - R_r_calf_22*R_r_thigh_12*cos_RL4*p_r_calf_z - s0_RL4_z*R_r_thigh_10*sin_RL4 - s0_RL4_z*R_r_thigh_12*cos_RL4;
-  const T X0_vz = R_r_calf_00*R_r_thigh_22*p_r_calf_x*sin_RL4 + R_r_calf_10*R_r_thigh_22*p_r_calf_y*sin_RL4 + R_r_calf_20*R_r_thigh_22*p_r_calf_z*sin_RL4 + s0_RL4_z*R_r_thigh_22 + p_r_thigh_z - R_r_ankle_01*R_r_hip2_21*p_r_calf_x - R_r_ankle_11*R_r_hip2_21*p_r_calf_y - R_r_ankle_21*R_r_hip2_21*p_r_calf_z - R_r_calf_00*R_r_thigh_20*cos_RL4*p_r_calf_x - R_r_calf_02*R_r_thigh_20*p_r_calf_x*sin_RL4 - R_r_calf_02*R_r_thigh_22*cos_RL4*p_r_calf_x - R_r_calf_10*R_r_thigh_20*cos_RL4*p_r_calf_y - R_r_calf_12*R_r_thigh_20*p_r_calf_y*sin_RL4 - R_r_calf_12*R_r_thigh_22*cos_RL4*p_r_calf_y - R_r_calf_20*R_r_thigh_20*cos_RL4*p_r_calf_z - R_r_calf_22*R_r_thigh_20*p_r_calf_z*sin_RL4 - R_r_calf_22*R_r_thigh_22*cos_RL4*p_r_calf_z - s0_RL4_z*R_r_thigh_20*sin_RL4 - s0_RL4_z*R_r_thigh_22*cos_RL4;
-  const T X1_R_01 = R_l_ankle_11*R_l_hip2_01 + R_l_calf_10*R_l_thigh_00*cos_LL4 + R_l_calf_12*R_l_thigh_00*sin_LL4 + R_l_calf_12*R_l_thigh_02*cos_LL4 - R_l_calf_10*R_l_thigh_02*sin_LL4;
-  const T X1_R_02 = R_l_ankle_21*R_l_hip2_01 + R_l_calf_20*R_l_thigh_00*cos_LL4 + R_l_calf_22*R_l_thigh_00*sin_LL4 + R_l_calf_22*R_l_thigh_02*cos_LL4 - R_l_calf_20*R_l_thigh_02*sin_LL4;
-  const T X1_R_10 = R_l_ankle_01*R_l_hip2_11 + R_l_calf_00*R_l_thigh_10*cos_LL4 + R_l_calf_02*R_l_thigh_10*sin_LL4 + R_l_calf_02*R_l_thigh_12*cos_LL4 - R_l_calf_00*R_l_thigh_12*sin_LL4;
-  const T X1_R_12 = R_l_ankle_21*R_l_hip2_11 + R_l_calf_20*R_l_thigh_10*cos_LL4 + R_l_calf_22*R_l_thigh_10*sin_LL4 + R_l_calf_22*R_l_thigh_12*cos_LL4 - R_l_calf_20*R_l_thigh_12*sin_LL4;
-  const T X1_R_20 = R_l_ankle_01*R_l_hip2_21 + R_l_calf_00*R_l_thigh_20*cos_LL4 + R_l_calf_02*R_l_thigh_20*sin_LL4 + R_l_calf_02*R_l_thigh_22*cos_LL4 - R_l_calf_00*R_l_thigh_22*sin_LL4;
-  const T X1_R_21 = R_l_ankle_11*R_l_hip2_21 + R_l_calf_10*R_l_thigh_20*cos_LL4 + R_l_calf_12*R_l_thigh_20*sin_LL4 + R_l_calf_12*R_l_thigh_22*cos_LL4 - R_l_calf_10*R_l_thigh_22*sin_LL4;
+  const T X0_vx = X0_f0_p_x - R_r_ankle_01*R_r_hip2_01*p_r_calf_x - R_r_ankle_11*R_r_hip2_01*p_r_calf_y - R_r_ankle_21*R_r_hip2_01*p_r_calf_z - R_r_calf_00*X0_f0_R_00*p_r_calf_x - R_r_calf_02*X0_f0_R_02*p_r_calf_x - R_r_calf_10*X0_f0_R_00*p_r_calf_y - R_r_calf_12*X0_f0_R_02*p_r_calf_y - R_r_calf_20*X0_f0_R_00*p_r_calf_z - R_r_calf_22*X0_f0_R_02*p_r_calf_z;
+  const T X0_vy = X0_f0_p_y - R_r_ankle_01*R_r_hip2_11*p_r_calf_x - R_r_ankle_11*R_r_hip2_11*p_r_calf_y - R_r_ankle_21*R_r_hip2_11*p_r_calf_z - R_r_calf_00*X0_f0_R_10*p_r_calf_x - R_r_calf_02*X0_f0_R_12*p_r_calf_x - R_r_calf_10*X0_f0_R_10*p_r_calf_y - R_r_calf_12*X0_f0_R_12*p_r_calf_y - R_r_calf_20*X0_f0_R_10*p_r_calf_z - R_r_calf_22*X0_f0_R_12*p_r_calf_z;
+  const T X0_vz = X0_f0_p_z - R_r_ankle_01*R_r_hip2_21*p_r_calf_x - R_r_ankle_11*R_r_hip2_21*p_r_calf_y - R_r_ankle_21*R_r_hip2_21*p_r_calf_z - R_r_calf_00*X0_f0_R_20*p_r_calf_x - R_r_calf_02*X0_f0_R_22*p_r_calf_x - R_r_calf_10*X0_f0_R_20*p_r_calf_y - R_r_calf_12*X0_f0_R_22*p_r_calf_y - R_r_calf_20*X0_f0_R_20*p_r_calf_z - R_r_calf_22*X0_f0_R_22*p_r_calf_z;
+  const T X1_f0_R_00 = R_l_thigh_00*cos_LL4 - R_l_thigh_02*sin_LL4;
+  const T X1_f0_R_02 = R_l_thigh_00*sin_LL4 + R_l_thigh_02*cos_LL4;
+  const T X1_f0_R_10 = R_l_thigh_10*cos_LL4 - R_l_thigh_12*sin_LL4;
+  const T X1_f0_R_12 = R_l_thigh_10*sin_LL4 + R_l_thigh_12*cos_LL4;
+  const T X1_f0_R_20 = R_l_thigh_20*cos_LL4 - R_l_thigh_22*sin_LL4;
+  const T X1_f0_R_22 = R_l_thigh_20*sin_LL4 + R_l_thigh_22*cos_LL4;
+  const T X1_f0_p_x = s0_LL4_z*R_l_thigh_02 + p_l_thigh_x - s0_LL4_z*R_l_thigh_00*sin_LL4 - s0_LL4_z*R_l_thigh_02*cos_LL4;
+  const T X1_f0_p_y = s0_LL4_z*R_l_thigh_12 + p_l_thigh_y - s0_LL4_z*R_l_thigh_10*sin_LL4 - s0_LL4_z*R_l_thigh_12*cos_LL4;
+  const T X1_f0_p_z = s0_LL4_z*R_l_thigh_22 + p_l_thigh_z - s0_LL4_z*R_l_thigh_20*sin_LL4 - s0_LL4_z*R_l_thigh_22*cos_LL4;
+  const T X1_R_01 = R_l_ankle_11*R_l_hip2_01 + R_l_calf_10*X1_f0_R_00 + R_l_calf_12*X1_f0_R_02;
+  const T X1_R_02 = R_l_ankle_21*R_l_hip2_01 + R_l_calf_20*X1_f0_R_00 + R_l_calf_22*X1_f0_R_02;
+  const T X1_R_10 = R_l_ankle_01*R_l_hip2_11 + R_l_calf_00*X1_f0_R_10 + R_l_calf_02*X1_f0_R_12;
+  const T X1_R_12 = R_l_ankle_21*R_l_hip2_11 + R_l_calf_20*X1_f0_R_10 + R_l_calf_22*X1_f0_R_12;
+  const T X1_R_20 = R_l_ankle_01*R_l_hip2_21 + R_l_calf_00*X1_f0_R_20 + R_l_calf_02*X1_f0_R_22;
+  const T X1_R_21 = R_l_ankle_11*R_l_hip2_21 + R_l_calf_10*X1_f0_R_20 + R_l_calf_12*X1_f0_R_22;
   const T X1_wx = T(0.5)*X1_R_21 - T(0.5)*X1_R_12;
   const T X1_wy = T(0.5)*X1_R_02 - T(0.5)*X1_R_20;
   const T X1_wz = T(0.5)*X1_R_10 - T(0.5)*X1_R_01;
-  const T X1_vx = R_l_calf_00*R_l_thigh_02*p_l_calf_x*sin_LL4 + R_l_calf_10*R_l_thigh_02*p_l_calf_y*sin_LL4 + R_l_calf_20*R_l_thigh_02*p_l_calf_z*sin_LL4 + s0_LL4_z*R_l_thigh_02 + p_l_thigh_x - R_l_ankle_01*R_l_hip2_01*p_l_calf_x - R_l_ankle_11*R_l_hip2_01*p_l_calf_y - R_l_ankle_21*R_l_hip2_01*p_l_calf_z - R_l_calf_00*R_l_thigh_00*cos_LL4*p_l_calf_x - R_l_calf_02*R_l_thigh_00*p_l_calf_x*sin_LL4 - R_l_calf_02*R_l_thigh_02*cos_LL4*p_l_calf_x - R_l_calf_10*R_l_thigh_00*cos_LL4*p_l_calf_y - R_l_calf_12*R_l_thigh_00*p_l_calf_y*sin_LL4 - R_l_calf_12*R_l_thigh_02*cos_LL4*p_l_calf_y - R_l_calf_20*R_l_thigh_00*cos_LL4*p_l_calf_z - R_l_calf_22*R_l_thigh_00*p_l_calf_z*sin_LL4 - R_l_calf_22*R_l_thigh_02*cos_LL4*p_l_calf_z - s0_LL4_z*R_l_thigh_00*sin_LL4 - s0_LL4_z*R_l_thigh_02*cos_LL4;
-  const T X1_vy = R_l_calf_00*R_l_thigh_12*p_l_calf_x*sin_LL4 + R_l_calf_10*R_l_thigh_12*p_l_calf_y*sin_LL4 + R_l_calf_20*R_l_thigh_12*p_l_calf_z*sin_LL4 + s0_LL4_z*R_l_thigh_12 + p_l_thigh_y - R_l_ankle_01*R_l_hip2_11*p_l_calf_x - R_l_ankle_11*R_l_hip2_11*p_l_calf_y - R_l_ankle_21*R_l_hip2_11*p_l_calf_z - R_l_calf_00*R_l_thigh_10*cos_LL4*p_l_calf_x - R_l_calf_02*R_l_thigh_10*p_l_calf_x*sin_LL4 - R_l_calf_02*R_l_thigh_12*cos_LL4*p_l_calf_x - R_l_calf_10*R_l_thigh_10*cos_LL4*p_l_calf_y - R_l_calf_12*R_l_thigh_10*p_l_calf_y*sin_LL4 - R_l_calf_12*R_l_thigh_12*cos_LL4*p_l_calf_y - R_l_calf_20*R_l_thigh_10*cos_LL4*p_l_calf_z - R_l_calf_22*R_l_thigh_10*p_l_calf_z*sin_LL4 - R_l_calf_22*R_l_thigh_12*cos_LL4*p_l_calf_z - s0_LL4_z*R_l_thigh_10*sin_LL4 - s0_LL4_z*R_l_thigh_12*cos_LL4;
-  const T X1_vz = R_l_calf_00*R_l_thigh_22*p_l_calf_x*sin_LL4 + R_l_calf_10*R_l_thigh_22*p_l_calf_y*sin_LL4 + R_l_calf_20*R_l_thigh_22*p_l_calf_z*sin_LL4 + s0_LL4_z*R_l_thigh_22 + p_l_thigh_z - R_l_ankle_01*R_l_hip2_21*p_l_calf_x - R_l_ankle_11*R_l_hip2_21*p_l_calf_y - R_l_ankle_21*R_l_hip2_21*p_l_calf_z - R_l_calf_00*R_l_thigh_20*cos_LL4*p_l_calf_x - R_l_calf_02*R_l_thigh_20*p_l_calf_x*sin_LL4 - R_l_calf_02*R_l_thigh_22*cos_LL4*p_l_calf_x - R_l_calf_10*R_l_thigh_20*cos_LL4*p_l_calf_y - R_l_calf_12*R_l_thigh_20*p_l_calf_y*sin_LL4 - R_l_calf_12*R_l_thigh_22*cos_LL4*p_l_calf_y - R_l_calf_20*R_l_thigh_20*cos_LL4*p_l_calf_z - R_l_calf_22*R_l_thigh_20*p_l_calf_z*sin_LL4 - R_l_calf_22*R_l_thigh_22*cos_LL4*p_l_calf_z - s0_LL4_z*R_l_thigh_20*sin_LL4 - s0_LL4_z*R_l_thigh_22*cos_LL4;
-  const T X2_R_01 = R_r_forearm_00*R_r_wrist1_10*cos_RA4 + R_r_forearm_02*R_r_wrist1_12 + R_r_upper_arm_01*R_r_wrist1_10*sin_RA4 + R_r_upper_arm_01*R_r_wrist2_11*cos_RA4 - R_r_forearm_00*R_r_wrist2_11*sin_RA4;
-  const T X2_R_02 = R_r_forearm_00*R_r_wrist1_20*cos_RA4 + R_r_forearm_02*R_r_wrist1_22 + R_r_upper_arm_01*R_r_wrist1_20*sin_RA4 + R_r_upper_arm_01*R_r_wrist2_21*cos_RA4 - R_r_forearm_00*R_r_wrist2_21*sin_RA4;
-  const T X2_R_10 = R_r_forearm_10*R_r_wrist1_00*cos_RA4 + R_r_forearm_12*R_r_wrist1_02 + R_r_upper_arm_11*R_r_wrist1_00*sin_RA4 + R_r_upper_arm_11*R_r_wrist2_01*cos_RA4 - R_r_forearm_10*R_r_wrist2_01*sin_RA4;
-  const T X2_R_12 = R_r_forearm_10*R_r_wrist1_20*cos_RA4 + R_r_forearm_12*R_r_wrist1_22 + R_r_upper_arm_11*R_r_wrist1_20*sin_RA4 + R_r_upper_arm_11*R_r_wrist2_21*cos_RA4 - R_r_forearm_10*R_r_wrist2_21*sin_RA4;
-  const T X2_R_20 = R_r_forearm_20*R_r_wrist1_00*cos_RA4 + R_r_forearm_22*R_r_wrist1_02 + R_r_upper_arm_21*R_r_wrist1_00*sin_RA4 + R_r_upper_arm_21*R_r_wrist2_01*cos_RA4 - R_r_forearm_20*R_r_wrist2_01*sin_RA4;
-  const T X2_R_21 = R_r_forearm_20*R_r_wrist1_10*cos_RA4 + R_r_forearm_22*R_r_wrist1_12 + R_r_upper_arm_21*R_r_wrist1_10*sin_RA4 + R_r_upper_arm_21*R_r_wrist2_11*cos_RA4 - R_r_forearm_20*R_r_wrist2_11*sin_RA4;
+  const T X1_vx = X1_f0_p_x - R_l_ankle_01*R_l_hip2_01*p_l_calf_x - R_l_ankle_11*R_l_hip2_01*p_l_calf_y - R_l_ankle_21*R_l_hip2_01*p_l_calf_z - R_l_calf_00*X1_f0_R_00*p_l_calf_x - R_l_calf_02*X1_f0_R_02*p_l_calf_x - R_l_calf_10*X1_f0_R_00*p_l_calf_y - R_l_calf_12*X1_f0_R_02*p_l_calf_y - R_l_calf_20*X1_f0_R_00*p_l_calf_z - R_l_calf_22*X1_f0_R_02*p_l_calf_z;
+  const T X1_vy = X1_f0_p_y - R_l_ankle_01*R_l_hip2_11*p_l_calf_x - R_l_ankle_11*R_l_hip2_11*p_l_calf_y - R_l_ankle_21*R_l_hip2_11*p_l_calf_z - R_l_calf_00*X1_f0_R_10*p_l_calf_x - R_l_calf_02*X1_f0_R_12*p_l_calf_x - R_l_calf_10*X1_f0_R_10*p_l_calf_y - R_l_calf_12*X1_f0_R_12*p_l_calf_y - R_l_calf_20*X1_f0_R_10*p_l_calf_z - R_l_calf_22*X1_f0_R_12*p_l_calf_z;
+  const T X1_vz = X1_f0_p_z - R_l_ankle_01*R_l_hip2_21*p_l_calf_x - R_l_ankle_11*R_l_hip2_21*p_l_calf_y - R_l_ankle_21*R_l_hip2_21*p_l_calf_z - R_l_calf_00*X1_f0_R_20*p_l_calf_x - R_l_calf_02*X1_f0_R_22*p_l_calf_x - R_l_calf_10*X1_f0_R_20*p_l_calf_y - R_l_calf_12*X1_f0_R_22*p_l_calf_y - R_l_calf_20*X1_f0_R_20*p_l_calf_z - R_l_calf_22*X1_f0_R_22*p_l_calf_z;
+  const T X2_f0_R_00 = R_r_forearm_00*cos_RA4 + R_r_upper_arm_01*sin_RA4;
+  const T X2_f0_R_01 = R_r_upper_arm_01*cos_RA4 - R_r_forearm_00*sin_RA4;
+  const T X2_f0_R_10 = R_r_forearm_10*cos_RA4 + R_r_upper_arm_11*sin_RA4;
+  const T X2_f0_R_11 = R_r_upper_arm_11*cos_RA4 - R_r_forearm_10*sin_RA4;
+  const T X2_f0_R_20 = R_r_forearm_20*cos_RA4 + R_r_upper_arm_21*sin_RA4;
+  const T X2_f0_R_21 = R_r_upper_arm_21*cos_RA4 - R_r_forearm_20*sin_RA4;
+  const T _tmp192 = p.sy*R_r_upper_arm_01;
+  const T X2_f0_p_x = p.sy*R_r_upper_arm_01*cos_RA4 + p_r_forearm_x - p.sy*R_r_forearm_00*sin_RA4 - _tmp192;
+  const T _tmp193 = p.sy*R_r_upper_arm_11;
+  const T X2_f0_p_y = p.sy*R_r_upper_arm_11*cos_RA4 + p_r_forearm_y - p.sy*R_r_forearm_10*sin_RA4 - _tmp193;
+  const T _tmp194 = p.sy*R_r_upper_arm_21;
+  const T X2_f0_p_z = p.sy*R_r_upper_arm_21*cos_RA4 + p_r_forearm_z - p.sy*R_r_forearm_20*sin_RA4 - _tmp194;
+  const T X2_R_01 = R_r_forearm_02*R_r_wrist1_12 + R_r_wrist1_10*X2_f0_R_00 + R_r_wrist2_11*X2_f0_R_01;
+  const T X2_R_02 = R_r_forearm_02*R_r_wrist1_22 + R_r_wrist1_20*X2_f0_R_00 + R_r_wrist2_21*X2_f0_R_01;
+  const T X2_R_10 = R_r_forearm_12*R_r_wrist1_02 + R_r_wrist1_00*X2_f0_R_10 + R_r_wrist2_01*X2_f0_R_11;
+  const T X2_R_12 = R_r_forearm_12*R_r_wrist1_22 + R_r_wrist1_20*X2_f0_R_10 + R_r_wrist2_21*X2_f0_R_11;
+  const T X2_R_20 = R_r_forearm_22*R_r_wrist1_02 + R_r_wrist1_00*X2_f0_R_20 + R_r_wrist2_01*X2_f0_R_21;
+  const T X2_R_21 = R_r_forearm_22*R_r_wrist1_12 + R_r_wrist1_10*X2_f0_R_20 + R_r_wrist2_11*X2_f0_R_21;
   const T X2_wx = T(0.5)*X2_R_21 - T(0.5)*X2_R_12;
   const T X2_wy = T(0.5)*X2_R_02 - T(0.5)*X2_R_20;
   const T X2_wz = T(0.5)*X2_R_10 - T(0.5)*X2_R_01;
-  const T _tmp192 = p.sy*R_r_upper_arm_01;
-  const T X2_vx = R_r_forearm_00*R_r_wrist2_01*p_r_wrist1_x*sin_RA4 + R_r_forearm_00*R_r_wrist2_11*p_r_wrist1_y*sin_RA4 + R_r_forearm_00*R_r_wrist2_21*p_r_wrist1_z*sin_RA4 + p.sy*R_r_upper_arm_01*cos_RA4 + p_r_forearm_x - R_r_forearm_00*R_r_wrist1_00*cos_RA4*p_r_wrist1_x - R_r_forearm_00*R_r_wrist1_10*cos_RA4*p_r_wrist1_y - R_r_forearm_00*R_r_wrist1_20*cos_RA4*p_r_wrist1_z - p.sy*R_r_forearm_00*sin_RA4 - R_r_forearm_02*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_02*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_02*R_r_wrist1_22*p_r_wrist1_z - R_r_upper_arm_01*R_r_wrist1_00*p_r_wrist1_x*sin_RA4 - R_r_upper_arm_01*R_r_wrist1_10*p_r_wrist1_y*sin_RA4 - R_r_upper_arm_01*R_r_wrist1_20*p_r_wrist1_z*sin_RA4 - R_r_upper_arm_01*R_r_wrist2_01*cos_RA4*p_r_wrist1_x - R_r_upper_arm_01*R_r_wrist2_11*cos_RA4*p_r_wrist1_y - R_r_upper_arm_01*R_r_wrist2_21*cos_RA4*p_r_wrist1_z - _tmp192;
-  const T _tmp193 = p.sy*R_r_upper_arm_11;
-  const T X2_vy = R_r_forearm_10*R_r_wrist2_01*p_r_wrist1_x*sin_RA4 + R_r_forearm_10*R_r_wrist2_11*p_r_wrist1_y*sin_RA4 + R_r_forearm_10*R_r_wrist2_21*p_r_wrist1_z*sin_RA4 + p.sy*R_r_upper_arm_11*cos_RA4 + p_r_forearm_y - R_r_forearm_10*R_r_wrist1_00*cos_RA4*p_r_wrist1_x - R_r_forearm_10*R_r_wrist1_10*cos_RA4*p_r_wrist1_y - R_r_forearm_10*R_r_wrist1_20*cos_RA4*p_r_wrist1_z - p.sy*R_r_forearm_10*sin_RA4 - R_r_forearm_12*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_12*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_12*R_r_wrist1_22*p_r_wrist1_z - R_r_upper_arm_11*R_r_wrist1_00*p_r_wrist1_x*sin_RA4 - R_r_upper_arm_11*R_r_wrist1_10*p_r_wrist1_y*sin_RA4 - R_r_upper_arm_11*R_r_wrist1_20*p_r_wrist1_z*sin_RA4 - R_r_upper_arm_11*R_r_wrist2_01*cos_RA4*p_r_wrist1_x - R_r_upper_arm_11*R_r_wrist2_11*cos_RA4*p_r_wrist1_y - R_r_upper_arm_11*R_r_wrist2_21*cos_RA4*p_r_wrist1_z - _tmp193;
-  const T _tmp194 = p.sy*R_r_upper_arm_21;
-  const T X2_vz = R_r_forearm_20*R_r_wrist2_01*p_r_wrist1_x*sin_RA4 + R_r_forearm_20*R_r_wrist2_11*p_r_wrist1_y*sin_RA4 + R_r_forearm_20*R_r_wrist2_21*p_r_wrist1_z*sin_RA4 + p.sy*R_r_upper_arm_21*cos_RA4 + p_r_forearm_z - R_r_forearm_20*R_r_wrist1_00*cos_RA4*p_r_wrist1_x - R_r_forearm_20*R_r_wrist1_10*cos_RA4*p_r_wrist1_y - R_r_forearm_20*R_r_wrist1_20*cos_RA4*p_r_wrist1_z - p.sy*R_r_forearm_20*sin_RA4 - R_r_forearm_22*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_22*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_22*R_r_wrist1_22*p_r_wrist1_z - R_r_upper_arm_21*R_r_wrist1_00*p_r_wrist1_x*sin_RA4 - R_r_upper_arm_21*R_r_wrist1_10*p_r_wrist1_y*sin_RA4 - R_r_upper_arm_21*R_r_wrist1_20*p_r_wrist1_z*sin_RA4 - R_r_upper_arm_21*R_r_wrist2_01*cos_RA4*p_r_wrist1_x - R_r_upper_arm_21*R_r_wrist2_11*cos_RA4*p_r_wrist1_y - R_r_upper_arm_21*R_r_wrist2_21*cos_RA4*p_r_wrist1_z - _tmp194;
-  const T X3_R_01 = R_l_forearm_00*R_l_wrist1_10*cos_LA4 + R_l_forearm_02*R_l_wrist1_12 + R_l_upper_arm_01*R_l_wrist1_10*sin_LA4 + R_l_upper_arm_01*R_l_wrist2_11*cos_LA4 - R_l_forearm_00*R_l_wrist2_11*sin_LA4;
-  const T X3_R_02 = R_l_forearm_00*R_l_wrist1_20*cos_LA4 + R_l_forearm_02*R_l_wrist1_22 + R_l_upper_arm_01*R_l_wrist1_20*sin_LA4 + R_l_upper_arm_01*R_l_wrist2_21*cos_LA4 - R_l_forearm_00*R_l_wrist2_21*sin_LA4;
-  const T X3_R_10 = R_l_forearm_10*R_l_wrist1_00*cos_LA4 + R_l_forearm_12*R_l_wrist1_02 + R_l_upper_arm_11*R_l_wrist1_00*sin_LA4 + R_l_upper_arm_11*R_l_wrist2_01*cos_LA4 - R_l_forearm_10*R_l_wrist2_01*sin_LA4;
-  const T X3_R_12 = R_l_forearm_10*R_l_wrist1_20*cos_LA4 + R_l_forearm_12*R_l_wrist1_22 + R_l_upper_arm_11*R_l_wrist1_20*sin_LA4 + R_l_upper_arm_11*R_l_wrist2_21*cos_LA4 - R_l_forearm_10*R_l_wrist2_21*sin_LA4;
-  const T X3_R_20 = R_l_forearm_20*R_l_wrist1_00*cos_LA4 + R_l_forearm_22*R_l_wrist1_02 + R_l_upper_arm_21*R_l_wrist1_00*sin_LA4 + R_l_upper_arm_21*R_l_wrist2_01*cos_LA4 - R_l_forearm_20*R_l_wrist2_01*sin_LA4;
-  const T X3_R_21 = R_l_forearm_20*R_l_wrist1_10*cos_LA4 + R_l_forearm_22*R_l_wrist1_12 + R_l_upper_arm_21*R_l_wrist1_10*sin_LA4 + R_l_upper_arm_21*R_l_wrist2_11*cos_LA4 - R_l_forearm_20*R_l_wrist2_11*sin_LA4;
+  const T X2_vx = X2_f0_p_x - R_r_forearm_02*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_02*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_02*R_r_wrist1_22*p_r_wrist1_z - R_r_wrist1_00*X2_f0_R_00*p_r_wrist1_x - R_r_wrist1_10*X2_f0_R_00*p_r_wrist1_y - R_r_wrist1_20*X2_f0_R_00*p_r_wrist1_z - R_r_wrist2_01*X2_f0_R_01*p_r_wrist1_x - R_r_wrist2_11*X2_f0_R_01*p_r_wrist1_y - R_r_wrist2_21*X2_f0_R_01*p_r_wrist1_z;
+  const T X2_vy = X2_f0_p_y - R_r_forearm_12*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_12*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_12*R_r_wrist1_22*p_r_wrist1_z - R_r_wrist1_00*X2_f0_R_10*p_r_wrist1_x - R_r_wrist1_10*X2_f0_R_10*p_r_wrist1_y - R_r_wrist1_20*X2_f0_R_10*p_r_wrist1_z - R_r_wrist2_01*X2_f0_R_11*p_r_wrist1_x - R_r_wrist2_11*X2_f0_R_11*p_r_wrist1_y - R_r_wrist2_21*X2_f0_R_11*p_r_wrist1_z;
+  const T X2_vz = X2_f0_p_z - R_r_forearm_22*R_r_wrist1_02*p_r_wrist1_x - R_r_forearm_22*R_r_wrist1_12*p_r_wrist1_y - R_r_forearm_22*R_r_wrist1_22*p_r_wrist1_z - R_r_wrist1_00*X2_f0_R_20*p_r_wrist1_x - R_r_wrist1_10*X2_f0_R_20*p_r_wrist1_y - R_r_wrist1_20*X2_f0_R_20*p_r_wrist1_z - R_r_wrist2_01*X2_f0_R_21*p_r_wrist1_x - R_r_wrist2_11*X2_f0_R_21*p_r_wrist1_y - R_r_wrist2_21*X2_f0_R_21*p_r_wrist1_z;
+  const T X3_f0_R_00 = R_l_forearm_00*cos_LA4 + R_l_upper_arm_01*sin_LA4;
+  const T X3_f0_R_01 = R_l_upper_arm_01*cos_LA4 - R_l_forearm_00*sin_LA4;
+  const T X3_f0_R_10 = R_l_forearm_10*cos_LA4 + R_l_upper_arm_11*sin_LA4;
+  const T X3_f0_R_11 = R_l_upper_arm_11*cos_LA4 - R_l_forearm_10*sin_LA4;
+  const T X3_f0_R_20 = R_l_forearm_20*cos_LA4 + R_l_upper_arm_21*sin_LA4;
+  const T X3_f0_R_21 = R_l_upper_arm_21*cos_LA4 - R_l_forearm_20*sin_LA4;
+  const T _tmp195 = p.sy*R_l_upper_arm_01;
+  const T X3_f0_p_x = p.sy*R_l_forearm_00*sin_LA4 + _tmp195 + p_l_forearm_x - p.sy*R_l_upper_arm_01*cos_LA4;
+  const T _tmp196 = p.sy*R_l_upper_arm_11;
+  const T X3_f0_p_y = p.sy*R_l_forearm_10*sin_LA4 + _tmp196 + p_l_forearm_y - p.sy*R_l_upper_arm_11*cos_LA4;
+  const T _tmp197 = p.sy*R_l_upper_arm_21;
+  const T X3_f0_p_z = p.sy*R_l_forearm_20*sin_LA4 + _tmp197 + p_l_forearm_z - p.sy*R_l_upper_arm_21*cos_LA4;
+  const T X3_R_01 = R_l_forearm_02*R_l_wrist1_12 + R_l_wrist1_10*X3_f0_R_00 + R_l_wrist2_11*X3_f0_R_01;
+  const T X3_R_02 = R_l_forearm_02*R_l_wrist1_22 + R_l_wrist1_20*X3_f0_R_00 + R_l_wrist2_21*X3_f0_R_01;
+  const T X3_R_10 = R_l_forearm_12*R_l_wrist1_02 + R_l_wrist1_00*X3_f0_R_10 + R_l_wrist2_01*X3_f0_R_11;
+  const T X3_R_12 = R_l_forearm_12*R_l_wrist1_22 + R_l_wrist1_20*X3_f0_R_10 + R_l_wrist2_21*X3_f0_R_11;
+  const T X3_R_20 = R_l_forearm_22*R_l_wrist1_02 + R_l_wrist1_00*X3_f0_R_20 + R_l_wrist2_01*X3_f0_R_21;
+  const T X3_R_21 = R_l_forearm_22*R_l_wrist1_12 + R_l_wrist1_10*X3_f0_R_20 + R_l_wrist2_11*X3_f0_R_21;
   const T X3_wx = T(0.5)*X3_R_21 - T(0.5)*X3_R_12;
   const T X3_wy = T(0.5)*X3_R_02 - T(0.5)*X3_R_20;
   const T X3_wz = T(0.5)*X3_R_10 - T(0.5)*X3_R_01;
-  const T _tmp195 = p.sy*R_l_upper_arm_01;
-  const T X3_vx = R_l_forearm_00*R_l_wrist2_01*p_l_wrist1_x*sin_LA4 + R_l_forearm_00*R_l_wrist2_11*p_l_wrist1_y*sin_LA4 + R_l_forearm_00*R_l_wrist2_21*p_l_wrist1_z*sin_LA4 + p.sy*R_l_forearm_00*sin_LA4 + _tmp195 + p_l_forearm_x - R_l_forearm_00*R_l_wrist1_00*cos_LA4*p_l_wrist1_x - R_l_forearm_00*R_l_wrist1_10*cos_LA4*p_l_wrist1_y - R_l_forearm_00*R_l_wrist1_20*cos_LA4*p_l_wrist1_z - R_l_forearm_02*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_02*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_02*R_l_wrist1_22*p_l_wrist1_z - R_l_upper_arm_01*R_l_wrist1_00*p_l_wrist1_x*sin_LA4 - R_l_upper_arm_01*R_l_wrist1_10*p_l_wrist1_y*sin_LA4 - R_l_upper_arm_01*R_l_wrist1_20*p_l_wrist1_z*sin_LA4 - R_l_upper_arm_01*R_l_wrist2_01*cos_LA4*p_l_wrist1_x - R_l_upper_arm_01*R_l_wrist2_11*cos_LA4*p_l_wrist1_y - R_l_upper_arm_01*R_l_wrist2_21*cos_LA4*p_l_wrist1_z - p.sy*R_l_upper_arm_01*cos_LA4;
-  const T _tmp196 = p.sy*R_l_upper_arm_11;
-  const T X3_vy = R_l_forearm_10*R_l_wrist2_01*p_l_wrist1_x*sin_LA4 + R_l_forearm_10*R_l_wrist2_11*p_l_wrist1_y*sin_LA4 + R_l_forearm_10*R_l_wrist2_21*p_l_wrist1_z*sin_LA4 + p.sy*R_l_forearm_10*sin_LA4 + _tmp196 + p_l_forearm_y - R_l_forearm_10*R_l_wrist1_00*cos_LA4*p_l_wrist1_x - R_l_forearm_10*R_l_wrist1_10*cos_LA4*p_l_wrist1_y - R_l_forearm_10*R_l_wrist1_20*cos_LA4*p_l_wrist1_z - R_l_forearm_12*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_12*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_12*R_l_wrist1_22*p_l_wrist1_z - R_l_upper_arm_11*R_l_wrist1_00*p_l_wrist1_x*sin_LA4 - R_l_upper_arm_11*R_l_wrist1_10*p_l_wrist1_y*sin_LA4 - R_l_upper_arm_11*R_l_wrist1_20*p_l_wrist1_z*sin_LA4 - R_l_upper_arm_11*R_l_wrist2_01*cos_LA4*p_l_wrist1_x - R_l_upper_arm_11*R_l_wrist2_11*cos_LA4*p_l_wrist1_y - R_l_upper_arm_11*R_l_wrist2_21*cos_LA4*p_l_wrist1_z - p.sy*R_l_upper_arm_11*cos_LA4;
-  const T _tmp197 = p.sy*R_l_upper_arm_21;
-  const T X3_vz = R_l_forearm_20*R_l_wrist2_01*p_l_wrist1_x*sin_LA4 + R_l_forearm_20*R_l_wrist2_11*p_l_wrist1_y*sin_LA4 + R_l_forearm_20*R_l_wrist2_21*p_l_wrist1_z*sin_LA4 + p.sy*R_l_forearm_20*sin_LA4 + _tmp197 + p_l_forearm_z - R_l_forearm_20*R_l_wrist1_00*cos_LA4*p_l_wrist1_x - R_l_forearm_20*R_l_wrist1_10*cos_LA4*p_l_wrist1_y - R_l_forearm_20*R_l_wrist1_20*cos_LA4*p_l_wrist1_z - R_l_forearm_22*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_22*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_22*R_l_wrist1_22*p_l_wrist1_z - R_l_upper_arm_21*R_l_wrist1_00*p_l_wrist1_x*sin_LA4 - R_l_upper_arm_21*R_l_wrist1_10*p_l_wrist1_y*sin_LA4 - R_l_upper_arm_21*R_l_wrist1_20*p_l_wrist1_z*sin_LA4 - R_l_upper_arm_21*R_l_wrist2_01*cos_LA4*p_l_wrist1_x - R_l_upper_arm_21*R_l_wrist2_11*cos_LA4*p_l_wrist1_y - R_l_upper_arm_21*R_l_wrist2_21*cos_LA4*p_l_wrist1_z - p.sy*R_l_upper_arm_21*cos_LA4;
+  const T X3_vx = X3_f0_p_x - R_l_forearm_02*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_02*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_02*R_l_wrist1_22*p_l_wrist1_z - R_l_wrist1_00*X3_f0_R_00*p_l_wrist1_x - R_l_wrist1_10*X3_f0_R_00*p_l_wrist1_y - R_l_wrist1_20*X3_f0_R_00*p_l_wrist1_z - R_l_wrist2_01*X3_f0_R_01*p_l_wrist1_x - R_l_wrist2_11*X3_f0_R_01*p_l_wrist1_y - R_l_wrist2_21*X3_f0_R_01*p_l_wrist1_z;
+  const T X3_vy = X3_f0_p_y - R_l_forearm_12*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_12*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_12*R_l_wrist1_22*p_l_wrist1_z - R_l_wrist1_00*X3_f0_R_10*p_l_wrist1_x - R_l_wrist1_10*X3_f0_R_10*p_l_wrist1_y - R_l_wrist1_20*X3_f0_R_10*p_l_wrist1_z - R_l_wrist2_01*X3_f0_R_11*p_l_wrist1_x - R_l_wrist2_11*X3_f0_R_11*p_l_wrist1_y - R_l_wrist2_21*X3_f0_R_11*p_l_wrist1_z;
+  const T X3_vz = X3_f0_p_z - R_l_forearm_22*R_l_wrist1_02*p_l_wrist1_x - R_l_forearm_22*R_l_wrist1_12*p_l_wrist1_y - R_l_forearm_22*R_l_wrist1_22*p_l_wrist1_z - R_l_wrist1_00*X3_f0_R_20*p_l_wrist1_x - R_l_wrist1_10*X3_f0_R_20*p_l_wrist1_y - R_l_wrist1_20*X3_f0_R_20*p_l_wrist1_z - R_l_wrist2_01*X3_f0_R_21*p_l_wrist1_x - R_l_wrist2_11*X3_f0_R_21*p_l_wrist1_y - R_l_wrist2_21*X3_f0_R_21*p_l_wrist1_z;
   const T closure_residual = X0_vx*X0_vx + X0_vy*X0_vy + X0_vz*X0_vz + X0_wx*X0_wx + X0_wy*X0_wy + X0_wz*X0_wz + X1_vx*X1_vx + X1_vy*X1_vy + X1_vz*X1_vz + X1_wx*X1_wx + X1_wy*X1_wy + X1_wz*X1_wz + X2_vx*X2_vx + X2_vy*X2_vy + X2_vz*X2_vz + X2_wx*X2_wx + X2_wy*X2_wy + X2_wz*X2_wz + X3_vx*X3_vx + X3_vy*X3_vy + X3_vz*X3_vz + X3_wx*X3_wx + X3_wy*X3_wy + X3_wz*X3_wz;
   const T lu_ipiv0 = T(1)/R_r_hip1_00;
   const T lu_f1_0 = R_r_hip1_20*lu_ipiv0;
@@ -9312,7 +9348,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 13221 (with the stages it calls)
+  // Total ops: 12741 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -9420,7 +9456,7 @@ template <class T>
 Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 9006 (with the stages it calls)
+  // Total ops: 8526 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   const T _sum_positions_0 = ((s.joints.RL6.q + s.joints.RL5.q) + (s.joints.RL4.q + s.joints.RL3.q)) + ((s.joints.RL2.q + s.joints.RL1.q) + (s.joints.LL6.q + s.joints.LL5.q));
@@ -9517,7 +9553,7 @@ template <class T>
 Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 23958 (with the stages it calls)
+  // Total ops: 23478 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -10114,7 +10150,7 @@ template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 22682 (with the stages it calls)
+  // Total ops: 22202 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -11286,7 +11322,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
                T* b) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 55, Status::unreachable);
-  // Total ops: 15930 (with the stages it calls)
+  // Total ops: 15450 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;

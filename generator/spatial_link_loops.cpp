@@ -655,15 +655,17 @@ std::optional<ClosedFormGroup> platform_group(ClosureContext& ctx,
       if (!parallelograms) break;
       sides.push_back(side);
     }
-    if (!parallelograms || small(geometry::cross(sides[0], sides[1]))) continue;
+    if (!parallelograms) continue;
+    bool crossing = false;  // two sides not parallel: together they fix the orientation
+    for (size_t i = 1; i < sides.size(); ++i)
+      crossing = crossing || !small(geometry::cross(sides[0], sides[i]));
+    if (!crossing) continue;
     // P's tree path: its unknown columns are exactly one rod's.
     const std::vector<int>& path = ctx.graph.path_sign[pb];
     std::optional<Rod> tree_rod;
     for (const auto& [known, rods] : by_known)
-      for (const Rod& r : rods) {
-        const int pj = ctx.graph.parent_joint[pb];
-        if (pj == r.at_platform) tree_rod = r;
-      }
+      for (const Rod& r : rods)
+        if (ctx.graph.parent_joint[pb] == r.at_platform) tree_rod = r;
     if (!tree_rod) continue;
     std::vector<bool> rod_column(path.size(), false);
     for (const int j : {tree_rod->at_platform, tree_rod->at_known}) {

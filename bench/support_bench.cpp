@@ -1,6 +1,7 @@
 // bioloid_support/*: single-support inverse dynamics of the Bioloid (issue 13) per sample, on
 // whole-body states of the walking gait (right foot in support, 64 samples of the first step,
-// solved beforehand by the numeric solver):
+// solved beforehand by the numeric solver; bench/bioloid_support_samples.hpp, shared with
+// bioloid_support/mujoco in bench/mujoco_bench.cpp):
 //  - generated: the generated kernel generated/bioloid_support_r_foot evaluate() from the joint
 //    angles, rates and accelerations and the placement: every body's pose, twist and twist rate,
 //    every screw Jacobian, every joint torque and reaction, the floor wrench;
@@ -16,13 +17,10 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <memory>
 #include <stdexcept>
 
-#include "bioloid_support_r_foot/bioloid_support_r_foot.hpp"
-#include "model/support_model.hpp"
+#include "bioloid_support_samples.hpp"
 #include "spatial/floating_base.hpp"
-#include "spatial/humanoid_gait.hpp"
 #include "spatial/spatial_dynamics.hpp"
 #include "spatial/support_kernel.hpp"
 
@@ -31,61 +29,7 @@ namespace {
 
 namespace k = gen::bioloid_support_r_foot;
 
-// The real joints of models/bioloid.yaml, each driven by <joint>_drive in the kernel.
-// clang-format off
-#define MECHGEN_BIOLOID_JOINTS \
-  X(RL1) X(RL2) X(RL3) X(RL4) X(RL5) X(RL6) \
-  X(LL1) X(LL2) X(LL3) X(LL4) X(LL5) X(LL6) \
-  X(RA1) X(RA2) X(RA3) X(RA4) X(RA5) X(RA6) \
-  X(LA1) X(LA2) X(LA3) X(LA4) X(LA5) X(LA6)
-// clang-format on
-
-struct Support {
-  SpatialModel model = read_spatial_model(MECHGEN_SOURCE_DIR "/models/bioloid.yaml");
-  spatial::SpatialSolver solver{model, {}};
-  spatial::HumanoidGait gait{solver, spatial::gait_settings(solver)};
-  SpatialModel welded = weld_support(model, "r_foot");
-  int foot = model.body_index("r_foot");
-  std::vector<spatial::SpatialState> states;
-  std::vector<k::Inputs<double>> inputs;
-  std::vector<k::Params<double>> params;
-
-  // The foot's point RF at the reference pose: the placement parameters' defaults.
-  spatial::V3 at_reference() const {
-    const std::vector<double> p = welded.common.default_parameters();
-    const auto i = static_cast<size_t>(welded.common.parameter_index(kSupportPlacement[0]));
-    return {p[i], p[i + 1], p[i + 2]};
-  }
-
-  Support() {
-    const double T = gait.settings().step_time;
-    for (int i = 0; i < 64; ++i) {
-      spatial::SpatialState s;
-      gait.solve(T * (i + 0.5) / 64, s);
-      if (gait.support(s.t) != 0) throw std::logic_error("bioloid_support: not on the right foot");
-      k::Inputs<double> in;
-      in.t = s.t;
-#define X(J)                                                                               \
-  {                                                                                        \
-    const int c = solver.graph().joint_column[static_cast<size_t>(model.joint_index(#J))]; \
-    in.J##_drive = s.q[c], in.J##_drive_d = s.qd[c], in.J##_drive_dd = s.qdd[c];           \
-  }
-      MECHGEN_BIOLOID_JOINTS
-#undef X
-      // The placement: the foot's point RF and its heading (flat: a turn about z).
-      const spatial::Pose& D = s.D[static_cast<size_t>(foot)];
-      const spatial::V3 at = geometry::apply(D, at_reference());
-      k::Params<double> p;
-      p.support_x = at[0], p.support_y = at[1], p.support_z = at[2];
-      p.support_heading = std::atan2(D.R(1, 0), D.R(0, 0));
-      states.push_back(s);
-      inputs.push_back(in);
-      params.push_back(p);
-    }
-  }
-};
-
-void check(const Support& b) {
+void check(const BioloidSupport& b) {
   for (size_t i = 0; i < b.states.size(); ++i) {
     const spatial::FloatingBaseLoads numeric =
         spatial::single_support_dynamics(b.solver, b.states[i], b.foot);
@@ -104,7 +48,7 @@ void check(const Support& b) {
 }
 
 [[maybe_unused]] const bool registered = [] {
-  auto b = std::make_shared<Support>();
+  const BioloidSupport* b = &bioloid_support();
   check(*b);
   benchmark::RegisterBenchmark("bioloid_support/generated", [b](benchmark::State& state) {
     k::State<double> s;
@@ -173,7 +117,5 @@ void check(const Support& b) {
   })->Unit(benchmark::kNanosecond);
   return true;
 }();
-#undef MECHGEN_BIOLOID_JOINTS
-
 }  // namespace
 }  // namespace mechgen::bench

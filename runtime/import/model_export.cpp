@@ -348,11 +348,14 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     }
     x << indent << "</body>\n";
   };
+  // Massless bodies (no <inertial>) take the compiler's bounds; MuJoCo refuses a moving body whose
+  // mass or inertia is below mjMINVAL (1e-15) unless a welded child carries some, so the bounds
+  // are above it (a massless subtree on joints: the Bioloid's wrists and hands).
   x << "<!-- Exported by `mechgen export` from " << source
     << " (default parameters, reference pose): the joint graph's spanning tree; the loops it cuts "
        "are closed by equality constraints. -->\n<mujoco model=\""
     << model.common.name << "\">\n  <compiler angle=\"radian\" boundmass=\"1e-12\" "
-    << "boundinertia=\"1e-18\"/>\n  <option gravity=\"" << triple(vec(inst.gravity)) << "\"/>\n"
+    << "boundinertia=\"1e-14\"/>\n  <option gravity=\"" << triple(vec(inst.gravity)) << "\"/>\n"
     << "  <worldbody>\n";
   sites(model.ground, "    ");
   for (const int b : g.order)

@@ -208,17 +208,19 @@ class LinkSolver {
   // b . x = beta for x = t - c_1; their line x0 + lambda n (n = a x b) meets the first sphere at
   // lambda = +-sqrt((r_1^2 - |x0|^2) / |n|^2): the root on the assembly's side (the plate below
   // the motors, not above). Then solve() places the link on Y's tree path from Y's pose.
-  bool platform(const std::array<V, 3>& known_centre, const std::array<V, 3>& platform_centre,
-                const std::string& name, const std::string& plan) {
+  bool platform(const std::array<int, 3>& known_body, const std::array<V, 3>& known_centre,
+                const std::array<V, 3>& platform_centre, const std::string& name,
+                const std::string& plan) {
     g_.name = name;
     prefix_ = "cf_" + m_.bodies[static_cast<size_t>(l_.Y)].name + "_";
     std::array<V, 3> c;
     std::array<ex, 3> r2;
     for (size_t i = 0; i < 3; ++i) {
       const V d = known_centre[i] - platform_centre[i];
-      c[i] = def("c" + std::to_string(i + 1),
-                 geometry::apply(ctx_.tree_pose[static_cast<size_t>(arm_[i])], known_centre[i]) -
-                     platform_centre[i]);
+      c[i] =
+          def("c" + std::to_string(i + 1),
+              geometry::apply(ctx_.tree_pose[static_cast<size_t>(known_body[i])], known_centre[i]) -
+                  platform_centre[i]);
       r2[i] = def("r" + std::to_string(i + 1) + "_sq", geometry::dot(d, d));
     }
     const V a = def("a", c[1] - c[0]), b = def("b", c[2] - c[0]);
@@ -246,7 +248,6 @@ class LinkSolver {
     g_.plan = plan;
     return true;
   }
-  void set_arms(const std::array<int, 3>& arms) { arm_ = arms; }
 
  private:
   const SpatialJoint& joint(int j) const { return m_.joints[static_cast<size_t>(j)]; }
@@ -541,7 +542,6 @@ class LinkSolver {
   ex length_, scale_;
   Pose DY_;
   std::optional<Pose> placed_;  // Y's displacement, given (a platform)
-  std::array<int, 3> arm_{};    // the platform's three known bodies
 };
 
 // The first link (over the unknown revolutes in joint order) that `accept` takes.
@@ -694,9 +694,8 @@ std::optional<ClosedFormGroup> platform_group(ClosureContext& ctx,
     l.y_end = tree_rod->at_platform, l.x_end = tree_rod->at_known;
     ctx.assembly.clear();
     LinkSolver solver(ctx, l);
-    solver.set_arms(arms);
     const std::string& name = m.bodies[pb].name;
-    if (!solver.platform(known_centre, platform_centre, name + " (three spheres)",
+    if (!solver.platform(arms, known_centre, platform_centre, name + " (three spheres)",
                          "platform '" + name + "' keeps its orientation (parallelogram rods from " +
                              names + "): its position from the intersection of three spheres; "))
       continue;

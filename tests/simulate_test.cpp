@@ -467,6 +467,71 @@ step: {t0: 0, t1: 1, samples: 11}
   EXPECT_NO_THROW(model_effort_laws(pasibot, pasibot.default_parameters(), {"theta8"}));
 }
 
+// A passive driver (planar here; the spatial ones come from `mechgen import --springs`): a hip
+// servo and a free knee on a spring. Computed torque on the hip alone (collocated partial
+// feedback) holds the hip's motion to the integration error while the knee swings on its spring,
+// and the energy balance (the spring's work counted) stays constant. A passive driver without a
+// law is refused at its key.
+TEST(Simulate, APassiveDriverSwingsOnItsLawWhileTheOthersAreTracked) {
+  const std::string text = R"(
+name: sprung_leg
+parameters: {k: 40, c: 0.3}
+bodies:
+  - {name: ground, ground: true, points: {O: [0, 0]}}
+  - {name: thigh, points: {O: [0, 0], K: [0.4, 0]}, mass: {mass: 2, com: [0.2, 0], inertia: 0.03}}
+  - {name: shin, points: {K: [0.4, 0]}, mass: {mass: 1, com: [0.7, 0], inertia: 0.02}}
+joints:
+  - {name: hip, type: revolute, first: ground, second: thigh, point: O}
+  - {name: knee, type: revolute, first: thigh, second: shin, point: K}
+drivers:
+  - {name: hip_angle, joint: hip, kind: angle, value: 0.3*sin(2*t)}
+  - {name: knee_angle, joint: knee, kind: angle, value: 0, passive: true, effort: -k*q - c*qd}
+step: {t0: 0, t1: 1, samples: 11}
+)";
+  const Model model = read_model_text(text, "sprung_leg.yaml");
+  ASSERT_TRUE(model.drivers[1].passive);
+  const std::vector<double> p = model.default_parameters();
+  std::shared_ptr<Plant> plant = planar_plant(model, p), controller = planar_plant(model, p);
+  const EffortFunction laws = model_effort_laws(model, p, {"hip_angle"});
+  SimulationOptions options;
+  options.t1 = 1;
+  options.dt = 1e-3;
+  for (const Control control : {Control::computed_torque, Control::pd}) {
+    plant->restart();  // each run from t0 again
+    controller->restart();
+    const SimulationResult result = simulate(
+        *plant,
+        tracking_controller(controller, control, 400, 40, VectorXd::Ones(2), {false, true}, laws),
+        options);
+    ASSERT_TRUE(result.error.empty()) << result.error;
+    double worst_hip = 0, largest_knee = 0;
+    for (const std::vector<double>& row : result.rows) {
+      VectorXd qr, qdr;
+      plant->motion(row.front(), qr, qdr);
+      worst_hip = std::max(worst_hip, std::abs(row[column(result.columns, "hip_angle.q")] - qr[0]));
+      largest_knee = std::max(largest_knee, std::abs(row[column(result.columns, "knee_angle.q")]));
+    }
+    const double drift = result.rows.back().back() - result.rows.front().back();
+    if (control == Control::computed_torque) {
+      EXPECT_LT(worst_hip, 1e-8);
+    }
+    EXPECT_GT(largest_knee, 0.05) << "the knee swings on its spring";
+    EXPECT_LT(std::abs(drift), 1e-6);
+    std::cout << (control == Control::pd ? "pd" : "computed torque") << ": hip tracked to "
+              << worst_hip << " rad, knee swing up to " << largest_knee << " rad, energy drift "
+              << drift << " J\n";
+  }
+  std::string lawless = text;
+  lawless.replace(lawless.find(", effort: -k*q - c*qd"), 21, "");
+  try {
+    read_model_text(lawless, "lawless.yaml");
+    FAIL() << "a passive driver without a law was read";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("lawless.yaml:13:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("needs an `effort:` law"), std::string::npos) << e.what();
+  }
+}
+
 // PASIBOT from rest on the catalogue motor size-motor chooses (GM25-150, its mass on the hip),
 // stepping periodically (the support foot alternating): the energy balance (kinetic + potential
 // - work of the motor) holds across the support exchanges, which the step lands on exactly.

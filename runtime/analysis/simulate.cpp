@@ -531,14 +531,27 @@ double MotorDrive::reflected_inertia() const {
 }
 
 EffortFunction tracking_controller(std::shared_ptr<Plant> model, Control control, double kp,
-                                   double kd, const VectorXd& inertia) {
-  return [model, control, kp, kd, inertia](double t, const VectorXd& q, const VectorXd& qd,
-                                           VectorXd& effort) {
+                                   double kd, const VectorXd& inertia,
+                                   const std::vector<bool>& passive,
+                                   const EffortFunction& passive_laws) {
+  std::vector<Eigen::Index> active_index, passive_index;
+  for (Eigen::Index d = 0; d < inertia.size(); ++d)
+    (d < static_cast<Eigen::Index>(passive.size()) && passive[static_cast<size_t>(d)]
+         ? passive_index
+         : active_index)
+        .push_back(d);
+  if (!passive_index.empty() && !passive_laws)
+    throw std::invalid_argument("tracking_controller: passive drivers need their laws");
+  return [model, control, kp, kd, inertia, active_index, passive_index, passive_laws](
+             double t, const VectorXd& q, const VectorXd& qd, VectorXd& effort) {
     VectorXd qr, qdr, qddr;
     model->motion(t, qr, qdr, &qddr);
     const VectorXd servo = kp * (qr - q) + kd * (qdr - qd);
+    VectorXd laws;
+    if (!passive_index.empty()) passive_laws(t, q, qd, laws);
     if (control == Control::pd) {
       effort = inertia.cwiseProduct(servo);
+      for (const Eigen::Index p : passive_index) effort[p] = laws[p];
       return;
     }
     numeric::MassBias mb;
@@ -547,7 +560,19 @@ EffortFunction tracking_controller(std::shared_ptr<Plant> model, Control control
       effort = VectorXd::Constant(q.size(), std::nan(""));
       return;
     }
-    effort = mb.M * (qddr + servo) + mb.h;
+    VectorXd qdd = qddr + servo;
+    if (!passive_index.empty()) {
+      // Collocated partial feedback linearisation (Spong): the active coordinates get the
+      // servo's accelerations; the passive ones the accelerations their laws then give, from
+      // their rows of M qdd + h = effort.
+      const auto a = active_index, p = passive_index;
+      const Eigen::MatrixXd Mpp = mb.M(p, p);
+      const VectorXd rhs = laws(p) - mb.h(p) - mb.M(p, a) * qdd(a);
+      const VectorXd passive_qdd = Mpp.ldlt().solve(rhs);
+      qdd(p) = passive_qdd;
+    }
+    effort = mb.M * qdd + mb.h;
+    for (const Eigen::Index p : passive_index) effort[p] = laws[p];
   };
 }
 

@@ -103,10 +103,15 @@ struct MotorDrive {
 // as the reference q_r(t): computed torque, effort = M(q) (q_r'' + kd e' + kp e) + h(q, q') with M
 // and h from `model` (a plant of its own, placed at the simulation's state), or PD only, effort =
 // J (kp e + kd e') with J `inertia` (per driver: the diagonal of M at the start, so that both
-// have the same nominal bandwidth). e = q_r - q.
+// have the same nominal bandwidth). e = q_r - q. Drivers flagged in `passive` (a joint's spring)
+// are not actuated: their effort is `passive_laws`'s, and computed torque then linearises the
+// active coordinates only (collocated partial feedback: the passive accelerations are those
+// their laws give while the active ones follow the servo).
 enum class Control { computed_torque, pd };
 EffortFunction tracking_controller(std::shared_ptr<Plant> model, Control control, double kp,
-                                   double kd, const Eigen::VectorXd& inertia);
+                                   double kd, const Eigen::VectorXd& inertia,
+                                   const std::vector<bool>& passive = {},
+                                   const EffortFunction& passive_laws = {});
 
 enum class Integrator { rk4, implicit_midpoint };
 

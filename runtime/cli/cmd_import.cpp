@@ -19,7 +19,7 @@ namespace {
 
 const char* const kImportHelp =
     R"(usage: mechgen import FILE.urdf [--closures FILE.yaml] [--floating] -o MODEL.yaml
-       mechgen import FILE.xml [--floating] -o MODEL.yaml
+       mechgen import FILE.xml [--floating] [--springs] -o MODEL.yaml
 
 Writes a spatial description (docs/model_format.md) of a robot written for ROS or MuJoCo:
   FILE.urdf   a URDF tree (urdfdom), with the loop closures of the Extended URDF convention of
@@ -42,7 +42,10 @@ assembled pose is the model's reference pose: every coordinate 0 there. Other as
 same motor positions are looked for from 16 deterministic starts; how many were found is printed
 and written in the header (the one reached from the source's configuration is kept). Each
 actuated joint is a driver, `amplitude*sin(w*t)` about that pose (parameters amplitude = 0.05
-rad, w = 2 pi rad/s). The file starts with a comment naming the source and every conversion made. The written model is
+rad, w = 2 pi rad/s). An MJCF joint with stiffness (Cassie's shin and heel springs) is kept
+rigid at its spring's rest (springref); --springs keeps it free: a passive driver held at that rest
+in sweeps, whose effort under `mechgen simulate` is its spring and damping, -k q - c q' (the
+parameters k_JOINT and c_JOINT). The file starts with a comment naming the source and every conversion made. The written model is
 then assembled by the numeric solver (as `mechgen check` does) before the command succeeds.
 
 Errors: FILE:LINE: error: MESSAGE, exit code 1.
@@ -57,10 +60,12 @@ int run_import(const Args& args) {
   try {
     import::Tree tree;
     if (ext == ".urdf") {
+      if (args.has("--springs"))
+        throw UsageError("--springs is for MJCF files (a URDF joint carries no stiffness)");
       tree = import::read_urdf(path, args.get("--closures"));
     } else if (ext == ".xml" || ext == ".mjcf") {
       if (args.has("--closures")) throw UsageError("--closures is for URDF files");
-      tree = import::read_mjcf(path);
+      tree = import::read_mjcf(path, args.has("--springs"));
     } else {
       throw UsageError("'" + path + "': expected a .urdf or an MJCF .xml file");
     }
@@ -122,7 +127,10 @@ Command import_command() {
   return {"import",
           "a URDF (+ Extended URDF closures) or MJCF robot as a spatial description",
           kImportHelp,
-          {{"--out", "-o", true}, {"--closures", "", true}, {"--floating", "", false}},
+          {{"--out", "-o", true},
+           {"--closures", "", true},
+           {"--floating", "", false},
+           {"--springs", "", false}},
           &run_import};
 }
 

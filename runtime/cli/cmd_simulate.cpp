@@ -32,7 +32,9 @@ Forward dynamics: the drivers become free coordinates under given efforts, q'' =
 h) with M and h from the model's generated kernel or the numeric solver at every stage (planar and
 spatial models). Each driver's
 effort is its `effort:` law in the model (of t, the parameters and its own q and qd:
-docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
+docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue. A `passive:`
+driver (a joint's spring, e.g. from `mechgen import --springs`) always takes its law: --motor
+and --track act on the other drivers only.
   --out FILE.csv      the sweep's columns (efforts: those the mechanism receives, M q'' + h) and
                       E.kinetic, E.potential (gravity), W.efforts, W.loads (work since t0) and
                       E.balance = kinetic + potential - works (constant up to the integration error)
@@ -49,7 +51,7 @@ docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
                       moved by its advance over the model's step, it is moved back by it (the
                       same configuration, the legs' roles swapped) and the solver re-assembles;
                       so every step is the model's step, support foot alternating
-  --motor NAME        a motor of --catalogue drives --driver (default: the first driver):
+  --motor NAME        a motor of --catalogue drives --driver (default: the first active one):
                       torque-speed line at the rated voltage from the peak torque at stall (also
                       the current limit) to zero at the no-load speed, through the gearbox ratio
                       and efficiency; the rotor inertia x ratio^2 is added to M; it drives in the
@@ -59,8 +61,9 @@ docs/model_format.md), or a DC motor and gearbox from a size-motor catalogue.
   --track CONTROL     the drivers as force-controlled actuators holding the model's own motion
                       (their `value:`) as the reference instead of their effort laws:
                       computed-torque (M (q_r'' + kd e' + kp e) + h, M and h from --solver at
-                      the current state) or pd (J (kp e + kd e'), J the diagonal of M at
-                      the start); prints the largest tracking error of each driver
+                      the current state; with passive drivers, on the active coordinates only)
+                      or pd (J (kp e + kd e'), J the diagonal of M at the start); prints the
+                      largest tracking error of each driver
   --kp KP, --kd KD    the tracking gains (default 400 1/s^2 and 40 1/s: 20 rad/s, critically
                       damped)
 A singular configuration reached (M not positive definite, or the solver cannot place the
@@ -132,14 +135,30 @@ int run_simulate(const Args& args) {
   };
   std::unique_ptr<sim::Plant> plant = make_plant();
   const std::vector<std::string>& drivers = plant->drivers();
+  // Passive drivers (plant order): their laws always apply.
+  std::vector<bool> passive(drivers.size(), false);
+  for (size_t d = 0; d < drivers.size(); ++d) {
+    if (spatial)
+      for (const SpatialDriver& sd : spatial_model->drivers)
+        passive[d] = passive[d] || (sd.passive && sd.name == drivers[d]);
+    else
+      for (const Driver& pd : planar_model->drivers)
+        passive[d] = passive[d] || (pd.passive && pd.name == drivers[d]);
+  }
+  const auto first_active = std::find(passive.begin(), passive.end(), false);
+  if (first_active == passive.end() && (args.has("--motor") || args.has("--track")))
+    throw UsageError("every driver is passive: nothing for --motor or --track to drive");
+  const auto first_active_index = static_cast<size_t>(first_active - passive.begin());
   std::vector<std::string> free;
   std::optional<sim::MotorDrive> motor;
   if (args.has("--motor")) {
-    const std::string driver = args.get("--driver", drivers.empty() ? "" : drivers.front());
+    const std::string driver = args.get("--driver", drivers[first_active_index]);
     int index = -1;
     for (size_t d = 0; d < drivers.size(); ++d)
       if (drivers[d] == driver) index = static_cast<int>(d);
     if (index < 0) throw UsageError("--driver: no driver '" + driver + "' in the model");
+    if (passive[static_cast<size_t>(index)])
+      throw UsageError("--driver: '" + driver + "' is passive (its effort is its law)");
     const std::string catalogue_path = args.get("--catalogue");
     g_current_file = catalogue_path;
     const std::vector<Motor> catalogue = read_catalogue(catalogue_path);
@@ -158,8 +177,10 @@ int run_simulate(const Args& args) {
     free.push_back(driver);
   }
   if (args.has("--periodic")) {
-    options.periodic_driver = motor ? motor->driver : 0;
     if (drivers.empty()) throw UsageError("--periodic: the model has no driver");
+    options.periodic_driver = motor                           ? motor->driver
+                              : first_active != passive.end() ? static_cast<int>(first_active_index)
+                                                              : 0;
     Eigen::VectorXd q0, q1, qd;
     plant->motion(t0, q0, qd);
     plant->motion(t1, q1, qd);
@@ -173,7 +194,8 @@ int run_simulate(const Args& args) {
     const std::string kind = args.get("--track");
     if (kind != "computed-torque" && kind != "pd")
       throw UsageError("--track: '" + kind + "' is not computed-torque or pd");
-    for (size_t d = 0; d < drivers.size(); ++d) free.push_back(drivers[d]);
+    for (size_t d = 0; d < drivers.size(); ++d)
+      if (!passive[d]) free.push_back(drivers[d]);
     control_plant = make_plant();
   }
   const sim::EffortFunction laws = spatial
@@ -198,7 +220,7 @@ int run_simulate(const Args& args) {
     effort = sim::tracking_controller(
         control_plant,
         args.get("--track") == "pd" ? sim::Control::pd : sim::Control::computed_torque,
-        args.number("--kp", 400), args.number("--kd", 40), mb.M.diagonal());
+        args.number("--kp", 400), args.number("--kd", 40), mb.M.diagonal(), passive, laws);
   }
   const auto start = std::chrono::steady_clock::now();
   const sim::SimulationResult result = sim::simulate(*plant, effort, options);
@@ -238,7 +260,8 @@ int run_simulate(const Args& args) {
         plant->motion(row.front(), qr, qdr);
         worst = std::max(worst, std::abs(qr[static_cast<Eigen::Index>(d)] - row[c]));
       }
-      std::cout << (d ? ", " : " ") << drivers[d] << " " << fixed(worst, 4);
+      std::cout << (d ? ", " : " ") << drivers[d] << (passive[d] ? " (passive) " : " ")
+                << fixed(worst, 4);
     }
     std::cout << "\n";
   }

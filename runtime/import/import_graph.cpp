@@ -74,7 +74,7 @@ class Builder {
       if (k < 0)
         throw ImportError(tree_.source, a.line,
                           "actuated joint '" + jn + "' was merged away (it lies inside a weld)");
-      d_.drivers.push_back({a.name, k, a.value});
+      d_.drivers.push_back({a.name, k, a.value, a.passive, a.stiffness, a.damping});
     }
     unique_names();
     return d_;

@@ -72,6 +72,10 @@ struct Actuator {
   int joint = -1;
   int line = 0;
   std::string value;  // its law of t when the source carries one (mechgen export), else empty
+  // A joint's spring (MJCF stiffness under --springs): no actuator; its effort -stiffness *
+  // (q - rest) - damping * q', its rest the spring's, where the assembly holds it.
+  bool passive = false;
+  double stiffness = 0, damping = 0;
 };
 
 struct SweepStep {  // the default sweep when the source carries one (mechgen export)
@@ -101,8 +105,9 @@ std::string closure_name(const std::string& a, const std::string& b);
 
 // URDF through urdfdom; closures (Extended URDF YAML) optional. Throws ImportError.
 Tree read_urdf(const std::string& urdf_path, const std::string& closures_path);
-// MJCF through MuJoCo's compiler. Throws ImportError.
-Tree read_mjcf(const std::string& path);
+// MJCF through MuJoCo's compiler. A joint with stiffness is held rigid at its spring's rest, or,
+// with `springs`, a passive driver (Actuator::passive). Throws ImportError.
+Tree read_mjcf(const std::string& path, bool springs = false);
 
 // --floating: the base floats, placed by a pose driver from a new ground `world` (URDF: the root
 // link; MJCF: the body of the free joint), at its source pose. Before assemble().
@@ -164,7 +169,9 @@ struct Joint {
 struct Driver {
   std::string name;
   int joint = -1;
-  std::string value;  // empty: amplitude*sin(w*t)
+  std::string value;     // empty: amplitude*sin(w*t)
+  bool passive = false;  // as Actuator: a spring-damper at its rest (coordinate 0)
+  double stiffness = 0, damping = 0;
 };
 struct PoseDriver {  // every coordinate prescribed, constant: the base at its source pose
   std::string name;

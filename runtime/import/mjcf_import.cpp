@@ -34,7 +34,7 @@ std::string name_at(const mjModel* m, int address, const std::string& fallback) 
 
 }  // namespace
 
-Tree read_mjcf(const std::string& path) {
+Tree read_mjcf(const std::string& path, bool springs) {
   const std::string text = read_text(path);
   char error[1000] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(
@@ -61,6 +61,7 @@ Tree read_mjcf(const std::string& path) {
 
   std::vector<int> link_of(static_cast<size_t>(m->nbody), -1);  // body -> its link
   std::vector<int> joint_of(static_cast<size_t>(m->njnt), -1);  // MuJoCo joint -> tree joint
+  std::vector<Actuator> spring_drivers;  // --springs: a passive driver per sprung joint
   Link world;
   world.name = name_at(m, m->name_bodyadr[0], "world");
   tree.links.push_back(world);
@@ -132,14 +133,27 @@ Tree read_mjcf(const std::string& path) {
         default:
           throw ImportError(path, j.line, "joint '" + jname + "': unknown joint type");
       }
-      if (j.stiffness > 0) {
+      if (j.stiffness > 0 && springs) {
+        // Free, at its spring's rest in the reference pose (the assembly holds it there); a
+        // passive driver whose law is the spring and the joint's damping.
+        j.value = j.springref;
+        Actuator spring{jname, static_cast<int>(tree.joints.size()), j.line, ""};
+        spring.passive = true;
+        spring.stiffness = j.stiffness;
+        spring.damping = m->dof_damping[m->jnt_dofadr[id]];
+        spring_drivers.push_back(spring);
+        tree.notes.push_back("joint " + jname + " (stiffness " + std::to_string(j.stiffness) +
+                             ", damping " + std::to_string(spring.damping) +
+                             ") a passive driver at its spring's rest (" +
+                             std::to_string(j.springref) + " from qpos0), the spring its effort");
+      } else if (j.stiffness > 0) {
         // Rigid at the spring's rest: the joint's motion there, frozen.
         j.origin = j.origin * joint_motion(j, Eigen::VectorXd::Constant(1, j.springref)) * j.after;
         j.after = Frame::Identity();
         j.type = JointType::fixed;
         tree.notes.push_back("joint " + jname + " (stiffness " + std::to_string(j.stiffness) +
                              ") kept rigid at its spring's rest (" + std::to_string(j.springref) +
-                             " from qpos0)");
+                             " from qpos0; --springs frees it)");
       }
       j.child = add_link(k + 1 == nj ? bname : bname + "_" + jname);
       joint_of[static_cast<size_t>(id)] = static_cast<int>(tree.joints.size());
@@ -218,14 +232,28 @@ Tree read_mjcf(const std::string& path) {
     }
     tree.actuators.push_back({uname, tj, line, ""});
   }
+  for (const Actuator& spring : spring_drivers) {
+    bool driven = false;
+    for (const Actuator& a : tree.actuators) driven = driven || a.joint == spring.joint;
+    if (driven)
+      tree.notes.push_back("joint " + spring.name +
+                           ": an actuator drives it, so its spring is not in the model");
+    else
+      tree.actuators.push_back(spring);
+  }
   // mechgen's additions (written by `mechgen export`): custom texts mechgen_value_<actuator> (a
-  // driver's law) and mechgen_step ("t0 t1 samples").
+  // driver's law), mechgen_spring_<joint> (a passive driver's name) and mechgen_step ("t0 t1
+  // samples").
   for (int k = 0; k < m->ntext; ++k) {
     const std::string tname = name_at(m, m->name_textadr[k], "");
     const std::string data(m->text_data + m->text_adr[k]);
     if (tname.rfind("mechgen_value_", 0) == 0) {
       for (Actuator& a : tree.actuators)
         if (a.name == tname.substr(14)) a.value = data;
+    } else if (tname.rfind("mechgen_spring_", 0) == 0) {  // a passive driver's name
+      for (Actuator& a : tree.actuators)
+        if (a.passive && tree.joints[static_cast<size_t>(a.joint)].name == tname.substr(15))
+          a.name = data;
     } else if (tname == "mechgen_step") {
       std::istringstream in(data);
       SweepStep st;

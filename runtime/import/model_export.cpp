@@ -113,6 +113,32 @@ struct Layout {
     o << d.value.ex.subs(subs).evalf();
     return o.str();
   }
+  // A passive driver's law as MJCF's joint spring: -k (q - rest) - c q', numbers at the default
+  // parameters. Any other law (of t, or not linear in q and q') has no MJCF form: ModelError.
+  struct Spring {
+    double stiffness = 0, damping = 0, rest = 0;
+  };
+  Spring spring(const SpatialDriver& d) const {
+    const GiNaC::exmap subs = m.common.substitutions(m.common.default_parameters());
+    const GiNaC::ex law = d.effort->ex.subs(subs).expand();
+    const GiNaC::symbol &q = m.common.driver_q, &qd = m.common.driver_qd;
+    auto number = [](const GiNaC::ex& e) {
+      const GiNaC::ex v = e.evalf();
+      return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double()
+                                            : std::nan("");
+    };
+    const GiNaC::ex dq = law.diff(q), dqd = law.diff(qd);
+    Spring out{-number(dq), -number(dqd), 0};
+    const double at_rest = number(law.subs(GiNaC::lst{q == 0, qd == 0}));
+    if (law.has(m.common.t) || !std::isfinite(out.stiffness) || !std::isfinite(out.damping) ||
+        !std::isfinite(at_rest) || out.stiffness < 0 || out.damping < 0 ||
+        (out.stiffness == 0 && at_rest != 0))
+      throw ModelError(d.effort->loc, "passive driver '" + d.name +
+                                          "': MJCF holds a joint spring -k*(q - rest) - c*qd "
+                                          "(k, c >= 0, constant), not this law");
+    if (out.stiffness > 0) out.rest = at_rest / out.stiffness;
+    return out;
+  }
   std::string step() const {
     const GiNaC::exmap subs = m.common.substitutions(m.common.default_parameters());
     return num(m.evaluate(m.common.step.t0, subs)) + " " + num(m.evaluate(m.common.step.t1, subs)) +
@@ -253,7 +279,11 @@ UrdfExport export_urdf(const SpatialModel& model, const std::string& source) {
   y << "# Extended URDF closures, exported by `mechgen export` from " << source << ".\n";
   for (const SpatialDriver& d : model.drivers)
     y << "# driver " << d.name << " on " << model.joints[static_cast<size_t>(d.joint)].name
-      << ": value " << d.value.text << "\n";
+      << ": value " << d.value.text
+      << (d.passive ? " (passive, effort " + d.effort->text +
+                          ": URDF has no joint spring, so it is a driver held at its value here)"
+                    : "")
+      << "\n";
   y << "gravity: [" << num(inst.gravity[0]) << ", " << num(inst.gravity[1]) << ", "
     << num(inst.gravity[2]) << "]  # not in the Extended URDF convention: mechgen's addition\n";
   y << "closed_loop: [" << pairs.str() << "]\ntype: [" << types.str() << "]\nname_mot: ["
@@ -302,13 +332,21 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
         << triple(F.inverse() * L.s0(j)) << "\"/>\n";
       return;
     }
+    // A passive driver's spring (its joint has one coordinate), its rest in the tree's sense.
+    std::string spring;
+    for (const SpatialDriver& d : model.drivers)
+      if (d.passive && d.joint == j) {
+        const Layout::Spring k = L.spring(d);
+        spring = " stiffness=\"" + num(k.stiffness) + "\" damping=\"" + num(k.damping) +
+                 "\" springref=\"" + num(from == joint.second ? -k.rest : k.rest) + "\"";
+      }
     for (size_t k = 0; k < st.size(); ++k)
       x << indent << "<joint name=\""
         << (st.size() == 1 ? joint.name
                            : joint.name + (st[k].rotation ? "_rev" : "_pri") + std::to_string(k))
         << "\" type=\"" << (st[k].rotation ? "hinge" : "slide") << "\" pos=\""
         << triple(F.inverse() * L.s0(j)) << "\" axis=\""
-        << triple(F.linear().transpose() * st[k].axis) << "\"/>\n";
+        << triple(F.linear().transpose() * st[k].axis) << "\"" << spring << "/>\n";
   };
   // Named points (each on the first body that carries it) as sites, body frame.
   auto sites = [&](int b, const std::string& indent) {
@@ -377,17 +415,23 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
          << "\"/>\n";
   }
   if (eq.tellp() > 0) x << "  <equality>\n" << eq.str() << "  </equality>\n";
-  if (!model.drivers.empty()) {
-    x << "  <actuator>\n";
-    for (const SpatialDriver& d : model.drivers)
-      x << "    <motor name=\"" << d.name << "\" joint=\""
-        << model.joints[static_cast<size_t>(d.joint)].name << "\"/>  <!-- value " << d.value.text
-        << " -->\n";
-    x << "  </actuator>\n  <custom>\n";
-    for (const SpatialDriver& d : model.drivers)
-      x << "    <text name=\"mechgen_value_" << d.name << "\" data=\"" << L.law(d) << "\"/>\n";
-    x << "    <text name=\"mechgen_step\" data=\"" << L.step() << "\"/>\n  </custom>\n";
+  // Passive drivers are their joints' springs (above), named back by `import --springs`.
+  std::ostringstream motors, texts;
+  for (const SpatialDriver& d : model.drivers) {
+    const std::string& joint = model.joints[static_cast<size_t>(d.joint)].name;
+    if (d.passive) {
+      texts << "    <text name=\"mechgen_spring_" << joint << "\" data=\"" << d.name << "\"/>\n";
+      continue;
+    }
+    motors << "    <motor name=\"" << d.name << "\" joint=\"" << joint << "\"/>  <!-- value "
+           << d.value.text << " -->\n";
+    texts << "    <text name=\"mechgen_value_" << d.name << "\" data=\"" << L.law(d) << "\"/>\n";
   }
+  if (motors.tellp() > 0) x << "  <actuator>\n" << motors.str() << "  </actuator>\n";
+  if (!model.drivers.empty())
+    x << "  <custom>\n"
+      << texts.str() << "    <text name=\"mechgen_step\" data=\"" << L.step()
+      << "\"/>\n  </custom>\n";
   x << "</mujoco>\n";
   return x.str();
 }

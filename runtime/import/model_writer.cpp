@@ -59,7 +59,18 @@ std::string write_model(const Description& d) {
   o << "gravity: " << vec(d.gravity) << "\n\n";
   o << "parameters:\n";
   o << "  amplitude: {value: 0.05, unit: rad, doc: \"drivers' motion about the assembled pose\"}\n";
-  o << "  w: {value: 6.283185307179586, unit: rad/s, doc: \"drivers' angular frequency\"}\n\n";
+  o << "  w: {value: 6.283185307179586, unit: rad/s, doc: \"drivers' angular frequency\"}\n";
+  for (const Driver& dr : d.drivers) {
+    if (!dr.passive) continue;
+    const bool linear = d.joints[static_cast<size_t>(dr.joint)].type == JointType::prismatic;
+    o << "  k_" << identifier(dr.name) << ": {value: " << num(dr.stiffness)
+      << ", unit: " << (linear ? "N/m" : "N m/rad") << ", doc: \"" << dr.name
+      << "'s spring stiffness\"}\n";
+    o << "  c_" << identifier(dr.name) << ": {value: " << num(dr.damping)
+      << ", unit: " << (linear ? "N s/m" : "N m s/rad") << ", doc: \"" << dr.name
+      << "'s damping\"}\n";
+  }
+  o << "\n";
   o << "bodies:\n";
   for (const Body& b : d.bodies) {
     o << "  - name: " << identifier(b.name) << "\n";
@@ -109,12 +120,19 @@ std::string write_model(const Description& d) {
     o << "\n";
   }
   o << "\ndrivers:   # the actuated joints (coordinates from the assembled pose): the law the "
-       "source\n           # carries (mechgen export), else a small motion about that pose\n";
+       "source\n           # carries (mechgen export), else a small motion about that pose; "
+       "sprung joints\n           # (--springs): passive, held at their rest, their spring "
+       "the effort under simulate\n";
   for (const Driver& dr : d.drivers) {
     const Joint& j = d.joints[static_cast<size_t>(dr.joint)];
     o << "  - {name: " << identifier(dr.name) << ", joint: " << identifier(j.name)
-      << ", kind: " << (j.type == JointType::prismatic ? "length" : "angle")
-      << ", value: " << (dr.value.empty() ? "amplitude*sin(w*t)" : "\"" + dr.value + "\"") << "}\n";
+      << ", kind: " << (j.type == JointType::prismatic ? "length" : "angle");
+    const std::string id = identifier(dr.name);
+    if (dr.passive)
+      o << ", value: 0, passive: true,\n     effort: -k_" << id << "*q - c_" << id << "*qd}\n";
+    else
+      o << ", value: " << (dr.value.empty() ? "amplitude*sin(w*t)" : "\"" + dr.value + "\"")
+        << "}\n";
   }
   for (const PoseDriver& pd : d.pose_drivers)
     o << "  - {name: " << pd.name

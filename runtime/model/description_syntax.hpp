@@ -24,6 +24,8 @@ class DescriptionSyntax {
                               const std::string& what) const = 0;
   virtual std::string scalar(const YAML::Node& node, const std::string& what) const = 0;
   virtual std::string identifier(const YAML::Node& node, const std::string& what) const = 0;
+  // `true` or `false` (`what` names the key in the message otherwise).
+  virtual bool flag(const YAML::Node& node, const std::string& what) const = 0;
   // An expression of the parameters (and of t when time_allowed).
   virtual Expr expression(const YAML::Node& node, const std::string& what,
                           bool time_allowed) const = 0;
@@ -31,6 +33,12 @@ class DescriptionSyntax {
   // and rate, written `q` and `qd` (Model::driver_q, Model::driver_qd).
   virtual Expr effort_law(const YAML::Node& node, const std::string& what) const = 0;
 };
+
+// A driver's `passive: true` (planar and spatial): an undriven coordinate, such as a joint's
+// spring, whose effort is always its `effort:` law (which it must have; ModelError at the key
+// otherwise). False when the key is absent.
+bool passive_driver(const YAML::Node& driver, const DescriptionSyntax& syntax,
+                    const std::string& what);
 
 // Why a name cannot be a field of a generated kernel (a C++ keyword, a name the kernels use,
 // `__`): empty when it can. Every reader refuses such names; `mechgen import` renames them.

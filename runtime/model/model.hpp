@@ -137,6 +137,10 @@ struct Driver {
   // `effort:` (optional): the driver's effort under `mechgen simulate`, a law of t, of the
   // parameters and of the driver's own coordinate and rate (Model::driver_q, Model::driver_qd).
   std::optional<Expr> effort;
+  // `passive: true`: no actuator holds this coordinate (a joint's spring, say); under `simulate`
+  // its effort is always its `effort:` law (neither --motor nor --track take it over). Kinematic
+  // commands hold it at its `value:` and report the effort it would need there.
+  bool passive = false;
   SourceLoc loc;
 };
 

@@ -49,6 +49,13 @@ class Reader : public DescriptionSyntax {
                       const std::string& what) const override;
   std::string scalar(const YAML::Node& node, const std::string& what) const override;
   std::string identifier(const YAML::Node& node, const std::string& what) const override;
+  bool flag(const YAML::Node& node, const std::string& what) const override {
+    try {
+      return node.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(node, what + " must be true or false");
+    }
+  }
   Expr expression(const YAML::Node& node, const std::string& what,
                   bool time_allowed) const override;
   Expr effort_law(const YAML::Node& node, const std::string& what) const override;
@@ -414,13 +421,7 @@ void Reader::read_body(const YAML::Node& node) {
   body.name = identifier(required(node, "name", "a body"), "body name");
   body.loc = loc(node["name"]);
   if (model_.body_index(body.name) >= 0) fail(node["name"], "duplicate body '" + body.name + "'");
-  if (node["ground"]) {
-    try {
-      body.ground = node["ground"].as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(node["ground"], "ground must be true or false");
-    }
-  }
+  if (node["ground"]) body.ground = flag(node["ground"], "ground");
   const YAML::Node points = required(node, "points", "body '" + body.name + "'");
   expect_map(points, "points of body '" + body.name + "'");
   for (const auto& item : points) {
@@ -498,7 +499,7 @@ void Reader::read_joint(const YAML::Node& node) {
 
 void Reader::read_driver(const YAML::Node& node) {
   expect_map(node, "a driver");
-  expect_keys(node, "driver", {"name", "joint", "kind", "value", "effort"});
+  expect_keys(node, "driver", {"name", "joint", "kind", "value", "effort", "passive"});
   Driver d;
   d.name = identifier(required(node, "name", "a driver"), "driver name");
   d.loc = loc(node["name"]);
@@ -536,6 +537,7 @@ void Reader::read_driver(const YAML::Node& node) {
   d.value_d = d.value.ex.diff(model_.t);
   d.value_dd = d.value_d.diff(model_.t);
   if (node["effort"]) d.effort = effort_law(node["effort"], "driver '" + d.name + "' effort");
+  d.passive = passive_driver(node, *this, "driver '" + d.name + "'");
   model_.drivers.push_back(d);
 }
 
@@ -719,6 +721,18 @@ YAML::Node load_yaml(const std::string& text, const std::string& file_label) {
 
 std::string reserved_name_reason(const std::string& name) {
   return reserved_in_kernels(name);
+}
+
+bool passive_driver(const YAML::Node& driver, const DescriptionSyntax& syntax,
+                    const std::string& what) {
+  const YAML::Node key = driver["passive"];
+  if (!key) return false;
+  const bool passive = syntax.flag(key, what + " passive");
+  if (passive && !driver["effort"])
+    throw ModelError(syntax.loc(key), what +
+                                          ": a passive driver needs an `effort:` law (its "
+                                          "spring or damper: nothing else drives it)");
+  return passive;
 }
 
 SpatialModel read_spatial_model_text(const std::string& text, const std::string& file_label) {

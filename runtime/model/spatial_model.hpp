@@ -99,6 +99,7 @@ struct SpatialDriver {
   std::optional<DriverTable> table;  // `value: {table: FILE.csv, column: NAME}`
   std::optional<std::array<Expr, 2>> range;
   std::optional<Expr> effort;  // `mechgen simulate`: a law of t, q, qd (as Driver::effort)
+  bool passive = false;        // as Driver::passive
   SourceLoc loc;
 };
 

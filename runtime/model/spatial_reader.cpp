@@ -250,13 +250,7 @@ void SpatialReader::read_body(const YAML::Node& node) {
   body.name = y_.identifier(y_.required(node, "name", "a body"), "body name");
   body.loc = y_.loc(node["name"]);
   claim(node["name"], body.name, "body");
-  if (node["ground"]) {
-    try {
-      body.ground = node["ground"].as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(node["ground"], "ground must be true or false");
-    }
-  }
+  if (node["ground"]) body.ground = y_.flag(node["ground"], "ground");
   body.origin =
       node["origin"] ? vector3(node["origin"], "origin", false) : constant_vec(0, 0, 0, body.loc);
   body.rotation_axis = constant_vec(0, 0, 1, body.loc);
@@ -453,7 +447,7 @@ void SpatialReader::read_driver(const YAML::Node& node) {
     read_pose_driver(node);
     return;
   }
-  y_.expect_keys(node, "driver", {"name", "joint", "kind", "value", "range", "effort"});
+  y_.expect_keys(node, "driver", {"name", "joint", "kind", "value", "range", "effort", "passive"});
   SpatialDriver d;
   d.name = y_.identifier(y_.required(node, "name", "a driver"), "driver name");
   d.loc = y_.loc(node["name"]);
@@ -492,6 +486,7 @@ void SpatialReader::read_driver(const YAML::Node& node) {
   }
   d.range = range(node["range"], what);
   if (node["effort"]) d.effort = y_.effort_law(node["effort"], what + " effort");
+  d.passive = passive_driver(node, y_, what);
   m_.drivers.push_back(d);
 }
 

@@ -1,6 +1,7 @@
 // A spatial model as URDF (+ Extended URDF closures) or MJCF (model_export.hpp).
 #include "import/model_export.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
@@ -53,6 +54,9 @@ std::string quat(const Mat3& R) {
 
 // What MuJoCo takes for a massless body (it moves none); `mechgen import` reads masses of 1e-9 kg
 // and less as none.
+// The compiler's lower bound on a moving body's principal moments (boundinertia, written below).
+constexpr double kBoundInertia = 1e-14;
+
 constexpr const char* kMassless =
     "<inertial pos=\"0 0 0\" mass=\"1e-10\" diaginertia=\"1e-14 1e-14 1e-14\"/>\n";
 
@@ -289,9 +293,22 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       return;
     const auto& I = inst.inertia[static_cast<size_t>(b)];
     x << indent << "<inertial pos=\"" << triple(vec(inst.com[static_cast<size_t>(b)]))
-      << "\" mass=\"" << num(inst.mass[static_cast<size_t>(b)]) << "\" fullinertia=\""
-      << num(I(0, 0)) << " " << num(I(1, 1)) << " " << num(I(2, 2)) << " " << num(I(0, 1)) << " "
-      << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+      << "\" mass=\"" << num(inst.mass[static_cast<size_t>(b)]) << "\" ";
+    Mat3 inertia;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) inertia(i, k) = I(i, k);
+    const Eigen::SelfAdjointEigenSolver<Mat3> principal(inertia);
+    if (principal.eigenvalues().minCoeff() >= kBoundInertia) {
+      x << "fullinertia=\"" << num(I(0, 0)) << " " << num(I(1, 1)) << " " << num(I(2, 2)) << " "
+        << num(I(0, 1)) << " " << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+      return;
+    }
+    // MuJoCo refuses a fullinertia without positive eigenvalues (the Delta's rods: point masses):
+    // the principal moments instead, the compiler's bound lifting those below it.
+    Mat3 axes = principal.eigenvectors();
+    if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+    const Vec3 moments = principal.eigenvalues().cwiseMax(0);
+    x << "quat=\"" << quat(axes) << "\" diaginertia=\"" << triple(moments) << "\"/>\n";
   };
   // A joint's steps as joints of the body they move (axes and point in its frame F).
   auto steps = [&](int j, int from, const Frame& F, const std::string& indent) {
@@ -355,7 +372,8 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     << " (default parameters, reference pose): the joint graph's spanning tree; the loops it cuts "
        "are closed by equality constraints. -->\n<mujoco model=\""
     << model.common.name << "\">\n  <compiler angle=\"radian\" boundmass=\"1e-12\" "
-    << "boundinertia=\"1e-14\"/>\n  <option gravity=\"" << triple(vec(inst.gravity)) << "\"/>\n"
+    << "boundinertia=\"" << num(kBoundInertia) << "\"/>\n  <option gravity=\""
+    << triple(vec(inst.gravity)) << "\"/>\n"
     << "  <worldbody>\n";
   sites(model.ground, "    ");
   for (const int b : g.order)

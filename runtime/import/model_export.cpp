@@ -52,11 +52,11 @@ std::string quat(const Mat3& R) {
   return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
 }
 
-// What MuJoCo takes for a massless body (it moves none); `mechgen import` reads masses of 1e-9 kg
-// and less as none.
 // The compiler's lower bound on a moving body's principal moments (boundinertia, written below).
 constexpr double kBoundInertia = 1e-14;
 
+// What MuJoCo takes for a massless body (it moves none); `mechgen import` reads masses of 1e-9 kg
+// and less as none.
 constexpr const char* kMassless =
     "<inertial pos=\"0 0 0\" mass=\"1e-10\" diaginertia=\"1e-14 1e-14 1e-14\"/>\n";
 

@@ -55,11 +55,6 @@ std::string quat(const Mat3& R) {
 // The compiler's lower bound on a moving body's principal moments (boundinertia, written below).
 constexpr double kBoundInertia = 1e-14;
 
-// What MuJoCo takes for a massless body (it moves none); `mechgen import` reads masses of 1e-9 kg
-// and less as none.
-constexpr const char* kMassless =
-    "<inertial pos=\"0 0 0\" mass=\"1e-10\" diaginertia=\"1e-14 1e-14 1e-14\"/>\n";
-
 // One elementary motion of a joint: a rotation or a translation along an axis (ground frame,
 // reference pose), in the order the tree runs through it.
 struct Step {
@@ -360,8 +355,9 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       const Frame crel = frame[static_cast<size_t>(b)].inverse() * cut;
       x << indent << "  <body name=\"" << joint.name << "_A\" pos=\"" << triple(crel.translation())
         << "\" quat=\"" << quat(crel.linear()) << "\">\n";
+      // No <inertial>: the compiler's bound, 1e-12 kg (a weight MuJoCo's driver efforts feel).
       steps(cj, b, cut, indent + "    ");
-      x << indent << "    " << kMassless << indent << "  </body>\n";
+      x << indent << "  </body>\n";
     }
     x << indent << "</body>\n";
   };

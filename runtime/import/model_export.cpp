@@ -52,9 +52,6 @@ std::string quat(const Mat3& R) {
   return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
 }
 
-// The compiler's lower bound on a moving body's principal moments (boundinertia, written below).
-constexpr double kBoundInertia = 1e-14;
-
 // One elementary motion of a joint: a rotation or a translation along an axis (ground frame,
 // reference pose), in the order the tree runs through it.
 struct Step {
@@ -292,18 +289,19 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     Mat3 inertia;
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) inertia(i, k) = I(i, k);
-    const Eigen::SelfAdjointEigenSolver<Mat3> principal(inertia);
-    if (principal.eigenvalues().minCoeff() >= kBoundInertia) {
-      x << "fullinertia=\"" << num(I(0, 0)) << " " << num(I(1, 1)) << " " << num(I(2, 2)) << " "
-        << num(I(0, 1)) << " " << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+    // Principal axes and moments (zero moments of a point mass lifted by the compiler's bound):
+    // MuJoCo would find them from a fullinertia itself, but only to about 1e-8 of the moments
+    // (the round trip of leg6 then 6.5e-13 off in its efforts), and it refuses one without positive
+    // eigenvalues (the Delta's rods).
+    if (inertia.isDiagonal(0)) {
+      x << "diaginertia=\"" << triple(inertia.diagonal()) << "\"/>\n";
       return;
     }
-    // MuJoCo refuses a fullinertia without positive eigenvalues (the Delta's rods: point masses):
-    // the principal moments instead, the compiler's bound lifting those below it.
+    const Eigen::SelfAdjointEigenSolver<Mat3> principal(inertia);
     Mat3 axes = principal.eigenvectors();
     if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
-    const Vec3 moments = principal.eigenvalues().cwiseMax(0);
-    x << "quat=\"" << quat(axes) << "\" diaginertia=\"" << triple(moments) << "\"/>\n";
+    x << "quat=\"" << quat(axes) << "\" diaginertia=\""
+      << triple(principal.eigenvalues().cwiseMax(0)) << "\"/>\n";
   };
   // A joint's steps as joints of the body they move (axes and point in its frame F).
   auto steps = [&](int j, int from, const Frame& F, const std::string& indent) {
@@ -368,8 +366,7 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
     << " (default parameters, reference pose): the joint graph's spanning tree; the loops it cuts "
        "are closed by equality constraints. -->\n<mujoco model=\""
     << model.common.name << "\">\n  <compiler angle=\"radian\" boundmass=\"1e-12\" "
-    << "boundinertia=\"" << num(kBoundInertia) << "\"/>\n  <option gravity=\""
-    << triple(vec(inst.gravity)) << "\"/>\n"
+    << "boundinertia=\"1e-14\"/>\n  <option gravity=\"" << triple(vec(inst.gravity)) << "\"/>\n"
     << "  <worldbody>\n";
   sites(model.ground, "    ");
   for (const int b : g.order)

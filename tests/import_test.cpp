@@ -2,7 +2,8 @@
 // written for these tests, each imported, read back as a spatial model and moved by its drivers;
 // every body placed by the reference solver is checked against an independent placement: the
 // source's own tree (URDF joint origins and axes, loops closed by the import's Newton on the
-// tree) and, for MJCF, MuJoCo's compiler and kinematics (mj_kinematics, equality residuals).
+// tree) and, for MJCF, MuJoCo's compiler and kinematics (mj_kinematics, equality residuals). The
+// MJCF exports of the shipped spatial models face the same MuJoCo checks (ExportedMjcf).
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 

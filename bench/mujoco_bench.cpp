@@ -9,12 +9,13 @@
 // Checked before timing against the generated kernel's evaluate() (generated/leg6/leg6.hpp): foot
 // position, foot Jacobian and the six torques, each within 1e-9 of the largest entry of that
 // quantity in the sample (std::runtime_error otherwise); the largest differences are printed as a
-// `sanity` line. leg6 has no massless body (the exporter's 1e-10 kg stand-in for one does not
-// occur here) and no armature, damping or contact, so the two are the same rigid-body model. Over
-// the 256 samples: foot position within 1.9e-16 m, Jacobian 1.9e-16 m, torques 7.0e-12 N m (the
-// largest torque 0.103 N m: 7e-11 relative). The torques' 7e-12 is MuJoCo's, not rounding: its
-// compiler diagonalises each fullinertia (body_inertia, body_iquat) by iterations that stop near
-// 1e-7 relative (ankle_link's products of inertia, 1e-7 kg m^2, come back 2e-13 off).
+// `sanity` line. leg6 has no massless body and no armature, damping or contact, so the two are the
+// same rigid-body model. Over the 256 samples: foot position within 1.9e-16 m, Jacobian 1.9e-16 m,
+// torques 7.0e-12 N m (the largest torque 0.103 N m: 7e-11 relative). The torques' 7e-12 was
+// MuJoCo's, not rounding: its compiler diagonalised each fullinertia the export then wrote
+// (body_inertia, body_iquat) by iterations that stop near 1e-7 relative (ankle_link's products of
+// inertia, 1e-7 kg m^2, came back 2e-13 off); the export now writes the principal axes and
+// moments itself (quat + diaginertia), which removes that (not re-measured here).
 //
 // rsur/mujoco (below, RsurMujoco): the closed RSUR loop, its universal joint jC cut by the
 // exporter's `weld` (MuJoCo constraints are soft), forward dynamics at the generated kernel's
@@ -23,8 +24,8 @@
 // acceleration is off by up to 170 rad/s^2 (the driver's is zero), which is a torque error of 93 %
 // of the largest crank torque, and the force at jC is off by up to 58 % of its largest; at
 // impedance 0.99: 17 % and 12 %; at 0.9999, the stiffest MuJoCo takes: 2.4 % and 0.84 % (both
-// lines printed as `sanity`). The cut link's 1e-10 kg stand-in mass does not matter (1e-3 kg gave
-// the same errors).
+// lines printed as `sanity`). The cut link's stand-in mass (then 1e-10 kg, now the compiler's
+// 1e-12 kg bound) does not matter (1e-3 kg gave the same errors).
 //
 // bioloid_support/mujoco (below, BioloidMujoco): the Bioloid standing on its right foot, the tree
 // of bioloid_support/generated (bench/support_bench.cpp): weld_support(models/bioloid.yaml,

@@ -124,7 +124,9 @@ INSTANTIATE_TEST_SUITE_P(Shipped, RoundTrip,
                                          Case{"chebyshev_spatial", true}, Case{"leg6", false},
                                          Case{"leg6", true}, Case{"lecture_leg", false},
                                          Case{"lecture_leg", true}, Case{"quadruped_leg", false},
-                                         Case{"quadruped_leg", true}));
+                                         Case{"quadruped_leg", true}, Case{"bennett", false},
+                                         Case{"bennett", true}, Case{"delta", false},
+                                         Case{"delta", true}));
 
 // The files carry the drivers' laws and the step (mechgen's additions): `sweep` of the round trip
 // writes the original's columns for every body, point and driver (joints: the tree may run a

@@ -1,6 +1,7 @@
 // A spatial model as URDF (+ Extended URDF closures) or MJCF (model_export.hpp).
 #include "import/model_export.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
@@ -50,11 +51,6 @@ std::string quat(const Mat3& R) {
   const Eigen::Quaterniond q(R);
   return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
 }
-
-// What MuJoCo takes for a massless body (it moves none); `mechgen import` reads masses of 1e-9 kg
-// and less as none.
-constexpr const char* kMassless =
-    "<inertial pos=\"0 0 0\" mass=\"1e-10\" diaginertia=\"1e-14 1e-14 1e-14\"/>\n";
 
 // One elementary motion of a joint: a rotation or a translation along an axis (ground frame,
 // reference pose), in the order the tree runs through it.
@@ -319,9 +315,23 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       return;
     const auto& I = inst.inertia[static_cast<size_t>(b)];
     x << indent << "<inertial pos=\"" << triple(vec(inst.com[static_cast<size_t>(b)]))
-      << "\" mass=\"" << num(inst.mass[static_cast<size_t>(b)]) << "\" fullinertia=\""
-      << num(I(0, 0)) << " " << num(I(1, 1)) << " " << num(I(2, 2)) << " " << num(I(0, 1)) << " "
-      << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+      << "\" mass=\"" << num(inst.mass[static_cast<size_t>(b)]) << "\" ";
+    Mat3 inertia;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) inertia(i, k) = I(i, k);
+    // Principal axes and moments (zero moments of a point mass lifted by the compiler's bound):
+    // MuJoCo would find them from a fullinertia itself, but only to about 1e-8 of the moments
+    // (the round trip of leg6 then 6.5e-13 off in its efforts), and it refuses one without positive
+    // eigenvalues (the Delta's rods).
+    if (inertia.isDiagonal(0)) {
+      x << "diaginertia=\"" << triple(inertia.diagonal()) << "\"/>\n";
+      return;
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> principal(inertia);
+    Mat3 axes = principal.eigenvectors();
+    if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+    x << "quat=\"" << quat(axes) << "\" diaginertia=\""
+      << triple(principal.eigenvalues().cwiseMax(0)) << "\"/>\n";
   };
   // A joint's steps as joints of the body they move (axes and point in its frame F).
   auto steps = [&](int j, int from, const Frame& F, const std::string& indent) {
@@ -381,8 +391,9 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       const Frame crel = frame[static_cast<size_t>(b)].inverse() * cut;
       x << indent << "  <body name=\"" << joint.name << "_A\" pos=\"" << triple(crel.translation())
         << "\" quat=\"" << quat(crel.linear()) << "\">\n";
+      // No <inertial>: the compiler's bound, 1e-12 kg (a weight MuJoCo's driver efforts feel).
       steps(cj, b, cut, indent + "    ");
-      x << indent << "    " << kMassless << indent << "  </body>\n";
+      x << indent << "  </body>\n";
     }
     x << indent << "</body>\n";
   };

@@ -769,11 +769,10 @@ INSTANTIATE_TEST_SUITE_P(Robots, MjcfRobot,
 // by that body, from where MuJoCo places it at qpos0 (where the weld takes its relative pose).
 class ExportedMjcf : public testing::TestWithParam<const char*> {};
 
-TEST_P(ExportedMjcf, MuJoCoPlacesEveryBodyAsTheModelDoesAndItsConstraintsHold) {
-  const std::string source = std::string(MECHGEN_SOURCE_DIR) + "/models/" + GetParam() + ".yaml";
-  const SpatialModel model = read_spatial_model(source);
-  const std::string path =
-      temp_file(std::string(GetParam()) + "_export.xml", import::export_mjcf(model, source));
+// The checks on a model's MJCF export (`label` names it in messages).
+void expect_export_agrees(const std::string& label, const SpatialModel& model,
+                          const std::string& source) {
+  const std::string path = temp_file(label + "_export.xml", import::export_mjcf(model, source));
   const MuJoCoModel m = load_mujoco(path);
   ASSERT_TRUE(m);
   const spatial::SpatialSolver solver(model, {});
@@ -794,14 +793,28 @@ TEST_P(ExportedMjcf, MuJoCoPlacesEveryBodyAsTheModelDoesAndItsConstraintsHold) {
     for (int e = 0; e < m->neq; ++e)
       if (m->eq_type[e] == mjEQ_WELD && m->eq_obj1id[e] == b)
         ours = model.body_index(m->names + m->name_bodyadr[m->eq_obj2id[e]]);
-    ASSERT_GE(ours, 0) << name << " is neither a body of " << GetParam() << " nor welded to one";
+    ASSERT_GE(ours, 0) << name << " is neither a body of " << label << " nor welded to one";
     ++cut_links;
     bodies.reference[static_cast<size_t>(b)] = mujoco_frame(at_qpos0.get(), b);
   }
   EXPECT_EQ(m->nbody - 1 - cut_links, static_cast<int>(model.bodies.size()) - 1)
-      << "every moving body of " << GetParam() << " in MuJoCo";
+      << "every moving body of " << label << " in MuJoCo";
   MuJoCoAgreement worst;
-  expect_mujoco_agrees(GetParam(), m.get(), solver, bodies, worst);
+  expect_mujoco_agrees(label, m.get(), solver, bodies, worst);
+}
+
+TEST_P(ExportedMjcf, MuJoCoPlacesEveryBodyAsTheModelDoesAndItsConstraintsHold) {
+  const std::string source = std::string(MECHGEN_SOURCE_DIR) + "/models/" + GetParam() + ".yaml";
+  expect_export_agrees(GetParam(), read_spatial_model(source), source);
+}
+
+// The shared URDF robots: MuJoCo cannot hold an Extended URDF closure, so their imports go to
+// MuJoCo through the MJCF export (connect and weld for the cut loops), where the loop rows'
+// Jacobian (efc_J E = 0) and the static efforts (E^T qfrc_bias) are checked as above.
+TEST_P(SharedRobot, ItsImportExportedToMjcfAgreesWithMuJoCo) {
+  const std::string dir = std::string(MECHGEN_SHARED_ROBOTS) + "/" + GetParam();
+  const Imported r = import_file(dir + "/robot.urdf", dir + "/robot.yaml");
+  expect_export_agrees(std::string(GetParam()) + "_import", *r.model, dir + "/robot.urdf");
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, ExportedMjcf,

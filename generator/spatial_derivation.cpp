@@ -469,6 +469,62 @@ class Builder {
     return block;
   }
   static constexpr double kSteadyPivot = 1e-3;  // of its block's largest, in every sample
+  // A pivot candidate over the samples of the reduced N_s: its smallest ratio to the block's
+  // largest entry, and whether its sign changes between two neighbours on a path (it passes
+  // through zero between them, however large it is at every sample: Bennett's wx, wy, wz rows at
+  // the crank angle pi, between two range samples).
+  struct Candidate {
+    double ratio = 1;
+    bool crosses = false;
+  };
+  Candidate candidate(const std::vector<std::vector<std::vector<double>>>& a,
+                      const std::vector<double>& largest, size_t r, size_t i) const {
+    Candidate c;
+    for (size_t sample = 0; sample < a.size(); ++sample) {
+      c.ratio = std::min(c.ratio,
+                         largest[sample] > 0 ? std::abs(a[sample][r][i]) / largest[sample] : 0.0);
+      const int before = previous_[sample];
+      c.crosses =
+          c.crosses || (before >= 0 && a[sample][r][i] * a[static_cast<size_t>(before)][r][i] < 0);
+    }
+    return c;
+  }
+  // Threshold pivoting (Markowitz): among the steady candidates whose smallest ratio is within
+  // this factor of the steadiest one, the one whose elimination fills the fewest entries, so the
+  // generated elimination stays short (a Delta's 30 x 30 N_s: half its motion code was fill).
+  static constexpr double kMarkowitzThreshold = 0.9;
+  // Only in blocks of more coordinates than this: fill grows as the block's size cubed, and below
+  // it the steadiest order is kept (its zero crossings are the singular refusals the branch
+  // property tests rely on: quadruped_leg with theta8 = 0, where the cylinder's spin aliases).
+  static constexpr size_t kMarkowitzAbove = 24;
+  // Picks, among steady candidates at least kMarkowitzThreshold x `steady`, the smallest
+  // Markowitz cost (row count - 1) x (column count - 1) of entries nonzero in some sample of the
+  // reduced matrix; ties keep the higher ratio, then the first.
+  void markowitz(const std::vector<std::vector<std::vector<double>>>& a,
+                 const std::vector<double>& largest, const std::vector<size_t>& rows,
+                 const std::vector<size_t>& columns, const std::vector<bool>& used,
+                 const std::vector<bool>& done, double steady, size_t& best, size_t& column,
+                 double& value) const {
+    auto nonzero = [&](size_t r, size_t i) {
+      for (size_t sample = 0; sample < a.size(); ++sample)
+        if (std::abs(a[sample][r][i]) > 1e-12 * largest[sample]) return true;
+      return false;
+    };
+    std::map<size_t, size_t> row_count, column_count;
+    for (const size_t r : rows)
+      for (const size_t i : columns)
+        if (!used[r] && !done[i] && nonzero(r, i)) ++row_count[r], ++column_count[i];
+    size_t cost = (row_count[best] - 1) * (column_count[column] - 1);
+    for (const size_t r : rows)
+      for (const size_t i : columns) {
+        if (used[r] || done[i] || !nonzero(r, i)) continue;
+        const Candidate k = candidate(a, largest, r, i);
+        if (k.crosses || k.ratio < kMarkowitzThreshold * steady) continue;
+        const size_t c = (row_count[r] - 1) * (column_count[i] - 1);
+        if (c < cost || (c == cost && k.ratio > value * (1 + 1e-9)))
+          best = r, column = i, value = k.ratio, cost = c;
+      }
+  }
   PivotOrder pivot_order(const std::vector<size_t>& rows,
                          const std::vector<size_t>& columns) const {
     std::vector<std::vector<std::vector<double>>> a = samples_;
@@ -477,6 +533,8 @@ class Builder {
     for (const size_t i : columns) done[i] = false;
     PivotOrder order;
     const std::vector<size_t> block = secondary_blocks();
+    std::map<size_t, size_t> block_size;
+    for (const size_t i : columns) ++block_size[block[i]];
     for (size_t k = 0; k < columns.size(); ++k) {
       size_t best = network_.size(), column = g_.secondary.size();
       double value = 0;
@@ -488,36 +546,29 @@ class Builder {
             if (!used[r] && !done[i]) l = std::max(l, std::abs(m[r][i]));
         largest.push_back(l);
       }
-      // A candidate whose sign changes between two neighbours on a path passes through zero
-      // between them, however large it is at every sample (Bennett's wx, wy, wz rows at the crank
-      // angle pi, between two range samples): one that does not is preferred while its ratio
-      // stays steady, else the best ratio as before.
+      // A candidate that crosses zero (Candidate) is avoided while one that does not keeps a
+      // steady ratio, else the best ratio as before.
       size_t steady_row = network_.size(), steady_column = g_.secondary.size();
       double steady = 0;
       bool best_crosses = false;
       for (const size_t r : rows)
         for (const size_t i : columns) {
           if (used[r] || done[i]) continue;
-          double ratio = 1;
-          bool crosses = false;
-          for (size_t sample = 0; sample < a.size(); ++sample) {
-            ratio = std::min(
-                ratio, largest[sample] > 0 ? std::abs(a[sample][r][i]) / largest[sample] : 0.0);
-            const int before = previous_[sample];
-            crosses = crosses ||
-                      (before >= 0 && a[sample][r][i] * a[static_cast<size_t>(before)][r][i] < 0);
-          }
+          const Candidate k = candidate(a, largest, r, i);
           // Ties up to round-off keep the first candidate: the samples' last bits follow GiNaC's
           // term order, which changes from run to run (regeneration must be byte-identical).
-          if (ratio > value * (1 + 1e-9))
-            best = r, column = i, value = ratio, best_crosses = crosses;
-          if (!crosses && ratio > steady * (1 + 1e-9))
-            steady_row = r, steady_column = i, steady = ratio;
+          if (k.ratio > value * (1 + 1e-9))
+            best = r, column = i, value = k.ratio, best_crosses = k.crosses;
+          if (!k.crosses && k.ratio > steady * (1 + 1e-9))
+            steady_row = r, steady_column = i, steady = k.ratio;
         }
-      if (steady >= kSteadyPivot)
+      if (steady >= kSteadyPivot) {
         best = steady_row, column = steady_column, value = steady;
-      else
+        if (block_size[block[column]] > kMarkowitzAbove)
+          markowitz(a, largest, rows, columns, used, done, steady, best, column, value);
+      } else {
         order.crosses = order.crosses || best_crosses;
+      }
       if (best == network_.size() || value <= 1e-6)
         throw std::runtime_error(m_.common.file +
                                  ": error: no pivot order fixed at generation time stays "

@@ -124,8 +124,6 @@ const KernelRefusal kRefusals[] = {
      "cannot start on the numeric solver's assembly at t0"},
     {"quadruped_leg_swing", "theta12_0", -1, "as b x-1 (both cylinders at negative length)",
      "cannot start on the numeric solver's assembly at t0"},
-    {"quadruped_leg_swing", "d", 0, "a closed form divides by the zero offset", "non-finite"},
-    {"quadruped_leg_swing", "e", 0, "a closed form divides by the zero offset", "non-finite"},
     {"lecture_leg_ik", "py", 0,
      "the ankle level with the hip at t0: a pivot of the rates' fixed elimination order is "
      "exactly zero at this regular pose, so the kernel divides by it (near zero, the "

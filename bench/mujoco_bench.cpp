@@ -24,8 +24,10 @@
 // acceleration is off by up to 170 rad/s^2 (the driver's is zero), which is a torque error of 93 %
 // of the largest crank torque, and the force at jC is off by up to 58 % of its largest; at
 // impedance 0.99: 17 % and 12 %; at 0.9999, the stiffest MuJoCo takes: 2.4 % and 0.84 % (both
-// lines printed as `sanity`). The cut link's stand-in mass (then 1e-10 kg, now the compiler's
-// 1e-12 kg bound) does not matter (1e-3 kg gave the same errors).
+// lines printed as `sanity`). The cut link's stand-in mass (1e-10 kg, now 1e-12 kg written as an
+// <inertial>) does not matter (1e-3 kg gave the same errors); left without an <inertial> (to the
+// compiler's bounds, the same numbers) the weld no longer held it and the check failed at any
+// impedance (ctest's bench_sanity runs these checks).
 //
 // bioloid_support/mujoco (below, BioloidMujoco): the Bioloid standing on its right foot, the tree
 // of bioloid_support/generated (bench/support_bench.cpp): weld_support(models/bioloid.yaml,

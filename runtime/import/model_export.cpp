@@ -391,8 +391,12 @@ std::string export_mjcf(const SpatialModel& model, const std::string& source) {
       const Frame crel = frame[static_cast<size_t>(b)].inverse() * cut;
       x << indent << "  <body name=\"" << joint.name << "_A\" pos=\"" << triple(crel.translation())
         << "\" quat=\"" << quat(crel.linear()) << "\">\n";
-      // No <inertial>: the compiler's bound, 1e-12 kg (a weight MuJoCo's driver efforts feel).
       steps(cj, b, cut, indent + "    ");
+      // The compiler's bounds, written out: 1e-12 kg (a weight MuJoCo's driver efforts feel, 1e-12
+      // of them). Left to the bounds (no <inertial>), MuJoCo's soft weld no longer holds the cut
+      // link: rsur/mujoco's crank acceleration was off by twice its scale at any impedance.
+      x << indent
+        << "    <inertial pos=\"0 0 0\" mass=\"1e-12\" diaginertia=\"1e-14 1e-14 1e-14\"/>\n";
       x << indent << "  </body>\n";
     }
     x << indent << "</body>\n";

@@ -1,4 +1,5 @@
 // mechgen size-motor: the seed's iterative motor-gearbox selection from a catalogue.
+#include <algorithm>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -25,7 +26,8 @@ causes. Prints the iteration table and the choice.
   --catalogue FILE.csv  columns name,rated_torque[N m],peak_torque[N m],no_load_speed[rpm],
                         mass[kg],gear_ratio,efficiency ('#' lines are comments)
   --safety FACTOR       multiplies every requirement (default 1.5; at least 1)
-  --driver NAME         the motor's driver (default: the model's first driver)
+  --driver NAME         the motor's driver (default: the model's first active driver; a
+                        passive one, a spring, takes no motor)
   --mass-parameter NAME the parameter the motor's mass is added to (default m_load)
 Exit 1 with one line when no motor of the catalogue suffices.
 )";
@@ -43,10 +45,17 @@ int run_size_motor(const Args& args) {
   std::vector<double> parameters = model.default_parameters();
   apply_overrides(model, args.all("--set"), parameters);
   if (model.drivers.empty()) throw UsageError("the model has no driver to size a motor for");
-  const std::string driver = args.get("--driver", model.drivers.front().name);
-  bool known_driver = false;
-  for (const Driver& d : model.drivers) known_driver = known_driver || d.name == driver;
-  if (!known_driver) throw UsageError("--driver: no driver '" + driver + "' in the model");
+  const auto active = std::find_if(model.drivers.begin(), model.drivers.end(),
+                                   [](const Driver& d) { return !d.passive; });
+  if (active == model.drivers.end()) throw UsageError("every driver is passive: no motor to size");
+  const std::string driver = args.get("--driver", active->name);
+  const auto chosen = std::find_if(model.drivers.begin(), model.drivers.end(),
+                                   [&](const Driver& d) { return d.name == driver; });
+  if (chosen == model.drivers.end())
+    throw UsageError("--driver: no driver '" + driver + "' in the model");
+  if (chosen->passive)
+    throw UsageError("--driver: '" + driver +
+                     "' is passive (its effort is its law, not a motor's)");
   const std::string mass_parameter = args.get("--mass-parameter", "m_load");
   size_t mass_index = model.parameters.size();
   for (size_t i = 0; i < model.parameters.size(); ++i)

@@ -135,9 +135,12 @@ double check(const char* what, const double* a, const double* b, int n) {
   double diff = 0, scale = 0;
   for (int i = 0; i < n; ++i)
     diff = std::max(diff, std::abs(a[i] - b[i])), scale = std::max(scale, std::abs(b[i]));
-  if (!(diff <= 1e-9 * scale))
-    throw std::runtime_error(std::string(what) + " differs from the generated kernel's by " +
-                             std::to_string(diff));
+  if (!(diff <= 1e-9 * scale)) {
+    char message[160];
+    std::snprintf(message, sizeof message,
+                  "%s differs from the generated kernel's by %.3g (on %.3g)", what, diff, scale);
+    throw std::runtime_error(message);
+  }
   return diff;
 }
 

@@ -13,7 +13,8 @@
 //  - numeric_tree: the numeric reference solver on the welded tree from the kernel's own inputs
 //    (positions, twists and twist rates from the joint angles, rates and accelerations, then its
 //    dense Newton-Euler solve: every torque and reaction), the same work as `generated`.
-// The generated torques are checked equal to the numeric ones (1e-9) before timing.
+// The generated torques are checked equal to the numeric ones (1e-9), and control()'s torques and
+// Jacobians to evaluate()'s (1e-12), before timing.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -44,6 +45,22 @@ void check(const BioloidSupport& b) {
 #undef X
     if (std::abs(s.joints.r_foot_weld.fz - numeric.floor.f[2]) > 1e-9)
       throw std::runtime_error("bioloid_support: generated and numeric floor forces differ");
+    // control() is its own straight line (spatial_emitter.cpp, kStraightControlBelow), not the
+    // stages evaluate() calls: its torques and Jacobians must be evaluate()'s.
+    k::State<double> c;
+    if (k::control(b.params[i], b.inputs[i], c) != k::Status::ok)
+      throw std::runtime_error("bioloid_support: control() failed");
+#define X(J)                                                              \
+  if (std::abs(c.drivers.J##_drive.effort - s.drivers.J##_drive.effort) > \
+      1e-12 * (1 + std::abs(s.drivers.J##_drive.effort)))                 \
+    throw std::runtime_error("bioloid_support: control() and evaluate() torques differ at " #J);
+    MECHGEN_BIOLOID_JOINTS
+#undef X
+    const auto* jc = &c.body_jacobians.r_foot[0][0];
+    const auto* je = &s.body_jacobians.r_foot[0][0];
+    for (size_t e = 0; e < sizeof s.body_jacobians / sizeof(double); ++e)
+      if (std::abs(jc[e] - je[e]) > 1e-12)
+        throw std::runtime_error("bioloid_support: control() and evaluate() Jacobians differ");
   }
 }
 

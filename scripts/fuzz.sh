@@ -14,9 +14,8 @@ root=$PWD
 seconds=${1:-60}
 bash scripts/deps.sh
 launcher=()
-if command -v ccache >/dev/null 2>&1; then  # as scripts/test.sh: reruns rebuild what changed
+if command -v ccache >/dev/null 2>&1; then  # as scripts/test.sh (no CCACHE_BASEDIR: see there)
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
 fi
 cmake -S tests/fuzz -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
   "${launcher[@]}" >/dev/null

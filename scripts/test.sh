@@ -25,12 +25,14 @@ configure() {
 step "dependencies"
 bash scripts/deps.sh
 
-# ccache (scripts/deps.sh installs it) makes a rerun of the suite rebuild only what changed; paths
-# are taken relative to the checkout, so another clone of the same sources hits the same cache.
+# ccache (scripts/deps.sh installs it) makes a rerun of the suite rebuild only what changed. No
+# CCACHE_BASEDIR: with it ccache writes the dependency files' paths relative to the build folder
+# ("../generated/leg6/leg6.hpp"), which Ninja does not match with the generator's output (the
+# absolute path), so a build that regenerated a kernel left the objects including it stale until
+# the next build (found when bench_sanity compared two versions of one kernel).
 launcher=
 if command -v ccache >/dev/null 2>&1; then
   launcher=-DCMAKE_CXX_COMPILER_LAUNCHER=ccache
-  export CCACHE_BASEDIR=$root CCACHE_NOHASHDIR=1
 fi
 
 step "Release build (build/)"

@@ -544,19 +544,19 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  // Total ops: 7623
+  // Total ops: 7603
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   const T _tmp1 = sin(-p.theta1_0);
   const T s0_knee_z = -p.b*_tmp1 - p.h;
   const T _tmp2 = cos(-p.theta12_0);
   const T _tmp3 = _tmp2*p.a;
-  const T _tmp4 = cos(p.theta1_0);
-  const T s0_coupler_B_1_x = _tmp3 + _tmp4*p.b;
+  const T _tmp4 = cos(p.theta1_0)*p.b;
+  const T s0_coupler_B_1_x = _tmp3 + _tmp4;
   const T _tmp5 = sin(-p.theta12_0);
   const T _tmp6 = p.a*_tmp5;
-  const T _tmp7 = sin(p.theta1_0);
-  const T _tmp8 = _tmp6 + p.h - p.b*_tmp7;
+  const T _tmp7 = p.b*sin(p.theta1_0);
+  const T _tmp8 = _tmp6 + p.h - _tmp7;
   const T s0_coupler_B_1_z = -_tmp8;
   const T s0_coupler_B_2_x = s0_coupler_B_1_x;
   const T s0_coupler_B_2_z = -_tmp8;
@@ -618,6 +618,8 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   const T Rref_shank_02 = _tmp5;
   const T Rref_shank_20 = -_tmp5;
   const T Rref_shank_22 = _tmp2;
+  const T oref_shank_x = _tmp4;
+  const T oref_shank_z = _tmp7 - p.h;
   const T Rref_rod1_00 = _tmp0;
   const T Rref_rod1_02 = _tmp1;
   const T Rref_rod1_20 = -_tmp1;
@@ -626,6 +628,8 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   const T Rref_coupler_02 = _tmp1;
   const T Rref_coupler_20 = -_tmp1;
   const T Rref_coupler_22 = _tmp0;
+  const T oref_coupler_x = _tmp19*p.a;
+  const T oref_coupler_z = p.a*_tmp21 - p.h;
   const T Rref_rod2_00 = _tmp2;
   const T Rref_rod2_02 = _tmp5;
   const T Rref_rod2_20 = -_tmp5;
@@ -1213,9 +1217,9 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   const T Rf_shank_12 = Rref_shank_02*R_shank_10 + Rref_shank_22*R_shank_12;
   const T Rf_shank_20 = Rref_shank_00*R_shank_20 + Rref_shank_20*R_shank_22;
   const T Rf_shank_22 = Rref_shank_02*R_shank_20 + Rref_shank_22*R_shank_22;
-  const T of_shank_x = _tmp4*p.b*R_shank_00 + p.b*_tmp7*R_shank_02 + p_shank_x - p.h*R_shank_02;
-  const T of_shank_y = _tmp4*p.b*R_shank_10 + p.b*_tmp7*R_shank_12 + p_shank_y - p.h*R_shank_12;
-  const T of_shank_z = _tmp4*p.b*R_shank_20 + p.b*_tmp7*R_shank_22 + p_shank_z - p.h*R_shank_22;
+  const T of_shank_x = oref_shank_x*R_shank_00 + oref_shank_z*R_shank_02 + p_shank_x;
+  const T of_shank_y = oref_shank_x*R_shank_10 + oref_shank_z*R_shank_12 + p_shank_y;
+  const T of_shank_z = oref_shank_x*R_shank_20 + oref_shank_z*R_shank_22 + p_shank_z;
   const T R_rod1_00 = cos_cyl1_end_2*cos_cyl1_end_3*cos_hip - sin_cyl1_end_2*sin_hip;
   const T R_rod1_01 = cos_cyl1_end_1*cos_hip*sin_cyl1_end_3 + cos_cyl1_end_2*sin_cyl1_end_1*sin_hip + cos_cyl1_end_3*cos_hip*sin_cyl1_end_1*sin_cyl1_end_2;
   const T R_rod1_02 = cos_hip*sin_cyl1_end_1*sin_cyl1_end_3 - cos_cyl1_end_1*cos_cyl1_end_2*sin_hip - cos_cyl1_end_1*cos_cyl1_end_3*cos_hip*sin_cyl1_end_2;
@@ -1276,9 +1280,9 @@ Status motion([[maybe_unused]] const Params<T>& p, [[maybe_unused]] const Inputs
   const T Rf_coupler_12 = Rref_coupler_02*R_coupler_10 + Rref_coupler_22*R_coupler_12;
   const T Rf_coupler_20 = Rref_coupler_00*R_coupler_20 + Rref_coupler_20*R_coupler_22;
   const T Rf_coupler_22 = Rref_coupler_02*R_coupler_20 + Rref_coupler_22*R_coupler_22;
-  const T of_coupler_x = _tmp19*p.a*R_coupler_00 + p.a*_tmp21*R_coupler_02 + p_coupler_x - p.h*R_coupler_02;
-  const T of_coupler_y = _tmp19*p.a*R_coupler_10 + p.a*_tmp21*R_coupler_12 + p_coupler_y - p.h*R_coupler_12;
-  const T of_coupler_z = _tmp19*p.a*R_coupler_20 + p.a*_tmp21*R_coupler_22 + p_coupler_z - p.h*R_coupler_22;
+  const T of_coupler_x = oref_coupler_x*R_coupler_00 + oref_coupler_z*R_coupler_02 + p_coupler_x;
+  const T of_coupler_y = oref_coupler_x*R_coupler_10 + oref_coupler_z*R_coupler_12 + p_coupler_y;
+  const T of_coupler_z = oref_coupler_x*R_coupler_20 + oref_coupler_z*R_coupler_22 + p_coupler_z;
   const T R_rod2_00 = cos_crank_pivot*cos_cyl2_end_2*cos_cyl2_end_3 - sin_crank_pivot*sin_cyl2_end_2;
   const T R_rod2_01 = cos_crank_pivot*cos_cyl2_end_1*sin_cyl2_end_3 + cos_crank_pivot*cos_cyl2_end_3*sin_cyl2_end_1*sin_cyl2_end_2 + cos_cyl2_end_2*sin_crank_pivot*sin_cyl2_end_1;
   const T R_rod2_02 = cos_crank_pivot*sin_cyl2_end_1*sin_cyl2_end_3 - cos_crank_pivot*cos_cyl2_end_1*cos_cyl2_end_3*sin_cyl2_end_2 - cos_cyl2_end_1*cos_cyl2_end_2*sin_crank_pivot;
@@ -5083,7 +5087,7 @@ template <class T>
 Status kinematics([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 11751 (with the stages it calls)
+  // Total ops: 11731 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -5169,7 +5173,7 @@ template <class T>
 Status velocities([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 7623 (with the stages it calls)
+  // Total ops: 7603 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   const T _sum_positions_0 = ((s.joints.swing.q + s.joints.cyl3_base.q1) + (s.joints.cyl3_base.q2 + s.joints.cyl3_end.q1)) + ((s.joints.cyl3_end.q2 + s.joints.cyl3_end.q3) + (s.joints.hip.q + s.joints.cyl1_base.q1));
@@ -5238,7 +5242,7 @@ Status evaluate([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 14308 (with the stages it calls)
+  // Total ops: 14288 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -5620,7 +5624,7 @@ template <class T>
 Status control([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T>& s) noexcept {
 
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 13020 (with the stages it calls)
+  // Total ops: 13000 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;
@@ -5714,6 +5718,8 @@ struct PositionConstants {
   Real Rref_crank_20;
   Real Rref_shank_00;
   Real Rref_shank_20;
+  Real oref_shank_x;
+  Real oref_shank_z;
   Real cf_swing_d0_z;
   Real cf_swing_len0;
   Real cf_swing_A;
@@ -5746,7 +5752,7 @@ void position_constants([[maybe_unused]] const Params<T>& p,
   using detail::cos;
   using detail::sin;
   using std::sqrt;
-  // Total ops: 143
+  // Total ops: 144
   const T _tmp0 = cos(-p.theta1_0);
   const T s0_knee_x = _tmp0*p.b;
   k.s0_knee_x = s0_knee_x;
@@ -5755,56 +5761,58 @@ void position_constants([[maybe_unused]] const Params<T>& p,
   k.s0_knee_z = s0_knee_z;
   const T _tmp2 = cos(-p.theta12_0);
   const T _tmp3 = _tmp2*p.a;
-  const T s0_coupler_B_1_x = _tmp3 + cos(p.theta1_0)*p.b;
-  const T _tmp4 = sin(-p.theta12_0);
-  const T _tmp5 = p.a*_tmp4;
-  const T s0_coupler_B_1_z = p.b*sin(p.theta1_0) - _tmp5 - p.h;
+  const T _tmp4 = cos(p.theta1_0)*p.b;
+  const T s0_coupler_B_1_x = _tmp3 + _tmp4;
+  const T _tmp5 = sin(-p.theta12_0);
+  const T _tmp6 = p.a*_tmp5;
+  const T _tmp7 = p.b*sin(p.theta1_0);
+  const T s0_coupler_B_1_z = _tmp7 - _tmp6 - p.h;
   const T s0_coupler_C_1_x = _tmp3;
   k.s0_coupler_C_1_x = s0_coupler_C_1_x;
-  const T _tmp6 = _tmp5 + p.h;
-  const T s0_coupler_C_1_z = -_tmp6;
+  const T _tmp8 = _tmp6 + p.h;
+  const T s0_coupler_C_1_z = -_tmp8;
   k.s0_coupler_C_1_z = s0_coupler_C_1_z;
-  const T _tmp7 = cos(p.theta8);
-  const T s0_cyl1_base_1_x = _tmp7*p.d;
+  const T _tmp9 = cos(p.theta8);
+  const T s0_cyl1_base_1_x = _tmp9*p.d;
   k.s0_cyl1_base_1_x = s0_cyl1_base_1_x;
-  const T _tmp8 = sin(p.theta8);
-  const T s0_cyl1_base_1_z = p.d*_tmp8 - p.h;
+  const T _tmp10 = sin(p.theta8);
+  const T s0_cyl1_base_1_z = p.d*_tmp10 - p.h;
   k.s0_cyl1_base_1_z = s0_cyl1_base_1_z;
-  const T _tmp9 = p.theta1_0 - p.theta5;
-  const T _tmp10 = T(1)/sqrt(p.d*p.d + p.f*p.f - T(2)*cos(p.theta1_0 - p.theta5 - p.theta8)*p.d*p.f);
-  const T s_cyl1_x = cos(_tmp9)*p.f*_tmp10 - _tmp7*p.d*_tmp10;
+  const T _tmp11 = p.theta1_0 - p.theta5;
+  const T _tmp12 = T(1)/sqrt(p.d*p.d + p.f*p.f - T(2)*cos(p.theta1_0 - p.theta5 - p.theta8)*p.d*p.f);
+  const T s_cyl1_x = cos(_tmp11)*p.f*_tmp12 - _tmp9*p.d*_tmp12;
   k.s_cyl1_x = s_cyl1_x;
-  const T s_cyl1_z = p.f*sin(_tmp9)*_tmp10 - p.d*_tmp8*_tmp10;
+  const T s_cyl1_z = p.f*sin(_tmp11)*_tmp12 - p.d*_tmp10*_tmp12;
   k.s_cyl1_z = s_cyl1_z;
-  const T _tmp11 = cos(p.theta5);
-  const T _tmp12 = sin(p.theta5);
-  const T s0_cyl1_end_1_x = _tmp0*_tmp11*p.f - p.f*_tmp1*_tmp12;
+  const T _tmp13 = cos(p.theta5);
+  const T _tmp14 = sin(p.theta5);
+  const T s0_cyl1_end_1_x = _tmp0*_tmp13*p.f - p.f*_tmp1*_tmp14;
   k.s0_cyl1_end_1_x = s0_cyl1_end_1_x;
-  const T s0_cyl1_end_1_z = -_tmp0*p.f*_tmp12 - _tmp11*p.f*_tmp1 - p.h;
-  const T _tmp13 = cos(p.theta7);
-  const T s0_cyl2_base_1_x = _tmp13*p.e;
+  const T s0_cyl1_end_1_z = -_tmp0*p.f*_tmp14 - _tmp13*p.f*_tmp1 - p.h;
+  const T _tmp15 = cos(p.theta7);
+  const T s0_cyl2_base_1_x = _tmp15*p.e;
   k.s0_cyl2_base_1_x = s0_cyl2_base_1_x;
-  const T _tmp14 = sin(p.theta7);
-  const T s0_cyl2_base_1_z = p.e*_tmp14 - p.h;
+  const T _tmp16 = sin(p.theta7);
+  const T s0_cyl2_base_1_z = p.e*_tmp16 - p.h;
   k.s0_cyl2_base_1_z = s0_cyl2_base_1_z;
-  const T _tmp15 = T(1)/sqrt(p.a*p.a + p.e*p.e - T(2)*cos(p.theta12_0 - p.theta7)*p.a*p.e);
-  const T s_cyl2_x = cos(p.theta12_0)*p.a*_tmp15 - _tmp13*p.e*_tmp15;
+  const T _tmp17 = T(1)/sqrt(p.a*p.a + p.e*p.e - T(2)*cos(p.theta12_0 - p.theta7)*p.a*p.e);
+  const T s_cyl2_x = cos(p.theta12_0)*p.a*_tmp17 - _tmp15*p.e*_tmp17;
   k.s_cyl2_x = s_cyl2_x;
-  const T s_cyl2_z = p.a*sin(p.theta12_0)*_tmp15 - p.e*_tmp14*_tmp15;
+  const T s_cyl2_z = p.a*sin(p.theta12_0)*_tmp17 - p.e*_tmp16*_tmp17;
   k.s_cyl2_z = s_cyl2_z;
   const T s0_cyl2_end_1_x = _tmp3;
   k.s0_cyl2_end_1_x = s0_cyl2_end_1_x;
-  const T s0_cyl2_end_1_z = -_tmp6;
-  const T _tmp16 = cos(p.theta11);
-  const T s0_cyl3_base_1_y = _tmp16*p.i;
+  const T s0_cyl2_end_1_z = -_tmp8;
+  const T _tmp18 = cos(p.theta11);
+  const T s0_cyl3_base_1_y = _tmp18*p.i;
   k.s0_cyl3_base_1_y = s0_cyl3_base_1_y;
-  const T _tmp17 = sin(p.theta11);
-  const T s0_cyl3_base_1_z = p.i*_tmp17;
+  const T _tmp19 = sin(p.theta11);
+  const T s0_cyl3_base_1_z = p.i*_tmp19;
   k.s0_cyl3_base_1_z = s0_cyl3_base_1_z;
-  const T _tmp18 = T(1)/sqrt(p.i*p.i + p.j*p.j - T(2)*p.i*p.j*_tmp17);
-  const T s_cyl3_y = -_tmp16*p.i*_tmp18;
+  const T _tmp20 = T(1)/sqrt(p.i*p.i + p.j*p.j - T(2)*p.i*p.j*_tmp19);
+  const T s_cyl3_y = -_tmp18*p.i*_tmp20;
   k.s_cyl3_y = s_cyl3_y;
-  const T s_cyl3_z = p.j*_tmp18 - p.i*_tmp17*_tmp18;
+  const T s_cyl3_z = p.j*_tmp20 - p.i*_tmp19*_tmp20;
   k.s_cyl3_z = s_cyl3_z;
   const T Rref_thigh_00 = _tmp0;
   k.Rref_thigh_00 = Rref_thigh_00;
@@ -5816,12 +5824,16 @@ void position_constants([[maybe_unused]] const Params<T>& p,
   k.Rref_thigh_22 = Rref_thigh_22;
   const T Rref_crank_00 = _tmp2;
   k.Rref_crank_00 = Rref_crank_00;
-  const T Rref_crank_20 = -_tmp4;
+  const T Rref_crank_20 = -_tmp5;
   k.Rref_crank_20 = Rref_crank_20;
   const T Rref_shank_00 = _tmp2;
   k.Rref_shank_00 = Rref_shank_00;
-  const T Rref_shank_20 = -_tmp4;
+  const T Rref_shank_20 = -_tmp5;
   k.Rref_shank_20 = Rref_shank_20;
+  const T oref_shank_x = _tmp4;
+  k.oref_shank_x = oref_shank_x;
+  const T oref_shank_z = _tmp7 - p.h;
+  k.oref_shank_z = oref_shank_z;
   const T cf_swing_d0_z = s0_cyl3_base_1_z - p.j;
   k.cf_swing_d0_z = cf_swing_d0_z;
   const T cf_swing_len0_sq = cf_swing_d0_z*cf_swing_d0_z + s0_cyl3_base_1_y*s0_cyl3_base_1_y;
@@ -5871,9 +5883,9 @@ void position_constants([[maybe_unused]] const Params<T>& p,
   k.pt_local_F_x = pt_local_F_x;
   const T pt_local_F_z = s0_cyl2_base_1_z;
   k.pt_local_F_z = pt_local_F_z;
-  const T pt_local_G_x = _tmp11*p.f;
+  const T pt_local_G_x = _tmp13*p.f;
   k.pt_local_G_x = pt_local_G_x;
-  const T pt_local_G_z = -p.f*_tmp12;
+  const T pt_local_G_z = -p.f*_tmp14;
   k.pt_local_G_z = pt_local_G_z;
   const T pt_local_D_x = p.a + p.c;
   k.pt_local_D_x = pt_local_D_x;
@@ -5892,7 +5904,7 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   using detail::sin;
   using std::sqrt;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 511
+  // Total ops: 497
   const T _tmp0 = T(1)/k.cf_swing_len0;
   const T cf_swing_len = k.cf_swing_len0 - in.l3*k.cf_swing_d0_z*k.s_cyl3_z*_tmp0 - in.l3*k.s0_cyl3_base_1_y*k.s_cyl3_y*_tmp0;
   const T cf_swing_C = cf_swing_len*cf_swing_len - k.s0_cyl3_base_1_y*k.s0_cyl3_base_1_y - k.s0_cyl3_base_1_z*k.s0_cyl3_base_1_z - p.j*p.j;
@@ -6016,11 +6028,9 @@ Status point_positions([[maybe_unused]] const Params<T>& p,
   const T Rf_shank_00 = R_shank_00*k.Rref_shank_00 + R_shank_02*k.Rref_shank_20;
   const T Rf_shank_10 = R_shank_10*k.Rref_shank_00 + R_shank_12*k.Rref_shank_20;
   const T Rf_shank_20 = R_shank_20*k.Rref_shank_00 + R_shank_22*k.Rref_shank_20;
-  const T _tmp16 = cos(p.theta1_0);
-  const T _tmp17 = sin(p.theta1_0);
-  const T of_shank_x = _tmp16*p.b*R_shank_00 + p.b*_tmp17*R_shank_02 + p_shank_x - p.h*R_shank_02;
-  const T of_shank_y = _tmp16*p.b*R_shank_10 + p.b*_tmp17*R_shank_12 + p_shank_y - p.h*R_shank_12;
-  const T of_shank_z = _tmp16*p.b*R_shank_20 + p.b*_tmp17*R_shank_22 + p_shank_z - p.h*R_shank_22;
+  const T of_shank_x = R_shank_00*k.oref_shank_x + R_shank_02*k.oref_shank_z + p_shank_x;
+  const T of_shank_y = R_shank_10*k.oref_shank_x + R_shank_12*k.oref_shank_z + p_shank_y;
+  const T of_shank_z = R_shank_20*k.oref_shank_x + R_shank_22*k.oref_shank_z + p_shank_z;
   const T pt_Q_y = _tmp11;
   const T pt_Q_z = -_tmp12;
   const T pt_H_y = -k.pt_local_H_z*sin_swing;
@@ -6114,7 +6124,7 @@ Status ne_fill([[maybe_unused]] const Params<T>& p, const Inputs<T>& in, State<T
   using detail::cos;
   using detail::sin;
   if (!inputs_finite(in)) return detail::failed(s, 16, Status::unreachable);
-  // Total ops: 12382 (with the stages it calls)
+  // Total ops: 12362 (with the stages it calls)
   detail::Shared<T> w;
   if (const Status status = detail::motion(p, in, s, w); status != Status::ok) return status;
   if (const Status status = detail::accelerations(p, in, s, w); status != Status::ok) return status;

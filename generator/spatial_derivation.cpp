@@ -200,20 +200,19 @@ class Builder {
     return s;
   }
 
-  // Whether every coordinate of joint j is driven (none is a closure's unknown).
-  bool driven(int j) const {
+  // The motion of joint j: the product of its coordinates' displacements, named factor by factor
+  // (a spherical's three displacements expanded at once: 74 operations an entry of its
+  // translation).
+  Pose joint_motion(int j) {
+    const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
-    for (size_t k = 0; k < m_.joints[static_cast<size_t>(j)].columns.size(); ++k)
-      if (input(c0 + k) == nullptr) return false;
-    return true;
-  }
-
-  // The motion of joint j: the product of its coordinates' displacements.
-  Pose joint_motion(int j) const {
-    Pose E;
-    const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
-    for (size_t k = 0; k < m_.joints[static_cast<size_t>(j)].columns.size(); ++k)
-      E = E * cols_[c0 + k].displacement;
+    Pose E;  // a weld's: none
+    for (size_t k = 0; k < joint.columns.size(); ++k) {
+      E = k == 0 ? cols_[c0].displacement : E * cols_[c0 + k].displacement;
+      if (k == 0) continue;
+      const std::string f = "E_" + joint.name + "_" + std::to_string(k + 1);
+      E = {named(f + "_R", E.R), named(f + "_p", E.p)};
+    }
     return E;
   }
 
@@ -228,12 +227,12 @@ class Builder {
         const int p = g_.parent[bi], j = g_.parent_joint[bi];
         const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
         Pose E = joint_motion(j);
-        if (joint.first != p) E = geometry::inverse(E);
-        // A driven joint's motion is named before it multiplies the parent's pose, so that the
+        // The joint's motion is named before it multiplies the parent's pose, so that the
         // product stays 9 + 9 multiplications (an inverted hinge's translation, -E^T e,
-        // expanded into the product, was 27).
-        if (driven(j))
-          E = {named("E_" + joint.name + "_R", E.R), named("E_" + joint.name + "_p", E.p)};
+        // expanded into the product, was 27 operations an entry; a cylinder rod's, behind a
+        // spherical joint, 249).
+        if (joint.first != p) E = geometry::inverse(E);
+        E = {named("E_" + joint.name + "_R", E.R), named("E_" + joint.name + "_p", E.p)};
         const Pose D = D_[static_cast<size_t>(p)] * E;
         D_[bi] = {named("R_" + body.name, D.R), named("p_" + body.name, D.p)};
         out_.groups.push_back(body.name);

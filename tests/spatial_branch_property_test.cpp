@@ -125,10 +125,10 @@ const KernelRefusal kRefusals[] = {
     {"quadruped_leg_swing", "theta12_0", -1, "as b x-1 (both cylinders at negative length)",
      "cannot start on the numeric solver's assembly at t0"},
     {"lecture_leg_ik", "py", 0,
-     "the ankle level with the hip at t0: a pivot of the rates' fixed elimination order is "
-     "exactly zero at this regular pose, so the kernel divides by it (near zero, the "
-     "backward-error check refuses it as singular in group closure)",
-     "non-finite result in group positions"},
+     "the ankle level with the hip at t0: a pivot of the rates' fixed elimination order "
+     "vanishes at this regular pose (to rounding: the backward-error check refuses it as "
+     "singular; exactly zero, it was a non-finite result in group positions)",
+     "singular in group closure"},
 };
 const KernelRefusal* kernel_refusal(const std::string& model, const std::string& parameter,
                                     double factor) {

@@ -207,9 +207,9 @@ class Builder {
     const SpatialJoint& joint = m_.joints[static_cast<size_t>(j)];
     const auto c0 = static_cast<size_t>(g_.joint_column[static_cast<size_t>(j)]);
     Pose E;  // a weld's: none
-    for (size_t k = 0; k < joint.columns.size(); ++k) {
-      E = k == 0 ? cols_[c0].displacement : E * cols_[c0 + k].displacement;
-      if (k == 0) continue;
+    if (!joint.columns.empty()) E = cols_[c0].displacement;
+    for (size_t k = 1; k < joint.columns.size(); ++k) {
+      E = E * cols_[c0 + k].displacement;
       const std::string f = "E_" + joint.name + "_" + std::to_string(k + 1);
       E = {named(f + "_R", E.R), named(f + "_p", E.p)};
     }

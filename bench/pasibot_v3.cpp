@@ -7,6 +7,8 @@
 #include <vector>
 
 #if MECHGEN_BENCH_V3
+// Compiled here, for this instruction set: not the baseline instances mechgen_kernels links.
+#undef MECHGEN_LINKED_KERNELS
 // The kernel in a namespace of its own: the same templates compiled with other flags must not
 // share their (mangled) names with the baseline instantiations of mechgen_bench.cpp, or the
 // linker would keep one of the two (the standard headers above are already included, so the

@@ -410,6 +410,28 @@ const CompiledKernel& compiled_kernel() {
   return kernel;
 }
 
+#if !defined(MECHGEN_KERNEL_SHARED)
+// The instances bioloid_support_l_foot.hpp declares for the other files of a program that links this one
+// (MECHGEN_LINKED_KERNELS). A kernel built on demand compiles only what its entries above call.
+template Status kinematics<double>(const Params<double>&, const Inputs<double>&,
+                                   State<double>&) noexcept;
+template Status velocities<double>(const Params<double>&, const Inputs<double>&,
+                                   State<double>&) noexcept;
+template Status evaluate<double>(const Params<double>&, const Inputs<double>&,
+                                 State<double>&) noexcept;
+template Status evaluate<float>(const Params<float>&, const Inputs<float>&, State<float>&) noexcept;
+template Status control<double>(const Params<double>&, const Inputs<double>&,
+                                State<double>&) noexcept;
+template void position_constants<double>(const Params<double>&,
+                                         PositionConstants<double>&) noexcept;
+template Status point_positions<double>(const Params<double>&, const PositionConstants<double>&,
+                                        const Inputs<double>&, State<double>&) noexcept;
+template Status ne_system<double>(const Params<double>&, const Inputs<double>&, State<double>&,
+                                  double*, double*) noexcept;
+template Status mass_bias<double>(const Params<double>&, const Inputs<double>&, State<double>&,
+                                  double*, double*) noexcept;
+#endif
+
 }  // namespace mechgen::gen::bioloid_support_l_foot
 
 #if defined(MECHGEN_KERNEL_SHARED)

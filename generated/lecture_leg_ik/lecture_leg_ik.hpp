@@ -2730,7 +2730,7 @@ void driver_inputs([[maybe_unused]] const Params<T>& p, T t, Inputs<T>& in) noex
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0xd6f1b111799109fdULL;
+inline constexpr unsigned long long fingerprint = 0xc4f9290b09c305cbULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 8;
@@ -3022,5 +3022,31 @@ Status forward_dynamics(const Params<T>& p, const Inputs<T>& in, const T* effort
   if (status != Status::ok) return status;
   return mass_solve(M, h, effort, qdd);
 }
+
+// One compilation per kernel: lecture_leg_ik_entry.cpp instantiates the straight-line entries below, and
+// the files of a program that links it (mechgen's tests and benchmarks, where the mechgen_kernels
+// library defines MECHGEN_LINKED_KERNELS) call those instances instead of compiling them again. A
+// program that includes this header alone never sees these declarations.
+#if defined(MECHGEN_LINKED_KERNELS)
+extern template Status kinematics<double>(const Params<double>&, const Inputs<double>&,
+                                          State<double>&) noexcept;
+extern template Status velocities<double>(const Params<double>&, const Inputs<double>&,
+                                          State<double>&) noexcept;
+extern template Status evaluate<double>(const Params<double>&, const Inputs<double>&,
+                                        State<double>&) noexcept;
+extern template Status evaluate<float>(const Params<float>&, const Inputs<float>&,
+                                       State<float>&) noexcept;
+extern template Status control<double>(const Params<double>&, const Inputs<double>&,
+                                       State<double>&) noexcept;
+extern template void position_constants<double>(const Params<double>&,
+                                                PositionConstants<double>&) noexcept;
+extern template Status point_positions<double>(const Params<double>&,
+                                               const PositionConstants<double>&,
+                                               const Inputs<double>&, State<double>&) noexcept;
+extern template Status ne_system<double>(const Params<double>&, const Inputs<double>&,
+                                         State<double>&, double*, double*) noexcept;
+extern template Status mass_bias<double>(const Params<double>&, const Inputs<double>&,
+                                         State<double>&, double*, double*) noexcept;
+#endif
 
 }  // namespace mechgen::gen::lecture_leg_ik

@@ -1076,7 +1076,7 @@ void batch_driver_inputs(const Params<T>& p, const T* t, long n, [[maybe_unused]
 // What this kernel was generated from: a hash of the model's description (its parsed form:
 // comments and layout aside), the templates and the generator's emission version. mechgen runs a
 // kernel only for a description with the same fingerprint.
-inline constexpr unsigned long long fingerprint = 0x3dbd0ecff5d97c5cULL;
+inline constexpr unsigned long long fingerprint = 0x2f2fd147c5d37592ULL;
 
 // Flat access for sweeps: parameters in model order, outputs in the CSV column order.
 inline constexpr int parameter_count = 13;
@@ -1312,5 +1312,23 @@ Status forward_dynamics(const Params<T>& p, const Inputs<T>& in, const T* effort
   if (status != Status::ok) return status;
   return mass_solve(M, h, effort, qdd);
 }
+
+// One compilation per kernel: leg3_entry.cpp instantiates the straight-line entries below, and
+// the files of a program that links it (mechgen's tests and benchmarks, where the mechgen_kernels
+// library defines MECHGEN_LINKED_KERNELS) call those instances instead of compiling them again. A
+// program that includes this header alone never sees these declarations. evaluate_batch is not
+// among them: the entry inlines it into each of its instruction-set clones.
+#if defined(MECHGEN_LINKED_KERNELS)
+extern template Status kinematics<double>(const Params<double>&, const Inputs<double>&,
+                                          State<double>&) noexcept;
+extern template Status evaluate<double>(const Params<double>&, const Inputs<double>&,
+                                        State<double>&) noexcept;
+extern template Status evaluate<float>(const Params<float>&, const Inputs<float>&,
+                                       State<float>&) noexcept;
+extern template Status ne_system<double>(const Params<double>&, const Inputs<double>&, double*,
+                                         double*) noexcept;
+extern template Status mass_bias<double>(const Params<double>&, const Inputs<double>&,
+                                         State<double>&, double*, double*) noexcept;
+#endif
 
 }  // namespace mechgen::gen::leg3

@@ -8,6 +8,12 @@
 #                      rocker of loop j is the crank of loop j + 1, whose geometry is loop j's turned
 #                      by the cyclic rotation R (x -> y -> z -> x) so that its crank axis is loop j's
 #                      rocker axis; 2N + 1 moving bodies, 3N + 1 joints, N circuits, mobility 1
+#   growth_fourbars N  N planar four-bars in series, one driver (issue 25 item 5): loop j's input
+#                      link turns about A_j = ((j - 1) d, 0), its rocker about B_j = (j d, 0); the
+#                      rocker of loop j is the input link of loop j + 1 (its pin P_(j+1) on the
+#                      line B_j C_j). A Grashof crank-rocker (input 1, coupler 3, rocker 2.5,
+#                      ground 3, in units of l): every input angle assembles, so each loop follows
+#                      the one before it over the crank's whole turn. 3N moving bodies, 4N joints.
 # Each prints the description on stdout. Geometry in numbers (printed once, used in both bodies of
 # a joint): the text grows linearly with N.
 
@@ -84,4 +90,43 @@ growth_loops() {  # N
     tx = x; ty = y; tz = z
   }
   function vec(x, y, z) { return sprintf("[%.10g, %.10g, %.10g]", x, y, z) }'
+}
+
+growth_fourbars() {  # N
+  awk -v n="$1" 'BEGIN {
+    a = 1; b = 3; c = 2.5; d = 3; pi = atan2(0, -1)
+    printf "name: fourbars%d\ndimension: planar\ngravity: [0, -9.81]\n", n
+    printf "parameters:\n  l: {value: 0.02, unit: m}\n  w: {value: 2, unit: rad/s}\n"
+    printf "  rho: {value: 2700, unit: kg/m^3}\n  bar_w: {value: 0.01, unit: m}\n  bar_t: {value: 0.004, unit: m}\n"
+    print "bodies:"
+    printf "  - name: ground\n    ground: true\n    points: {A1: [0, 0]"
+    for (j = 1; j <= n; j++) printf ", B%d: [%g*l, 0]", j, j * d
+    print "}"
+    # the assembly at t0 (crank angle pi/2), loop by loop: C_j on the left of P_j -> B_j
+    theta = pi / 2
+    mass = "width: bar_w, thickness: bar_t, density: rho"
+    printf "  - name: crank\n    points: {A1: [0, 0], P1: [%g*l, 0]}\n", a
+    printf "    mass: {bar: [A1, P1], %s}\n    assembly: %.12g\n", mass, theta
+    for (j = 1; j <= n; j++) {
+      px = (j - 1) * d + a * cos(theta); py = a * sin(theta)
+      ex = j * d - px; ey = -py; L = sqrt(ex * ex + ey * ey)
+      along = (b * b - c * c + L * L) / (2 * L); h = sqrt(b * b - along * along)
+      cx = px + (along * ex - h * ey) / L; cy = py + (along * ey + h * ex) / L
+      printf "  - name: coupler%d\n    points: {P%d: [0, 0], C%d: [%g*l, 0]}\n", j, j, j, b
+      printf "    mass: {bar: [P%d, C%d], %s}\n    assembly: %.12g\n", j, j, mass, atan2(cy - py, cx - px)
+      theta = atan2(cy, cx - j * d)
+      printf "  - name: rocker%d\n    points: {B%d: [0, 0], C%d: [%g*l, 0]", j, j, j, c
+      if (j < n) printf ", P%d: [%g*l, 0]", j + 1, a
+      printf "}\n    mass: {bar: [B%d, C%d], %s}\n    assembly: %.12g\n", j, j, mass, theta
+    }
+    print "joints:"
+    print "  - {name: jA1, type: revolute, first: ground, second: crank, point: A1}"
+    for (j = 1; j <= n; j++) {
+      printf "  - {name: jP%d, type: revolute, first: %s, second: coupler%d, point: P%d}\n", j, j == 1 ? "crank" : "rocker" (j - 1), j, j
+      printf "  - {name: jC%d, type: revolute, first: rocker%d, second: coupler%d, point: C%d}\n", j, j, j, j
+      printf "  - {name: jB%d, type: revolute, first: ground, second: rocker%d, point: B%d}\n", j, j, j
+    }
+    print "drivers:\n  - {name: theta, joint: jA1, kind: angle, value: pi/2 + w*t}"
+    print "step: {t0: 0, t1: 2*pi/w, samples: 181}"
+  }'
 }

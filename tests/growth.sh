@@ -8,7 +8,8 @@
 #   - N chained RSUR loops (N = 1, 2, 4): check's structure (N circuits, N 6N x (6N + 1), one
 #     primary, 6N secondary, unique reactions: mobility 1); the sweep closes every loop (each loop's
 #     points B_j and C_j, carried by the two bodies that share them, coincide at every sample) and
-#     loop 1 moves as models/rsur.yaml alone (its bodies' and joints' kinematic columns equal).
+#     loop 1 moves as models/rsur.yaml alone (its bodies' and joints' kinematic columns equal);
+#   - N planar four-bars in series (N = 1, 3): see below.
 # Under the sanitizer build (MECHGEN_SANITIZE_BUILD set) only the smallest sizes.
 # usage: growth.sh MECHGEN SOURCE_DIR
 set -u
@@ -16,9 +17,11 @@ source "$(dirname "$0")/script_common.sh"
 source "$SRC/scripts/growth_models.sh"
 tree_sizes=(10 40)
 loop_counts=(1 2 4)
+fourbar_counts=(1 3)
 if [ -n "${MECHGEN_SANITIZE_BUILD:-}" ]; then
   tree_sizes=(10)
   loop_counts=(1 2)
+  fourbar_counts=(2)
 fi
 
 # value NAME FILE: the value column of check's structure row NAME
@@ -156,5 +159,39 @@ for n in "${loop_counts[@]}"; do
     END { if (w > 1e-9) { print "loop 1 differs from rsur by " w " (" at ")"; exit 1 } }' >"$W/pair.out" ||
     fail "$m: $(cat "$W/pair.out")"
   [ "$n" -le 2 ] && { run "$m generate" "$M" generate "$W/$m.yaml" -o "$W/gen_$m"; }
+done
+# N planar four-bars in series (issue 25 item 5; scripts/growth_kernels.sh): every loop in closed
+# form, the crank on its law, every bar keeps its length at every sample (l = 0.02: input pin 1 l
+# from its pivot, coupler 3 l, rocker 2.5 l), every rocker moves, and the generated kernel (built
+# on first use, in a cache of this test's own) gives the numeric solver's table.
+for n in "${fourbar_counts[@]}"; do
+  m=fourbars$n
+  growth_fourbars "$n" >"$W/$m.yaml"
+  run "$m check" "$M" check "$W/$m.yaml"
+  grep -q "closed form: yes, every body located in $((n + 1)) groups" "$W/$m check.out" ||
+    fail "$m: plan: $(grep "closed form" "$W/$m check.out")"
+  run "$m numeric" "$M" sweep "$W/$m.yaml" --solver numeric --samples 37 --out "$W/$m.csv"
+  worst=$(csv_check "$W/$m.csv" "
+    function gap(p, q, bar,   e) {
+      e = sqrt((\$c[p \".x\"] - \$c[q \".x\"])^2 + (\$c[p \".y\"] - \$c[q \".y\"])^2) - bar * 0.02
+      if (e < 0) e = -e; if (e > w) { w = e; where = p q \" at t = \" \$c[\"t\"] }
+    }
+    function off(a, b,   e) { e = a - b; e = atan2(sin(e), cos(e)); return e < 0 ? -e : e }  # mod 2 pi
+    { e = off(\$c[\"theta.q\"], atan2(1, 0) + 2 * \$c[\"t\"]); if (e > w) { w = e; where = \"theta\" }
+      for (j = 1; j <= $n; j++) {
+        gap(\"P\" j, \"C\" j, 3); gap(\"B\" j, \"C\" j, 2.5); gap(j == 1 ? \"A1\" : \"B\" (j - 1), \"P\" j, 1)
+        if (j < $n) gap(\"B\" j, \"P\" (j + 1), 1)
+        if (NR == 2) first[j] = \$c[\"rocker\" j \".th\"]
+        e = off(\$c[\"rocker\" j \".th\"], first[j]); if (e > swing[j]) swing[j] = e } }
+    END { for (j = 1; j <= $n; j++) if (swing[j] < 0.1) { w = 1; where = \"rocker\" j \" hardly moves\" }
+          printf \"%.3g %s\\n\", w, where }")
+  awk -v w="$worst" 'BEGIN { exit !(w ~ /^[0-9]/ && w + 0 < 1e-12) }' ||
+    fail "$m: a bar stretched or a law missed by $worst"
+  run "$m generated" "$M" sweep "$W/$m.yaml" --samples 37 --cache "$W/cache" --out "$W/$m.gen.csv"
+  paste -d, "$W/$m.csv" "$W/$m.gen.csv" | awk -F, '
+    NR == 1 { half = NF / 2; next }
+    { for (i = 1; i <= half; i++) { e = $i - $(i + half); if (e < 0) e = -e; a = $i < 0 ? -$i : $i
+                                    if (e > 1e-9 * (a > 1 ? a : 1)) { print "column " i " at t = " $1 ": " $i " against " $(i + half); exit 1 } } }' \
+    >"$W/pair.out" || fail "$m: generated differs from numeric: $(cat "$W/pair.out")"
 done
 echo "growth family: ok"

@@ -83,13 +83,19 @@ chain() {  # N: a spatial serial chain of N driven revolutes about z, x, y in tu
   for ((i = 1; i <= $1; i++)); do echo "  - {name: q$i, joint: j$i, kind: angle, value: 0.1*sin(w*t + 0.1*$i)}"; done
   echo "step: {t0: 0, t1: 2*pi/w, samples: 11}"
 }
-chain 128 >"$W/chain128.yaml"
-rm -f "$W/compiles"
-"$M" sweep "$W/chain128.yaml" --cache "$W/c1" --out "$W/o.csv" 2>"$W/err" && fail "chain128: accepted"
-grep -q "error: the kernel of 'chain128' is too large to compile: 9.9[0-9] MB header: about 4 min and 25[0-9][0-9] MB to compile .*over the limit of 8 MB" "$W/err" ||
-  fail "chain128: $(cat "$W/err")"
-[ ! -e "$W/compiles" ] || fail "chain128: the compiler ran"
-no_build_left "$W/c1" "chain128"
+# Under the sanitizer build (MECHGEN_SANITIZE_BUILD set) the two long chains are left out: their
+# in-memory generation is the instrumented GiNaC's (37 s for the 128 revolutes), and the plain
+# build runs both. The limits themselves are checked on the small models above and below.
+sanitized=${MECHGEN_SANITIZE_BUILD:-}
+if [ -z "$sanitized" ]; then
+  chain 128 >"$W/chain128.yaml"
+  rm -f "$W/compiles"
+  "$M" sweep "$W/chain128.yaml" --cache "$W/c1" --out "$W/o.csv" 2>"$W/err" && fail "chain128: accepted"
+  grep -q "error: the kernel of 'chain128' is too large to compile: 9.9[0-9] MB header: about 4 min and 25[0-9][0-9] MB to compile .*over the limit of 8 MB" "$W/err" ||
+    fail "chain128: $(cat "$W/err")"
+  [ ! -e "$W/compiles" ] || fail "chain128: the compiler ran"
+  no_build_left "$W/c1" "chain128"
+fi
 
 # 3. A compiler past its time limit: killed with its children, an error naming the model, the size
 # and the limit; no build folder left, in about the limit's time.
@@ -152,14 +158,16 @@ grep -qE "^mechgen: compiling kernel for crank_b, first use: [0-9.]+ s \(cached 
 # A compile expected to take more than 30 s (a chain of 48 revolutes, 1.80 MB: about 47 s) says so in
 # one line up front when stderr is no terminal (a compiler that fails at once: the line is what is
 # tested).
-chain 48 >"$W/chain48.yaml"
-printf '#!/bin/sh\nexit 1\n' >"$W/false_cxx"
-chmod 755 "$W/false_cxx"
-MECHGEN_CXX="$W/false_cxx" "$M" sweep "$W/chain48.yaml" --cache "$W/c6" --out "$W/o.csv" 2>"$W/err" &&
-  fail "announce: accepted"
-head -1 "$W/err" | grep -qE "^mechgen: compiling kernel for chain48, first use: 1\.[0-9]{2} MB header: about [0-9]+ s and [0-9]+ MB to compile \(expected\)$" ||
-  fail "announce: $(cat "$W/err")"
-grep -q "error: compiling the kernel of 'chain48' failed (.*exit 1)" "$W/err" || fail "announce: $(cat "$W/err")"
+if [ -z "$sanitized" ]; then
+  chain 48 >"$W/chain48.yaml"
+  printf '#!/bin/sh\nexit 1\n' >"$W/false_cxx"
+  chmod 755 "$W/false_cxx"
+  MECHGEN_CXX="$W/false_cxx" "$M" sweep "$W/chain48.yaml" --cache "$W/c6" --out "$W/o.csv" 2>"$W/err" &&
+    fail "announce: accepted"
+  head -1 "$W/err" | grep -qE "^mechgen: compiling kernel for chain48, first use: 1\.[0-9]{2} MB header: about [0-9]+ s and [0-9]+ MB to compile \(expected\)$" ||
+    fail "announce: $(cat "$W/err")"
+  grep -q "error: compiling the kernel of 'chain48' failed (.*exit 1)" "$W/err" || fail "announce: $(cat "$W/err")"
+fi
 
 # 6. On a terminal: the phase, and the elapsed and expected seconds every 2 s while compiling.
 if command -v script >/dev/null; then

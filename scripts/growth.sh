@@ -28,6 +28,7 @@ while [[ $# -gt 0 ]]; do
 done
 [[ -x $mechgen ]] || { echo "growth.sh: no mechgen binary at $mechgen (build it, or pass its path)" >&2; exit 2; }
 mechgen=$(realpath "$mechgen")
+[[ -x /usr/bin/time ]] || { echo "${0##*/}: needs /usr/bin/time (Debian package 'time')" >&2; exit 2; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export MECHGEN_CACHE=$work/cache

@@ -35,6 +35,7 @@ for binary in "$mechgen" "$bench"; do
   [[ -x $binary ]] || { echo "growth_kernels.sh: no $binary (build it, or pass the build folder)" >&2; exit 2; }
 done
 mechgen=$(realpath "$mechgen")
+[[ -x /usr/bin/time ]] || { echo "${0##*/}: needs /usr/bin/time (Debian package 'time')" >&2; exit 2; }
 bench=$(realpath "$bench")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
